@@ -1,0 +1,42 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""The `tactex` command line: one subcommand per job, each returning an exit code."""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+
+# Subcommand name -> module under tactex.commands with add_arguments(parser) and run(args).
+COMMANDS = {
+    'description': 'Show the robot description, write its URDF or MJCF, check the URDF.',
+    'demo': 'Run the simulated pipeline slice that works today.',
+}
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """Return the parser with every subcommand registered."""
+    parser = argparse.ArgumentParser(
+        prog='tactex', description='Texture recognition by touch on a ROS 2 arm.')
+    subparsers = parser.add_subparsers(dest='command', required=True, metavar='COMMAND')
+    for name, help_text in COMMANDS.items():
+        module = importlib.import_module(f'tactex.commands.{name}')
+        sub = subparsers.add_parser(name, help=help_text, description=help_text)
+        module.add_arguments(sub)
+        sub.set_defaults(run=module.run)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Parse `argv`, run the subcommand and return its exit code."""
+    args = build_parser().parse_args(argv)
+    try:
+        return int(args.run(args))
+    except KeyboardInterrupt:
+        print('error: interrupted', file=sys.stderr)
+        return 130
+
+
+if __name__ == '__main__':
+    sys.exit(main())

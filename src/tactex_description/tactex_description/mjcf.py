@@ -1,0 +1,138 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""MJCF (MuJoCo) model of the arm and tactile module, generated from `geometry`.
+
+Every link becomes a body at its joint origin, every moving joint a hinge or slide
+with the same axis and range; compliant joints get their stiffness and damping, arm
+joints and the gripper get position actuators standing in for the servos. Only the
+sensor body collides: the arm's geoms are visual, so contact means the sensor touched.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from xml.etree import ElementTree as ET
+
+from transforms3d.euler import euler2quat
+
+from tactex_description.geometry import (
+    Joint,
+    JointKind,
+    JointRole,
+    OPEN_MANIPULATOR_X,
+    RobotGeometry,
+)
+
+SENSOR_GEOM = 'sensor_body'
+SENSOR_EDGE_GEOM = 'sensor_edge_tip'
+
+
+@dataclass(frozen=True)
+class ServoModel:
+    """Position-servo stand-in: stiffness (N m/rad or N/m), joint damping and armature."""
+
+    kp_arm: float = 150.0
+    damping_arm: float = 2.0
+    armature_arm: float = 0.01
+    kp_gripper: float = 200.0
+
+
+def _fmt(values) -> str:
+    return ' '.join(repr(float(v)) for v in values)
+
+
+def _link_geom(body: ET.Element, link: str) -> None:
+    """Add the visual or collision geometry of one link."""
+    visual = {'contype': '0', 'conaffinity': '0', 'group': '1', 'rgba': '0.75 0.75 0.78 1'}
+    if link == 'link1':
+        ET.SubElement(body, 'geom', type='cylinder', size='0.025 0.017', pos='0.012 0 0.017',
+                      **visual)
+    elif link == 'link3':
+        ET.SubElement(body, 'geom', type='capsule', fromto='0 0 0 0.024 0 0.128',
+                      size='0.014', **visual)
+    elif link == 'link4':
+        ET.SubElement(body, 'geom', type='capsule', fromto='0 0 0 0.124 0 0', size='0.013',
+                      **visual)
+    elif link == 'link5':
+        ET.SubElement(body, 'geom', type='capsule', fromto='0 0 0 0.09 0 0', size='0.012',
+                      **visual)
+    elif link == 'sensor_mount':
+        ET.SubElement(body, 'geom', type='box', size='0.012 0.012 0.010',
+                      pos='0 0 -0.008', rgba='0.2 0.4 0.8 1', contype='0', conaffinity='0',
+                      group='1')
+    elif link == 'sensor_link':
+        # Polyurethane body with the MARG inside; its face lies 10 mm past the chip.
+        ET.SubElement(body, 'geom', name=SENSOR_GEOM, type='cylinder', size='0.015 0.005',
+                      pos='0 0 0.005', rgba='0.95 0.8 0.2 1', friction='0.6 0.005 0.0001',
+                      condim='3')
+    elif link == 'sensor_edge':
+        ET.SubElement(body, 'geom', name=SENSOR_EDGE_GEOM, type='sphere', size='0.002',
+                      rgba='1 0.3 0.1 1', friction='0.6 0.005 0.0001', condim='3')
+
+
+def _add_joint(body: ET.Element, joint: Joint, servo: ServoModel) -> None:
+    kind = 'hinge' if joint.kind is JointKind.REVOLUTE else 'slide'
+    attributes = {'name': joint.name, 'type': kind, 'axis': _fmt(joint.axis),
+                  'range': _fmt((joint.lower, joint.upper)), 'limited': 'true'}
+    if joint.role is JointRole.COMPLIANT:
+        attributes.update(stiffness=repr(joint.stiffness), damping=repr(joint.damping),
+                          springref='0')
+    elif joint.role is JointRole.ARM:
+        attributes.update(damping=repr(servo.damping_arm), armature=repr(servo.armature_arm))
+    ET.SubElement(body, 'joint', **attributes)
+
+
+def build_mjcf(robot: RobotGeometry = OPEN_MANIPULATOR_X, *, timestep_s: float = 0.002,
+               servo: ServoModel = ServoModel(), worldbody_xml: str = '',
+               assets_xml: str = '') -> str:
+    """Return an MJCF document of `robot`.
+
+    Args:
+        robot: the geometry to convert.
+        timestep_s: physics step (s).
+        servo: gains of the position actuators.
+        worldbody_xml: extra elements (a surface, lights) placed in the worldbody.
+        assets_xml: extra elements placed in `<asset>` (heightfields, textures).
+    """
+    mujoco = ET.Element('mujoco', model=robot.name)
+    ET.SubElement(mujoco, 'compiler', angle='radian', inertiafromgeom='false',
+                  autolimits='true')
+    ET.SubElement(mujoco, 'option', timestep=repr(timestep_s), integrator='implicitfast')
+    asset = ET.SubElement(mujoco, 'asset')
+    for element in _fragment(assets_xml):
+        asset.append(element)
+    worldbody = ET.SubElement(mujoco, 'worldbody')
+    bodies = {robot.root: worldbody}
+    for joint in robot.joints:
+        quat = euler2quat(*joint.origin_rpy, axes='sxyz')
+        body = ET.SubElement(bodies[joint.parent], 'body', name=joint.child,
+                             pos=_fmt(joint.origin_xyz), quat=_fmt(quat))
+        bodies[joint.child] = body
+        inertial = robot.inertials.get(joint.child)
+        if inertial is not None:
+            ET.SubElement(body, 'inertial', pos=_fmt(inertial.com_xyz),
+                          mass=repr(inertial.mass_kg),
+                          diaginertia=_fmt(inertial.inertia_diag))
+        if joint.is_moving:
+            _add_joint(body, joint, servo)
+        _link_geom(body, joint.child)
+    for element in _fragment(worldbody_xml):
+        worldbody.append(element)
+    actuators = ET.SubElement(mujoco, 'actuator')
+    equality = ET.SubElement(mujoco, 'equality')
+    for joint in robot.joints:
+        if joint.mimic_of:
+            ET.SubElement(equality, 'joint', joint1=joint.name, joint2=joint.mimic_of)
+        elif joint.role in (JointRole.ARM, JointRole.GRIPPER):
+            kp = servo.kp_arm if joint.role is JointRole.ARM else servo.kp_gripper
+            ET.SubElement(actuators, 'position', name=joint.name, joint=joint.name,
+                          kp=repr(kp), ctrlrange=_fmt((joint.lower, joint.upper)),
+                          forcerange=_fmt((-joint.effort, joint.effort)))
+    ET.indent(mujoco, space='  ')
+    return ET.tostring(mujoco, encoding='unicode') + '\n'
+
+
+def _fragment(xml: str) -> list[ET.Element]:
+    if not xml.strip():
+        return []
+    return list(ET.fromstring(f'<fragment>{xml}</fragment>'))
