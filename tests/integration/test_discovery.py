@@ -16,7 +16,7 @@ from tactex.ros_env import fastdds_profile_path, ros_environment
 
 pytestmark = pytest.mark.ros
 
-TALKER = textwrap.dedent('''
+TALKER = textwrap.dedent("""
     import rclpy
     from std_msgs.msg import String
     rclpy.init()
@@ -27,7 +27,7 @@ TALKER = textwrap.dedent('''
         rclpy.spin(node)
     except KeyboardInterrupt:
         pass
-''')
+""")
 
 
 def test_profile_announces_twenty_times_100_ms_apart():

@@ -1,0 +1,340 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""Madgwick orientation filter (IMU and MARG) that bad input cannot poison.
+
+One scalar kernel, `_step`, holds the algorithm. `MadgwickFilter` calls it as plain
+Python sample by sample; `filter_batch` runs the same function compiled by numba over a
+whole recording, so the two agree to rounding. Beyond Madgwick (2010): the gain starts high
+and ramps down (fast convergence from any attitude), the first valid sample sets the
+attitude, the gyro bias is learnt from the correction (Madgwick's zeta term, after the
+ramp), and every input is checked: a non-finite or zero accel skips the correction, a
+non-finite gyro skips the prediction, an invalid magnetometer or one nearly parallel to
+gravity falls back to the IMU update, and dt <= 0, a non-finite dt or a gap longer than
+`max_dt_s` never integrates the gyro over it.
+
+Internally the world frame is north-west-up (the magnetometer reference has no west
+component); the MARG output is turned into ENU (x east, y north, z up; REP-145). With
+the IMU only, heading is free and the first sample defines yaw 0.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+import math
+
+import numba
+import numpy as np
+
+# Flags returned by the kernel: which parts of the update ran.
+USED_GYRO = 1
+USED_ACCEL = 2
+USED_MAG = 4
+INITIALISED = 8
+
+_SQRT_HALF = math.sqrt(0.5)
+# Rotation of +90 degrees about z: north-west-up -> east-north-up.
+_NWU_TO_ENU = (_SQRT_HALF, 0.0, 0.0, _SQRT_HALF)
+
+
+@dataclass(frozen=True)
+class MadgwickConfig:
+    """Tuning of the filter.
+
+    Attributes:
+        gain: beta (rad/s), weight of the accel/mag correction after start-up.
+        initial_gain: beta at start-up, ramping linearly down to `gain`.
+        ramp_s: duration of the start-up ramp (s).
+        bias_gain: zeta (1/s), rate of gyro bias learning; 0 turns it off.
+        max_bias: largest gyro bias the filter will learn (rad/s).
+        use_mag: fuse the magnetometer (MARG) when it is valid.
+        min_dip_sin: a magnetometer within asin(min_dip_sin) of gravity is ignored.
+        max_dt_s: a longer step is a gap: no gyro integration over it.
+    """
+
+    gain: float = 0.1
+    initial_gain: float = 2.5
+    ramp_s: float = 1.0
+    bias_gain: float = 0.02
+    max_bias: float = 0.1
+    use_mag: bool = False
+    min_dip_sin: float = 0.1
+    max_dt_s: float = 0.1
+
+    def __post_init__(self) -> None:
+        """Reject settings the kernel cannot use."""
+        for name in ('gain', 'initial_gain', 'bias_gain', 'max_bias'):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value >= 0.0):
+                raise ValueError(f'{name} must be finite and >= 0, got {value!r}')
+        for name in ('ramp_s', 'max_dt_s'):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value > 0.0):
+                raise ValueError(f'{name} must be finite and > 0, got {value!r}')
+        if not 0.0 <= self.min_dip_sin < 1.0:
+            raise ValueError(f'min_dip_sin must be in [0, 1), got {self.min_dip_sin!r}')
+
+
+@numba.njit(cache=True)
+def _gains(elapsed: float, gain: float, initial_gain: float, ramp_s: float,
+           bias_gain: float) -> tuple[float, float]:
+    """Return (beta, zeta) at `elapsed` seconds after initialisation."""
+    if elapsed >= ramp_s:
+        return gain, bias_gain
+    return gain + (initial_gain - gain) * (1.0 - elapsed / ramp_s), 0.0
+
+
+@numba.njit(cache=True)
+def _initial_attitude(ax: float, ay: float, az: float, mx: float, my: float, mz: float,
+                      use_mag: bool, min_dip_sin: float) -> tuple[float, float, float, float]:
+    """Attitude (NWU) from one valid accel sample, with heading from the mag when usable."""
+    norm = math.sqrt(ax * ax + ay * ay + az * az)
+    ux, uy, uz = ax / norm, ay / norm, az / norm
+    if use_mag:
+        # West = up x m, north = west x up: rows of the body -> world matrix.
+        wx, wy, wz = uy * mz - uz * my, uz * mx - ux * mz, ux * my - uy * mx
+        m_norm = math.sqrt(mx * mx + my * my + mz * mz)
+        w_norm = math.sqrt(wx * wx + wy * wy + wz * wz)
+        if math.isfinite(w_norm) and m_norm > 0.0 and w_norm > min_dip_sin * m_norm:
+            wx, wy, wz = wx / w_norm, wy / w_norm, wz / w_norm
+            nx, ny, nz = wy * uz - wz * uy, wz * ux - wx * uz, wx * uy - wy * ux
+            return _matrix_to_quaternion(nx, ny, nz, wx, wy, wz, ux, uy, uz)
+    horizontal_sq = ux * ux + uy * uy
+    w = 1.0 + uz if uz >= 0.0 else horizontal_sq / (1.0 - uz)
+    q_norm = math.sqrt(w * w + horizontal_sq)
+    if q_norm < 1e-150:
+        return 0.0, 1.0, 0.0, 0.0
+    return w / q_norm, uy / q_norm, -ux / q_norm, 0.0
+
+
+@numba.njit(cache=True)
+def _matrix_to_quaternion(r00: float, r01: float, r02: float, r10: float, r11: float,
+                          r12: float, r20: float, r21: float, r22: float
+                          ) -> tuple[float, float, float, float]:
+    """Quaternion of a rotation matrix given row by row (Shepperd's method)."""
+    trace = r00 + r11 + r22
+    if trace > 0.0:
+        s = 2.0 * math.sqrt(trace + 1.0)
+        return 0.25 * s, (r21 - r12) / s, (r02 - r20) / s, (r10 - r01) / s
+    if r00 > r11 and r00 > r22:
+        s = 2.0 * math.sqrt(1.0 + r00 - r11 - r22)
+        return (r21 - r12) / s, 0.25 * s, (r01 + r10) / s, (r02 + r20) / s
+    if r11 > r22:
+        s = 2.0 * math.sqrt(1.0 + r11 - r00 - r22)
+        return (r02 - r20) / s, (r01 + r10) / s, 0.25 * s, (r12 + r21) / s
+    s = 2.0 * math.sqrt(1.0 + r22 - r00 - r11)
+    return (r10 - r01) / s, (r02 + r20) / s, (r12 + r21) / s, 0.25 * s
+
+
+@numba.njit(cache=True)
+def _step(q0: float, q1: float, q2: float, q3: float, b0: float, b1: float, b2: float,
+          gx: float, gy: float, gz: float, ax: float, ay: float, az: float,
+          mx: float, my: float, mz: float, dt: float, beta: float, zeta: float,
+          max_bias: float, use_mag: bool, min_dip_sin: float, max_dt: float):
+    """One filter update; returns (q0, q1, q2, q3, b0, b1, b2, flags)."""
+    flags = 0
+    step_ok = dt > 0.0 and dt <= max_dt  # False for NaN too
+    # x * 0.0 is 0.0 for every finite x and NaN for NaN and inf: one test for all three.
+    gyro_ok = step_ok and (gx + gy + gz) * 0.0 == 0.0
+    # Rate of change of q from the bias-corrected gyro (zero when unusable).
+    if gyro_ok:
+        flags |= USED_GYRO
+        wx, wy, wz = 0.5 * (gx - b0), 0.5 * (gy - b1), 0.5 * (gz - b2)
+        d0 = -q1 * wx - q2 * wy - q3 * wz
+        d1 = q0 * wx + q2 * wz - q3 * wy
+        d2 = q0 * wy - q1 * wz + q3 * wx
+        d3 = q0 * wz + q1 * wy - q2 * wx
+    else:
+        d0 = d1 = d2 = d3 = 0.0
+    # A gap or a bad dt still lets the correction act, over one nominal step at most.
+    h = dt if step_ok else max_dt
+    a_sq = ax * ax + ay * ay + az * az
+    if a_sq * 0.0 == 0.0 and a_sq > 0.0:
+        flags |= USED_ACCEL
+        a_inv = 1.0 / math.sqrt(a_sq)
+        ax, ay, az = ax * a_inv, ay * a_inv, az * a_inv
+        _2q0, _2q1, _2q2, _2q3 = 2.0 * q0, 2.0 * q1, 2.0 * q2, 2.0 * q3
+        q0q0, q1q1, q2q2, q3q3 = q0 * q0, q1 * q1, q2 * q2, q3 * q3
+        f0 = _2q1 * q3 - _2q0 * q2 - ax
+        f1 = _2q0 * q1 + _2q2 * q3 - ay
+        f2 = 1.0 - 2.0 * (q1q1 + q2q2) - az
+        # Gradient J_g^T f_g of the gravity objective.
+        s0 = _2q1 * f1 - _2q2 * f0
+        s1 = _2q3 * f0 + _2q0 * f1 - 2.0 * _2q1 * f2
+        s2 = _2q3 * f1 - _2q0 * f0 - 2.0 * _2q2 * f2
+        s3 = _2q1 * f0 + _2q2 * f1
+        m_sq = mx * mx + my * my + mz * mz if use_mag else 0.0
+        if m_sq * 0.0 == 0.0 and m_sq > 0.0:
+            m_inv = 1.0 / math.sqrt(m_sq)
+            mx, my, mz = mx * m_inv, my * m_inv, mz * m_inv
+            cx, cy, cz = ay * mz - az * my, az * mx - ax * mz, ax * my - ay * mx
+            if cx * cx + cy * cy + cz * cz > min_dip_sin * min_dip_sin:
+                flags |= USED_MAG
+                # Earth field seen through q: reference (bx, 0, bz) in north-west-up.
+                hx = (mx * (q0q0 + q1q1 - q2q2 - q3q3) + 2.0 * my * (q1 * q2 - q0 * q3)
+                      + 2.0 * mz * (q1 * q3 + q0 * q2))
+                hy = (2.0 * mx * (q1 * q2 + q0 * q3) + my * (q0q0 - q1q1 + q2q2 - q3q3)
+                      + 2.0 * mz * (q2 * q3 - q0 * q1))
+                bz = (2.0 * mx * (q1 * q3 - q0 * q2) + 2.0 * my * (q2 * q3 + q0 * q1)
+                      + mz * (q0q0 - q1q1 - q2q2 + q3q3))
+                bx = math.sqrt(hx * hx + hy * hy)
+                e0 = bx * (1.0 - 2.0 * (q2q2 + q3q3)) + 2.0 * bz * (q1 * q3 - q0 * q2) - mx
+                e1 = 2.0 * bx * (q1 * q2 - q0 * q3) + 2.0 * bz * (q0 * q1 + q2 * q3) - my
+                e2 = 2.0 * bx * (q0 * q2 + q1 * q3) + bz * (1.0 - 2.0 * (q1q1 + q2q2)) - mz
+                s0 += -2.0 * bz * q2 * e0 + (-2.0 * bx * q3 + 2.0 * bz * q1) * e1 \
+                    + 2.0 * bx * q2 * e2
+                s1 += 2.0 * bz * q3 * e0 + (2.0 * bx * q2 + 2.0 * bz * q0) * e1 \
+                    + (2.0 * bx * q3 - 4.0 * bz * q1) * e2
+                s2 += (-4.0 * bx * q2 - 2.0 * bz * q0) * e0 \
+                    + (2.0 * bx * q1 + 2.0 * bz * q3) * e1 + (2.0 * bx * q0 - 4.0 * bz * q2) * e2
+                s3 += (-4.0 * bx * q3 + 2.0 * bz * q1) * e0 \
+                    + (-2.0 * bx * q0 + 2.0 * bz * q2) * e1 + 2.0 * bx * q1 * e2
+        s_sq = s0 * s0 + s1 * s1 + s2 * s2 + s3 * s3
+        if s_sq > 1e-24:
+            s_inv = 1.0 / math.sqrt(s_sq)
+            s0, s1, s2, s3 = s0 * s_inv, s1 * s_inv, s2 * s_inv, s3 * s_inv
+            d0 -= beta * s0
+            d1 -= beta * s1
+            d2 -= beta * s2
+            d3 -= beta * s3
+            if gyro_ok and zeta > 0.0:
+                # Gyro error direction 2 q* (x) s, integrated into the bias, bounded.
+                k = 2.0 * zeta * h
+                b0 += k * (q0 * s1 - q1 * s0 - q2 * s3 + q3 * s2)
+                b1 += k * (q0 * s2 + q1 * s3 - q2 * s0 - q3 * s1)
+                b2 += k * (q0 * s3 - q1 * s2 + q2 * s1 - q3 * s0)
+                if b0 * b0 + b1 * b1 + b2 * b2 > max_bias * max_bias:
+                    k = max_bias / math.sqrt(b0 * b0 + b1 * b1 + b2 * b2)
+                    b0, b1, b2 = b0 * k, b1 * k, b2 * k
+    q0, q1, q2, q3 = q0 + d0 * h, q1 + d1 * h, q2 + d2 * h, q3 + d3 * h
+    q_inv = 1.0 / math.sqrt(q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
+    return q0 * q_inv, q1 * q_inv, q2 * q_inv, q3 * q_inv, b0, b1, b2, flags
+
+
+# The streaming filter runs the kernels as plain Python: cheaper than a numba call
+# per sample. The batch loop runs the compiled versions.
+_step_py = _step.py_func
+_gains_py = _gains.py_func
+_initial_attitude_py = _initial_attitude.py_func
+
+
+def _to_enu(q0: float, q1: float, q2: float, q3: float) -> tuple[float, float, float, float]:
+    """Turn a north-west-up attitude into east-north-up (rotate the world by +90 deg)."""
+    c = _SQRT_HALF
+    return c * q0 - c * q3, c * q1 - c * q2, c * q2 + c * q1, c * q3 + c * q0
+
+
+class MadgwickFilter:
+    """Streaming filter: feed samples with `update`, read `quaternion` (w, x, y, z)."""
+
+    def __init__(self, config: MadgwickConfig = MadgwickConfig()) -> None:
+        self.config = config
+        self.reset()
+
+    def reset(self) -> None:
+        """Forget the attitude, bias and start-up ramp."""
+        self._q = (1.0, 0.0, 0.0, 0.0)
+        self._bias = (0.0, 0.0, 0.0)
+        self._elapsed = 0.0
+        self.initialised = False
+        self.last_flags = 0
+
+    @property
+    def quaternion(self) -> np.ndarray:
+        """Attitude of the sensor in the world frame (ENU with the mag), (w, x, y, z)."""
+        q = _to_enu(*self._q) if self.config.use_mag else self._q
+        return np.array(q)
+
+    @property
+    def gyro_bias(self) -> np.ndarray:
+        """Learnt gyro bias (rad/s)."""
+        return np.array(self._bias)
+
+    def update(self, gyro, accel, dt_s: float, mag=None) -> None:
+        """Fuse one sample; read the result from `quaternion`.
+
+        Args:
+            gyro: angular rate (rad/s), sensor frame.
+            accel: specific force (m/s^2), sensor frame.
+            dt_s: time since the previous sample (s).
+            mag: magnetic field (any unit), sensor frame, or None.
+        """
+        config = self.config
+        gx, gy, gz = gyro
+        ax, ay, az = accel
+        mx, my, mz = (math.nan, math.nan, math.nan) if mag is None else mag
+        if not self.initialised:
+            a_norm = math.sqrt(ax * ax + ay * ay + az * az)
+            if math.isfinite(a_norm) and a_norm > 0.0:
+                self._q = _initial_attitude_py(ax, ay, az, mx, my, mz, config.use_mag,
+                                            config.min_dip_sin)
+                self.initialised = True
+                self.last_flags = INITIALISED
+            return
+        beta, zeta = _gains_py(self._elapsed, config.gain, config.initial_gain, config.ramp_s,
+                            config.bias_gain)
+        *q, b0, b1, b2, flags = _step_py(*self._q, *self._bias, gx, gy, gz, ax, ay, az, mx, my,
+                                      mz, dt_s, beta, zeta, config.max_bias, config.use_mag,
+                                      config.min_dip_sin, config.max_dt_s)
+        self._q = tuple(q)
+        self._bias = (b0, b1, b2)
+        self._elapsed += dt_s if 0.0 < dt_s <= config.max_dt_s else 0.0
+        self.last_flags = flags
+
+
+@numba.njit(cache=True)
+def _run_batch(gyro, accel, mag, dt, gain, initial_gain, ramp_s, bias_gain, max_bias,
+               use_mag, min_dip_sin, max_dt):
+    n = gyro.shape[0]
+    out = np.empty((n, 4))
+    q0, q1, q2, q3 = 1.0, 0.0, 0.0, 0.0
+    b0 = b1 = b2 = 0.0
+    elapsed = 0.0
+    initialised = False
+    for i in range(n):
+        ax, ay, az = accel[i, 0], accel[i, 1], accel[i, 2]
+        if not initialised:
+            a_norm = math.sqrt(ax * ax + ay * ay + az * az)
+            if math.isfinite(a_norm) and a_norm > 0.0:
+                q0, q1, q2, q3 = _initial_attitude(ax, ay, az, mag[i, 0], mag[i, 1],
+                                                       mag[i, 2], use_mag, min_dip_sin)
+                initialised = True
+        else:
+            beta, zeta = _gains(elapsed, gain, initial_gain, ramp_s, bias_gain)
+            q0, q1, q2, q3, b0, b1, b2, _ = _step(
+                q0, q1, q2, q3, b0, b1, b2, gyro[i, 0], gyro[i, 1], gyro[i, 2], ax, ay, az,
+                mag[i, 0], mag[i, 1], mag[i, 2], dt[i], beta, zeta, max_bias, use_mag,
+                min_dip_sin, max_dt)
+            if dt[i] > 0.0 and dt[i] <= max_dt:
+                elapsed += dt[i]
+        out[i, 0], out[i, 1], out[i, 2], out[i, 3] = q0, q1, q2, q3
+    return out
+
+
+def filter_batch(gyro, accel, dt_s, mag=None,
+                 config: MadgwickConfig = MadgwickConfig()) -> np.ndarray:
+    """Run the filter over a whole recording; same result as `MadgwickFilter.update` per row.
+
+    Args:
+        gyro: (n, 3) angular rates (rad/s).
+        accel: (n, 3) specific forces (m/s^2).
+        dt_s: (n,) time since the previous sample (s); the first entry is unused.
+        mag: (n, 3) array or None.
+        config: the filter settings.
+
+    Returns:
+        (n, 4) attitudes (w, x, y, z) after each sample.
+    """
+    gyro = np.ascontiguousarray(gyro, dtype=np.float64)
+    accel = np.ascontiguousarray(accel, dtype=np.float64)
+    n = gyro.shape[0]
+    dt = np.ascontiguousarray(np.broadcast_to(np.asarray(dt_s, dtype=np.float64), (n,)))
+    mag = np.full((n, 3), np.nan) if mag is None else np.ascontiguousarray(mag, np.float64)
+    for name, array in (('gyro', gyro), ('accel', accel), ('mag', mag)):
+        if array.shape != (n, 3):
+            raise ValueError(f'{name} must have shape ({n}, 3), got {array.shape!r}')
+    out = _run_batch(gyro, accel, mag, dt, config.gain, config.initial_gain, config.ramp_s,
+                     config.bias_gain, config.max_bias, config.use_mag, config.min_dip_sin,
+                     config.max_dt_s)
+    if config.use_mag:
+        out = np.stack(_to_enu(*out.T), axis=1)
+    return out
