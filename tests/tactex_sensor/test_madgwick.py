@@ -79,8 +79,8 @@ def test_a_degenerate_sample_never_poisons_the_state(bad):
     accel, field = static_readings(q_true)
     if 'mag' in bad:  # mag parallel to gravity in the sensor frame, or NaN
         bad = dict(mag=accel / G * 4e-5) if bad['mag'][2] else bad
-    filt.update(bad.get('gyro', (0.0, 0.0, 0.0)), bad.get('accel', accel), bad.get('dt', 1 / RATE_HZ),
-                bad.get('mag', field))
+    filt.update(bad.get('gyro', (0.0, 0.0, 0.0)), bad.get('accel', accel),
+                bad.get('dt', 1 / RATE_HZ), bad.get('mag', field))
     after = filt.quaternion
     assert np.all(np.isfinite(after)) and abs(np.linalg.norm(after) - 1) < 1e-12
     assert math.degrees(angle_between(before, after)) < 1.0  # no jump of several degrees
