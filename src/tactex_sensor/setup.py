@@ -21,6 +21,9 @@ setup(
     description='Teensy wire protocol, serial publisher node and Madgwick orientation filter.',
     license='Apache-2.0',
     entry_points={
-        'console_scripts': [],
+        'console_scripts': [
+            'teensy_node = tactex_sensor.teensy_node:main',
+            'madgwick_node = tactex_sensor.madgwick_node:main',
+        ],
     },
 )

@@ -12,6 +12,7 @@ import sys
 COMMANDS = {
     'description': 'Show the robot description, write its URDF or MJCF, check the URDF.',
     'demo': 'Run the simulated pipeline slice that works today.',
+    'emulate': 'Emulate hardware on a pseudo-terminal (teensy).',
 }
 
 

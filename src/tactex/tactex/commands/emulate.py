@@ -1,0 +1,58 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""`tactex emulate teensy`: a protocol-exact Teensy on a pseudo-terminal, with faults."""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+from pathlib import Path
+import signal
+import sys
+import tempfile
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """Register the options of this subcommand."""
+    parser.add_argument('device', choices=['teensy'], help='what to emulate')
+    parser.add_argument('--rate', type=float, default=120.0, help='frames per second')
+    parser.add_argument('--link', type=Path,
+                        default=Path(tempfile.gettempdir()) / 'tactex-teensy',
+                        help='stable path linked to the pty (default /tmp/tactex-teensy)')
+    parser.add_argument('--motion', choices=['static', 'sway'], default='static',
+                        help='signal source: motionless, or compliant sway + vibration')
+    parser.add_argument('--roll', type=float, default=0.0, help='static roll (deg)')
+    parser.add_argument('--pitch', type=float, default=0.0, help='static pitch (deg)')
+    parser.add_argument('--fault', action='append', default=[], metavar='KIND@S[:ARG]',
+                        help='inject a fault: garbage@S:BYTES, crc@S:FRAMES, drop@S:FRAMES, '
+                             'stall@S:SECONDS, disconnect@S:SECONDS (repeatable)')
+    parser.add_argument('--duration', type=float, default=math.inf,
+                        help='stop after this many seconds (default: run until Ctrl-C)')
+    parser.add_argument('--seed', type=int, default=0, help='noise seed')
+    parser.add_argument('--start-time-us', type=int, default=0,
+                        help='device clock at start (e.g. 4294000000 to cross the wrap)')
+
+
+def run(args: argparse.Namespace) -> int:
+    """Open the pty, print its path, stream until done."""
+    from tactex_sensor.emulator import Fault, Motion, SignalSource, TeensyEmulator
+
+    try:
+        faults = tuple(Fault.parse(spec) for spec in args.fault)
+        source = SignalSource(Motion(args.motion), roll_rad=math.radians(args.roll),
+                              pitch_rad=math.radians(args.pitch), seed=args.seed)
+        emulator = TeensyEmulator(args.link, args.rate, source, faults=faults,
+                                  start_time_us=args.start_time_us)
+    except ValueError as err:
+        print(f'error: {err}', file=sys.stderr)
+        return 1
+    # SIGTERM (a launcher, a test harness) unwinds like Ctrl-C, so the link is removed.
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(0))
+    with emulator:
+        print(f'teensy emulator on {args.link} -> {os.path.realpath(args.link)} at '
+              f'{args.rate:g} Hz; faults: {", ".join(args.fault) or "none"}', flush=True)
+        emulator.run(args.duration)
+    print(f'sent {emulator.frames_sent} writes, {emulator.frames_overflowed} lost to a '
+          'full or closed pty')
+    return 0

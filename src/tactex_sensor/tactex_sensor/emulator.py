@@ -1,0 +1,221 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""Teensy emulator on a pseudo-terminal: real frames at a real rate, with faults on request.
+
+The emulator owns a pty pair and a stable symlink to its slave side, so a reader opens
+one path for the whole session, as it would a udev name, even across a simulated
+disconnect (the pty is closed, and a new one appears behind the same link later).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+import enum
+import errno
+import math
+import os
+from pathlib import Path
+import time
+import tty
+
+import numpy as np
+
+from tactex_sensor.protocol import encode, Sample
+
+G = 9.80665
+EARTH_FIELD_T = (0.0, 2.0e-5, -4.3e-5)
+SEA_LEVEL_PA = 101325.0
+
+
+class FaultKind(enum.Enum):
+    """Faults the emulator can inject."""
+
+    GARBAGE = 'garbage'  # ARG random bytes between two frames
+    CRC = 'crc'  # the next ARG frames carry a wrong checksum
+    DROP = 'drop'  # the next ARG frames are never sent
+    STALL = 'stall'  # nothing is sent for ARG seconds, then the stream resumes
+    DISCONNECT = 'disconnect'  # the device vanishes for ARG seconds
+
+
+_DEFAULT_ARG = {FaultKind.GARBAGE: 64, FaultKind.CRC: 1, FaultKind.DROP: 1,
+                FaultKind.STALL: 0.5, FaultKind.DISCONNECT: 1.0}
+
+
+@dataclass(frozen=True)
+class Fault:
+    """A fault of `kind` at `at_s` seconds after start, with its argument."""
+
+    kind: FaultKind
+    at_s: float
+    arg: float
+
+    @classmethod
+    def parse(cls, spec: str) -> Fault:
+        """Parse `KIND@SECONDS[:ARG]`, e.g. `garbage@2:100`, `disconnect@5:1.5`.
+
+        Raises:
+            ValueError: the spec is malformed; the message lists the kinds.
+        """
+        kinds = ', '.join(k.value for k in FaultKind)
+        try:
+            name, _, rest = spec.partition('@')
+            kind = FaultKind(name)
+            at, _, arg = rest.partition(':')
+            fault = cls(kind, float(at), float(arg) if arg else float(_DEFAULT_ARG[kind]))
+        except ValueError:
+            raise ValueError(f'bad fault {spec!r}: expected KIND@SECONDS[:ARG] with KIND '
+                             f'one of {kinds}') from None
+        if not (math.isfinite(fault.at_s) and fault.at_s >= 0 and math.isfinite(fault.arg)
+                and fault.arg >= 0):
+            raise ValueError(f'bad fault {spec!r}: time and argument must be finite and >= 0')
+        return fault
+
+
+class Motion(enum.Enum):
+    """Signal sources."""
+
+    STATIC = 'static'  # motionless, tilted by the given roll and pitch
+    SWAY = 'sway'  # compliant-body tilt of a few degrees at 2 Hz plus texture vibration
+
+
+class SignalSource:
+    """Physically consistent samples of a sensor at rest or swaying, with noise."""
+
+    def __init__(self, motion: Motion = Motion.STATIC, *, roll_rad: float = 0.0,
+                 pitch_rad: float = 0.0, seed: int = 0) -> None:
+        self.motion = motion
+        self.roll = roll_rad
+        self.pitch = pitch_rad
+        self._rng = np.random.default_rng(seed)
+
+    def sample(self, t_s: float) -> tuple[tuple, tuple, tuple, float, float]:
+        """Return accel, gyro, mag, pressure, temperature at time `t_s`."""
+        roll, pitch, roll_rate, pitch_rate = self.roll, self.pitch, 0.0, 0.0
+        vibration = np.zeros(3)
+        if self.motion is Motion.SWAY:
+            amplitude, omega = math.radians(3.0), 2 * math.pi * 2.0
+            roll += amplitude * math.sin(omega * t_s)
+            roll_rate = amplitude * omega * math.cos(omega * t_s)
+            pitch += amplitude * math.sin(0.7 * omega * t_s)
+            pitch_rate = amplitude * 0.7 * omega * math.cos(0.7 * omega * t_s)
+            vibration = np.array([0.4, 0.4, 0.8]) * math.sin(2 * math.pi * 60.0 * t_s)
+        cr, sr, cp, sp = math.cos(roll), math.sin(roll), math.cos(pitch), math.sin(pitch)
+        # World -> sensor rotation of a roll-pitch attitude (R^T of Ry(pitch) Rx(roll)).
+        world_to_sensor = np.array([[cp, 0.0, -sp], [sr * sp, cr, sr * cp],
+                                    [cr * sp, -sr, cr * cp]])
+        accel = world_to_sensor @ (0.0, 0.0, G) + vibration + self._rng.normal(0, 0.02, 3)
+        gyro = np.array([roll_rate, pitch_rate * cr, -pitch_rate * sr]) \
+            + self._rng.normal(0, 0.002, 3)
+        mag = world_to_sensor @ EARTH_FIELD_T + self._rng.normal(0, 2e-7, 3)
+        pressure = SEA_LEVEL_PA + 150.0 * (1.0 + math.sin(0.5 * t_s)) \
+            + self._rng.normal(0, 2.0)
+        temperature = 24.0 + 0.01 * t_s
+        return tuple(accel), tuple(gyro), tuple(mag), pressure, temperature
+
+
+class TeensyEmulator:
+    """Stream protocol frames on a pty at `rate_hz`, injecting `faults`.
+
+    Args:
+        link: path of the symlink that points at the current pty.
+        rate_hz: frames per second.
+        source: where samples come from.
+        faults: faults to inject, by time.
+        start_time_us: device clock at start (near 2**32 to test the wrap).
+    """
+
+    def __init__(self, link: Path, rate_hz: float, source: SignalSource, *,
+                 faults: tuple[Fault, ...] = (), start_time_us: int = 0) -> None:
+        if not (math.isfinite(rate_hz) and 0 < rate_hz <= 2000):
+            raise ValueError(f'rate_hz must be in (0, 2000], got {rate_hz!r}')
+        self.link = Path(link)
+        self.rate_hz = rate_hz
+        self.source = source
+        self._faults = sorted(faults, key=lambda f: f.at_s)
+        self._start_time_us = start_time_us
+        self._master: int | None = None
+        self._slave: int | None = None
+        self.frames_sent = 0
+        self.frames_overflowed = 0
+        self._rng = np.random.default_rng(1)
+
+    def __enter__(self) -> TeensyEmulator:
+        self.open()
+        return self
+
+    def __exit__(self, *exc_info) -> None:
+        self.close()
+
+    def open(self) -> None:
+        """Create the pty and point the link at it."""
+        master, slave = os.openpty()
+        tty.setraw(slave)
+        os.set_blocking(master, False)
+        self._master, self._slave = master, slave
+        temporary = self.link.with_name(self.link.name + '.tmp')
+        temporary.unlink(missing_ok=True)
+        temporary.symlink_to(os.ttyname(slave))
+        temporary.replace(self.link)
+
+    def close(self) -> None:
+        """Close the pty and remove the link; safe to call twice."""
+        for fd in (self._master, self._slave):
+            if fd is not None:
+                os.close(fd)
+        self._master = self._slave = None
+        self.link.unlink(missing_ok=True)
+
+    def run(self, duration_s: float = math.inf, *, sequence_start: int = 0) -> None:
+        """Stream until `duration_s` has passed (forever by default)."""
+        period = 1.0 / self.rate_hz
+        start = time.monotonic()
+        faults = list(self._faults)
+        corrupt = drop = 0
+        sequence = sequence_start
+        index = 0
+        while True:
+            due = start + index * period
+            now = time.monotonic()
+            if due - start >= duration_s:
+                return
+            if due > now:
+                time.sleep(due - now)
+            t_s = due - start
+            while faults and faults[0].at_s <= t_s:
+                fault = faults.pop(0)
+                if fault.kind is FaultKind.GARBAGE:
+                    self._write(self._rng.integers(0, 256, int(fault.arg), np.uint8).tobytes())
+                elif fault.kind is FaultKind.CRC:
+                    corrupt += int(fault.arg)
+                elif fault.kind is FaultKind.DROP:
+                    drop += int(fault.arg)
+                elif fault.kind is FaultKind.STALL:
+                    time.sleep(fault.arg)
+                else:
+                    self.close()
+                    time.sleep(fault.arg)
+                    self.open()
+            accel, gyro, mag, pressure, temperature = self.source.sample(t_s)
+            device_us = (self._start_time_us + int(round(t_s * 1e6))) % (1 << 32)
+            frame = encode(Sample(sequence, device_us, accel, gyro, mag, pressure,
+                                  temperature))
+            sequence = (sequence + 1) % (1 << 16)
+            index += 1
+            if drop:
+                drop -= 1
+                continue
+            if corrupt:
+                corrupt -= 1
+                frame = frame[:-1] + bytes([frame[-1] ^ 0xFF])
+            self._write(frame)
+
+    def _write(self, data: bytes) -> None:
+        try:
+            os.write(self._master, data)
+            self.frames_sent += 1
+        except OSError as err:
+            # Nobody reads and the pty is full, or the reader went away: a USB CDC
+            # device drops data the host does not collect.
+            if err.errno not in (errno.EAGAIN, errno.EIO):
+                raise
+            self.frames_overflowed += 1

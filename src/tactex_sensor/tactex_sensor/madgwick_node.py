@@ -1,0 +1,107 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""ROS 2 node: tactile/imu/data_raw (+ tactile/imu/mag) -> tactile/imu/data with orientation."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor, SetParametersResult
+import rclpy
+from rclpy.executors import ExternalShutdownException
+from rclpy.node import Node
+from rclpy.qos import qos_profile_sensor_data
+from sensor_msgs.msg import Imu, MagneticField
+
+from tactex_sensor.madgwick import MadgwickConfig, MadgwickFilter
+
+
+def _stamp_s(msg) -> float:
+    return msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
+
+
+class MadgwickNode(Node):
+    """Fuse each raw IMU message as it comes, with the latest magnetometer sample if fresh.
+
+    Unlike an exact-time synchroniser, output never waits for the magnetometer: an IMU
+    message uses the newest mag message no older than `mag_timeout_s`, else IMU only.
+    """
+
+    def __init__(self) -> None:
+        super().__init__('madgwick_node')
+        gain_range = FloatingPointRange(from_value=0.0, to_value=10.0, step=0.0)
+        gain = self.declare_parameter('gain', 0.1, ParameterDescriptor(
+            description='filter gain beta (rad/s)', floating_point_range=[gain_range])).value
+        use_mag = self.declare_parameter('use_mag', False, ParameterDescriptor(
+            description='fuse tactile/imu/mag (MARG)', read_only=True)).value
+        world_frame = self.declare_parameter('world_frame', 'enu', ParameterDescriptor(
+            description='world frame of the output; only enu (REP-145)', read_only=True)).value
+        self._mag_timeout = self.declare_parameter('mag_timeout_s', 0.1, ParameterDescriptor(
+            description='oldest magnetometer sample still fused (s)')).value
+        if world_frame != 'enu':
+            raise ValueError(f'world_frame must be "enu", got {world_frame!r}')
+        self._filter = MadgwickFilter(MadgwickConfig(gain=gain, use_mag=use_mag))
+        self._last_stamp: float | None = None
+        self._mag: tuple[float, tuple[float, float, float]] | None = None
+        self._publisher = self.create_publisher(Imu, 'tactile/imu/data', qos_profile_sensor_data)
+        self.create_subscription(Imu, 'tactile/imu/data_raw', self._on_imu,
+                                 qos_profile_sensor_data)
+        if use_mag:
+            self.create_subscription(MagneticField, 'tactile/imu/mag', self._on_mag,
+                                     qos_profile_sensor_data)
+        self.add_on_set_parameters_callback(self._on_set_parameters)
+
+    def _on_set_parameters(self, parameters) -> SetParametersResult:
+        for parameter in parameters:
+            if parameter.name == 'gain':
+                value = float(parameter.value)
+                if not math.isfinite(value) or value < 0.0:
+                    return SetParametersResult(successful=False,
+                                               reason=f'gain must be >= 0, got {value!r}')
+                self._filter.config = dataclasses.replace(self._filter.config, gain=value)
+            elif parameter.name == 'mag_timeout_s':
+                self._mag_timeout = float(parameter.value)
+        return SetParametersResult(successful=True)
+
+    def _on_mag(self, msg: MagneticField) -> None:
+        field = msg.magnetic_field
+        self._mag = (_stamp_s(msg), (field.x, field.y, field.z))
+
+    def _on_imu(self, msg: Imu) -> None:
+        stamp = _stamp_s(msg)
+        dt = 0.0 if self._last_stamp is None else stamp - self._last_stamp
+        self._last_stamp = stamp if self._last_stamp is None else max(stamp, self._last_stamp)
+        mag = None
+        if self._mag is not None and abs(stamp - self._mag[0]) <= self._mag_timeout:
+            mag = self._mag[1]
+        w = msg.angular_velocity
+        a = msg.linear_acceleration
+        self._filter.update((w.x, w.y, w.z), (a.x, a.y, a.z), dt, mag)
+        if not self._filter.initialised:
+            return
+        out = Imu()
+        out.header = msg.header
+        out.angular_velocity = msg.angular_velocity
+        out.angular_velocity_covariance = msg.angular_velocity_covariance
+        out.linear_acceleration = msg.linear_acceleration
+        out.linear_acceleration_covariance = msg.linear_acceleration_covariance
+        q = self._filter.quaternion
+        out.orientation.w, out.orientation.x, out.orientation.y, out.orientation.z = (
+            float(v) for v in q)
+        self._publisher.publish(out)
+
+
+def main(args: list[str] | None = None) -> None:
+    """Run the node until shutdown."""
+    rclpy.init(args=args)
+    node = None
+    try:
+        node = MadgwickNode()
+        rclpy.spin(node)
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
+    finally:
+        if node is not None:
+            node.destroy_node()
+        rclpy.try_shutdown()

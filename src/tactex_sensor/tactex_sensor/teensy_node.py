@@ -1,0 +1,131 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""ROS 2 node publishing the tactile module's stream from the Teensy serial link."""
+
+from __future__ import annotations
+
+import threading
+
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+from rcl_interfaces.msg import ParameterDescriptor
+import rclpy
+from rclpy.executors import ExternalShutdownException
+from rclpy.node import Node
+from rclpy.qos import qos_profile_sensor_data
+from sensor_msgs.msg import FluidPressure, Imu, MagneticField, Temperature
+
+from tactex_sensor.link import SerialLink
+from tactex_sensor.protocol import DEFAULT_BAUD
+from tactex_sensor.reader import TeensyReader
+
+
+class TeensyNode(Node):
+    """Serial reader thread -> tactile/imu/data_raw, imu/mag, pressure, temperature."""
+
+    def __init__(self) -> None:
+        super().__init__('teensy_node')
+        port = self.declare_parameter(
+            'port', '/dev/ttyACM0',
+            ParameterDescriptor(description='serial device of the Teensy', read_only=True)).value
+        baud = self.declare_parameter(
+            'baud', DEFAULT_BAUD,
+            ParameterDescriptor(description='line rate (baud)', read_only=True)).value
+        self._frame_id = self.declare_parameter(
+            'frame_id', 'sensor_link', ParameterDescriptor(description='frame of the samples',
+                                                           read_only=True)).value
+        accel_var = self.declare_parameter(
+            'accel_variance', 4e-4,
+            ParameterDescriptor(description='accel noise variance (m/s^2)^2')).value
+        gyro_var = self.declare_parameter(
+            'gyro_variance', 4e-6,
+            ParameterDescriptor(description='gyro noise variance (rad/s)^2')).value
+        mag_var = self.declare_parameter(
+            'mag_variance', 4e-14,
+            ParameterDescriptor(description='magnetometer noise variance T^2')).value
+        self._pressure_var = self.declare_parameter(
+            'pressure_variance', 4.0,
+            ParameterDescriptor(description='barometer noise variance Pa^2')).value
+        diagnostics_period = self.declare_parameter(
+            'diagnostics_period_s', 1.0,
+            ParameterDescriptor(description='diagnostics period (s)', read_only=True)).value
+
+        self._accel_cov = [accel_var, 0.0, 0.0, 0.0, accel_var, 0.0, 0.0, 0.0, accel_var]
+        self._gyro_cov = [gyro_var, 0.0, 0.0, 0.0, gyro_var, 0.0, 0.0, 0.0, gyro_var]
+        self._mag_cov = [mag_var, 0.0, 0.0, 0.0, mag_var, 0.0, 0.0, 0.0, mag_var]
+        self._reader = TeensyReader(SerialLink(port, int(baud)),
+                                    lambda: self.get_clock().now().nanoseconds)
+        self._imu_pub = self.create_publisher(Imu, 'tactile/imu/data_raw',
+                                              qos_profile_sensor_data)
+        self._mag_pub = self.create_publisher(MagneticField, 'tactile/imu/mag',
+                                              qos_profile_sensor_data)
+        self._pressure_pub = self.create_publisher(FluidPressure, 'tactile/pressure',
+                                                   qos_profile_sensor_data)
+        self._temperature_pub = self.create_publisher(Temperature, 'tactile/temperature',
+                                                      qos_profile_sensor_data)
+        self._diagnostics_pub = self.create_publisher(DiagnosticArray, 'diagnostics', 10)
+        self.create_timer(diagnostics_period, self._publish_diagnostics)
+        self._running = True
+        self._thread = threading.Thread(target=self._read_loop, name='teensy_reader',
+                                        daemon=True)
+        self._thread.start()
+        self.get_logger().info(f'reading {port} at {baud} baud')
+
+    def _read_loop(self) -> None:
+        """Blocking serial reads live here, never in the executor."""
+        while self._running:
+            for stamp_ns, sample in self._reader.poll():
+                self._publish(stamp_ns, sample)
+
+    def _publish(self, stamp_ns: int, sample) -> None:
+        stamp = rclpy.time.Time(nanoseconds=stamp_ns).to_msg()
+        imu = Imu()
+        imu.header.stamp = stamp
+        imu.header.frame_id = self._frame_id
+        imu.orientation_covariance[0] = -1.0  # REP-145: no orientation in raw data
+        imu.angular_velocity.x, imu.angular_velocity.y, imu.angular_velocity.z = sample.gyro
+        a = imu.linear_acceleration
+        a.x, a.y, a.z = sample.accel
+        imu.angular_velocity_covariance = self._gyro_cov
+        imu.linear_acceleration_covariance = self._accel_cov
+        self._imu_pub.publish(imu)
+        mag = MagneticField()
+        mag.header = imu.header
+        mag.magnetic_field.x, mag.magnetic_field.y, mag.magnetic_field.z = sample.mag
+        mag.magnetic_field_covariance = self._mag_cov
+        self._mag_pub.publish(mag)
+        self._pressure_pub.publish(FluidPressure(
+            header=imu.header, fluid_pressure=sample.pressure_pa, variance=self._pressure_var))
+        self._temperature_pub.publish(Temperature(
+            header=imu.header, temperature=sample.temperature_c, variance=0.25))
+
+    def _publish_diagnostics(self) -> None:
+        ok, summary, values = self._reader.health()
+        status = DiagnosticStatus(
+            level=DiagnosticStatus.OK if ok else (
+                DiagnosticStatus.ERROR if values['link'] != 'connected'
+                else DiagnosticStatus.WARN),
+            name='tactex_sensor: teensy', message=summary, hardware_id=values['port'],
+            values=[KeyValue(key=k, value=v) for k, v in values.items()])
+        array = DiagnosticArray(status=[status])
+        array.header.stamp = self.get_clock().now().to_msg()
+        self._diagnostics_pub.publish(array)
+
+    def destroy_node(self) -> None:
+        """Stop the reader thread and close the port."""
+        self._running = False
+        self._thread.join(timeout=1.0)
+        self._reader.link.close()
+        super().destroy_node()
+
+
+def main(args: list[str] | None = None) -> None:
+    """Run the node until shutdown."""
+    rclpy.init(args=args)
+    node = TeensyNode()
+    try:
+        rclpy.spin(node)
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
+    finally:
+        node.destroy_node()
+        rclpy.try_shutdown()
