@@ -13,8 +13,9 @@ ROOT = Path(__file__).resolve().parents[1]
 PACKAGES = sorted(p.name for p in (ROOT / 'src').iterdir() if (p / 'package.xml').is_file())
 EXPECTED_PACKAGES = ['tactex', 'tactex_classify', 'tactex_description', 'tactex_driver',
                      'tactex_probe', 'tactex_sensor', 'tactex_sim', 'tactex_trajectory']
-PYTHON_FILES = sorted(p for folder in ('src', 'tests', 'bench')
+PYTHON_FILES = sorted(p for folder in ('src', 'tests', 'bench', 'launch')
                       for p in (ROOT / folder).rglob('*.py') if '.egg-info' not in str(p))
+LAUNCH_FILES = sorted((ROOT / 'launch').glob('*.launch.py'))
 
 
 def _is_adapter(path: Path) -> bool:
@@ -77,3 +78,11 @@ def test_every_module_has_a_one_line_docstring():
         text = path.read_text(encoding='utf-8')
         body = text.split('\n', 2)[2].lstrip()
         assert body.startswith('"""'), f'{path.relative_to(ROOT)} has no module docstring'
+
+
+def test_launch_files_compile_and_define_a_description():
+    assert LAUNCH_FILES
+    for path in LAUNCH_FILES:
+        source = path.read_text(encoding='utf-8')
+        compile(source, str(path), 'exec')
+        assert 'def generate_launch_description()' in source, path.name
