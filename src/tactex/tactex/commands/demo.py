@@ -2,10 +2,13 @@
 # SPDX-License-Identifier: Apache-2.0
 """`tactex demo`: the part of the simulated pipeline that works today, run end to end.
 
-Today's slice is the robot description: the exploration motion of the probe phase
-(approach height, descend, retract, step 1 cm) is solved with our analytic IK and
-played on the MuJoCo arm through its position servos; the sensor tip it reaches
-is compared with the target. There is no surface, sensor or classifier in it yet.
+Slice 1, the robot description: the exploration motion of the probe phase (approach
+height, descend, retract, step 1 cm) is solved with our analytic IK and played on the
+MuJoCo arm through its position servos; the sensor tip it reaches is compared with the
+target. Slice 2, the tactile sensor: an emulated Teensy streams real protocol frames
+with injected garbage and CRC errors over a pseudo-terminal; the serial reader decodes
+them and the Madgwick filter estimates the tilt, compared with the emulated one.
+There is no surface contact, sweep or classifier in it yet.
 """
 
 from __future__ import annotations
@@ -36,7 +39,7 @@ def run(args: argparse.Namespace) -> int:
         print('error: --points must be >= 1 and --settle-s > 0')
         return 1
     print('tactex demo, slice 1/5: robot description (IK -> MuJoCo servos -> FK).')
-    print('Not yet in the demo: sensor stream, surface contact, sweep, classification.\n')
+    print('Not yet in the demo: surface contact, sweep, classification.\n')
     model = mujoco.MjModel.from_xml_string(build_mjcf())
     data = mujoco.MjData(model)
     joints = [model.joint(name).qposadr[0] for name in ARM_JOINT_NAMES]
@@ -63,7 +66,46 @@ def run(args: argparse.Namespace) -> int:
         print(f'{_xyz(target):<26}{_xyz(reached):<28}{error_mm:>10.2f}')
     print(f'\n{len(waypoints)} waypoints, worst steady-state error {worst:.2f} mm '
           '(position servos under gravity).')
-    return 0
+    return _sensor_slice()
+
+
+def _sensor_slice() -> int:
+    """Emulated Teensy -> pty -> decoder -> Madgwick; print what arrived and the tilt."""
+    import tempfile
+    import threading
+    import time
+
+    from tactex_sensor.emulator import Fault, Motion, SignalSource, TeensyEmulator
+    from tactex_sensor.link import SerialLink
+    from tactex_sensor.madgwick import MadgwickFilter
+    from tactex_sensor.reader import TeensyReader
+
+    print('\ntactex demo, slice 2/5: tactile sensor (emulated Teensy -> pty -> decoder -> '
+          'Madgwick), 350 Hz for 3 s, 20 deg roll, garbage and CRC faults.')
+    roll_deg = 20.0
+    with tempfile.TemporaryDirectory() as folder:
+        link_path = f'{folder}/teensy'
+        faults = (Fault.parse('garbage@0.5:300'), Fault.parse('crc@1.0:5'))
+        source = SignalSource(Motion.STATIC, roll_rad=math.radians(roll_deg), seed=1)
+        with TeensyEmulator(link_path, 350.0, source, faults=faults) as emulator:
+            streamer = threading.Thread(target=emulator.run, args=(3.0,), daemon=True)
+            streamer.start()
+            reader = TeensyReader(SerialLink(link_path, 250000), time.monotonic_ns)
+            madgwick = MadgwickFilter()
+            previous_ns = None
+            while streamer.is_alive():
+                for stamp_ns, sample in reader.poll():
+                    dt = 0.0 if previous_ns is None else (stamp_ns - previous_ns) * 1e-9
+                    previous_ns = stamp_ns
+                    madgwick.update(sample.gyro, sample.accel, dt)
+            reader.link.close()
+    stats = reader.decoder.stats
+    w, x, y, z = madgwick.quaternion
+    roll = math.degrees(math.atan2(2 * (w * x + y * z), 1 - 2 * (x * x + y * y)))
+    print(f'frames decoded {stats.frames}, CRC errors {stats.crc_errors}, '
+          f'lost {stats.lost_frames}, garbage bytes discarded {stats.discarded_bytes}')
+    print(f'estimated roll {roll:.2f} deg (emulated {roll_deg:.1f} deg)')
+    return 0 if stats.frames > 900 and abs(roll - roll_deg) < 1.0 else 1
 
 
 def _xyz(values) -> str:
