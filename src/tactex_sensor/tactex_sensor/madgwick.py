@@ -25,6 +25,8 @@ import math
 import numba
 import numpy as np
 
+from tactex_sensor.orientation import gravity_alignment
+
 # Flags returned by the kernel: which parts of the update ran.
 USED_GYRO = 1
 USED_ACCEL = 2
@@ -98,12 +100,7 @@ def _initial_attitude(ax: float, ay: float, az: float, mx: float, my: float, mz:
             wx, wy, wz = wx / w_norm, wy / w_norm, wz / w_norm
             nx, ny, nz = wy * uz - wz * uy, wz * ux - wx * uz, wx * uy - wy * ux
             return _matrix_to_quaternion(nx, ny, nz, wx, wy, wz, ux, uy, uz)
-    horizontal_sq = ux * ux + uy * uy
-    w = 1.0 + uz if uz >= 0.0 else horizontal_sq / (1.0 - uz)
-    q_norm = math.sqrt(w * w + horizontal_sq)
-    if q_norm < 1e-150:
-        return 0.0, 1.0, 0.0, 0.0
-    return w / q_norm, uy / q_norm, -ux / q_norm, 0.0
+    return gravity_alignment(ux, uy, uz)
 
 
 @numba.njit(cache=True)

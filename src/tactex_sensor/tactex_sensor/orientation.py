@@ -12,11 +12,15 @@ from __future__ import annotations
 
 import math
 
+import numba
 import numpy as np
 
 
-def _gravity_alignment(ax: float, ay: float, az: float) -> tuple[float, float, float, float]:
+@numba.njit(cache=True)
+def gravity_alignment(ax: float, ay: float, az: float) -> tuple[float, float, float, float]:
     """Shortest rotation taking the unit vector (ax, ay, az) onto +z; exact near 0 and pi.
+
+    Compiled by numba so the Madgwick kernels can call it.
 
     The half-way quaternion is (1 + az, ay, -ax, 0), normalised. At 180 degrees
     (az = -1) the cross product vanishes and any horizontal axis is right: x is
@@ -44,7 +48,7 @@ def orientation_from_gravity(accel, base_yaw_rad: float = 0.0) -> np.ndarray:
     norm = float(np.linalg.norm(a))
     if a.shape != (3,) or not math.isfinite(norm) or norm == 0.0:
         raise ValueError(f'accel must be a finite non-zero 3-vector, got {accel!r}')
-    align = _gravity_alignment(*(a / norm))
+    align = gravity_alignment(*(a / norm))
     half = 0.5 * base_yaw_rad
     yaw = (math.cos(half), 0.0, 0.0, math.sin(half))
     return quaternion_multiply(yaw, align)
