@@ -4,17 +4,26 @@
 
 One scalar kernel, `_step`, holds the algorithm. `MadgwickFilter` calls it as plain
 Python sample by sample; `filter_batch` runs the same function compiled by numba over a
-whole recording, so the two agree to rounding. Beyond Madgwick (2010): the gain starts high
-and ramps down (fast convergence from any attitude), the first valid sample sets the
-attitude, the gyro bias is learnt from the correction (Madgwick's zeta term, after the
-ramp), and every input is checked: a non-finite or zero accel skips the correction, a
-non-finite gyro skips the prediction, an invalid magnetometer or one nearly parallel to
-gravity falls back to the IMU update, and dt <= 0, a non-finite dt or a gap longer than
-`max_dt_s` never integrates the gyro over it.
+whole recording, so the two agree to rounding.
 
-Internally the world frame is north-west-up (the magnetometer reference has no west
-component); the MARG output is turned into ENU (x east, y north, z up; REP-145). With
-the IMU only, heading is free and the first sample defines yaw 0.
+Each step first rotates the attitude exactly by the bias-corrected gyro over dt, then
+corrects it towards the measurements of that same instant: tilt by Madgwick's
+normalised gravity gradient (gain beta), limited to half the error per step so a high
+gain cannot chatter, and heading only by the magnetometer (a turn about world up towards
+magnetic north), so accel disturbances and nearby magnets stay out of each other's axes.
+The gain starts high and ramps down (fast convergence from any attitude); the first
+valid sample sets the attitude; the gyro bias integrates the direction errors (their
+sines, so zero-mean texture vibration averages out, where Madgwick's zeta term would
+integrate a unit vector of noise).
+
+Every input is checked: a non-finite or zero accel skips the correction, a non-finite
+gyro skips the prediction, an invalid magnetometer or one nearly parallel to gravity
+leaves heading alone, and dt <= 0, a non-finite dt or a gap longer than `max_dt_s`
+never integrates the gyro over it.
+
+Internally the world frame is north-west-up; the MARG output is turned into ENU (x east,
+y north, z up; REP-145). With the IMU only, heading is free and the first sample defines
+yaw 0.
 """
 
 from __future__ import annotations
@@ -34,6 +43,8 @@ USED_MAG = 4
 INITIALISED = 8
 
 _SQRT_HALF = math.sqrt(0.5)
+# Heading errors above this are corrected at the full rate, smaller ones in proportion.
+HEADING_SATURATION_RAD = math.radians(2.0)
 # Rotation of +90 degrees about z: north-west-up -> east-north-up.
 _NWU_TO_ENU = (_SQRT_HALF, 0.0, 0.0, _SQRT_HALF)
 
@@ -46,21 +57,24 @@ class MadgwickConfig:
         gain: beta (rad/s), weight of the accel/mag correction after start-up.
         initial_gain: beta at start-up, ramping linearly down to `gain`.
         ramp_s: duration of the start-up ramp (s).
-        bias_gain: zeta (1/s), rate of gyro bias learning; 0 turns it off.
+        bias_gain: integral gain (1/s) from direction error to gyro bias; 0 turns it off.
         max_bias: largest gyro bias the filter will learn (rad/s).
         use_mag: fuse the magnetometer (MARG) when it is valid.
         min_dip_sin: a magnetometer within asin(min_dip_sin) of gravity is ignored.
         max_dt_s: a longer step is a gap: no gyro integration over it.
+        start_from_first_sample: take the attitude of the first valid accel (+mag)
+            sample; False starts from identity and lets the start-up ramp converge.
     """
 
-    gain: float = 0.1
+    gain: float = 0.04
     initial_gain: float = 2.5
     ramp_s: float = 1.0
-    bias_gain: float = 0.02
+    bias_gain: float = 1.0
     max_bias: float = 0.1
     use_mag: bool = False
     min_dip_sin: float = 0.1
     max_dt_s: float = 0.1
+    start_from_first_sample: bool = True
 
     def __post_init__(self) -> None:
         """Reject settings the kernel cannot use."""
@@ -79,10 +93,15 @@ class MadgwickConfig:
 @numba.njit(cache=True)
 def _gains(elapsed: float, gain: float, initial_gain: float, ramp_s: float,
            bias_gain: float) -> tuple[float, float]:
-    """Return (beta, zeta) at `elapsed` seconds after initialisation."""
+    """Return (beta, zeta) at `elapsed` seconds after initialisation.
+
+    The start-up gain holds for the first half of the ramp and falls linearly to `gain`
+    over the second half; the bias is learnt only after the ramp.
+    """
     if elapsed >= ramp_s:
         return gain, bias_gain
-    return gain + (initial_gain - gain) * (1.0 - elapsed / ramp_s), 0.0
+    fraction = min(1.0, 2.0 * (1.0 - elapsed / ramp_s))
+    return gain + (initial_gain - gain) * fraction, 0.0
 
 
 @numba.njit(cache=True)
@@ -132,18 +151,26 @@ def _step(q0: float, q1: float, q2: float, q3: float, b0: float, b1: float, b2: 
     step_ok = dt > 0.0 and dt <= max_dt  # False for NaN too
     # x * 0.0 is 0.0 for every finite x and NaN for NaN and inf: one test for all three.
     gyro_ok = step_ok and (gx + gy + gz) * 0.0 == 0.0
-    # Rate of change of q from the bias-corrected gyro (zero when unusable).
-    if gyro_ok:
-        flags |= USED_GYRO
-        wx, wy, wz = 0.5 * (gx - b0), 0.5 * (gy - b1), 0.5 * (gz - b2)
-        d0 = -q1 * wx - q2 * wy - q3 * wz
-        d1 = q0 * wx + q2 * wz - q3 * wy
-        d2 = q0 * wy - q1 * wz + q3 * wx
-        d3 = q0 * wz + q1 * wy - q2 * wx
-    else:
-        d0 = d1 = d2 = d3 = 0.0
+    # Correction rate of q (from accel and mag), accumulated below.
+    d0 = d1 = d2 = d3 = 0.0
     # A gap or a bad dt still lets the correction act, over one nominal step at most.
     h = dt if step_ok else max_dt
+    if gyro_ok:
+        # Predict: exact rotation by the bias-corrected rate over dt (q * exp(w dt / 2)),
+        # no first-order error even at several rad/s. The correction below then
+        # compares the measurements with the attitude of their own instant.
+        flags |= USED_GYRO
+        wx, wy, wz = gx - b0, gy - b1, gz - b2
+        # cos and sin(x)/x of the half angle by their series: below 1e-9 error for
+        # half angles up to 0.1 rad (24 rad/s at 120 Hz); normalisation follows.
+        theta_sq = 0.25 * (wx * wx + wy * wy + wz * wz) * h * h
+        c = 1.0 - theta_sq * (0.5 - theta_sq * (1.0 / 24.0))
+        k = 0.5 * h * (1.0 - theta_sq * (1.0 / 6.0 - theta_sq * (1.0 / 120.0)))
+        rx, ry, rz = wx * k, wy * k, wz * k
+        q0, q1, q2, q3 = (q0 * c - q1 * rx - q2 * ry - q3 * rz,
+                          q0 * rx + q1 * c + q2 * rz - q3 * ry,
+                          q0 * ry - q1 * rz + q2 * c + q3 * rx,
+                          q0 * rz + q1 * ry - q2 * rx + q3 * c)
     a_sq = ax * ax + ay * ay + az * az
     if a_sq * 0.0 == 0.0 and a_sq > 0.0:
         flags |= USED_ACCEL
@@ -159,6 +186,18 @@ def _step(q0: float, q1: float, q2: float, q3: float, b0: float, b1: float, b2: 
         s1 = _2q3 * f0 + _2q0 * f1 - 2.0 * _2q1 * f2
         s2 = _2q3 * f1 - _2q0 * f0 - 2.0 * _2q2 * f2
         s3 = _2q1 * f0 + _2q2 * f1
+        s_sq = s0 * s0 + s1 * s1 + s2 * s2 + s3 * s3
+        if s_sq > 1e-24:
+            # A unit step of beta * h would overshoot an error smaller than the step
+            # and chatter (1.2 deg per sample at the start-up gain and 120 Hz): never
+            # move q by more than half the tilt error (|f| ~ the angle) in one step.
+            step = min(beta, 0.5 * math.sqrt(f0 * f0 + f1 * f1 + f2 * f2) / h)
+            s_inv = step / math.sqrt(s_sq)
+            d0 -= s0 * s_inv
+            d1 -= s1 * s_inv
+            d2 -= s2 * s_inv
+            d3 -= s3 * s_inv
+        heading_error = 0.0
         m_sq = mx * mx + my * my + mz * mz if use_mag else 0.0
         if m_sq * 0.0 == 0.0 and m_sq > 0.0:
             m_inv = 1.0 / math.sqrt(m_sq)
@@ -166,42 +205,36 @@ def _step(q0: float, q1: float, q2: float, q3: float, b0: float, b1: float, b2: 
             cx, cy, cz = ay * mz - az * my, az * mx - ax * mz, ax * my - ay * mx
             if cx * cx + cy * cy + cz * cz > min_dip_sin * min_dip_sin:
                 flags |= USED_MAG
-                # Earth field seen through q: reference (bx, 0, bz) in north-west-up.
+                # The magnetometer corrects heading only, so an accel disturbance cannot
+                # tilt through it, nor a magnet tilt the sensor: the field in the world
+                # frame must point north (+x of north-west-up); turn about up to get there.
                 hx = (mx * (q0q0 + q1q1 - q2q2 - q3q3) + 2.0 * my * (q1 * q2 - q0 * q3)
                       + 2.0 * mz * (q1 * q3 + q0 * q2))
                 hy = (2.0 * mx * (q1 * q2 + q0 * q3) + my * (q0q0 - q1q1 + q2q2 - q3q3)
                       + 2.0 * mz * (q2 * q3 - q0 * q1))
-                bz = (2.0 * mx * (q1 * q3 - q0 * q2) + 2.0 * my * (q2 * q3 + q0 * q1)
-                      + mz * (q0q0 - q1q1 - q2q2 + q3q3))
-                bx = math.sqrt(hx * hx + hy * hy)
-                e0 = bx * (1.0 - 2.0 * (q2q2 + q3q3)) + 2.0 * bz * (q1 * q3 - q0 * q2) - mx
-                e1 = 2.0 * bx * (q1 * q2 - q0 * q3) + 2.0 * bz * (q0 * q1 + q2 * q3) - my
-                e2 = 2.0 * bx * (q0 * q2 + q1 * q3) + bz * (1.0 - 2.0 * (q1q1 + q2q2)) - mz
-                s0 += -2.0 * bz * q2 * e0 + (-2.0 * bx * q3 + 2.0 * bz * q1) * e1 \
-                    + 2.0 * bx * q2 * e2
-                s1 += 2.0 * bz * q3 * e0 + (2.0 * bx * q2 + 2.0 * bz * q0) * e1 \
-                    + (2.0 * bx * q3 - 4.0 * bz * q1) * e2
-                s2 += (-4.0 * bx * q2 - 2.0 * bz * q0) * e0 \
-                    + (2.0 * bx * q1 + 2.0 * bz * q3) * e1 + (2.0 * bx * q0 - 4.0 * bz * q2) * e2
-                s3 += (-4.0 * bx * q3 + 2.0 * bz * q1) * e0 \
-                    + (-2.0 * bx * q0 + 2.0 * bz * q2) * e1 + 2.0 * bx * q1 * e2
-        s_sq = s0 * s0 + s1 * s1 + s2 * s2 + s3 * s3
-        if s_sq > 1e-24:
-            s_inv = 1.0 / math.sqrt(s_sq)
-            s0, s1, s2, s3 = s0 * s_inv, s1 * s_inv, s2 * s_inv, s3 * s_inv
-            d0 -= beta * s0
-            d1 -= beta * s1
-            d2 -= beta * s2
-            d3 -= beta * s3
-            if gyro_ok and zeta > 0.0:
-                # Gyro error direction 2 q* (x) s, integrated into the bias, bounded.
-                k = 2.0 * zeta * h
-                b0 += k * (q0 * s1 - q1 * s0 - q2 * s3 + q3 * s2)
-                b1 += k * (q0 * s2 + q1 * s3 - q2 * s0 - q3 * s1)
-                b2 += k * (q0 * s3 - q1 * s2 + q2 * s1 - q3 * s0)
-                if b0 * b0 + b1 * b1 + b2 * b2 > max_bias * max_bias:
-                    k = max_bias / math.sqrt(b0 * b0 + b1 * b1 + b2 * b2)
-                    b0, b1, b2 = b0 * k, b1 * k, b2 * k
+                heading_error = math.atan2(hy, hx)
+                # Same pace as the tilt, proportional below the saturation, and never
+                # past the error in one step (q turns by twice half_rate * h).
+                size = abs(heading_error)
+                half_rate = -math.copysign(
+                    min(beta * min(1.0, size / HEADING_SATURATION_RAD), 0.5 * size / h),
+                    heading_error)
+                d0 -= half_rate * q3
+                d1 -= half_rate * q2
+                d2 += half_rate * q1
+                d3 += half_rate * q0
+        if gyro_ok and zeta > 0.0:
+            # Integral of the direction errors into the gyro bias, bounded. Tilt error:
+            # measured x predicted gravity (its sine, so zero-mean vibration averages
+            # out, unlike the unit gradient of Madgwick's zeta term); heading error:
+            # about world up, which the body sees along the predicted gravity f + a.
+            k = zeta * h
+            b0 += k * (heading_error * (f0 + ax) - (ay * f2 - az * f1))
+            b1 += k * (heading_error * (f1 + ay) - (az * f0 - ax * f2))
+            b2 += k * (heading_error * (f2 + az) - (ax * f1 - ay * f0))
+            if b0 * b0 + b1 * b1 + b2 * b2 > max_bias * max_bias:
+                k = max_bias / math.sqrt(b0 * b0 + b1 * b1 + b2 * b2)
+                b0, b1, b2 = b0 * k, b1 * k, b2 * k
     q0, q1, q2, q3 = q0 + d0 * h, q1 + d1 * h, q2 + d2 * h, q3 + d3 * h
     q_inv = 1.0 / math.sqrt(q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
     return q0 * q_inv, q1 * q_inv, q2 * q_inv, q3 * q_inv, b0, b1, b2, flags
@@ -232,7 +265,7 @@ class MadgwickFilter:
         self._q = (1.0, 0.0, 0.0, 0.0)
         self._bias = (0.0, 0.0, 0.0)
         self._elapsed = 0.0
-        self.initialised = False
+        self.initialised = not self.config.start_from_first_sample
         self.last_flags = 0
 
     @property
@@ -280,13 +313,12 @@ class MadgwickFilter:
 
 @numba.njit(cache=True)
 def _run_batch(gyro, accel, mag, dt, gain, initial_gain, ramp_s, bias_gain, max_bias,
-               use_mag, min_dip_sin, max_dt):
+               use_mag, min_dip_sin, max_dt, initialised):
     n = gyro.shape[0]
     out = np.empty((n, 4))
     q0, q1, q2, q3 = 1.0, 0.0, 0.0, 0.0
     b0 = b1 = b2 = 0.0
     elapsed = 0.0
-    initialised = False
     for i in range(n):
         ax, ay, az = accel[i, 0], accel[i, 1], accel[i, 2]
         if not initialised:
@@ -331,7 +363,7 @@ def filter_batch(gyro, accel, dt_s, mag=None,
             raise ValueError(f'{name} must have shape ({n}, 3), got {array.shape!r}')
     out = _run_batch(gyro, accel, mag, dt, config.gain, config.initial_gain, config.ramp_s,
                      config.bias_gain, config.max_bias, config.use_mag, config.min_dip_sin,
-                     config.max_dt_s)
+                     config.max_dt_s, not config.start_from_first_sample)
     if config.use_mag:
         out = np.stack(_to_enu(*out.T), axis=1)
     return out
