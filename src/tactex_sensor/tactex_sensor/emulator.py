@@ -113,6 +113,47 @@ class SignalSource:
         return tuple(accel), tuple(gyro), tuple(mag), pressure, temperature
 
 
+REPLAY_COLUMNS = ('t', 'ax', 'ay', 'az', 'gx', 'gy', 'gz', 'mx', 'my', 'mz', 'baro')
+
+
+class ReplaySource:
+    """Samples replayed from a recorded CSV, interpolated at the emulator's times.
+
+    The header names at least t, ax, ay, az, gx, gy, gz, mx, my, mz, baro (SI units, t in
+    s) and optionally temp.
+
+    Values are linearly interpolated and the recording loops.
+
+    Raises:
+        ValueError: a column is missing, t is not increasing, or there are under 2 rows.
+    """
+
+    def __init__(self, path: Path) -> None:
+        with open(path, encoding='utf-8') as handle:
+            header = [name.strip() for name in handle.readline().split(',')]
+        missing = [c for c in REPLAY_COLUMNS if c not in header]
+        if missing:
+            raise ValueError(f'{path}: missing column(s) {", ".join(missing)}; need '
+                             f'{", ".join(REPLAY_COLUMNS)} (+ optional temp)')
+        table = np.loadtxt(path, delimiter=',', skiprows=1, ndmin=2)
+        if table.shape[0] < 2:
+            raise ValueError(f'{path}: needs at least 2 rows, has {table.shape[0]}')
+        columns = {name: table[:, header.index(name)] for name in header if name}
+        self._t = columns['t'] - columns['t'][0]
+        if np.any(np.diff(self._t) <= 0):
+            raise ValueError(f'{path}: column t must be strictly increasing')
+        self._period = self._t[-1]
+        names = list(REPLAY_COLUMNS[1:]) + (['temp'] if 'temp' in columns else [])
+        self._values = np.stack([columns[name] for name in names], axis=1)
+
+    def sample(self, t_s: float) -> tuple[tuple, tuple, tuple, float, float]:
+        """Return accel, gyro, mag, pressure, temperature at time `t_s` (looping)."""
+        t = t_s % self._period if self._period > 0 else 0.0
+        row = [float(np.interp(t, self._t, column)) for column in self._values.T]
+        temperature = row[10] if len(row) > 10 else 24.0
+        return tuple(row[0:3]), tuple(row[3:6]), tuple(row[6:9]), row[9], temperature
+
+
 class TeensyEmulator:
     """Stream protocol frames on a pty at `rate_hz`, injecting `faults`.
 
@@ -124,7 +165,7 @@ class TeensyEmulator:
         start_time_us: device clock at start (near 2**32 to test the wrap).
     """
 
-    def __init__(self, link: Path, rate_hz: float, source: SignalSource, *,
+    def __init__(self, link: Path, rate_hz: float, source: SignalSource | ReplaySource, *,
                  faults: tuple[Fault, ...] = (), start_time_us: int = 0) -> None:
         if not (math.isfinite(rate_hz) and 0 < rate_hz <= 2000):
             raise ValueError(f'rate_hz must be in (0, 2000], got {rate_hz!r}')

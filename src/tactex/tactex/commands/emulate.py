@@ -22,6 +22,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help='stable path linked to the pty (default /tmp/tactex-teensy)')
     parser.add_argument('--motion', choices=['static', 'sway'], default='static',
                         help='signal source: motionless, or compliant sway + vibration')
+    parser.add_argument('--replay', type=Path, metavar='CSV',
+                        help='replay a recording instead: CSV with t,ax,ay,az,gx,gy,gz,mx,my,mz,'
+                             'baro[,temp] in SI units (overrides --motion)')
     parser.add_argument('--roll', type=float, default=0.0, help='static roll (deg)')
     parser.add_argument('--pitch', type=float, default=0.0, help='static pitch (deg)')
     parser.add_argument('--fault', action='append', default=[], metavar='KIND@S[:ARG]',
@@ -36,15 +39,18 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Open the pty, print its path, stream until done."""
-    from tactex_sensor.emulator import Fault, Motion, SignalSource, TeensyEmulator
+    from tactex_sensor.emulator import Fault, Motion, ReplaySource, SignalSource, TeensyEmulator
 
     try:
         faults = tuple(Fault.parse(spec) for spec in args.fault)
-        source = SignalSource(Motion(args.motion), roll_rad=math.radians(args.roll),
-                              pitch_rad=math.radians(args.pitch), seed=args.seed)
+        if args.replay:
+            source = ReplaySource(args.replay)
+        else:
+            source = SignalSource(Motion(args.motion), roll_rad=math.radians(args.roll),
+                                  pitch_rad=math.radians(args.pitch), seed=args.seed)
         emulator = TeensyEmulator(args.link, args.rate, source, faults=faults,
                                   start_time_us=args.start_time_us)
-    except ValueError as err:
+    except (ValueError, OSError) as err:
         print(f'error: {err}', file=sys.stderr)
         return 1
     # SIGTERM (a launcher, a test harness) unwinds like Ctrl-C, so the link is removed.
