@@ -3,11 +3,14 @@
 """Test harness: ROS middleware settings, discovery kept on this host, quiet threads."""
 
 import os
+import random
 
 from tactex.ros_env import ros_environment
 
 os.environ.update(ros_environment())
-# Tests talk to nodes on this machine only.
-os.environ.setdefault('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
+# Tests talk to nodes on this machine only, in a domain of their own, so neither a
+# robot running nearby nor a second test run can cross-talk with them.
+os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'
+os.environ['ROS_DOMAIN_ID'] = str(random.SystemRandom().randint(100, 199))
 # Torch and ROS nodes share two cores: OpenMP must not spin.
 os.environ.setdefault('OMP_WAIT_POLICY', 'PASSIVE')
