@@ -28,8 +28,8 @@ class MadgwickNode(Node):
     message uses the newest mag message no older than `mag_timeout_s`, else IMU only.
     """
 
-    def __init__(self) -> None:
-        super().__init__('madgwick_node')
+    def __init__(self, **kwargs) -> None:
+        super().__init__('madgwick_node', **kwargs)
         gain_range = FloatingPointRange(from_value=0.0, to_value=10.0, step=0.0)
         gain = self.declare_parameter('gain', 0.1, ParameterDescriptor(
             description='filter gain beta (rad/s)', floating_point_range=[gain_range])).value
