@@ -21,6 +21,8 @@ setup(
     description='Dynamixel Protocol 2.0 bus and arm driver node for the OpenMANIPULATOR-X.',
     license='Apache-2.0',
     entry_points={
-        'console_scripts': [],
+        'console_scripts': [
+            'arm_driver = tactex_driver.arm_driver_node:main',
+        ],
     },
 )

@@ -1,0 +1,86 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""XM430-W350 control table (Protocol 2.0) and the unit conversions of its raw values.
+
+Addresses and units from ROBOTIS's e-Manual for the XM430-W350. Positions are 4096
+counts per revolution with 2048 at 0 rad; velocity is 0.229 rev/min per count; current
+is 2.69 mA per count.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+MODEL_NUMBER = 0  # 2 bytes
+FIRMWARE_VERSION = 6  # 1 byte
+ID = 7  # 1 byte
+OPERATING_MODE = 11  # 1 byte
+TORQUE_ENABLE = 64  # 1 byte
+HARDWARE_ERROR_STATUS = 70  # 1 byte
+PROFILE_ACCELERATION = 108  # 4 bytes
+PROFILE_VELOCITY = 112  # 4 bytes
+GOAL_POSITION = 116  # 4 bytes
+MOVING = 122  # 1 byte
+PRESENT_CURRENT = 126  # 2 bytes, signed
+PRESENT_VELOCITY = 128  # 4 bytes, signed
+PRESENT_POSITION = 132  # 4 bytes, signed
+TABLE_SIZE = 256
+
+XM430_W350_MODEL = 1020
+STATE_BLOCK_START = PRESENT_CURRENT  # current, velocity, position: one sync read
+STATE_BLOCK_LENGTH = PRESENT_POSITION + 4 - PRESENT_CURRENT  # 10 bytes
+
+MODE_POSITION = 3
+MODE_CURRENT_BASED_POSITION = 5
+
+# Hardware error status bits (address 70).
+ERROR_INPUT_VOLTAGE = 0x01
+ERROR_OVERHEATING = 0x04
+ERROR_MOTOR_ENCODER = 0x08
+ERROR_ELECTRICAL_SHOCK = 0x10
+ERROR_OVERLOAD = 0x20
+HARDWARE_ERROR_NAMES = {ERROR_INPUT_VOLTAGE: 'input voltage', ERROR_OVERHEATING: 'overheating',
+                        ERROR_MOTOR_ENCODER: 'motor encoder',
+                        ERROR_ELECTRICAL_SHOCK: 'electrical shock', ERROR_OVERLOAD: 'overload'}
+
+COUNTS_PER_REV = 4096
+CENTER_COUNT = 2048
+RAD_PER_COUNT = 2.0 * math.pi / COUNTS_PER_REV
+RAD_S_PER_VELOCITY_UNIT = 0.229 * 2.0 * math.pi / 60.0
+AMPERE_PER_CURRENT_UNIT = 2.69e-3
+POSITION_COUNT_RANGE = (0, COUNTS_PER_REV - 1)
+
+
+def position_to_rad(counts):
+    """Raw present/goal position -> joint angle (rad)."""
+    return (np.asarray(counts, dtype=float) - CENTER_COUNT) * RAD_PER_COUNT
+
+
+def rad_to_position(radians):
+    """Joint angle (rad) -> raw goal position, rounded and kept within one turn."""
+    counts = np.rint(np.asarray(radians, dtype=float) / RAD_PER_COUNT) + CENTER_COUNT
+    return np.clip(counts, *POSITION_COUNT_RANGE).astype(np.int64)
+
+
+def velocity_to_rad_s(units):
+    """Raw present velocity -> rad/s."""
+    return np.asarray(units, dtype=float) * RAD_S_PER_VELOCITY_UNIT
+
+
+def rad_s_to_velocity(rad_s):
+    """rad/s -> raw profile velocity (at least 1: 0 would mean unlimited)."""
+    return np.maximum(1, np.rint(np.asarray(rad_s, dtype=float) / RAD_S_PER_VELOCITY_UNIT)
+                      ).astype(np.int64)
+
+
+def current_to_ampere(units):
+    """Raw present current -> A."""
+    return np.asarray(units, dtype=float) * AMPERE_PER_CURRENT_UNIT
+
+
+def describe_hardware_error(status: int) -> str:
+    """Names of the bits set in a hardware error status byte."""
+    names = [name for bit, name in HARDWARE_ERROR_NAMES.items() if status & bit]
+    return ', '.join(names) if names else f'unknown ({status:#04x})'
