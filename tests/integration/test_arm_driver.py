@@ -208,3 +208,9 @@ def test_overload_disables_motion_until_reset(rig):
     assert harness.call(harness.torque_client, SetBool.Request(data=True)).success
     harness.send(ARM, [(0.0, [0, 0, 0, 0]), (1.0, [0.3, 0, 0, 0])])
     assert harness.spin(until=lambda: abs(harness.position('joint1') - 0.3) < 0.01, timeout=5)
+
+
+def test_operating_modes_are_set_while_torque_was_off(rig):
+    _, chain = rig
+    modes = [chain.servos[i].table[ct.OPERATING_MODE] for i in range(11, 16)]
+    assert modes == [ct.MODE_POSITION] * 4 + [ct.MODE_CURRENT_BASED_POSITION]

@@ -48,6 +48,10 @@ class ArmDriverNode(Node):
         self._profile_velocity = self.declare_parameter('profile_velocity', 2.0, describe(
             description='servo profile velocity (rad/s), a second speed limit in the servos',
             read_only=True)).value
+        self._operating_modes = self.declare_parameter('operating_modes', [
+            ct.MODE_POSITION] * 4 + [ct.MODE_CURRENT_BASED_POSITION], describe(
+            description='operating mode per servo (3 position, 5 current-based position), '
+                        'written while torque is off', read_only=True)).value
         self._torque_on_start = self.declare_parameter('torque_on_start', True, describe(
             description='enable torque once connected', read_only=True)).value
         self._torque_on_exit = self.declare_parameter('torque_on_exit', 'hold', describe(
@@ -63,6 +67,9 @@ class ArmDriverNode(Node):
             raise ValueError(f'control_rate_hz must be in [1, 1000], got {rate!r}')
 
         self._limits = JointLimits.of_robot()
+        if len(self._operating_modes) != len(ids):
+            raise ValueError(f'operating_modes needs one mode per servo, got '
+                             f'{self._operating_modes!r}')
         if len(ids) != len(self._limits.names):
             raise ValueError(f'servo_ids needs {len(self._limits.names)} IDs '
                              f'({", ".join(self._limits.names)}), got {ids!r}')
@@ -125,6 +132,8 @@ class ArmDriverNode(Node):
                 self._bus.open()
             self._bus.ping()
             errors = {k: v for k, v in self._bus.hardware_errors().items() if v}
+            if not any(self._bus.read_byte(ct.TORQUE_ENABLE).values()):
+                self._bus.write_byte(ct.OPERATING_MODE, self._operating_modes)
             state = self._bus.read_state()
             self._controller.update_measured(self._joints.to_joint(state.positions))
             self._bus.write_word(ct.PROFILE_VELOCITY, int(ct.rad_s_to_velocity(
