@@ -12,7 +12,8 @@ import sys
 COMMANDS = {
     'description': 'Show the robot description, write its URDF or MJCF, check the URDF.',
     'demo': 'Run the simulated pipeline slice that works today.',
-    'emulate': 'Emulate hardware on a pseudo-terminal (teensy).',
+    'emulate': 'Emulate hardware on a pseudo-terminal (teensy, dynamixel).',
+    'sim': 'Simulation jobs: collect a synthetic texture dataset.',
 }
 
 

@@ -25,6 +25,7 @@ from tactex_description.geometry import (
 
 SENSOR_GEOM = 'sensor_body'
 SENSOR_EDGE_GEOM = 'sensor_edge_tip'
+IMU_SITE = 'sensor_imu'
 
 
 @dataclass(frozen=True)
@@ -62,6 +63,7 @@ def _link_geom(body: ET.Element, link: str) -> None:
                       group='1')
     elif link == 'sensor_link':
         # Polyurethane body with the MARG inside; its face lies 10 mm past the chip.
+        ET.SubElement(body, 'site', name=IMU_SITE, size='0.002')
         ET.SubElement(body, 'geom', name=SENSOR_GEOM, type='cylinder', size='0.015 0.005',
                       pos='0 0 0.005', rgba='0.95 0.8 0.2 1', friction='0.6 0.005 0.0001',
                       condim='3')
@@ -84,7 +86,7 @@ def _add_joint(body: ET.Element, joint: Joint, servo: ServoModel) -> None:
 
 def build_mjcf(robot: RobotGeometry = OPEN_MANIPULATOR_X, *, timestep_s: float = 0.002,
                servo: ServoModel = ServoModel(), worldbody_xml: str = '',
-               assets_xml: str = '') -> str:
+               assets_xml: str = '', sensors_xml: str = '', compliant: bool = True) -> str:
     """Return an MJCF document of `robot`.
 
     Args:
@@ -93,6 +95,8 @@ def build_mjcf(robot: RobotGeometry = OPEN_MANIPULATOR_X, *, timestep_s: float =
         servo: gains of the position actuators.
         worldbody_xml: extra elements (a surface, lights) placed in the worldbody.
         assets_xml: extra elements placed in `<asset>` (heightfields, textures).
+        sensors_xml: elements placed in `<sensor>` (they may use the site `sensor_imu`).
+        compliant: give the sensor body its compliant joints; False welds it to the mount.
     """
     mujoco = ET.Element('mujoco', model=robot.name)
     ET.SubElement(mujoco, 'compiler', angle='radian', inertiafromgeom='false',
@@ -113,7 +117,7 @@ def build_mjcf(robot: RobotGeometry = OPEN_MANIPULATOR_X, *, timestep_s: float =
             ET.SubElement(body, 'inertial', pos=_fmt(inertial.com_xyz),
                           mass=repr(inertial.mass_kg),
                           diaginertia=_fmt(inertial.inertia_diag))
-        if joint.is_moving:
+        if joint.is_moving and (compliant or joint.role is not JointRole.COMPLIANT):
             _add_joint(body, joint, servo)
         _link_geom(body, joint.child)
     for element in _fragment(worldbody_xml):
@@ -128,6 +132,9 @@ def build_mjcf(robot: RobotGeometry = OPEN_MANIPULATOR_X, *, timestep_s: float =
             ET.SubElement(actuators, 'position', name=joint.name, joint=joint.name,
                           kp=repr(kp), ctrlrange=_fmt((joint.lower, joint.upper)),
                           forcerange=_fmt((-joint.effort, joint.effort)))
+    sensor = ET.SubElement(mujoco, 'sensor')
+    for element in _fragment(sensors_xml):
+        sensor.append(element)
     ET.indent(mujoco, space='  ')
     return ET.tostring(mujoco, encoding='unicode') + '\n'
 

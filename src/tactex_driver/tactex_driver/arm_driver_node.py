@@ -23,6 +23,7 @@ from tactex_driver.bus import DEFAULT_BAUD, DEFAULT_IDS, ServoBus
 from tactex_driver.errors import CommunicationError, DriverError, TrajectoryRejected
 from tactex_driver.joints import JointMap, NEWTON_METRE_PER_AMPERE
 from tactex_driver.playback import JointLimits
+from tactex_sensor import topics
 
 TORQUE_POLICIES = ('hold', 'release')
 
@@ -86,9 +87,10 @@ class ArmDriverNode(Node):
         self._hardware_errors: dict[int, int] = {}
         self._tick_times: deque[float] = deque(maxlen=1000)
 
-        self._state_pub = self.create_publisher(JointState, 'joint_states', 10)
+        self._state_pub = self.create_publisher(JointState, topics.JOINT_STATES, 10)
         self._diagnostics_pub = self.create_publisher(DiagnosticArray, 'diagnostics', 10)
-        self.create_subscription(JointTrajectory, 'arm/joint_trajectory', self._on_trajectory, 10)
+        self.create_subscription(JointTrajectory, topics.JOINT_TRAJECTORY, self._on_trajectory,
+                                 10)
         self.create_service(Trigger, 'arm/stop', self._on_stop)
         self.create_service(SetBool, 'arm/torque', self._on_torque)
         self.create_service(Trigger, 'arm/reset', self._on_reset)

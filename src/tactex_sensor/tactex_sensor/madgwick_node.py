@@ -14,6 +14,7 @@ from rclpy.node import Node
 from rclpy.qos import qos_profile_sensor_data
 from sensor_msgs.msg import Imu, MagneticField
 
+from tactex_sensor import topics
 from tactex_sensor.madgwick import MadgwickConfig, MadgwickFilter
 
 
@@ -44,11 +45,11 @@ class MadgwickNode(Node):
         self._filter = MadgwickFilter(MadgwickConfig(gain=gain, use_mag=use_mag))
         self._last_stamp: float | None = None
         self._mag: tuple[float, tuple[float, float, float]] | None = None
-        self._publisher = self.create_publisher(Imu, 'tactile/imu/data', qos_profile_sensor_data)
-        self.create_subscription(Imu, 'tactile/imu/data_raw', self._on_imu,
+        self._publisher = self.create_publisher(Imu, topics.IMU_FILTERED, qos_profile_sensor_data)
+        self.create_subscription(Imu, topics.IMU_RAW, self._on_imu,
                                  qos_profile_sensor_data)
         if use_mag:
-            self.create_subscription(MagneticField, 'tactile/imu/mag', self._on_mag,
+            self.create_subscription(MagneticField, topics.MAG, self._on_mag,
                                      qos_profile_sensor_data)
         self.add_on_set_parameters_callback(self._on_set_parameters)
 

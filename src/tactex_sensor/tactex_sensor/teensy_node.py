@@ -14,6 +14,7 @@ from rclpy.node import Node
 from rclpy.qos import qos_profile_sensor_data
 from sensor_msgs.msg import FluidPressure, Imu, MagneticField, Temperature
 
+from tactex_sensor import topics
 from tactex_sensor.link import SerialLink
 from tactex_sensor.protocol import DEFAULT_BAUD
 from tactex_sensor.reader import TeensyReader
@@ -54,13 +55,13 @@ class TeensyNode(Node):
         self._mag_cov = [mag_var, 0.0, 0.0, 0.0, mag_var, 0.0, 0.0, 0.0, mag_var]
         self._reader = TeensyReader(SerialLink(port, int(baud)),
                                     lambda: self.get_clock().now().nanoseconds)
-        self._imu_pub = self.create_publisher(Imu, 'tactile/imu/data_raw',
+        self._imu_pub = self.create_publisher(Imu, topics.IMU_RAW,
                                               qos_profile_sensor_data)
-        self._mag_pub = self.create_publisher(MagneticField, 'tactile/imu/mag',
+        self._mag_pub = self.create_publisher(MagneticField, topics.MAG,
                                               qos_profile_sensor_data)
-        self._pressure_pub = self.create_publisher(FluidPressure, 'tactile/pressure',
+        self._pressure_pub = self.create_publisher(FluidPressure, topics.PRESSURE,
                                                    qos_profile_sensor_data)
-        self._temperature_pub = self.create_publisher(Temperature, 'tactile/temperature',
+        self._temperature_pub = self.create_publisher(Temperature, topics.TEMPERATURE,
                                                       qos_profile_sensor_data)
         self._diagnostics_pub = self.create_publisher(DiagnosticArray, 'diagnostics', 10)
         self.create_timer(diagnostics_period, self._publish_diagnostics)

@@ -1,0 +1,255 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""Simulation effects: small units a scene switches on by name, each computed only then.
+
+An effect declares the inputs it reads (computed by the world only when asked for) and
+the channels it writes or perturbs. Hooks: `after_compile(model, data)` once, and
+`apply(reading, inputs)` at every sensor sample. Options come from the scene's
+`[effect.NAME]` table and are checked strictly. Effects run in registry order.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+import math
+from typing import Any, ClassVar
+
+import mujoco
+import numpy as np
+
+from tactex_sim.errors import SceneError, UnknownNameError
+from tactex_sim.textures import Texture
+
+
+class Reading:
+    """One sensor sample being built, in the sensor frame and SI units.
+
+    accel (m/s^2), gyro (rad/s), mag (T), pressure (Pa), temperature (degC); channels
+    that no effect simulates stay NaN.
+    """
+
+    __slots__ = ('accel', 'gyro', 'mag', 'pressure', 'temperature')
+
+    def __init__(self, accel: np.ndarray, gyro: np.ndarray) -> None:
+        self.accel = accel
+        self.gyro = gyro
+        self.mag = np.full(3, np.nan)
+        self.pressure = math.nan
+        self.temperature = math.nan
+
+
+class Effect:
+    """Base of all effects: options, declared inputs and outputs, no-op hooks."""
+
+    name: ClassVar[str] = ''
+    reads: ClassVar[frozenset[str]] = frozenset()
+    writes: ClassVar[frozenset[str]] = frozenset()
+    defaults: ClassVar[Mapping[str, Any]] = {}
+
+    def __init__(self, rng: np.random.Generator, noise_scale: float = 1.0,
+                 **options: Any) -> None:
+        unknown = sorted(set(options) - set(self.defaults))
+        if unknown:
+            raise SceneError(f'effect {self.name!r}: unknown option(s) {unknown}; known: '
+                             f'{sorted(self.defaults)}')
+        self.options = {**self.defaults, **options}
+        self.rng = rng
+        self.noise_scale = noise_scale
+
+    def after_compile(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
+        """Called once the model exists."""
+
+    def apply(self, reading: Reading, inputs: Mapping[str, Any]) -> None:
+        """Called at every sensor sample."""
+
+
+class Contact(Effect):
+    """Rigid contact between the sensor and the surface (off: they pass through)."""
+
+    name = 'contact'
+    writes = frozenset({'contact'})
+
+
+class Compliance(Effect):
+    """The compliant sensor body: 3 revolute + 1 prismatic joints with stiffness, damping.
+
+    Without it the sensor is welded to its mount (the model is built that way).
+    """
+
+    name = 'compliance'
+    writes = frozenset({'sensor pose'})
+
+
+def transmissibility(frequency_hz, resonance_hz: float, damping_ratio: float):
+    """Acceleration transmissibility of a base-excited damped oscillator."""
+    r = np.asarray(frequency_hz, dtype=float) / resonance_hz
+    damping = (2.0 * damping_ratio * r) ** 2
+    return np.sqrt((1.0 + damping) / ((1.0 - r * r) ** 2 + damping))
+
+
+class TextureVibration(Effect):
+    """Vibration from sliding over the texture under the edge.
+
+    The texture's periodic parts are plane waves of height; sliding at v along d, a wave
+    of wavevector k appears at temporal frequency v (k . d) / 2 pi, and the edge's normal
+    acceleration is v^2 times the height's second derivative along d, passed through the
+    compliant body's resonance. Roughness adds a random second derivative along the
+    travelled distance. Tangential vibration follows friction; the body rocks about
+    n x d at v times the same curvature. No contact or no sliding: no signal.
+    """
+
+    name = 'texture'
+    reads = frozenset({'contact', 'edge velocity', 'texture', 'sensor rotation'})
+    writes = frozenset({'accel', 'gyro'})
+    defaults = {'resonance_hz': 85.0, 'damping_ratio': 0.12, 'rocking_gain': 0.6,
+                'reference_force_n': 1.0, 'heading_rad': 0.0}
+
+    def __init__(self, rng, noise_scale=1.0, **options) -> None:
+        super().__init__(rng, noise_scale, **options)
+        self.heading_rad = float(self.options['heading_rad'])
+        self._travelled = 0.0
+        self._roughness: dict[str, np.ndarray] = {}
+
+    def _waves(self, surface: Texture) -> list[tuple[float, np.ndarray, float]]:
+        """(amplitude, wavevector in the patch frame, phase) of the texture's periodic parts."""
+        waves = []
+        if surface.ridge_period > 0:
+            k = 2 * math.pi / surface.ridge_period * np.array(
+                [math.cos(surface.ridge_angle), math.sin(surface.ridge_angle)])
+            waves += [(0.8 * surface.ridge_height, k, -math.pi / 2),
+                      (0.2 * surface.ridge_height, 2 * k, -math.pi / 2)]
+        if surface.weave_height > 0:
+            a, b = (2 * math.pi / p for p in surface.weave_period)
+            waves += [(0.5 * surface.weave_height, np.array([a, -b]), 0.0),
+                      (-0.5 * surface.weave_height, np.array([a, b]), 0.0)]
+        return waves
+
+    def _roughness_curvature(self, surface: Texture) -> np.ndarray:
+        """Second derivative of a 1 m random roughness profile, 20 um apart (cached)."""
+        if surface.name not in self._roughness:
+            step = 2e-5
+            rough_only = Texture(surface.name, roughness_rms=surface.roughness_rms,
+                                 roughness_length=surface.roughness_length)
+            heights = rough_only.profile((0.0, 0.0), 0.0, 1.0, step, self.rng)
+            self._roughness[surface.name] = np.gradient(np.gradient(heights, step), step)
+        return self._roughness[surface.name]
+
+    def apply(self, reading: Reading, inputs: Mapping[str, Any]) -> None:
+        """Add the texture's vibration while the edge slides on a patch."""
+        contact = inputs['contact']
+        if not contact.touching:
+            return
+        surface = inputs['texture']
+        if surface is None:
+            return
+        velocity = inputs['edge velocity']
+        normal = contact.normal
+        tangential = velocity - np.dot(velocity, normal) * normal
+        speed = float(np.linalg.norm(tangential))
+        if speed < 1e-5:
+            return
+        direction = tangential / speed
+        self._travelled += speed / inputs['sample rate']
+        cos_h, sin_h = math.cos(self.heading_rad), math.sin(self.heading_rad)
+        uv = np.array([cos_h * contact.point[0] + sin_h * contact.point[1],
+                       -sin_h * contact.point[0] + cos_h * contact.point[1]])
+        d_uv = np.array([cos_h * direction[0] + sin_h * direction[1],
+                         -sin_h * direction[0] + cos_h * direction[1]])
+        curvature = 0.0
+        for amplitude, k, phase in self._waves(surface):
+            kappa = float(np.dot(k, d_uv))
+            gain = transmissibility(speed * abs(kappa) / (2 * math.pi),
+                                    self.options['resonance_hz'],
+                                    self.options['damping_ratio'])
+            curvature -= gain * amplitude * kappa * kappa * math.cos(float(np.dot(k, uv))
+                                                                     + phase)
+        rough = self._roughness_curvature(surface)
+        curvature += rough[int(self._travelled / 2e-5) % rough.size]
+        coupling = surface.softness * min(2.0, math.sqrt(max(contact.force, 0.0)
+                                                         / self.options['reference_force_n']))
+        normal_accel = coupling * speed * speed * curvature
+        tangential_accel = surface.friction * 0.5 * normal_accel
+        rocking = coupling * self.options['rocking_gain'] * speed * curvature
+        rotation = inputs['sensor rotation']  # world <- sensor
+        reading.accel += rotation.T @ (normal_accel * normal + tangential_accel * direction)
+        reading.gyro += rotation.T @ (rocking * np.cross(normal, direction))
+
+
+class ImuNoise(Effect):
+    """White noise and a constant bias (drawn per world) on accel and gyro."""
+
+    name = 'imu_noise'
+    writes = frozenset({'accel', 'gyro'})
+    defaults = {'accel_sd': 0.02, 'gyro_sd': 0.002, 'accel_bias_sd': 0.05,
+                'gyro_bias_sd': 0.005}
+
+    def __init__(self, rng, noise_scale=1.0, **options) -> None:
+        super().__init__(rng, noise_scale, **options)
+        self.accel_bias = rng.normal(0.0, self.options['accel_bias_sd'], 3)
+        self.gyro_bias = rng.normal(0.0, self.options['gyro_bias_sd'], 3)
+
+    def apply(self, reading: Reading, inputs: Mapping[str, Any]) -> None:
+        """Add bias and noise."""
+        reading.accel += self.accel_bias + self.rng.normal(
+            0.0, self.options['accel_sd'] * self.noise_scale, 3)
+        reading.gyro += self.gyro_bias + self.rng.normal(
+            0.0, self.options['gyro_sd'] * self.noise_scale, 3)
+
+
+class Magnetometer(Effect):
+    """Earth's field plus a nearby magnet's dipole field, in the sensor frame, with noise."""
+
+    name = 'magnetometer'
+    reads = frozenset({'sensor rotation', 'sensor position'})
+    writes = frozenset({'mag'})
+    defaults = {'earth_field_t': [0.0, 2.0e-5, -4.3e-5], 'magnet_position_m': [0.35, 0.25, 0.05],
+                'magnet_moment_am2': [0.0, 0.0, 0.5], 'noise_sd_t': 2.0e-7}
+
+    def apply(self, reading: Reading, inputs: Mapping[str, Any]) -> None:
+        """Field at the sensor, rotated into its frame."""
+        offset = inputs['sensor position'] - np.asarray(self.options['magnet_position_m'])
+        distance = float(np.linalg.norm(offset))
+        moment = np.asarray(self.options['magnet_moment_am2'], dtype=float)
+        unit = offset / distance
+        dipole = 1e-7 * (3.0 * np.dot(moment, unit) * unit - moment) / distance ** 3
+        field = np.asarray(self.options['earth_field_t'], dtype=float) + dipole
+        reading.mag = inputs['sensor rotation'].T @ field + self.rng.normal(
+            0.0, self.options['noise_sd_t'] * self.noise_scale, 3)
+
+
+class Barometer(Effect):
+    """Pressure from the compression of the compliant body, slow thermal drift, noise."""
+
+    name = 'barometer'
+    reads = frozenset({'compression', 'time'})
+    writes = frozenset({'pressure', 'temperature'})
+    defaults = {'sea_level_pa': 101325.0, 'pa_per_m_compression': 1.5e6, 'noise_sd_pa': 2.0,
+                'drift_pa_per_s': 0.0, 'temperature_c': 24.0}
+
+    def apply(self, reading: Reading, inputs: Mapping[str, Any]) -> None:
+        """Compression raises the pressure inside the cast body."""
+        t = inputs['time']
+        reading.pressure = (self.options['sea_level_pa']
+                            + self.options['pa_per_m_compression'] * inputs['compression']
+                            + self.options['drift_pa_per_s'] * t
+                            + self.rng.normal(0.0, self.options['noise_sd_pa']
+                                              * self.noise_scale))
+        reading.temperature = self.options['temperature_c'] + 0.002 * t
+
+
+EFFECTS: dict[str, type[Effect]] = {cls.name: cls for cls in (
+    Contact, Compliance, TextureVibration, ImuNoise, Magnetometer, Barometer)}
+
+
+def effect_class(name: str) -> type[Effect]:
+    """The effect registered as `name`.
+
+    Raises:
+        UnknownNameError: unknown name; the message lists the registered effects.
+    """
+    try:
+        return EFFECTS[name]
+    except KeyError:
+        raise UnknownNameError(f'unknown effect {name!r}; known effects: '
+                               f'{", ".join(EFFECTS)}') from None
+

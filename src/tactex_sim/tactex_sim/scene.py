@@ -1,0 +1,228 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""Scene files (TOML under config/scenes/): surface, texture patches, rate, seed, effects.
+
+Every key is checked: an unknown key, a missing required one or a bad value raises
+`SceneError` naming the file, the section and the key, with the keys that are known.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, fields, MISSING
+import math
+from pathlib import Path
+import tomllib
+from typing import Any
+
+import numpy as np
+
+from tactex_sim.errors import SceneError
+
+
+@dataclass(frozen=True)
+class Surface:
+    """The plate under the arm: flat, or the concave-convex wave of the original."""
+
+    kind: str = 'flat'
+    size_m: tuple[float, float] = (0.30, 0.20)
+    origin_m: tuple[float, float, float] = (0.20, 0.0, 0.0)
+    amplitude_m: float = 0.0
+    wavelength_m: float = 0.12
+    thickness_m: float = 0.01
+    cells: tuple[int, int] = (601, 81)
+
+    def height(self, x_world):
+        """Surface height (m, world z) at world x (the top face for a flat plate)."""
+        if self.kind == 'flat':
+            return np.full_like(np.asarray(x_world, dtype=float), self.top_z)
+        local = np.asarray(x_world, dtype=float) - self.origin_m[0]
+        wave = np.cos(2.0 * math.pi * local / self.wavelength_m)
+        return self.top_z + self.amplitude_m * wave
+
+    def slope(self, x_world):
+        """Slope d(height)/dx at world x."""
+        if self.kind == 'flat':
+            return np.zeros_like(np.asarray(x_world, dtype=float))
+        local = np.asarray(x_world, dtype=float) - self.origin_m[0]
+        k = 2.0 * math.pi / self.wavelength_m
+        return -self.amplitude_m * k * np.sin(k * local)
+
+    @property
+    def top_z(self) -> float:
+        """World z of the mean top face (the wave oscillates around it)."""
+        wave = self.amplitude_m if self.kind == 'uneven' else 0.0
+        return self.origin_m[2] + self.thickness_m + wave
+
+
+@dataclass(frozen=True)
+class Patch:
+    """A texture on a rectangle of the surface (world x and y ranges, m)."""
+
+    texture: str
+    x_m: tuple[float, float]
+    y_m: tuple[float, float]
+
+    def contains(self, x: float, y: float) -> bool:
+        """True when (x, y) lies on the patch."""
+        return self.x_m[0] <= x <= self.x_m[1] and self.y_m[0] <= y <= self.y_m[1]
+
+
+@dataclass(frozen=True)
+class Sweep:
+    """The scripted sweep: sliding speed, contact duration, edge offset, start."""
+
+    speed_m_s: float = 0.015
+    contact_s: float = 7.6
+    edge_offset_rad: float = 0.35
+    start_x_m: float = 0.13
+
+
+@dataclass(frozen=True)
+class Variability:
+    """Sweep-to-sweep variation, each a standard deviation unless the name says otherwise."""
+
+    press_depth_m: tuple[float, float] = (0.0015, 0.0004)
+    speed_fraction: float = 0.05
+    start_x_m: float = 0.01
+    heading_rad: float = 0.35
+    mount_tilt_rad: float = 0.03
+    noise_scale: float = 0.15
+    drift_pa_per_s: float = 2.0
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A whole scene."""
+
+    name: str
+    seed: int
+    sensor_rate_hz: float
+    timestep_s: float
+    effects: tuple[str, ...]
+    surface: Surface
+    patches: tuple[Patch, ...] = ()
+    sweep: Sweep = Sweep()
+    variability: Variability = Variability()
+    effect_options: dict[str, dict[str, Any]] = field(default_factory=dict)
+    path: str = ''
+
+    def patch_at(self, x: float, y: float) -> Patch | None:
+        """The patch under (x, y), if any."""
+        return next((p for p in self.patches if p.contains(x, y)), None)
+
+
+_TOP_KEYS = {'name', 'seed', 'sensor_rate_hz', 'timestep_s', 'effects', 'surface', 'patches',
+             'sweep', 'variability', 'effect'}
+
+
+def load_scene(path: Path | str) -> Scene:
+    """Read and validate a scene file.
+
+    Raises:
+        SceneError: the file is missing, not TOML, or breaks a rule (the message says which).
+    """
+    path = Path(path)
+    try:
+        with open(path, 'rb') as handle:
+            raw = tomllib.load(handle)
+    except FileNotFoundError:
+        raise SceneError(f'no scene file {str(path)!r}') from None
+    except tomllib.TOMLDecodeError as err:
+        raise SceneError(f'{path}: not valid TOML: {err}') from None
+    return parse_scene(raw, str(path))
+
+
+def parse_scene(raw: dict[str, Any], source: str = '<scene>') -> Scene:
+    """Validate a scene given as a dict (the parsed TOML)."""
+    _check_keys(raw, _TOP_KEYS, source, 'top level')
+    for key in ('name', 'seed', 'effects', 'surface'):
+        if key not in raw:
+            raise SceneError(f'{source}: missing required key {key!r}')
+    effects = raw['effects']
+    if not isinstance(effects, list) or not all(isinstance(e, str) for e in effects):
+        raise SceneError(f'{source}: effects must be a list of names, got {effects!r}')
+    if len(set(effects)) != len(effects):
+        raise SceneError(f'{source}: effects repeat: {effects!r}')
+    seed = raw['seed']
+    if not isinstance(seed, int) or seed < 0:
+        raise SceneError(f'{source}: seed must be a non-negative integer, got {seed!r}')
+    surface = _section(Surface, raw['surface'], source, 'surface')
+    if surface.kind not in ('flat', 'uneven'):
+        raise SceneError(f'{source}: [surface] kind must be "flat" or "uneven", got '
+                         f'{surface.kind!r}')
+    if min(surface.size_m) <= 0 or surface.wavelength_m <= 0 or surface.thickness_m <= 0 \
+            or surface.amplitude_m < 0 or min(surface.cells) < 2:
+        raise SceneError(f'{source}: [surface] sizes, wavelength and thickness must be > 0, '
+                         f'amplitude >= 0 and cells >= 2')
+    patches = tuple(_section(Patch, p, source, f'patches[{i}]')
+                    for i, p in enumerate(raw.get('patches', [])))
+    for patch in patches:
+        if len(patch.x_m) != 2 or len(patch.y_m) != 2:
+            raise SceneError(f'{source}: patch {patch.texture!r}: x_m and y_m need 2 numbers')
+        if patch.x_m[0] >= patch.x_m[1] or patch.y_m[0] >= patch.y_m[1]:
+            raise SceneError(f'{source}: patch {patch.texture!r} has an empty rectangle')
+    rate = float(raw.get('sensor_rate_hz', 120.0))
+    timestep = float(raw.get('timestep_s', 0.002))
+    if not (0 < rate <= 2000 and math.isfinite(rate)):
+        raise SceneError(f'{source}: sensor_rate_hz must be in (0, 2000], got {rate!r}')
+    if not (0 < timestep <= 0.02):
+        raise SceneError(f'{source}: timestep_s must be in (0, 0.02], got {timestep!r}')
+    if timestep > 1.0 / rate:
+        raise SceneError(f'{source}: timestep_s {timestep} is longer than one sensor period '
+                         f'{1.0 / rate:.4f} s')
+    options = raw.get('effect', {})
+    if not isinstance(options, dict):
+        raise SceneError(f'{source}: [effect.NAME] tables expected, got {options!r}')
+    for name in options:
+        if name not in effects:
+            raise SceneError(f'{source}: [effect.{name}] configures an effect the scene does '
+                             f'not list in effects {effects!r}')
+    return Scene(name=str(raw['name']), seed=seed, sensor_rate_hz=rate, timestep_s=timestep,
+                 effects=tuple(effects), surface=surface, patches=patches,
+                 sweep=_section(Sweep, raw.get('sweep', {}), source, 'sweep'),
+                 variability=_section(Variability, raw.get('variability', {}), source,
+                                      'variability'),
+                 effect_options={k: dict(v) for k, v in options.items()}, path=source)
+
+
+def _check_keys(table: dict, known: set[str], source: str, section: str) -> None:
+    if not isinstance(table, dict):
+        raise SceneError(f'{source}: [{section}] must be a table, got {table!r}')
+    unknown = sorted(set(table) - known)
+    if unknown:
+        raise SceneError(f'{source}: unknown key(s) {", ".join(map(repr, unknown))} in '
+                         f'[{section}]; known: {", ".join(sorted(known))}')
+
+
+def _section(cls, table: dict, source: str, section: str):
+    known = {f.name for f in fields(cls)}
+    _check_keys(table, known, source, section)
+    values = {}
+    for item in fields(cls):
+        if item.name in table:
+            default = None if item.default is MISSING else item.default
+            values[item.name] = _coerce(table[item.name], default, source, section, item.name)
+    try:
+        return cls(**values)
+    except TypeError as err:
+        raise SceneError(f'{source}: [{section}]: {err}') from None
+
+
+def _coerce(value, default, source: str, section: str, key: str):
+    where = f'{source}: [{section}] {key}'
+    if isinstance(default, tuple) or isinstance(value, list):
+        if not isinstance(value, list) or (isinstance(default, tuple)
+                                           and len(value) != len(default)):
+            size = len(default) if isinstance(default, tuple) else 'a'
+            raise SceneError(f'{where} must be a list of {size} numbers, got {value!r}')
+        if not all(isinstance(v, (int, float)) and math.isfinite(v) for v in value):
+            raise SceneError(f'{where} must hold finite numbers, got {value!r}')
+        cast = int if default and isinstance(default[0], int) else float
+        return tuple(cast(v) for v in value)
+    if isinstance(default, str) or isinstance(value, str):
+        if not isinstance(value, str):
+            raise SceneError(f'{where} must be text, got {value!r}')
+        return value
+    if not isinstance(value, (int, float)) or isinstance(value, bool) or not math.isfinite(value):
+        raise SceneError(f'{where} must be a finite number, got {value!r}')
+    return float(value)

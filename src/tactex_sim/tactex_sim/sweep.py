@@ -1,0 +1,119 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""Scripted sweeps: the sensor edge pressed into the surface and dragged along it.
+
+Until the trajectory executor drives the simulation, a sweep is planned here: approach
+above the start point, descend to the press depth, slide along the surface (radially,
+in the arm's plane) at the sweep speed with the sensor axis tilted by the edge offset
+from the inward normal, lift off. Each phase is solved with the analytic IK every
+10 ms; the sliding phase is the "moving and in contact" part of a recording.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+import math
+
+import numpy as np
+
+from tactex_description.kinematics import inverse_kinematics
+from tactex_sim.errors import SimError
+from tactex_sim.scene import Scene
+
+PLAN_STEP_S = 0.01
+APPROACH_HEIGHT_M = 0.025
+SETTLE_S = 0.5
+DESCEND_S = 1.5
+LIFT_S = 0.8
+
+
+@dataclass(frozen=True)
+class SweepParameters:
+    """One sweep's draw of the scene's variability."""
+
+    start_x_m: float
+    speed_m_s: float
+    press_depth_m: float
+    edge_offset_rad: float
+    heading_rad: float
+    noise_scale: float
+    drift_pa_per_s: float
+
+    @classmethod
+    def draw(cls, scene: Scene, rng: np.random.Generator) -> SweepParameters:
+        """Nominal sweep of the scene varied as its [variability] table says."""
+        sweep, spread = scene.sweep, scene.variability
+        depth_mean, depth_sd = spread.press_depth_m
+        return cls(
+            start_x_m=sweep.start_x_m + rng.normal(0.0, spread.start_x_m),
+            speed_m_s=sweep.speed_m_s * (1.0 + rng.normal(0.0, spread.speed_fraction)),
+            press_depth_m=float(np.clip(rng.normal(depth_mean, depth_sd), 0.3 * depth_mean,
+                                        2.0 * depth_mean)),
+            edge_offset_rad=sweep.edge_offset_rad + rng.normal(0.0, spread.mount_tilt_rad),
+            heading_rad=rng.uniform(-spread.heading_rad, spread.heading_rad),
+            noise_scale=max(0.2, 1.0 + rng.normal(0.0, spread.noise_scale)),
+            drift_pa_per_s=rng.normal(0.0, spread.drift_pa_per_s))
+
+
+@dataclass(frozen=True)
+class SweepPlan:
+    """Joint targets every 10 ms and when the edge slides in contact."""
+
+    times_s: np.ndarray
+    joints: np.ndarray  # (n, 5): joint1..joint4 rad, gripper m
+    slide_start_s: float
+    slide_end_s: float
+
+    def targets(self, t_s: float) -> np.ndarray:
+        """Interpolated joint targets at `t_s`."""
+        index = min(max(int(t_s / PLAN_STEP_S), 0), len(self.times_s) - 2)
+        fraction = min(max((t_s - self.times_s[index]) / PLAN_STEP_S, 0.0), 1.0)
+        return self.joints[index] + fraction * (self.joints[index + 1] - self.joints[index])
+
+
+def plan_sweep(scene: Scene, parameters: SweepParameters, duration_s: float | None = None
+               ) -> SweepPlan:
+    """Solve the sweep's joint targets.
+
+    Raises:
+        SimError: a point of the path is out of the arm's reach (with the IK's reason).
+    """
+    surface = scene.surface
+    contact_s = scene.sweep.contact_s if duration_s is None else duration_s
+    slide_start = SETTLE_S + DESCEND_S
+    slide_end = slide_start + contact_s
+    total = slide_end + LIFT_S
+    times = np.arange(0.0, total + PLAN_STEP_S, PLAN_STEP_S)
+    joints = np.zeros((times.size, 5))
+    seed = np.array([0.0, 0.3, 0.0, 1.0])
+    for i, t in enumerate(times):
+        travel = parameters.speed_m_s * min(max(t - slide_start, 0.0), contact_s)
+        x = parameters.start_x_m + travel
+        height = float(surface.height(x))
+        slope = float(surface.slope(x))
+        normal = np.array([-slope, 1.0]) / math.hypot(slope, 1.0)  # (x, z)
+        if t < SETTLE_S:
+            lift = APPROACH_HEIGHT_M
+        elif t < slide_start:
+            lift = APPROACH_HEIGHT_M * (1.0 - _smooth((t - SETTLE_S) / DESCEND_S))
+        elif t <= slide_end:
+            lift = 0.0
+        else:
+            lift = APPROACH_HEIGHT_M * _smooth((t - slide_end) / LIFT_S)
+        depth = parameters.press_depth_m * (1.0 if lift == 0.0 else
+                                            max(0.0, 1.0 - lift / 0.003))
+        point = np.array([x, height]) + (lift - depth) * normal
+        pitch = math.pi / 2 - math.atan(slope) - parameters.edge_offset_rad
+        result = inverse_kinematics([point[0], 0.0, point[1]], pitch, seed=seed)
+        if not result.reachable:
+            raise SimError(f'sweep point x={x:.3f} m z={point[1]:.3f} m unreachable: '
+                           f'{result.detail}')
+        seed = result.solutions[0]
+        joints[i, :4] = seed
+    return SweepPlan(times, joints, slide_start, slide_end)
+
+
+def _smooth(fraction: float) -> float:
+    """Smoothstep from 0 to 1."""
+    f = min(max(fraction, 0.0), 1.0)
+    return f * f * (3.0 - 2.0 * f)
