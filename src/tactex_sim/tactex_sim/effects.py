@@ -80,6 +80,10 @@ class Compliance(Effect):
     writes = frozenset({'sensor pose'})
 
 
+# Slower than this the edge creeps rather than slides: no texture signal.
+SLIDING_SPEED_M_S = 1e-4
+
+
 def transmissibility(frequency_hz, resonance_hz: float, damping_ratio: float):
     """Acceleration transmissibility of a base-excited damped oscillator."""
     r = np.asarray(frequency_hz, dtype=float) / resonance_hz
@@ -94,15 +98,20 @@ class TextureVibration(Effect):
     of wavevector k appears at temporal frequency v (k . d) / 2 pi, and the edge's normal
     acceleration is v^2 times the height's second derivative along d, passed through the
     compliant body's resonance. Roughness adds a random second derivative along the
-    travelled distance. Tangential vibration follows friction; the body rocks about
-    n x d at v times the same curvature. No contact or no sliding: no signal.
+    travelled distance. Tangential vibration follows friction, with stick-slip on
+    sticky materials (a sawtooth every `slip_length_m` of travel, stronger the higher
+    the friction); the body rocks about n x d at v times the same curvature. `gain` is
+    the amplification from the edge to the MARG chip (lever arm and body resonance): a
+    calibration, set so texture vibration is a few tenths of m/s^2 at 15 mm/s. No
+    contact or no sliding: no signal.
     """
 
     name = 'texture'
     reads = frozenset({'contact', 'edge velocity', 'texture', 'sensor rotation'})
     writes = frozenset({'accel', 'gyro'})
     defaults = {'resonance_hz': 85.0, 'damping_ratio': 0.12, 'rocking_gain': 0.6,
-                'reference_force_n': 1.0, 'heading_rad': 0.0}
+                'reference_force_n': 1.0, 'heading_rad': 0.0, 'gain': 20.0,
+                'slip_length_m': 0.0004, 'stick_slip_accel': 1.5}
 
     def __init__(self, rng, noise_scale=1.0, **options) -> None:
         super().__init__(rng, noise_scale, **options)
@@ -146,7 +155,7 @@ class TextureVibration(Effect):
         normal = contact.normal
         tangential = velocity - np.dot(velocity, normal) * normal
         speed = float(np.linalg.norm(tangential))
-        if speed < 1e-5:
+        if speed < SLIDING_SPEED_M_S:
             return
         direction = tangential / speed
         self._travelled += speed / inputs['sample rate']
@@ -165,10 +174,13 @@ class TextureVibration(Effect):
                                                                      + phase)
         rough = self._roughness_curvature(surface)
         curvature += rough[int(self._travelled / 2e-5) % rough.size]
-        coupling = surface.softness * min(2.0, math.sqrt(max(contact.force, 0.0)
-                                                         / self.options['reference_force_n']))
+        coupling = self.options['gain'] * surface.softness * min(
+            2.0, math.sqrt(max(contact.force, 0.0) / self.options['reference_force_n']))
         normal_accel = coupling * speed * speed * curvature
-        tangential_accel = surface.friction * 0.5 * normal_accel
+        stickiness = max(0.0, surface.friction - 0.45) * min(1.5, speed / 0.015)
+        slip_phase = (self._travelled / self.options['slip_length_m']) % 1.0
+        tangential_accel = surface.friction * 0.5 * normal_accel + coupling / self.options[
+            'gain'] * self.options['stick_slip_accel'] * stickiness * (slip_phase - 0.5)
         rocking = coupling * self.options['rocking_gain'] * speed * curvature
         rotation = inputs['sensor rotation']  # world <- sensor
         reading.accel += rotation.T @ (normal_accel * normal + tangential_accel * direction)

@@ -219,7 +219,7 @@ def _coerce(value, default, source: str, section: str, key: str):
             raise SceneError(f'{where} must hold finite numbers, got {value!r}')
         cast = int if default and isinstance(default[0], int) else float
         return tuple(cast(v) for v in value)
-    if isinstance(default, str) or isinstance(value, str):
+    if isinstance(default, str) or (default is None and isinstance(value, str)):
         if not isinstance(value, str):
             raise SceneError(f'{where} must be text, got {value!r}')
         return value

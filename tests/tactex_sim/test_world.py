@@ -1,0 +1,158 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""The simulator's hard cases: impacts, cell boundaries, the press limit, silence, repeats."""
+
+import dataclasses
+import math
+
+import mujoco
+import numpy as np
+import pytest
+from test_scene import SCENES
+
+from tactex_description.kinematics import inverse_kinematics
+from tactex_sim.scene import load_scene, parse_scene
+from tactex_sim.sweep import plan_sweep, SweepParameters
+from tactex_sim.textures import TEXTURES
+from tactex_sim.world import World
+
+SCENE = {p.stem: load_scene(p) for p in SCENES}
+
+
+def pose_at(scene, x, depth, offset=0.5):
+    """Joints putting the edge `depth` into the surface at x (negative: above it)."""
+    surface = scene.surface
+    slope = float(surface.slope(x))
+    normal = np.array([-slope, 1.0]) / math.hypot(slope, 1.0)
+    point = np.array([x, float(surface.height(x))]) - depth * normal
+    result = inverse_kinematics([point[0], 0.0, point[1]], math.pi / 2 - math.atan(slope)
+                                - offset)
+    assert result.reachable, result.detail
+    return np.append(result.solutions[0], 0.0)
+
+
+def run(world, seconds):
+    samples = []
+    while world.time_s < seconds:
+        samples.append(world.next_sample())
+    return samples
+
+
+def test_resting_sensor_reads_gravity_and_nan_where_unsimulated():
+    world = World(SCENE['probe'])
+    world.place_arm(pose_at(SCENE['probe'], 0.15, -0.03))
+    sample = run(world, 0.5)[-1]
+    assert abs(np.linalg.norm(sample.accel) - 9.81) < 0.05
+    assert np.all(np.isnan(sample.mag)) and math.isnan(sample.pressure)
+
+
+def test_fast_impact_stays_finite_with_bounded_penetration():
+    scene = SCENE['uneven_texture']
+    world = World(scene, patch_texture='wood')
+    world.place_arm(pose_at(scene, 0.15, -0.04))
+    world.controller = lambda t: pose_at(scene, 0.15, 0.01)  # slam 5 cm in one step
+    samples = run(world, 1.0)
+    assert all(np.all(np.isfinite(s.accel)) and np.all(np.isfinite(s.gyro)) for s in samples)
+    assert np.all(np.isfinite(world.data.qpos))
+    surface = scene.surface
+    deepest = min(s.truth.edge_position[2] - float(surface.height(s.truth.edge_position[0]))
+                  for s in samples)
+    assert deepest > -0.008  # penetration stays within the compliant travel + a margin
+
+
+def test_sliding_across_heightfield_cells_is_smooth():
+    scene = SCENE['probe']
+    parameters = SweepParameters(0.10, 0.015, 0.0015, 0.5, 0.0, 1.0, 0.0)
+    plan = plan_sweep(scene, parameters, duration_s=2.0)
+    world = World(scene)
+    world.place_arm(plan.joints[0])
+    world.controller = plan.targets
+    samples = [s for s in run(world, plan.times_s[-1])
+               if plan.slide_start_s + 0.3 < s.time_s < plan.slide_end_s]
+    cell = scene.surface.size_m[0] / (scene.surface.cells[0] - 1)
+    travelled = samples[-1].truth.edge_position[0] - samples[0].truth.edge_position[0]
+    assert travelled > 50 * cell  # crossed many cells (0.5 mm each)
+    assert all(s.truth.contact.touching for s in samples)
+    accel_steps = np.abs(np.diff([s.accel for s in samples], axis=0))
+    assert accel_steps.max() < 2.0  # no jolts at cell edges
+
+
+def test_sensor_pressed_to_its_prismatic_limit_holds():
+    scene = SCENE['probe']
+    world = World(scene)
+    world.place_arm(pose_at(scene, 0.15, 0.02, offset=0.0))
+    run(world, 1.0)
+    press = world.data.qpos[world.model.joint('sensor_press').qposadr[0]]
+    low = world.model.jnt_range[world.model.joint('sensor_press').id][0]
+    assert press >= low - 0.002 and np.all(np.isfinite(world.data.qpos))
+
+
+def test_zero_velocity_contact_has_no_texture_signal():
+    scene = SCENE['uneven_texture']
+    loud = dataclasses.replace(scene, effects=('contact', 'compliance', 'texture'))
+    quiet = dataclasses.replace(scene, effects=('contact', 'compliance'))
+    pose = pose_at(scene, 0.15, 0.0015)
+    readings = {}
+    for name, variant in (('with', loud), ('without', quiet)):
+        world = World(variant, patch_texture='ridged polymer')
+        world.place_arm(pose)
+        readings[name] = run(world, 3.0)[-60:]  # settled: the edge no longer creeps
+    assert readings['with'][-1].truth.contact.touching
+    difference = np.array([a.accel - b.accel for a, b in zip(readings['with'],
+                                                              readings['without'],
+                                                              strict=True)])
+    assert np.abs(difference).max() < 1e-9
+
+
+def test_sliding_over_a_texture_adds_vibration():
+    scene = SCENE['uneven_texture']
+    parameters = SweepParameters(0.10, 0.015, 0.0015, 0.5, 0.0, 0.0, 0.0)
+    plan = plan_sweep(scene, parameters, duration_s=3.0)
+    streams = {}
+    for effects in (('contact', 'compliance', 'texture'), ('contact', 'compliance')):
+        world = World(dataclasses.replace(scene, effects=effects), patch_texture='silicone mesh')
+        world.place_arm(plan.joints[0])
+        world.controller = plan.targets
+        streams[len(effects)] = np.array([s.accel for s in run(world, plan.times_s[-1])
+                                          if plan.slide_start_s + 0.5 < s.time_s
+                                          < plan.slide_end_s])
+    # The texture does not change the physics: the difference is the texture's signal.
+    texture_signal = streams[3] - streams[2]
+    assert 0.1 < np.sqrt(np.mean(texture_signal ** 2)) < 3.0
+
+
+def test_same_seed_gives_bit_identical_streams():
+    scene = SCENE['uneven_texture']
+    parameters = SweepParameters(0.10, 0.015, 0.0015, 0.5, 0.1, 1.0, 1.0)
+    plan = plan_sweep(scene, parameters, duration_s=1.0)
+    streams = []
+    for _ in range(2):
+        world = World(scene, seed=5, patch_texture='wood', texture_heading_rad=0.1)
+        world.place_arm(plan.joints[0])
+        world.controller = plan.targets
+        streams.append(np.array([np.concatenate([s.accel, s.gyro, s.mag, [s.pressure]])
+                                 for s in run(world, plan.times_s[-1])]))
+    assert streams[0].tobytes() == streams[1].tobytes()
+    other = World(scene, seed=6, patch_texture='wood')
+    other.place_arm(plan.joints[0])
+    assert not np.array_equal(run(other, 0.2)[-1].accel, streams[0][23, :3])
+
+
+def test_a_scene_without_contact_does_not_collide():
+    scene = parse_scene({'name': 'ghost', 'seed': 1, 'effects': ['compliance'],
+                         'surface': {'kind': 'flat'}})
+    world = World(scene)
+    assert world.model.opt.disableflags & mujoco.mjtDisableBit.mjDSBL_CONTACT
+
+
+def test_all_twelve_textures_are_named_as_in_the_original():
+    assert len(TEXTURES) == 12
+    assert {'brocade fabric', 'carpet wool', 'reptile-patterned leather'} <= set(TEXTURES)
+
+
+def test_alike_textures_have_close_models():
+    open_weave, tight = TEXTURES['open weave cotton'], TEXTURES['tight weave cotton']
+    assert abs(open_weave.weave_period[0] - tight.weave_period[0]) <= 0.0003
+    mesh_cotton, mesh_leather = TEXTURES['mesh cotton'], TEXTURES['mesh leather']
+    assert abs(mesh_cotton.weave_period[0] - mesh_leather.weave_period[0]) <= 0.0003
+    assert pytest.approx(mesh_cotton.weave_height, rel=0.2) == mesh_leather.weave_height
