@@ -21,6 +21,8 @@ setup(
     description='MuJoCo bridge standing in for the arm and the tactile sensor: scenes, effects.',
     license='Apache-2.0',
     entry_points={
-        'console_scripts': [],
+        'console_scripts': [
+            'mujoco_bridge = tactex_sim.mujoco_bridge_node:main',
+        ],
     },
 )

@@ -19,6 +19,7 @@ from rosbags.typesys import get_typestore, Stores
 
 from tactex_description.geometry import JOINT_STATE_NAMES
 from tactex_sensor import topics
+from tactex_sensor.orientation import gravity_alignment
 from tactex_sim.world import Sample
 
 TYPESTORE = get_typestore(Stores.ROS2_KILTED)
@@ -50,15 +51,11 @@ def _pose(position, quaternion_wxyz):
         orientation=_T['geometry_msgs/msg/Quaternion'](x=x, y=y, z=z, w=w))
 
 
-def _z_to(normal) -> np.ndarray:
-    """Quaternion (w, x, y, z) turning +z onto `normal`."""
+def quaternion_z_to(normal) -> np.ndarray:
+    """Quaternion (w, x, y, z) turning +z onto `normal` (the inverse of aligning it to z)."""
     n = np.asarray(normal, dtype=float)
-    n = n / np.linalg.norm(n)
-    w = 1.0 + n[2]
-    if w < 1e-9:
-        return np.array([0.0, 1.0, 0.0, 0.0])
-    q = np.array([w, -n[1], n[0], 0.0])
-    return q / np.linalg.norm(q)
+    w, x, y, z = gravity_alignment(*(n / np.linalg.norm(n)))
+    return np.array([w, -x, -y, -z])
 
 
 class SweepBag:
@@ -139,7 +136,8 @@ class SweepBag:
         contact = truth.contact
         if contact.touching:
             self._write(topics.GROUND_TRUTH_CONTACT, t, _T['geometry_msgs/msg/PoseStamped'](
-                header=_header(t, 'world'), pose=_pose(contact.point, _z_to(contact.normal))))
+                header=_header(t, 'world'),
+                pose=_pose(contact.point, quaternion_z_to(contact.normal))))
         self._write(topics.GROUND_TRUTH_SENSOR, t, _T['geometry_msgs/msg/PoseStamped'](
             header=_header(t, 'world'), pose=_pose(truth.edge_position,
                                                    truth.sensor_quaternion)))

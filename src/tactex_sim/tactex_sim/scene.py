@@ -115,6 +115,14 @@ _TOP_KEYS = {'name', 'seed', 'sensor_rate_hz', 'timestep_s', 'effects', 'surface
              'sweep', 'variability', 'effect'}
 
 
+def resolve_scene(name: str) -> Path:
+    """A scene given by name (config/scenes/NAME.toml of the workspace) or by path."""
+    from tactex_description.share import share_directory
+    if name.endswith('.toml') or '/' in name:
+        return Path(name)
+    return share_directory('tactex') / 'config' / 'scenes' / f'{name}.toml'
+
+
 def load_scene(path: Path | str) -> Scene:
     """Read and validate a scene file.
 

@@ -22,23 +22,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                          help='only these textures (default: all 12)')
 
 
-def scene_path(name: str) -> Path:
-    """A scene file given by name (config/scenes/NAME.toml) or by path."""
-    from tactex_description.share import share_directory
-    if name.endswith('.toml') or '/' in name:
-        return Path(name)
-    return share_directory('tactex') / 'config' / 'scenes' / f'{name}.toml'
-
-
 def run(args: argparse.Namespace) -> int:
     """Run the action."""
     from tactex_sim.collect import collect
     from tactex_sim.errors import SimError
-    from tactex_sim.scene import load_scene
+    from tactex_sim.scene import load_scene, resolve_scene
     from tactex_sim.textures import TEXTURES
 
     try:
-        scene = load_scene(scene_path(args.scene))
+        scene = load_scene(resolve_scene(args.scene))
         textures = args.textures or list(TEXTURES)
         unknown = [t for t in textures if t not in TEXTURES]
         if unknown or args.sweeps < 1:

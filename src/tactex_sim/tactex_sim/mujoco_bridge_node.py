@@ -1,0 +1,192 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""ROS 2 node standing in for the arm driver and the tactile sensor with a MuJoCo scene.
+
+Same topics and commands as the hardware: joint_states, the raw tactile topics,
+arm/joint_trajectory (validated and played exactly as the driver does), arm/stop and
+arm/torque; plus /clock (simulated time: run other nodes with use_sim_time) and the
+ground truth on sim/ground_truth/*. `rate_factor` 1 runs in real time, 5 five times
+faster, 0 as fast as the machine allows.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+from geometry_msgs.msg import PoseStamped
+import numpy as np
+from rcl_interfaces.msg import ParameterDescriptor
+import rclpy
+from rclpy.executors import ExternalShutdownException
+from rclpy.node import Node
+from rclpy.qos import qos_profile_sensor_data
+from rosgraph_msgs.msg import Clock
+from sensor_msgs.msg import FluidPressure, Imu, JointState, MagneticField, Temperature
+from std_msgs.msg import String
+from std_srvs.srv import SetBool, Trigger
+from trajectory_msgs.msg import JointTrajectory
+
+from tactex_description.geometry import JOINT_STATE_NAMES
+from tactex_driver.arm import ArmController
+from tactex_driver.errors import TrajectoryRejected
+from tactex_driver.playback import JointLimits
+from tactex_sensor import topics
+from tactex_sim.recording import quaternion_z_to
+from tactex_sim.scene import load_scene, resolve_scene
+from tactex_sim.world import Sample, World
+
+MAX_SAMPLES_PER_TICK = 50
+
+
+def _time_msg(seconds: float):
+    return rclpy.time.Time(nanoseconds=int(round(seconds * 1e9))).to_msg()
+
+
+class MujocoBridgeNode(Node):
+    """Steps a scene and serves it as if it were the robot."""
+
+    def __init__(self, **kwargs) -> None:
+        super().__init__('mujoco_bridge', **kwargs)
+        describe = ParameterDescriptor
+        scene_name = self.declare_parameter('scene', 'probe', describe(
+            description='scene name under config/scenes/ or a .toml path',
+            read_only=True)).value
+        seed = self.declare_parameter('seed', -1, describe(
+            description="random seed (-1: the scene's)", read_only=True)).value
+        self._rate_factor = self.declare_parameter('rate_factor', 1.0, describe(
+            description='simulated seconds per wall second (0: as fast as possible)',
+            read_only=True)).value
+        start = self.declare_parameter('initial_joints', [0.0, -0.3, 0.3, 1.2, 0.0], describe(
+            description='joint1..joint4 (rad) and gripper (m) at start', read_only=True)).value
+        texture = self.declare_parameter('patch_texture', '', describe(
+            description='texture of every patch ("" keeps the scene\'s)', read_only=True)).value
+        if self._rate_factor < 0 or not math.isfinite(self._rate_factor):
+            raise ValueError(f'rate_factor must be >= 0, got {self._rate_factor!r}')
+        scene = load_scene(resolve_scene(scene_name))
+        self._world = World(scene, seed=None if seed < 0 else seed,
+                            patch_texture=texture or None)
+        self._controller = ArmController(JointLimits.of_robot())
+        self._world.place_arm(np.asarray(start, dtype=float))
+        self._controller.update_measured(self._world.joint_positions())
+        self._controller.torque_on(0.0)
+        self._world.controller = self._goal
+
+        sensor_qos = qos_profile_sensor_data
+        self._clock_pub = self.create_publisher(Clock, '/clock', 10)
+        self._joint_pub = self.create_publisher(JointState, topics.JOINT_STATES, 10)
+        self._imu_pub = self.create_publisher(Imu, topics.IMU_RAW, sensor_qos)
+        self._mag_pub = self.create_publisher(MagneticField, topics.MAG, sensor_qos)
+        self._pressure_pub = self.create_publisher(FluidPressure, topics.PRESSURE, sensor_qos)
+        self._temperature_pub = self.create_publisher(Temperature, topics.TEMPERATURE,
+                                                      sensor_qos)
+        self._contact_pub = self.create_publisher(PoseStamped, topics.GROUND_TRUTH_CONTACT, 10)
+        self._pose_pub = self.create_publisher(PoseStamped, topics.GROUND_TRUTH_SENSOR, 10)
+        self._texture_pub = self.create_publisher(String, topics.GROUND_TRUTH_TEXTURE, 10)
+        self.create_subscription(JointTrajectory, topics.JOINT_TRAJECTORY, self._on_trajectory,
+                                 10)
+        self.create_service(Trigger, 'arm/stop', self._on_stop)
+        self.create_service(SetBool, 'arm/torque', self._on_torque)
+        self._wall_start = time.monotonic()
+        period = self._world.period_s / self._rate_factor if self._rate_factor else 0.001
+        self.create_timer(min(period, 0.01), self._tick)
+        self.get_logger().info(f'scene {scene.name!r}, effects {list(scene.effects)}, '
+                               f'{scene.sensor_rate_hz:g} Hz, rate factor {self._rate_factor}')
+
+    def _goal(self, sim_time_s: float) -> np.ndarray:
+        goal = self._controller.goal(sim_time_s)
+        return self._world.joint_positions() if goal is None else goal
+
+    def _tick(self) -> None:
+        if self._rate_factor:
+            target = (time.monotonic() - self._wall_start) * self._rate_factor
+        else:
+            target = math.inf
+        for _ in range(MAX_SAMPLES_PER_TICK):
+            if self._world.time_s + self._world.period_s > target:
+                break
+            sample = self._world.next_sample()
+            self._controller.update_measured(self._world.joint_positions())
+            self._publish(sample)
+
+    def _publish(self, sample: Sample) -> None:
+        stamp = _time_msg(sample.time_s)
+        self._clock_pub.publish(Clock(clock=stamp))
+        state = JointState(name=list(JOINT_STATE_NAMES),
+                           position=[float(v) for v in self._world.joint_positions()],
+                           velocity=[float(v) for v in self._world.joint_velocities()])
+        state.header.stamp = stamp
+        self._joint_pub.publish(state)
+        imu = Imu()
+        imu.header.stamp, imu.header.frame_id = stamp, 'sensor_link'
+        imu.orientation_covariance[0] = -1.0
+        w, a = imu.angular_velocity, imu.linear_acceleration
+        w.x, w.y, w.z = (float(v) for v in sample.gyro)
+        a.x, a.y, a.z = (float(v) for v in sample.accel)
+        self._imu_pub.publish(imu)
+        mag = MagneticField()
+        mag.header = imu.header
+        field = mag.magnetic_field
+        field.x, field.y, field.z = (float(v) for v in sample.mag)
+        self._mag_pub.publish(mag)
+        self._pressure_pub.publish(FluidPressure(header=imu.header,
+                                                 fluid_pressure=float(sample.pressure)))
+        self._temperature_pub.publish(Temperature(header=imu.header,
+                                                  temperature=float(sample.temperature)))
+        truth = sample.truth
+        pose = PoseStamped()
+        pose.header.stamp, pose.header.frame_id = stamp, 'world'
+        p = pose.pose.position
+        p.x, p.y, p.z = (float(v) for v in truth.edge_position)
+        o = pose.pose.orientation
+        o.w, o.x, o.y, o.z = (float(v) for v in truth.sensor_quaternion)
+        self._pose_pub.publish(pose)
+        if truth.contact.touching:
+            contact = PoseStamped()
+            contact.header = pose.header
+            p = contact.pose.position
+            p.x, p.y, p.z = (float(v) for v in truth.contact.point)
+            o = contact.pose.orientation
+            o.w, o.x, o.y, o.z = (float(v) for v in quaternion_z_to(truth.contact.normal))
+            self._contact_pub.publish(contact)
+        self._texture_pub.publish(String(data=truth.texture))
+
+    def _on_trajectory(self, msg: JointTrajectory) -> None:
+        times = [p.time_from_start.sec + 1e-9 * p.time_from_start.nanosec for p in msg.points]
+        try:
+            self._controller.execute(msg.joint_names, times,
+                                     [list(p.positions) for p in msg.points],
+                                     [list(p.velocities) for p in msg.points],
+                                     self._world.time_s)
+        except TrajectoryRejected as err:
+            self._controller.stop(self._world.time_s, 'new trajectory was rejected')
+            self.get_logger().error(f'trajectory rejected: {err}')
+
+    def _on_stop(self, request, response):
+        self._controller.stop(self._world.time_s)
+        response.success, response.message = True, 'holding'
+        return response
+
+    def _on_torque(self, request, response):
+        if request.data:
+            self._controller.torque_on(self._world.time_s)
+        else:
+            self._controller.torque_off()
+        response.success = True
+        response.message = f'torque {"on" if request.data else "off"}'
+        return response
+
+
+def main(args: list[str] | None = None) -> None:
+    """Run the bridge until shutdown."""
+    rclpy.init(args=args)
+    node = None
+    try:
+        node = MujocoBridgeNode()
+        rclpy.spin(node)
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
+    finally:
+        if node is not None:
+            node.destroy_node()
+        rclpy.try_shutdown()
