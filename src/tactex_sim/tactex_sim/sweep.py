@@ -21,7 +21,7 @@ from tactex_sim.errors import SimError
 from tactex_sim.scene import Scene
 
 PLAN_STEP_S = 0.01
-APPROACH_HEIGHT_M = 0.025
+APPROACH_HEIGHT_M = 0.02
 SETTLE_S = 0.5
 DESCEND_S = 1.5
 LIFT_S = 0.8
@@ -41,12 +41,16 @@ class SweepParameters:
 
     @classmethod
     def draw(cls, scene: Scene, rng: np.random.Generator) -> SweepParameters:
-        """Nominal sweep of the scene varied as its [variability] table says."""
+        """Nominal sweep of the scene varied as its [variability] table says.
+
+        Start and speed are drawn within two standard deviations, so every sweep stays
+        in the part of the workspace the scene was laid out for.
+        """
         sweep, spread = scene.sweep, scene.variability
         depth_mean, depth_sd = spread.press_depth_m
         return cls(
-            start_x_m=sweep.start_x_m + rng.normal(0.0, spread.start_x_m),
-            speed_m_s=sweep.speed_m_s * (1.0 + rng.normal(0.0, spread.speed_fraction)),
+            start_x_m=sweep.start_x_m + _bounded_normal(rng, spread.start_x_m),
+            speed_m_s=sweep.speed_m_s * (1.0 + _bounded_normal(rng, spread.speed_fraction)),
             press_depth_m=float(np.clip(rng.normal(depth_mean, depth_sd), 0.3 * depth_mean,
                                         2.0 * depth_mean)),
             edge_offset_rad=sweep.edge_offset_rad + rng.normal(0.0, spread.mount_tilt_rad),
@@ -111,6 +115,11 @@ def plan_sweep(scene: Scene, parameters: SweepParameters, duration_s: float | No
         seed = result.solutions[0]
         joints[i, :4] = seed
     return SweepPlan(times, joints, slide_start, slide_end)
+
+
+def _bounded_normal(rng: np.random.Generator, sd: float) -> float:
+    """A normal draw with standard deviation `sd`, clipped to two of them."""
+    return float(np.clip(rng.normal(0.0, sd), -2.0 * sd, 2.0 * sd))
 
 
 def _smooth(fraction: float) -> float:
