@@ -14,6 +14,7 @@ COMMANDS = {
     'demo': 'Run the simulated pipeline slice that works today.',
     'emulate': 'Emulate hardware on a pseudo-terminal (teensy, dynamixel).',
     'sim': 'Simulation jobs: collect a synthetic texture dataset.',
+    'convert': 'Turn recordings (rosbag2) into a windowed dataset (.npz + JSON).',
 }
 
 

@@ -1,0 +1,89 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""Write small rosbag2 recordings with chosen stamps and values, for the converter tests."""
+
+import json
+from pathlib import Path
+
+import numpy as np
+from rosbags.rosbag2 import StoragePlugin, Writer
+from rosbags.typesys import get_typestore, Stores
+
+TS = get_typestore(Stores.ROS2_KILTED)
+T = TS.types
+
+
+def header(ns):
+    sec, nanosec = divmod(int(ns), 10**9)
+    return T['std_msgs/msg/Header'](stamp=T['builtin_interfaces/msg/Time'](
+        sec=sec, nanosec=nanosec), frame_id='sensor_link')
+
+
+def vector(x, y, z):
+    return T['geometry_msgs/msg/Vector3'](x=float(x), y=float(y), z=float(z))
+
+
+def write_bag(path: Path, stamps_ns, values, *, mag_stamps_ns=None, pressure_stamps_ns=None,
+              active=None, metadata=None, joint_speed=None):
+    """Write a recording of `values` (n, 10), channel order, at header `stamps_ns`.
+
+    Mag and pressure may use their own stamps; `active` lists (start_ns, end_ns) spans
+    for sweep/active; `metadata` goes to recording/metadata as JSON.
+    """
+    values = np.asarray(values, dtype=float)
+    mag_stamps_ns = stamps_ns if mag_stamps_ns is None else mag_stamps_ns
+    pressure_stamps_ns = stamps_ns if pressure_stamps_ns is None else pressure_stamps_ns
+    writer = Writer(path, version=9, storage_plugin=StoragePlugin.MCAP)
+    with writer:
+        def connect(topic, kind):
+            return writer.add_connection(topic, kind, typestore=TS)
+
+        imu = connect('/tactile/imu/data_raw', 'sensor_msgs/msg/Imu')
+        mag = connect('/tactile/imu/mag', 'sensor_msgs/msg/MagneticField')
+        pressure = connect('/tactile/pressure', 'sensor_msgs/msg/FluidPressure')
+        if metadata is not None:
+            meta = connect('/recording/metadata', 'std_msgs/msg/String')
+            writer.write(meta, int(stamps_ns[0]), TS.serialize_cdr(
+                T['std_msgs/msg/String'](data=json.dumps(metadata)), 'std_msgs/msg/String'))
+        if active is not None:
+            segment = connect('/sweep/active', 'std_msgs/msg/Bool')
+            for start, end in active:
+                for stamp, state in ((start, True), (end, False)):
+                    writer.write(segment, int(stamp), TS.serialize_cdr(
+                        T['std_msgs/msg/Bool'](data=state), 'std_msgs/msg/Bool'))
+        if joint_speed is not None:
+            joints = connect('/joint_states', 'sensor_msgs/msg/JointState')
+        for i, stamp in enumerate(stamps_ns):
+            row = values[i]
+            message = T['sensor_msgs/msg/Imu'](
+                header=header(stamp),
+                orientation=T['geometry_msgs/msg/Quaternion'](x=0.0, y=0.0, z=0.0, w=1.0),
+                orientation_covariance=np.array([-1.0] + [0.0] * 8),
+                angular_velocity=vector(*row[3:6]), angular_velocity_covariance=np.zeros(9),
+                linear_acceleration=vector(*row[0:3]),
+                linear_acceleration_covariance=np.zeros(9))
+            # Logged in arrival order; the header carries the sensor's own stamp.
+            writer.write(imu, int(stamps_ns[0]) + i, TS.serialize_cdr(message,
+                                                                     'sensor_msgs/msg/Imu'))
+            if joint_speed is not None:
+                writer.write(joints, int(stamp), TS.serialize_cdr(T['sensor_msgs/msg/JointState'](
+                    header=header(stamp), name=['joint1'], position=np.zeros(1),
+                    velocity=np.array([joint_speed[i]]), effort=np.zeros(0)),
+                    'sensor_msgs/msg/JointState'))
+        for i, stamp in enumerate(mag_stamps_ns):
+            writer.write(mag, int(stamp), TS.serialize_cdr(T['sensor_msgs/msg/MagneticField'](
+                header=header(stamp), magnetic_field=vector(*values[i, 6:9]),
+                magnetic_field_covariance=np.zeros(9)), 'sensor_msgs/msg/MagneticField'))
+        for i, stamp in enumerate(pressure_stamps_ns):
+            writer.write(pressure, int(stamp), TS.serialize_cdr(T['sensor_msgs/msg/FluidPressure'](
+                header=header(stamp), fluid_pressure=float(values[i, 9]), variance=0.0),
+                'sensor_msgs/msg/FluidPressure'))
+    return path
+
+
+def ramp(count, start_ns=10**12, period_ns=8_333_333):
+    """Stamps and values where every channel of sample i equals i (easy to trace)."""
+    stamps = start_ns + np.arange(count, dtype=np.int64) * period_ns
+    values = np.repeat(np.arange(count, dtype=float)[:, None], 10, axis=1)
+    values[:, 9] += 101_000.0
+    return stamps, values

@@ -1,0 +1,177 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""Bag -> dataset conversion: alignment, filtering, windows, and every awkward recording."""
+
+import json
+
+from bagfactory import ramp, write_bag
+import numpy as np
+import pytest
+
+from tactex.cli import main
+from tactex_classify.bags import read_recording
+from tactex_classify.dataset import convert, Dataset, window_starts
+from tactex_classify.errors import DatasetError
+
+QUIET = {'progress': lambda line: None}
+
+
+def test_roundtrip_bag_to_dataset_keeps_si_values_and_order(tmp_path):
+    stamps, values = ramp(64)
+    write_bag(tmp_path / 'a', stamps, values, metadata={'label': 'wood', 'trial': 7})
+    data = convert([tmp_path / 'a'], window=16, hop=8, all_samples=True, **QUIET)
+    assert data.X.shape == (7, 16, 10) and data.X.dtype == np.float32
+    np.testing.assert_array_equal(data.X[1, :, 0], np.arange(8, 24))
+    assert data.X[0, 0, 9] == 101_000.0
+    assert data.classes == ['wood'] and set(data.trial) == {7}
+    np.testing.assert_allclose(data.t0[1], stamps[8] * 1e-9)
+
+
+def test_save_and_load_roundtrip_without_pickle(tmp_path):
+    stamps, values = ramp(40)
+    write_bag(tmp_path / 'a', stamps, values, metadata={'label': 'wood', 'trial': 1})
+    data = convert([tmp_path / 'a'], window=8, hop=4, all_samples=True, **QUIET)
+    loaded = Dataset.load(data.save(tmp_path / 'set.npz'))
+    np.testing.assert_array_equal(loaded.X, data.X)
+    assert loaded.classes == ['wood'] and loaded.info['window'] == 8
+    sidecar = json.loads((tmp_path / 'set.json').read_text())
+    assert sidecar['channels'][-1] == 'baro' and sidecar['hop'] == 4
+
+
+def test_out_of_order_and_duplicated_stamps_are_sorted_and_counted(tmp_path):
+    stamps, values = ramp(30)
+    order = np.arange(30)
+    order[[5, 6]] = order[[6, 5]]
+    shuffled = np.concatenate([stamps[order], stamps[10:12]])
+    rows = np.concatenate([values[order], values[10:12]])
+    write_bag(tmp_path / 'a', shuffled, rows)
+    recording = read_recording(tmp_path / 'a')
+    np.testing.assert_array_equal(recording.values[:, 0], np.arange(30))
+    assert recording.dropped['imu_duplicates'] == 2
+    assert recording.dropped['imu_out_of_order'] >= 1
+
+
+def test_nan_samples_are_dropped_and_counted(tmp_path):
+    stamps, values = ramp(30)
+    values[3, 7] = np.nan  # mag chip silent
+    values[4, 9] = np.nan  # barometer silent
+    write_bag(tmp_path / 'a', stamps, values)
+    recording = read_recording(tmp_path / 'a')
+    assert recording.dropped['nan_samples'] == 2 and len(recording.values) == 28
+
+
+def test_a_stream_that_stops_early_limits_the_joined_samples(tmp_path):
+    stamps, values = ramp(40)
+    write_bag(tmp_path / 'a', stamps, values, pressure_stamps_ns=stamps[:25])
+    recording = read_recording(tmp_path / 'a')
+    assert len(recording.values) == 25 and recording.dropped['unaligned_samples'] == 15
+
+
+def test_streams_with_offset_stamps_join_by_nearest(tmp_path):
+    stamps, values = ramp(20)
+    write_bag(tmp_path / 'a', stamps, values, mag_stamps_ns=stamps + 3_000_000)
+    recording = read_recording(tmp_path / 'a')
+    np.testing.assert_array_equal(recording.values[:, 6], np.arange(20))
+
+
+def test_stamps_across_the_device_clock_wrap_stay_continuous(tmp_path):
+    from tactex_sensor.clock import DeviceClock
+    clock = DeviceClock()
+    raw = [(2**32 - 20_000 + i * 8_333) % 2**32 for i in range(30)]
+    stamps = np.array([clock.stamp_ns(r, 5 * 10**12 + i * 8_333_000) for i, r in enumerate(raw)])
+    _, values = ramp(30)
+    write_bag(tmp_path / 'a', stamps, values, metadata={'label': 'x'})
+    data = convert([tmp_path / 'a'], window=30, hop=30, all_samples=True, **QUIET)
+    assert len(data.X) == 1  # one window spans the wrap: no gap was seen
+
+
+def test_segment_topic_selects_moving_in_contact_samples(tmp_path):
+    stamps, values = ramp(100)
+    write_bag(tmp_path / 'a', stamps, values, metadata={'label': 'x'},
+              active=[(stamps[20], stamps[59])])
+    data = convert([tmp_path / 'a'], window=20, hop=20, **QUIET)
+    np.testing.assert_array_equal(data.X[:, 0, 0], [20, 40])
+
+
+def test_without_segment_topic_motion_and_pressure_decide(tmp_path):
+    stamps, values = ramp(100)
+    values[:, 9] = 101_000.0
+    values[30:80, 9] += 300.0  # pressed
+    speed = np.where((np.arange(100) >= 40) & (np.arange(100) < 100), 0.1, 0.0)
+    write_bag(tmp_path / 'a', stamps, values, metadata={'label': 'x'}, joint_speed=speed)
+    data = convert([tmp_path / 'a'], window=10, hop=10, **QUIET)
+    np.testing.assert_array_equal(data.X[:, 0, 0], [40, 50, 60, 70])
+
+
+def test_windows_exactly_at_the_recording_boundaries():
+    keep = np.ones(40, dtype=bool)
+    stamps = np.arange(40) * 10
+    assert window_starts(keep, stamps, 20, 10) == [0, 10, 20]
+    assert window_starts(keep, stamps, 40, 10) == [0]
+    assert window_starts(keep, stamps, 41, 10) == []
+    gap = stamps.copy()
+    gap[20:] += 1000  # a hole in the stream: no window may straddle it
+    assert window_starts(keep, gap, 20, 10) == [0, 20]
+
+
+def test_truncated_bag_is_reported_by_name_and_the_rest_converted(tmp_path):
+    stamps, values = ramp(40)
+    write_bag(tmp_path / 'good', stamps, values, metadata={'label': 'x', 'trial': 1})
+    write_bag(tmp_path / 'bad', stamps, values, metadata={'label': 'x', 'trial': 2})
+    (tmp_path / 'bad' / 'metadata.yaml').unlink()  # as after a crash
+    lines = []
+    data = convert([tmp_path], window=10, hop=10, all_samples=True, progress=lines.append)
+    assert set(data.trial) == {1}
+    assert any('bad' in line and 'truncated' in line for line in lines)
+    assert data.info['skipped'][0]['path'].endswith('bad')
+
+
+def test_corrupt_bag_file_is_reported(tmp_path):
+    stamps, values = ramp(40)
+    write_bag(tmp_path / 'good', stamps, values, metadata={'label': 'x', 'trial': 1})
+    bad = write_bag(tmp_path / 'bad', stamps, values, metadata={'label': 'x', 'trial': 2})
+    storage = next(bad.glob('*.mcap'))
+    storage.write_bytes(storage.read_bytes()[:200])
+    data = convert([tmp_path], window=10, hop=10, all_samples=True, **QUIET)
+    assert set(data.trial) == {1} and 'cannot read' in data.info['skipped'][0]['reason']
+
+
+def test_recording_shorter_than_a_window_is_reported(tmp_path):
+    stamps, values = ramp(40)
+    write_bag(tmp_path / 'long', stamps, values, metadata={'label': 'x', 'trial': 1})
+    write_bag(tmp_path / 'short', stamps[:5], values[:5], metadata={'label': 'x', 'trial': 2})
+    data = convert([tmp_path], window=10, hop=10, all_samples=True, **QUIET)
+    assert 'shorter than one window' in data.info['skipped'][0]['reason']
+
+
+def test_label_and_trial_options_for_bare_bags(tmp_path):
+    stamps, values = ramp(40)
+    write_bag(tmp_path / 'a', stamps, values)
+    with pytest.raises(DatasetError, match='no label'):
+        convert([tmp_path / 'a'], window=10, hop=10, all_samples=True, **QUIET)
+    data = convert([tmp_path / 'a'], window=10, hop=10, label='carpet wool', trial=12,
+                   all_samples=True, **QUIET)
+    assert data.classes == ['carpet wool'] and set(data.trial) == {12}
+
+
+def test_part_bags_form_one_recording(tmp_path):
+    stamps, values = ramp(60)
+    write_bag(tmp_path / 'rec' / 'part_0000', stamps[:30], values[:30],
+              metadata={'label': 'x', 'trial': 3})
+    write_bag(tmp_path / 'rec' / 'part_0001', stamps[30:], values[30:])
+    data = convert([tmp_path / 'rec'], window=60, hop=60, all_samples=True, **QUIET)
+    assert len(data.X) == 1 and set(data.trial) == {3}
+
+
+def test_cli_converts_and_reports(tmp_path, capsys):
+    stamps, values = ramp(64)
+    write_bag(tmp_path / 'a', stamps, values, metadata={'label': 'wood', 'trial': 1})
+    assert main(['convert', str(tmp_path / 'a'), '--out', str(tmp_path / 'd.npz'),
+                 '--window', '16', '--all-samples']) == 0
+    assert 'wrote' in capsys.readouterr().out
+    assert main(['convert', str(tmp_path / 'nothing'), '--out', str(tmp_path / 'e.npz')]) == 1
+
+
+def test_bad_window_settings_are_refused(tmp_path):
+    with pytest.raises(DatasetError, match='window'):
+        convert([tmp_path], window=1, hop=1, **QUIET)
