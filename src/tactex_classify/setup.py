@@ -21,6 +21,8 @@ setup(
     description='Bag-to-dataset conversion, texture models, training and the online classifier.',
     license='Apache-2.0',
     entry_points={
-        'console_scripts': [],
+        'console_scripts': [
+            'recorder_node = tactex_classify.recorder_node:main',
+        ],
     },
 )

@@ -14,6 +14,7 @@ COMMANDS = {
     'demo': 'Run the simulated pipeline slice that works today.',
     'emulate': 'Emulate hardware on a pseudo-terminal (teensy, dynamixel).',
     'sim': 'Simulation jobs: collect a synthetic texture dataset.',
+    'record': 'Record the tactile topics, joint states and sweep segments (rosbag2, mcap).',
     'convert': 'Turn recordings (rosbag2) into a windowed dataset (.npz + JSON).',
 }
 

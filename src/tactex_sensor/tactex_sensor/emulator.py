@@ -207,7 +207,7 @@ class TeensyEmulator:
         self.link.unlink(missing_ok=True)
 
     def run(self, duration_s: float = math.inf, *, sequence_start: int = 0) -> None:
-        """Stream until `duration_s` has passed (forever by default)."""
+        """Stream until `duration_s` has passed (forever by default) or `close`."""
         period = 1.0 / self.rate_hz
         start = time.monotonic()
         faults = list(self._faults)
@@ -217,8 +217,8 @@ class TeensyEmulator:
         while True:
             due = start + index * period
             now = time.monotonic()
-            if due - start >= duration_s:
-                return
+            if due - start >= duration_s or self._master is None:
+                return  # done, or closed from another thread
             if due > now:
                 time.sleep(due - now)
             t_s = due - start
@@ -251,6 +251,8 @@ class TeensyEmulator:
             self._write(frame)
 
     def _write(self, data: bytes) -> None:
+        if self._master is None:
+            return
         try:
             os.write(self._master, data)
             self.frames_sent += 1

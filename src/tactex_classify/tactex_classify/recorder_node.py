@@ -1,0 +1,97 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""ROS 2 node recording the tactile topics, joint_states, contacts and sweep segments."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from geometry_msgs.msg import PoseArray
+from rcl_interfaces.msg import ParameterDescriptor
+import rclpy
+from rclpy.executors import ExternalShutdownException
+from rclpy.node import Node
+from rclpy.qos import qos_profile_sensor_data
+from sensor_msgs.msg import FluidPressure, Imu, JointState, MagneticField, Temperature
+from std_msgs.msg import Bool
+
+from tactex_classify.recorder import SplitRecorder
+from tactex_sensor import topics
+
+RECORDED = (
+    (topics.IMU_RAW, Imu, 'sensor_msgs/msg/Imu', True),
+    (topics.MAG, MagneticField, 'sensor_msgs/msg/MagneticField', True),
+    (topics.PRESSURE, FluidPressure, 'sensor_msgs/msg/FluidPressure', True),
+    (topics.TEMPERATURE, Temperature, 'sensor_msgs/msg/Temperature', True),
+    (topics.JOINT_STATES, JointState, 'sensor_msgs/msg/JointState', False),
+    ('probe/contacts', PoseArray, 'geometry_msgs/msg/PoseArray', False),
+    (topics.SWEEP_ACTIVE, Bool, 'std_msgs/msg/Bool', False),
+)
+
+
+class RecorderNode(Node):
+    """Subscribe with raw=True and write the bytes as they come."""
+
+    def __init__(self, **kwargs) -> None:
+        super().__init__('recorder_node', **kwargs)
+        describe = ParameterDescriptor
+        out = self.declare_parameter('output', '', describe(
+            description='recording directory to create', read_only=True)).value
+        label = self.declare_parameter('label', '', describe(
+            description='texture class of the recording', read_only=True)).value
+        trial = self.declare_parameter('trial', -1, describe(
+            description='recording / trajectory id (-1: none)', read_only=True)).value
+        surface = self.declare_parameter('surface', '', describe(
+            description='surface description (e.g. uneven)', read_only=True)).value
+        extra = self.declare_parameter('metadata', '{}', describe(
+            description='more metadata as a JSON object', read_only=True)).value
+        split_s = self.declare_parameter('split_s', 1.0, describe(
+            description='seconds per part bag (the most a crash can lose)',
+            read_only=True)).value
+        compress = self.declare_parameter('compress', False, describe(
+            description='zstd-compress messages', read_only=True)).value
+        if not out:
+            raise ValueError('parameter output (the recording directory) is required')
+        metadata = json.loads(extra)
+        if not isinstance(metadata, dict):
+            raise ValueError(f'metadata must be a JSON object, got {extra!r}')
+        metadata.update({k: v for k, v in (('label', label), ('surface', surface)) if v})
+        if trial >= 0:
+            metadata['trial'] = trial
+        self._recorder = SplitRecorder(Path(out), metadata, split_s=split_s,
+                                       compress=compress).__enter__()
+        for topic, message_type, type_name, sensor in RECORDED:
+            self._recorder.add_topic(topic, type_name)
+            self.create_subscription(
+                message_type, topic, self._writer_for(topic),
+                qos_profile_sensor_data if sensor else 10, raw=True)
+        self.get_logger().info(f'recording to {out} ({metadata})')
+
+    def _writer_for(self, topic: str):
+        def write(data: bytes) -> None:
+            self._recorder.write(topic, self.get_clock().now().nanoseconds, data)
+        return write
+
+    def destroy_node(self) -> None:
+        """Close the last part bag."""
+        self._recorder.close()
+        self.get_logger().info(f'recorded {self._recorder.messages} messages')
+        super().destroy_node()
+
+
+def main(args: list[str] | None = None) -> None:
+    """Record until shutdown (Ctrl-C or SIGTERM closes the bag cleanly)."""
+    import signal
+    rclpy.init(args=args)
+    signal.signal(signal.SIGTERM, lambda *_: rclpy.try_shutdown())
+    node = None
+    try:
+        node = RecorderNode()
+        rclpy.spin(node)
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
+    finally:
+        if node is not None:
+            node.destroy_node()
+        rclpy.try_shutdown()
