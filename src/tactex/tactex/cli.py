@@ -16,7 +16,12 @@ COMMANDS = {
     'sim': 'Simulation jobs: collect a synthetic texture dataset.',
     'record': 'Record the tactile topics, joint states and sweep segments (rosbag2, mcap).',
     'convert': 'Turn recordings (rosbag2) into a windowed dataset (.npz + JSON).',
+    'import': 'Import datasets recorded elsewhere (MUN pickles, CSV folders).',
 }
+
+
+# Subcommands whose module name differs (`import` is a Python keyword).
+MODULES = {'import': 'import_data'}
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -25,7 +30,7 @@ def build_parser() -> argparse.ArgumentParser:
         prog='tactex', description='Texture recognition by touch on a ROS 2 arm.')
     subparsers = parser.add_subparsers(dest='command', required=True, metavar='COMMAND')
     for name, help_text in COMMANDS.items():
-        module = importlib.import_module(f'tactex.commands.{name}')
+        module = importlib.import_module(f'tactex.commands.{MODULES.get(name, name)}')
         sub = subparsers.add_parser(name, help=help_text, description=help_text)
         module.add_arguments(sub)
         sub.set_defaults(run=module.run)
