@@ -17,6 +17,7 @@ COMMANDS = {
     'record': 'Record the tactile topics, joint states and sweep segments (rosbag2, mcap).',
     'convert': 'Turn recordings (rosbag2) into a windowed dataset (.npz + JSON).',
     'import': 'Import datasets recorded elsewhere (MUN pickles, CSV folders).',
+    'train': 'Cross-validate a texture model (honest and leaky CV side by side), report.',
 }
 
 
