@@ -149,7 +149,7 @@ class DeepClassifier:
                 loss.backward()
                 torch.nn.utils.clip_grad_norm_(self.model_.parameters(), config.clip_norm)
                 optimizer.step()
-                total += float(loss) * batch.size
+                total += float(loss.detach()) * batch.size
                 correct += int((logits.argmax(1) == target[batch]).sum())
             record = {'epoch': epoch, 'train_loss': total / max(train.size, 1),
                       'train_accuracy': correct / max(train.size, 1)}

@@ -101,13 +101,19 @@ class _Builder:
 
     def conv(self, filters: int, kernel: int) -> _Builder:
         self.layers.append(_Conv(self.width, filters, kernel))
-        self.width, self.time = filters, self.time - kernel + 1
+        self.width, self.time = filters, self._left(self.time - kernel + 1)
         return self
 
     def pool(self) -> _Builder:
         self.layers.append(_MaxPool())
-        self.time //= 2
+        self.time = self._left(self.time // 2)
         return self
+
+    @staticmethod
+    def _left(time: int) -> int:
+        if time < 1:
+            raise ValueError('the window is too short for this model')
+        return time
 
     def dropout_norm(self, rate: float) -> _Builder:
         self.layers += [nn.Dropout(rate), _BatchNorm(self.width)]
@@ -131,8 +137,6 @@ class _Builder:
         return self
 
     def build(self) -> nn.Sequential:
-        if self.time < 1:
-            raise ValueError('the window is too short for this model')
         return nn.Sequential(*self.layers)
 
 

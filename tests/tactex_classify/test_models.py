@@ -1,0 +1,60 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""The eight models: shapes at every window size, Keras semantics, numerically safe heads."""
+
+import numpy as np
+import pytest
+import torch
+
+from tactex_classify.classifier import softmax
+from tactex_classify.models import build_model, MODELS
+
+torch.set_num_threads(1)
+
+
+@pytest.mark.parametrize('name', list(MODELS))
+@pytest.mark.parametrize('window', [128, 256, 512])
+def test_every_model_maps_windows_to_class_logits(name, window):
+    model = build_model(name, window, 10, 12).eval()
+    with torch.no_grad():
+        assert model(torch.randn(3, window, 10)).shape == (3, 12)
+
+
+@pytest.mark.parametrize('name', list(MODELS))
+def test_a_batch_of_one_works_in_eval_mode(name):
+    model = build_model(name, 128, 10, 12).eval()
+    with torch.no_grad():
+        assert torch.all(torch.isfinite(model(torch.randn(1, 128, 10))))
+
+
+def test_bidirectional_final_state_is_forward_last_and_backward_first():
+    model = build_model('bilstm_1', 16, 10, 12)
+    recurrent = model[3]  # BiLSTM 64 returning its final state
+    x = torch.randn(2, 16, 256)
+    full, _ = recurrent.lstm(x)
+    out = recurrent(x)
+    torch.testing.assert_close(out[:, :64], full[:, -1, :64])
+    torch.testing.assert_close(out[:, 64:], full[:, 0, 64:])
+
+
+def test_dropout_comes_before_batch_normalisation():
+    names = [type(layer).__name__ for layer in build_model('cnn_3', 128, 10, 12)]
+    assert names[:4] == ['_Conv', '_MaxPool', 'Dropout', '_BatchNorm']
+
+
+def test_unknown_model_and_too_short_window_are_refused():
+    with pytest.raises(ValueError, match='unknown model .resnet.; known: cnn_bilstm_1'):
+        build_model('resnet', 128, 10, 12)
+    with pytest.raises(ValueError, match='too short'):
+        build_model('cnn_3', 16, 10, 12)
+
+
+def test_softmax_and_log_softmax_of_huge_logits_stay_finite():
+    logits = np.array([[1e4, -1e4, 0.0], [-1e4, -1e4, -1e4]])
+    probabilities = softmax(logits)
+    assert np.all(np.isfinite(probabilities))
+    np.testing.assert_allclose(probabilities.sum(axis=1), 1.0)
+    log_probabilities = torch.log_softmax(torch.tensor(logits), dim=1)
+    assert torch.all(torch.isfinite(log_probabilities))
+    loss = torch.nn.functional.cross_entropy(torch.tensor(logits), torch.tensor([1, 0]))
+    assert torch.isfinite(loss)

@@ -1,0 +1,176 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""Training, checkpoints, baselines and cross-validation on small synthetic windows."""
+
+import pickle
+
+import numpy as np
+import pytest
+import torch
+
+from tactex_classify.baselines import MiniRocketRidge, StatsExtraTrees
+from tactex_classify.classifier import ChannelScaler, DeepClassifier, TrainingConfig
+from tactex_classify.dataset import Dataset
+from tactex_classify.errors import CheckpointError, NotFittedError
+from tactex_classify.evaluate import confusion, cross_validate, metrics, sequence_accuracy
+
+CLASSES = ['low', 'mid', 'high']
+
+
+def toy(recordings_per_class=4, windows=6, window=96, seed=0):
+    """Windows whose class sets the frequency of a sine in channel 0."""
+    rng = np.random.default_rng(seed)
+    X, y, trial, t0 = [], [], [], []
+    for label in range(3):
+        for recording in range(recordings_per_class):
+            phase = rng.uniform(0, 6)
+            for k in range(windows):
+                t = np.arange(window) + k * window // 2
+                channels = rng.normal(0, 0.3, (window, 10))
+                channels[:, 0] += np.sin(2 * np.pi * (label + 1) * t / window + phase)
+                channels[:, 9] += 101_000.0
+                X.append(channels)
+                y.append(label)
+                trial.append(label * 100 + recording)
+                t0.append(k * 0.1)
+    return Dataset(np.array(X, np.float32), np.array(y), np.array(trial), np.array(t0),
+                   CLASSES, {'sampling_rate_hz': 100.0, 'hop': window // 2})
+
+
+FAST = TrainingConfig(model='cnn_3', epochs=3, seed=1)
+
+
+def test_training_is_deterministic_for_a_seed():
+    data = toy()
+    first = DeepClassifier(FAST).fit(data.X, data.y, CLASSES).predict_proba(data.X)
+    second = DeepClassifier(FAST).fit(data.X, data.y, CLASSES).predict_proba(data.X)
+    np.testing.assert_array_equal(first, second)
+    assert first.shape == (len(data.X), 3)
+
+
+def test_resume_from_checkpoint_gives_identical_predictions(tmp_path):
+    data = toy()
+    model = DeepClassifier(FAST).fit(data.X, data.y, CLASSES)
+    loaded = DeepClassifier.load(model.save(tmp_path / 'ckpt'))
+    np.testing.assert_array_equal(model.predict_proba(data.X[:5]),
+                                  loaded.predict_proba(data.X[:5]))
+    assert loaded.classes_ == CLASSES and loaded.scaler_.offset == model.scaler_.offset
+
+
+def test_a_checkpoint_with_a_foreign_pickle_payload_is_refused(tmp_path):
+    data = toy()
+    folder = DeepClassifier(FAST).fit(data.X, data.y, CLASSES).save(tmp_path / 'ckpt')
+
+    class Payload:
+        def __reduce__(self):
+            return (print, ('this ran',))
+    torch.save({'weights': Payload()}, folder / 'weights.pt')
+    with pytest.raises(CheckpointError, match='refused'):
+        DeepClassifier.load(folder)
+    (folder / 'weights.pt').write_bytes(pickle.dumps([1, 2, 3]))
+    with pytest.raises(CheckpointError):
+        DeepClassifier.load(folder)
+    (folder / 'weights.pt').unlink()
+    with pytest.raises(CheckpointError, match='missing weights.pt'):
+        DeepClassifier.load(folder)
+
+
+def test_nan_input_is_rejected_with_a_clear_error():
+    data = toy()
+    bad = data.X.copy()
+    bad[3, 5, 2] = np.nan
+    with pytest.raises(ValueError, match='NaN or inf in 1 window'):
+        DeepClassifier(FAST).fit(bad, data.y, CLASSES)
+    model = StatsExtraTrees(trees=10).fit(data.X, data.y, CLASSES)
+    with pytest.raises(ValueError, match='NaN'):
+        model.predict_proba(bad)
+    with pytest.raises(ValueError, match='fitted on'):
+        model.predict_proba(data.X[:, :48])
+
+
+def test_unfitted_use_is_a_clear_error():
+    with pytest.raises(NotFittedError, match='DeepClassifier is not fitted'):
+        DeepClassifier(FAST).predict(np.zeros((1, 32, 10)))
+    with pytest.raises(NotFittedError, match='MiniRocketRidge'):
+        MiniRocketRidge().predict_proba(np.zeros((1, 32, 10)))
+
+
+def test_constant_channels_scale_without_dividing_by_zero():
+    X = np.ones((4, 16, 10), np.float32)
+    for kind in ('minmax', 'standard'):
+        scaled = ChannelScaler(kind).fit(X).transform(X)
+        assert np.all(np.isfinite(scaled))
+    data = toy()
+    constant = data.X.copy()
+    constant[:, :, 4] = 7.0
+    proba = StatsExtraTrees(trees=10).fit(constant, data.y, CLASSES).predict_proba(constant)
+    assert np.all(np.isfinite(proba))
+
+
+def test_minmax_scaler_is_fitted_on_the_training_windows_only():
+    data = toy()
+    scaler = ChannelScaler().fit(data.X[:10])
+    assert scaler.transform(data.X[:10]).max() <= 1.0 + 1e-6
+    assert np.array(scaler.offset).shape == (10,)
+
+
+@pytest.mark.parametrize('make', [lambda: StatsExtraTrees(trees=50), lambda: MiniRocketRidge()])
+def test_baselines_learn_the_toy_task_honestly(make):
+    data = toy()
+    result = cross_validate(data, make, 'grouped', folds=4)
+    accuracy = metrics(confusion(data.y, result.proba.argmax(1), 3), CLASSES)['accuracy']
+    assert accuracy > 0.8
+    assert np.all(result.fold >= 0)
+
+
+def test_a_deep_model_fits_and_generalises_to_held_out_recordings():
+    data = toy(recordings_per_class=10, windows=8)
+    train = data.trial % 100 < 7
+    model = DeepClassifier(TrainingConfig('cnn_1', epochs=25, batch_size=16)).fit(
+        data.X[train], data.y[train], CLASSES)
+    assert model.history_[-1]['train_accuracy'] > 0.9
+    held_out = np.mean(model.predict(data.X[~train]) == data.y[~train])
+    assert held_out > 0.5  # well above the 1/3 of chance on unseen recordings
+
+
+def test_grouped_folds_never_split_a_recording():
+    data = toy()
+    result = cross_validate(data, lambda: StatsExtraTrees(trees=5), 'grouped', folds=4)
+    for trial in np.unique(data.trial):
+        assert len(set(result.fold[data.trial == trial])) == 1
+
+
+def test_a_class_absent_from_a_fold_is_noted_not_fatal():
+    data = toy()
+    keep = ~((data.y == 2) & (data.trial != 200))  # one recording left of class "high"
+    small = Dataset(data.X[keep], data.y[keep], data.trial[keep], data.t0[keep], CLASSES,
+                    data.info)
+    result = cross_validate(small, lambda: StatsExtraTrees(trees=5), 'grouped', folds=4)
+    assert any("['high'] absent" in note for note in result.notes)
+    assert result.proba.shape == (len(small.X), 3)
+
+
+def test_stratified_scheme_is_available_and_leaks_by_design():
+    data = toy()
+    result = cross_validate(data, lambda: StatsExtraTrees(trees=5), 'stratified', folds=4)
+    shared = sum(len(set(result.fold[data.trial == t])) > 1 for t in np.unique(data.trial))
+    assert shared > 0  # recordings on both sides: the leak the grouped scheme removes
+
+
+def test_sequence_accuracy_grows_with_accumulated_windows():
+    data = toy()
+    proba = np.full((len(data.X), 3), 0.2)
+    proba[np.arange(len(data.X)), data.y] = 0.6
+    wrong = np.arange(len(data.X)) % 6 == 2  # one window in six wrong on its own
+    proba[wrong] = np.roll(proba[wrong], 1, axis=1)
+    curve = sequence_accuracy(data, proba)
+    assert list(curve) == [1, 2, 4]
+    assert curve[1] < curve[4] == 1.0
+
+
+def test_metrics_from_a_confusion_matrix():
+    matrix = np.array([[5, 0], [1, 4]])
+    result = metrics(matrix, ['a', 'b'])
+    assert result['accuracy'] == 0.9
+    assert result['per_class']['a']['precision'] == pytest.approx(5 / 6)
+    assert result['macro_recall'] == pytest.approx((1.0 + 0.8) / 2)
