@@ -8,13 +8,17 @@ MuJoCo arm through its position servos; the sensor tip it reaches is compared wi
 target. Slice 2, the tactile sensor: an emulated Teensy streams real protocol frames
 with injected garbage and CRC errors over a pseudo-terminal; the serial reader decodes
 them and the Madgwick filter estimates the tilt, compared with the emulated one.
-There is no surface contact, sweep or classifier in it yet.
+Slice 3, data: scripted sweeps over three textures in the MuJoCo texture scene are
+recorded as bags and converted into a windowed dataset. Slice 4, classification: the
+statistics + ExtraTrees baseline, cross-validated by recording. Probing and the online
+classifier are not in it yet.
 """
 
 from __future__ import annotations
 
 import argparse
 import math
+from pathlib import Path
 
 import numpy as np
 
@@ -25,6 +29,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help='probe stations, 1 cm apart (default 5)')
     parser.add_argument('--settle-s', type=float, default=1.5,
                         help='simulated time to hold each waypoint (default 1.5 s)')
+    parser.add_argument('--sweeps', type=int, default=6,
+                        help='sweeps per texture in the data slice (default 6)')
 
 
 def run(args: argparse.Namespace) -> int:
@@ -39,7 +45,7 @@ def run(args: argparse.Namespace) -> int:
         print('error: --points must be >= 1 and --settle-s > 0')
         return 1
     print('tactex demo, slice 1/5: robot description (IK -> MuJoCo servos -> FK).')
-    print('Not yet in the demo: surface contact, sweep, classification.\n')
+    print('Not yet in the demo: probing the surface, the online classifier.\n')
     model = mujoco.MjModel.from_xml_string(build_mjcf())
     data = mujoco.MjData(model)
     joints = [model.joint(name).qposadr[0] for name in ARM_JOINT_NAMES]
@@ -66,7 +72,7 @@ def run(args: argparse.Namespace) -> int:
         print(f'{_xyz(target):<26}{_xyz(reached):<28}{error_mm:>10.2f}')
     print(f'\n{len(waypoints)} waypoints, worst steady-state error {worst:.2f} mm '
           '(position servos under gravity).')
-    return _sensor_slice()
+    return _sensor_slice() or _data_and_classification_slices(args.sweeps)
 
 
 def _sensor_slice() -> int:
@@ -110,3 +116,37 @@ def _sensor_slice() -> int:
 
 def _xyz(values) -> str:
     return ' '.join(f'{v:+.4f}' for v in values)
+
+
+DEMO_TEXTURES = ('ridged polymer', 'open weave cotton', 'tight weave cotton')
+
+
+def _data_and_classification_slices(sweeps: int) -> int:
+    """Simulated sweeps -> bags -> dataset -> grouped cross-validation of a baseline."""
+    import tempfile
+
+    from tactex_classify.baselines import StatsExtraTrees
+    from tactex_classify.dataset import convert
+    from tactex_classify.evaluate import confusion, cross_validate, metrics
+    from tactex_sim.collect import collect
+    from tactex_sim.scene import load_scene, resolve_scene
+
+    print(f'\ntactex demo, slice 3/5: data ({sweeps} simulated sweeps of each of '
+          f'{", ".join(DEMO_TEXTURES)} -> mcap bags -> 128-sample windows).')
+    with tempfile.TemporaryDirectory() as folder:
+        scene = load_scene(resolve_scene('uneven_texture'))
+        collect(scene, sweeps, Path(folder), textures=DEMO_TEXTURES,
+                progress=lambda line: print(f'  {line}', flush=True))
+        dataset = convert([Path(folder)], window=128, hop=64, progress=lambda line: None)
+    print(f'{len(dataset.X)} windows from {len(set(dataset.trial.tolist()))} recordings, '
+          f'{dataset.info["sampling_rate_hz"]:.0f} Hz')
+    print('\ntactex demo, slice 4/5: classification (statistics + ExtraTrees, 3-fold CV '
+          'grouped by recording: no recording on both sides).')
+    result = cross_validate(dataset, lambda: StatsExtraTrees(seed=0), 'grouped', folds=3)
+    matrix = confusion(dataset.y, result.proba.argmax(axis=1), len(dataset.classes))
+    print(f'accuracy {100 * metrics(matrix, dataset.classes)["accuracy"]:.1f} % over '
+          f'{len(dataset.X)} windows; confusion (rows true, columns predicted):')
+    for name, row in zip(dataset.classes, matrix, strict=True):
+        print(f'  {name:<20}' + ''.join(f'{count:>6}' for count in row))
+    print('The two cotton weaves are meant to be confused: alike in reality, alike here.')
+    return 0
