@@ -10,7 +10,6 @@ from pathlib import Path
 from geometry_msgs.msg import PoseArray
 from rcl_interfaces.msg import ParameterDescriptor
 import rclpy
-from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from rclpy.qos import qos_profile_sensor_data
 from sensor_msgs.msg import FluidPressure, Imu, JointState, MagneticField, Temperature
@@ -18,6 +17,7 @@ from std_msgs.msg import Bool
 
 from tactex_classify.recorder import SplitRecorder
 from tactex_sensor import topics
+from tactex_sensor.spin_node import spin
 
 RECORDED = (
     (topics.IMU_RAW, Imu, 'sensor_msgs/msg/Imu', True),
@@ -83,15 +83,5 @@ class RecorderNode(Node):
 def main(args: list[str] | None = None) -> None:
     """Record until shutdown (Ctrl-C or SIGTERM closes the bag cleanly)."""
     import signal
-    rclpy.init(args=args)
     signal.signal(signal.SIGTERM, lambda *_: rclpy.try_shutdown())
-    node = None
-    try:
-        node = RecorderNode()
-        rclpy.spin(node)
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
-    finally:
-        if node is not None:
-            node.destroy_node()
-        rclpy.try_shutdown()
+    spin(RecorderNode, args)

@@ -10,8 +10,6 @@ import time
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 import numpy as np
 from rcl_interfaces.msg import ParameterDescriptor
-import rclpy
-from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from sensor_msgs.msg import JointState
 from std_srvs.srv import SetBool, Trigger
@@ -24,6 +22,7 @@ from tactex_driver.errors import CommunicationError, DriverError, TrajectoryReje
 from tactex_driver.joints import JointMap, NEWTON_METRE_PER_AMPERE
 from tactex_driver.playback import JointLimits
 from tactex_sensor import topics
+from tactex_sensor.spin_node import spin
 
 TORQUE_POLICIES = ('hold', 'release')
 
@@ -301,15 +300,4 @@ class ArmDriverNode(Node):
 
 def main(args: list[str] | None = None) -> None:
     """Run the driver until shutdown."""
-    rclpy.init(args=args)
-    node = None
-    try:
-        node = ArmDriverNode()
-        rclpy.spin(node)
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
-    finally:
-        if node is not None:
-            node.destroy_node()
-        rclpy.try_shutdown()
-
+    spin(ArmDriverNode, args)

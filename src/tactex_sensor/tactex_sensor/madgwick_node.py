@@ -8,14 +8,13 @@ import dataclasses
 import math
 
 from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor, SetParametersResult
-import rclpy
-from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from rclpy.qos import qos_profile_sensor_data
 from sensor_msgs.msg import Imu, MagneticField
 
 from tactex_sensor import topics
 from tactex_sensor.madgwick import MadgwickConfig, MadgwickFilter
+from tactex_sensor.spin_node import spin
 
 
 def _stamp_s(msg) -> float:
@@ -95,14 +94,4 @@ class MadgwickNode(Node):
 
 def main(args: list[str] | None = None) -> None:
     """Run the node until shutdown."""
-    rclpy.init(args=args)
-    node = None
-    try:
-        node = MadgwickNode()
-        rclpy.spin(node)
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
-    finally:
-        if node is not None:
-            node.destroy_node()
-        rclpy.try_shutdown()
+    spin(MadgwickNode, args)

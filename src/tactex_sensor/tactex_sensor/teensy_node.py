@@ -9,7 +9,6 @@ import threading
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from rcl_interfaces.msg import ParameterDescriptor
 import rclpy
-from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from rclpy.qos import qos_profile_sensor_data
 from sensor_msgs.msg import FluidPressure, Imu, MagneticField, Temperature
@@ -18,6 +17,7 @@ from tactex_sensor import topics
 from tactex_sensor.link import SerialLink
 from tactex_sensor.protocol import DEFAULT_BAUD
 from tactex_sensor.reader import TeensyReader
+from tactex_sensor.spin_node import spin
 
 
 class TeensyNode(Node):
@@ -121,12 +121,4 @@ class TeensyNode(Node):
 
 def main(args: list[str] | None = None) -> None:
     """Run the node until shutdown."""
-    rclpy.init(args=args)
-    node = TeensyNode()
-    try:
-        rclpy.spin(node)
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
-    finally:
-        node.destroy_node()
-        rclpy.try_shutdown()
+    spin(TeensyNode, args)

@@ -18,7 +18,6 @@ from geometry_msgs.msg import PoseStamped
 import numpy as np
 from rcl_interfaces.msg import ParameterDescriptor
 import rclpy
-from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from rclpy.qos import qos_profile_sensor_data
 from rosgraph_msgs.msg import Clock
@@ -32,6 +31,7 @@ from tactex_driver.arm import ArmController
 from tactex_driver.errors import TrajectoryRejected
 from tactex_driver.playback import JointLimits
 from tactex_sensor import topics
+from tactex_sensor.spin_node import spin
 from tactex_sim.recording import quaternion_z_to
 from tactex_sim.scene import load_scene, resolve_scene
 from tactex_sim.world import Sample, World
@@ -179,14 +179,4 @@ class MujocoBridgeNode(Node):
 
 def main(args: list[str] | None = None) -> None:
     """Run the bridge until shutdown."""
-    rclpy.init(args=args)
-    node = None
-    try:
-        node = MujocoBridgeNode()
-        rclpy.spin(node)
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
-    finally:
-        if node is not None:
-            node.destroy_node()
-        rclpy.try_shutdown()
+    spin(MujocoBridgeNode, args)
