@@ -95,14 +95,10 @@ class Harness:
 
 
 @pytest.fixture
-def rig(tmp_path):
-    import rclpy
-    from rclpy.context import Context
-    context = Context()
-    rclpy.init(context=context)
+def rig(tmp_path, ros_context):
     link = tmp_path / 'dxl'
     with ServoChainEmulator(link) as chain:
-        harness = Harness(context, link)
+        harness = Harness(ros_context, link)
         assert harness.spin(until=lambda: len(harness.states) > 5)
         yield harness, chain
         harness.close()
@@ -111,7 +107,6 @@ def rig(tmp_path):
         outside = [(servo, goal) for _, servo, goal in chain.goal_history
                    if not limits[servo][0] <= goal <= limits[servo][1]]
         assert not outside, f'goals outside the joint limits: {outside[:5]}'
-    rclpy.shutdown(context=context)
 
 
 ARM = ['joint1', 'joint2', 'joint3', 'joint4']

@@ -9,30 +9,23 @@ import pytest
 pytestmark = pytest.mark.ros
 
 
-@pytest.fixture
-def context():
-    import rclpy
-    from rclpy.context import Context
-    ctx = Context()
-    rclpy.init(context=ctx, args=['--ros-args', '-p', 'use_mag:=true'])
-    yield ctx
-    rclpy.shutdown(context=ctx)
 
-
-def test_marg_output_never_waits_for_the_magnetometer(context):
+def test_marg_output_never_waits_for_the_magnetometer(ros_context):
     import rclpy
+    from rclpy.parameter import Parameter
     from rclpy.qos import qos_profile_sensor_data
     from sensor_msgs.msg import Imu, MagneticField
 
     from tactex_sensor.madgwick_node import MadgwickNode
 
-    node = MadgwickNode(context=context)
-    probe = rclpy.create_node('madgwick_probe', context=context)
+    node = MadgwickNode(context=ros_context, parameter_overrides=[
+        Parameter('use_mag', value=True)])
+    probe = rclpy.create_node('madgwick_probe', context=ros_context)
     imu_pub = probe.create_publisher(Imu, 'tactile/imu/data_raw', qos_profile_sensor_data)
     mag_pub = probe.create_publisher(MagneticField, 'tactile/imu/mag', qos_profile_sensor_data)
     fused = []
     probe.create_subscription(Imu, 'tactile/imu/data', fused.append, qos_profile_sensor_data)
-    executor = rclpy.executors.SingleThreadedExecutor(context=context)
+    executor = rclpy.executors.SingleThreadedExecutor(context=ros_context)
     executor.add_node(node)
     executor.add_node(probe)
     for _ in range(20):  # let discovery settle

@@ -10,17 +10,8 @@ import pytest
 pytestmark = pytest.mark.ros
 
 
-@pytest.fixture
-def context():
-    import rclpy
-    from rclpy.context import Context
-    ctx = Context()
-    rclpy.init(context=ctx)
-    yield ctx
-    rclpy.shutdown(context=ctx)
 
-
-def test_bridge_serves_topics_and_follows_a_trajectory(context):
+def test_bridge_serves_topics_and_follows_a_trajectory(ros_context):
     from builtin_interfaces.msg import Duration
     from geometry_msgs.msg import PoseStamped
     import rclpy
@@ -32,9 +23,9 @@ def test_bridge_serves_topics_and_follows_a_trajectory(context):
 
     from tactex_sim.mujoco_bridge_node import MujocoBridgeNode
 
-    bridge = MujocoBridgeNode(context=context, parameter_overrides=[
+    bridge = MujocoBridgeNode(context=ros_context, parameter_overrides=[
         Parameter('scene', value='uneven_texture'), Parameter('rate_factor', value=5.0)])
-    probe = rclpy.create_node('bridge_probe', context=context)
+    probe = rclpy.create_node('bridge_probe', context=ros_context)
     got = {'clock': [], 'imu': [], 'joints': [], 'pressure': [], 'pose': []}
     probe.create_subscription(Clock, '/clock', got['clock'].append, 10)
     probe.create_subscription(Imu, 'tactile/imu/data_raw', got['imu'].append,
@@ -45,7 +36,7 @@ def test_bridge_serves_topics_and_follows_a_trajectory(context):
     probe.create_subscription(PoseStamped, 'sim/ground_truth/sensor_pose', got['pose'].append,
                               10)
     trajectory_pub = probe.create_publisher(JointTrajectory, 'arm/joint_trajectory', 10)
-    executor = rclpy.executors.SingleThreadedExecutor(context=context)
+    executor = rclpy.executors.SingleThreadedExecutor(context=ros_context)
     executor.add_node(bridge)
     executor.add_node(probe)
 

@@ -18,15 +18,6 @@ pytestmark = [pytest.mark.ros, pytest.mark.slow]
 BIN = Path(sys.executable).parent
 
 
-@pytest.fixture
-def ros_context():
-    import rclpy
-    from rclpy.context import Context
-    context = Context()
-    rclpy.init(context=context)
-    yield context
-    rclpy.shutdown(context=context)
-
 
 def spin_until(context, node, condition, timeout_s):
     import rclpy

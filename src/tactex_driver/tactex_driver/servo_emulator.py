@@ -18,9 +18,9 @@ import select
 import struct
 import threading
 import time
-import tty
 
 from tactex_driver import control_table as ct
+from tactex_sensor.pty_link import PtyLink
 
 HEADER = b'\xff\xff\xfd\x00'
 BROADCAST_ID = 0xFE
@@ -141,8 +141,8 @@ class ServoChainEmulator:
         self.packets_handled = 0
         self.crc_errors = 0
         self._lock = threading.Lock()
+        self._pty = PtyLink(self.link)
         self._master: int | None = None
-        self._slave: int | None = None
         self._thread: threading.Thread | None = None
         self._running = False
         self._last_advance = time.monotonic()
@@ -157,13 +157,7 @@ class ServoChainEmulator:
 
     def start(self) -> None:
         """Open the pty, link it, and serve in a background thread."""
-        master, slave = os.openpty()
-        tty.setraw(slave)
-        self._master, self._slave = master, slave
-        temporary = self.link.with_name(self.link.name + '.tmp')
-        temporary.unlink(missing_ok=True)
-        temporary.symlink_to(os.ttyname(slave))
-        temporary.replace(self.link)
+        self._master = self._pty.open()
         self._running = True
         self._thread = threading.Thread(target=self._serve, name='servo_emulator', daemon=True)
         self._thread.start()
@@ -173,11 +167,8 @@ class ServoChainEmulator:
         self._running = False
         if self._thread is not None:
             self._thread.join(timeout=2.0)
-        for fd in (self._master, self._slave):
-            if fd is not None:
-                os.close(fd)
-        self._master = self._slave = self._thread = None
-        self.link.unlink(missing_ok=True)
+        self._pty.close()
+        self._master = self._thread = None
 
     # -- faults -------------------------------------------------------------------------
     def silence(self, servo_id: int, silent: bool = True) -> None:

@@ -16,11 +16,11 @@ import math
 import os
 from pathlib import Path
 import time
-import tty
 
 import numpy as np
 
 from tactex_sensor.protocol import encode, Sample
+from tactex_sensor.pty_link import PtyLink
 
 G = 9.80665
 EARTH_FIELD_T = (0.0, 2.0e-5, -4.3e-5)
@@ -174,8 +174,7 @@ class TeensyEmulator:
         self.source = source
         self._faults = sorted(faults, key=lambda f: f.at_s)
         self._start_time_us = start_time_us
-        self._master: int | None = None
-        self._slave: int | None = None
+        self._pty = PtyLink(self.link)
         self.frames_sent = 0
         self.frames_overflowed = 0
         self._rng = np.random.default_rng(1)
@@ -189,22 +188,11 @@ class TeensyEmulator:
 
     def open(self) -> None:
         """Create the pty and point the link at it."""
-        master, slave = os.openpty()
-        tty.setraw(slave)
-        os.set_blocking(master, False)
-        self._master, self._slave = master, slave
-        temporary = self.link.with_name(self.link.name + '.tmp')
-        temporary.unlink(missing_ok=True)
-        temporary.symlink_to(os.ttyname(slave))
-        temporary.replace(self.link)
+        self._pty.open(blocking=False)
 
     def close(self) -> None:
         """Close the pty and remove the link; safe to call twice."""
-        for fd in (self._master, self._slave):
-            if fd is not None:
-                os.close(fd)
-        self._master = self._slave = None
-        self.link.unlink(missing_ok=True)
+        self._pty.close()
 
     def run(self, duration_s: float = math.inf, *, sequence_start: int = 0) -> None:
         """Stream until `duration_s` has passed (forever by default) or `close`."""
@@ -217,7 +205,7 @@ class TeensyEmulator:
         while True:
             due = start + index * period
             now = time.monotonic()
-            if due - start >= duration_s or self._master is None:
+            if due - start >= duration_s or self._pty.master is None:
                 return  # done, or closed from another thread
             if due > now:
                 time.sleep(due - now)
@@ -251,10 +239,10 @@ class TeensyEmulator:
             self._write(frame)
 
     def _write(self, data: bytes) -> None:
-        if self._master is None:
+        if self._pty.master is None:
             return
         try:
-            os.write(self._master, data)
+            os.write(self._pty.master, data)
             self.frames_sent += 1
         except OSError as err:
             # Nobody reads and the pty is full, or the reader went away: a USB CDC
