@@ -125,7 +125,7 @@ def test_executes_a_trajectory(rig):
     harness.send(ARM, [(0.0, [0.0, 0.0, 0.0, 0.0]), (1.0, [0.4, -0.2, 0.3, 0.1])])
     assert harness.spin(until=lambda: abs(harness.position('joint1') - 0.4) < 0.01, timeout=5)
     assert abs(harness.position('joint3') - 0.3) < 0.01
-    assert harness.driver._controller.mode.value == 'holding'
+    assert harness.driver.mode.value == 'holding'
 
 
 @pytest.mark.parametrize('names, points, reason', [
@@ -140,9 +140,9 @@ def test_bad_trajectories_are_refused_and_reported(rig, names, points, reason):
     harness, chain = rig
     before = len(chain.goal_history)
     harness.send(names, points)
-    harness.spin(until=lambda: harness.driver._rejected > 0, timeout=3)
-    assert harness.driver._rejected == 1
-    assert reason in harness.driver._controller.last_event
+    harness.spin(until=lambda: harness.driver.rejected_trajectories > 0, timeout=3)
+    assert harness.driver.rejected_trajectories == 1
+    assert reason in harness.driver.last_event
     harness.spin(until=lambda: harness.last_diagnostic() is not None
                  and 'rejected' in harness.last_diagnostic().message, timeout=3)
     assert 'rejected' in harness.last_diagnostic().message
@@ -172,7 +172,7 @@ def test_a_servo_vanishing_mid_trajectory_holds_and_reports(rig):
                         harness.last_diagnostic().message.startswith('disconnected'), timeout=5)
     assert 'servo 13' in harness.last_diagnostic().message
     chain.silence(13, False)
-    assert harness.spin(until=lambda: harness.driver._connected, timeout=5)
+    assert harness.spin(until=lambda: harness.driver.connected, timeout=5)
     stopped = harness.position('joint1')
     harness.spin(1.5)
     assert stopped < 0.8 and abs(harness.position('joint1') - stopped) < 0.02
@@ -180,10 +180,10 @@ def test_a_servo_vanishing_mid_trajectory_holds_and_reports(rig):
 
 def test_a_corrupt_status_packet_is_counted_and_survived(rig):
     harness, chain = rig
-    errors = harness.driver._comm_errors
+    errors = harness.driver.communication_errors
     chain.corrupt_next_status(12)
-    assert harness.spin(until=lambda: harness.driver._comm_errors > errors, timeout=3)
-    assert harness.spin(until=lambda: harness.driver._connected, timeout=5)
+    assert harness.spin(until=lambda: harness.driver.communication_errors > errors, timeout=3)
+    assert harness.spin(until=lambda: harness.driver.connected, timeout=5)
     count = len(harness.states)
     harness.spin(0.5)
     assert len(harness.states) > count + 30
@@ -193,11 +193,11 @@ def test_overload_disables_motion_until_reset(rig):
     from std_srvs.srv import SetBool, Trigger
     harness, chain = rig
     chain.overload(12)
-    assert harness.spin(until=lambda: harness.driver._controller.mode.value == 'fault',
+    assert harness.spin(until=lambda: harness.driver.mode.value == 'fault',
                         timeout=3)
     harness.send(ARM, [(0.0, [0, 0, 0, 0]), (1.0, [0.3, 0, 0, 0])])
     harness.spin(0.3)
-    assert 'reset first' in harness.driver._controller.last_event
+    assert 'reset first' in harness.driver.last_event
     assert not harness.call(harness.torque_client, SetBool.Request(data=True)).success
     assert harness.call(harness.reset_client, Trigger.Request()).success
     assert harness.call(harness.torque_client, SetBool.Request(data=True)).success

@@ -97,6 +97,32 @@ class ArmDriverNode(Node):
         self.create_timer(1.0, self._publish_diagnostics)
         self.get_logger().info(f'arm driver on {port} ({baud} baud), servos {ids}, {rate} Hz')
 
+    # -- state, read-only (diagnostics publish the same) --------------------------------
+    @property
+    def mode(self) -> Mode:
+        """The controller's mode."""
+        return self._controller.mode
+
+    @property
+    def last_event(self) -> str:
+        """What last happened to the motion (executing, stopped, rejected, fault)."""
+        return self._controller.last_event
+
+    @property
+    def connected(self) -> bool:
+        """True while the servos answer."""
+        return self._connected
+
+    @property
+    def rejected_trajectories(self) -> int:
+        """Trajectories refused so far."""
+        return self._rejected
+
+    @property
+    def communication_errors(self) -> int:
+        """Failed bus exchanges and connection attempts so far."""
+        return self._comm_errors
+
     # -- control loop ---------------------------------------------------------------
     def _now(self) -> float:
         return time.monotonic()
