@@ -7,7 +7,7 @@ from xml.etree import ElementTree as ET
 import pytest
 
 from tactex.cli import main
-from tactex_description.geometry import JointKind, OPEN_MANIPULATOR_X
+from tactex_description.geometry import COMPLIANT_JOINT_NAMES, JointKind, OPEN_MANIPULATOR_X
 from tactex_description.share import share_directory
 from tactex_description.urdf import build_urdf
 
@@ -53,5 +53,5 @@ def test_urdf_joint_limits_are_identical_to_the_geometry_module(urdf):
 
 def test_compliant_joints_are_three_revolute_and_one_prismatic(urdf):
     joints = {joint.get('name'): joint.get('type') for joint in urdf.iter('joint')}
-    assert [joints[n] for n in ('sensor_roll', 'sensor_pitch', 'sensor_yaw', 'sensor_press')] \
-        == ['revolute', 'revolute', 'revolute', 'prismatic']
+    assert [joints[n] for n in COMPLIANT_JOINT_NAMES] == ['revolute', 'revolute', 'revolute',
+                                                        'prismatic']

@@ -101,10 +101,6 @@ class RobotGeometry:
         known = ', '.join(j.name for j in self.joints)
         raise KeyError(f'no joint {name!r}; known joints: {known}')
 
-    def joints_with_role(self, role: JointRole) -> tuple[Joint, ...]:
-        """Return the joints of one role, in tree order."""
-        return tuple(j for j in self.joints if j.role is role)
-
     @property
     def links(self) -> tuple[str, ...]:
         """All link names, root first, in tree order."""

@@ -15,4 +15,3 @@ GROUND_TRUTH_CONTACT = 'sim/ground_truth/contact'  # geometry_msgs/PoseStamped, 
 # PoseStamped: position of the sensor edge, attitude of sensor_link.
 GROUND_TRUTH_SENSOR = 'sim/ground_truth/sensor_pose'
 GROUND_TRUTH_TEXTURE = 'sim/ground_truth/texture'  # std_msgs/String
-TACTILE = (IMU_RAW, MAG, PRESSURE, TEMPERATURE)

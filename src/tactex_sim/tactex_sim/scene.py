@@ -106,10 +106,6 @@ class Scene:
     effect_options: dict[str, dict[str, Any]] = field(default_factory=dict)
     path: str = ''
 
-    def patch_at(self, x: float, y: float) -> Patch | None:
-        """The patch under (x, y), if any."""
-        return next((p for p in self.patches if p.contains(x, y)), None)
-
 
 _TOP_KEYS = {'name', 'seed', 'sensor_rate_hz', 'timestep_s', 'effects', 'surface', 'patches',
              'sweep', 'variability', 'effect'}
