@@ -146,7 +146,7 @@ def _plot_sequence(path: Path, summary: dict) -> None:
                   [100 * r['accuracy'] for r in values['sequence']], 'o-', label=LABELS[scheme])
     axis.set_xlabel('touch time (s)')
     axis.set_ylabel('accuracy (%)')
-    axis.set_xscale('log')
+    axis.set_xlim(left=0)
     axis.legend()
     axis.grid(alpha=0.3)
     figure.tight_layout()
