@@ -1,0 +1,45 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""`tactex train`: a run folder with both schemes side by side, plots, metrics, a checkpoint."""
+
+import json
+
+from test_training import toy
+
+from tactex.cli import main
+from tactex_classify.classifier import DeepClassifier
+
+
+def test_train_writes_the_report_with_both_schemes(tmp_path, capsys):
+    data_path = toy().save(tmp_path / 'toy.npz')
+    assert main(['train', str(data_path), '--model', 'extratrees', '--folds', '4',
+                 '--out', str(tmp_path / 'run')]) == 0
+    run = tmp_path / 'run'
+    for name in ('report.md', 'metrics.json', 'confusion.png', 'learning_curves.png',
+                 'accuracy_vs_time.png'):
+        assert (run / name).stat().st_size > 0, name
+    report = (run / 'report.md').read_text()
+    assert 'grouped by recording (honest)' in report and 'stratified windows (leaky)' in report
+    assert str(data_path) in report  # every result names its data
+    metrics = json.loads((run / 'metrics.json').read_text())
+    assert set(metrics['schemes']) == {'grouped', 'stratified'}
+    assert metrics['schemes']['grouped']['sequence'][0]['windows'] == 1
+    assert 'report:' in capsys.readouterr().out
+
+
+def test_train_keeps_a_deployable_checkpoint(tmp_path):
+    data = toy()
+    data_path = data.save(tmp_path / 'toy.npz')
+    assert main(['train', str(data_path), '--model', 'cnn_3', '--epochs', '2', '--folds', '4',
+                 '--cv', 'grouped', '--out', str(tmp_path / 'run')]) == 0
+    model = DeepClassifier.load(tmp_path / 'run' / 'model')
+    assert model.classes_ == data.classes
+    assert model.predict_proba(data.X[:2]).shape == (2, 3)
+    curves = json.loads((tmp_path / 'run' / 'metrics.json').read_text())
+    assert len(curves['schemes']['grouped']['histories'][0]) == 2
+
+
+def test_train_reports_a_missing_dataset(tmp_path, capsys):
+    assert main(['train', str(tmp_path / 'none.npz'), '--out', str(tmp_path / 'r')]) == 1
+    assert 'error:' in capsys.readouterr().err
+
