@@ -4,7 +4,8 @@
 
 1. Real-time factor of a 10 s sliding sweep in the probe scene (contact + compliance)
    and in the texture scene (all effects), at 2 ms physics and 120 Hz sensor output,
-   beside the bare MuJoCo stepping of the same model (no Python per step: the limit).
+   beside the same sweep's physics and control alone (no sampling, no effects: the
+   limit of this design).
 2. The cost of each effect: the texture scene with all effects, and with each removed.
 3. Timestep trade-off: the sensor pressed face-first at five points of the uneven
    surface, at 1, 2, 5 and 8 ms (0.5 ms as reference; 10 ms is longer than a 120 Hz
@@ -52,22 +53,27 @@ def run_sweep(scene, seconds=10.0, repeats=3) -> tuple[float, World]:
     return best, world
 
 
-def bare_steps(world: World, seconds: float) -> float:
-    """Wall time of mj_step alone for `seconds` of simulated time."""
-    steps = int(seconds / world.model.opt.timestep)
+def physics_only(scene, seconds=10.0) -> float:
+    """Wall time of the same sweep's physics and control alone: no sampling, no effects."""
+    plan = plan_sweep(scene, SWEEP, duration_s=seconds - 2.8)
+    world = World(scene, patch_texture='wood' if scene.patches else None)
+    world.place_arm(plan.joints[0])
+    model, data = world.model, world.data
     start = time.perf_counter()
-    mujoco.mj_step(world.model, world.data, nstep=steps)
+    while data.time < plan.times_s[-1]:
+        world.set_arm_targets(plan.targets(data.time))
+        mujoco.mj_step(model, data)
     return time.perf_counter() - start
 
 
 def speed_table() -> list[str]:
-    rows = ['| scene | effects | real-time factor | bare mj_step RTF | share of the limit |',
-            '|---|---|---|---|---|']
+    rows = ['| scene | effects | real-time factor | physics + control alone | share of the '
+            'limit |', '|---|---|---|---|---|']
     for name in ('probe', 'uneven_texture'):
         scene = load_scene(resolve_scene(name))
         wall, world = run_sweep(scene)
         simulated = world.time_s
-        bare = bare_steps(world, simulated)
+        bare = physics_only(scene)
         rows.append(f'| {name} | {", ".join(scene.effects)} | {simulated / wall:.1f}x | '
                     f'{simulated / bare:.1f}x | {bare / wall:.2f} |')
     return rows
