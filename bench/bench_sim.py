@@ -106,7 +106,7 @@ def pressed(scene, timestep, x):
                                   effects=('contact', 'compliance'))
     surface = variant.surface
     slope = float(surface.slope(x))
-    normal = np.array([-slope, 1.0]) / math.hypot(slope, 1.0)
+    normal = surface.normal(x)
     point = np.array([x, float(surface.height(x))]) - 0.002 * normal
     result = inverse_kinematics([point[0], 0.0, point[1]], math.pi / 2 - math.atan(slope))
     world = World(variant)

@@ -23,7 +23,7 @@ def pose_at(scene, x, depth, offset=0.5):
     """Joints putting the edge `depth` into the surface at x (negative: above it)."""
     surface = scene.surface
     slope = float(surface.slope(x))
-    normal = np.array([-slope, 1.0]) / math.hypot(slope, 1.0)
+    normal = surface.normal(x)
     point = np.array([x, float(surface.height(x))]) - depth * normal
     result = inverse_kinematics([point[0], 0.0, point[1]], math.pi / 2 - math.atan(slope)
                                 - offset)

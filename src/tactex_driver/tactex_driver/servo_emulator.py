@@ -142,7 +142,6 @@ class ServoChainEmulator:
         self.crc_errors = 0
         self._lock = threading.Lock()
         self._pty = PtyLink(self.link)
-        self._master: int | None = None
         self._thread: threading.Thread | None = None
         self._running = False
         self._last_advance = time.monotonic()
@@ -157,7 +156,7 @@ class ServoChainEmulator:
 
     def start(self) -> None:
         """Open the pty, link it, and serve in a background thread."""
-        self._master = self._pty.open()
+        self._pty.open()
         self._running = True
         self._thread = threading.Thread(target=self._serve, name='servo_emulator', daemon=True)
         self._thread.start()
@@ -168,7 +167,7 @@ class ServoChainEmulator:
         if self._thread is not None:
             self._thread.join(timeout=2.0)
         self._pty.close()
-        self._master = self._thread = None
+        self._thread = None
 
     # -- faults -------------------------------------------------------------------------
     def silence(self, servo_id: int, silent: bool = True) -> None:
@@ -194,12 +193,12 @@ class ServoChainEmulator:
     def _serve(self) -> None:
         buffer = bytearray()
         while self._running:
-            ready, _, _ = select.select([self._master], [], [], 0.005)
+            ready, _, _ = select.select([self._pty.master], [], [], 0.005)
             self._advance()
             if not ready:
                 continue
             try:
-                buffer += os.read(self._master, 4096)
+                buffer += os.read(self._pty.master, 4096)
             except OSError:
                 continue
             while True:
@@ -247,7 +246,7 @@ class ServoChainEmulator:
             error |= ALERT
         corrupt = servo.corrupt_next > 0
         servo.corrupt_next -= 1 if corrupt else 0
-        os.write(self._master, status_packet(servo_id, error, params, corrupt=corrupt))
+        os.write(self._pty.master, status_packet(servo_id, error, params, corrupt=corrupt))
 
     def _handle(self, servo_id: int, instruction: int, params: bytes) -> None:
         self.packets_handled += 1

@@ -47,6 +47,11 @@ class Surface:
         k = 2.0 * math.pi / self.wavelength_m
         return -self.amplitude_m * k * np.sin(k * local)
 
+    def normal(self, x_world: float) -> np.ndarray:
+        """Outward unit normal (x, z) of the surface at world x (it has no y slope)."""
+        slope = float(self.slope(x_world))
+        return np.array([-slope, 1.0]) / math.hypot(slope, 1.0)
+
     @property
     def top_z(self) -> float:
         """World z of the mean top face (the wave oscillates around it)."""

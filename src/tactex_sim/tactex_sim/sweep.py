@@ -95,7 +95,7 @@ def plan_sweep(scene: Scene, parameters: SweepParameters, duration_s: float | No
         x = parameters.start_x_m + travel
         height = float(surface.height(x))
         slope = float(surface.slope(x))
-        normal = np.array([-slope, 1.0]) / math.hypot(slope, 1.0)  # (x, z)
+        normal = surface.normal(x)
         if t < SETTLE_S:
             lift = APPROACH_HEIGHT_M
         elif t < slide_start:

@@ -19,13 +19,14 @@ from typing import Any
 import mujoco
 import numpy as np
 
-from tactex_description.geometry import JOINT_STATE_NAMES
+from tactex_description.geometry import JOINT_STATE_NAMES, OPEN_MANIPULATOR_X
 from tactex_description.mjcf import build_mjcf, IMU_SITE, SENSOR_EDGE_GEOM, SENSOR_GEOM
 from tactex_sim.effects import Effect, effect_class, Reading
 from tactex_sim.scene import Scene
 from tactex_sim.textures import texture as find_texture
 
 SURFACE_GEOM = 'surface'
+PRESS_STIFFNESS_N_M = OPEN_MANIPULATOR_X.joint('sensor_press').stiffness
 
 
 @dataclass(frozen=True)
@@ -243,7 +244,8 @@ class World:
         if key == 'compression':
             if self._press is not None:
                 return max(0.0, -float(self.data.qpos[self._press]))
-            return self._inputs['contact'].force / 600.0  # welded body: force / stiffness
+            # Welded body: what the compliant one would compress under this force.
+            return self._inputs['contact'].force / PRESS_STIFFNESS_N_M
         if key == 'time':
             return self.time_s
         if key == 'sample rate':
