@@ -70,3 +70,13 @@ def test_fault_stops_all_motion_until_reset(controller):
     assert controller.mode is Mode.TORQUE_OFF
     controller.torque_on(2.0)
     assert controller.goal(2.0) is not None
+
+
+def test_a_rejected_trajectory_stops_the_running_one_and_is_counted(controller):
+    controller.execute(ARM, [0.0, 1.0], [[0, 0, 0, 0], [0.2, 0, 0, 0]], [[], []], now_s=0.0)
+    midway = controller.goal(0.5)
+    with pytest.raises(TrajectoryRejected, match='NaN'):
+        controller.execute(ARM, [1.0], [[np.nan, 0, 0, 0]], [[]], now_s=0.5)
+    assert controller.rejected == 1 and controller.mode is Mode.HOLDING
+    assert controller.last_event.startswith('rejected trajectory')
+    np.testing.assert_allclose(controller.goal(2.0), midway)

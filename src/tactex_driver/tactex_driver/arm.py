@@ -41,6 +41,7 @@ class ArmController:
         self.measured: np.ndarray | None = None
         self.fault_reason = ''
         self.last_event = ''
+        self.rejected = 0
         self._trajectory: Trajectory | None = None
         self._start_s = 0.0
         self._last_goal: np.ndarray | None = None
@@ -64,8 +65,23 @@ class ArmController:
         """Replace whatever runs by a new trajectory; return its duration (s).
 
         Raises:
-            TrajectoryRejected: the trajectory is unsafe, or the arm cannot move now.
+            TrajectoryRejected: the trajectory is unsafe, or the arm cannot move now; what
+                ran before stops and holds, and `rejected` counts it.
         """
+        try:
+            trajectory = self._plan(joint_names, times_s, positions, velocities)
+        except TrajectoryRejected as err:
+            # A refused command still stops what ran before it: the sender wanted a change.
+            self.rejected += 1
+            self.stop(now_s, 'new trajectory was rejected')
+            self.last_event = f'rejected trajectory: {err}'
+            raise
+        self._trajectory, self._start_s = trajectory, now_s
+        self.mode = Mode.EXECUTING
+        self.last_event = f'executing a {trajectory.duration_s:.2f} s trajectory'
+        return trajectory.duration_s
+
+    def _plan(self, joint_names, times_s, positions, velocities) -> Trajectory:
         if self.mode is Mode.FAULT:
             raise TrajectoryRejected(f'in fault ({self.fault_reason}); reset first')
         if self.mode is Mode.TORQUE_OFF:
@@ -74,12 +90,8 @@ class ArmController:
             raise TrajectoryRejected('no joint state read yet')
         # Start from where the arm is commanded to be, so a replacement is smooth.
         start = self._last_goal if self._last_goal is not None else self.measured
-        trajectory = plan(joint_names, times_s, positions, velocities, start, self.limits,
-                          start_tolerance=self.start_tolerance)
-        self._trajectory, self._start_s = trajectory, now_s
-        self.mode = Mode.EXECUTING
-        self.last_event = f'executing a {trajectory.duration_s:.2f} s trajectory'
-        return trajectory.duration_s
+        return plan(joint_names, times_s, positions, velocities, start, self.limits,
+                    start_tolerance=self.start_tolerance)
 
     def stop(self, now_s: float, reason: str = 'stop requested') -> None:
         """Stop where the arm is commanded now and hold there."""

@@ -81,7 +81,6 @@ class ArmDriverNode(Node):
         self._backoff = 0.05
         self._next_attempt = 0.0
         self._comm_errors = 0
-        self._rejected = 0
         self._last_error = ''
         self._hardware_errors: dict[int, int] = {}
         self._tick_times: deque[float] = deque(maxlen=1000)
@@ -116,7 +115,7 @@ class ArmDriverNode(Node):
     @property
     def rejected_trajectories(self) -> int:
         """Trajectories refused so far."""
-        return self._rejected
+        return self._controller.rejected
 
     @property
     def communication_errors(self) -> int:
@@ -216,20 +215,12 @@ class ArmDriverNode(Node):
 
     # -- commands -------------------------------------------------------------------
     def _on_trajectory(self, msg: JointTrajectory) -> None:
-        times = [p.time_from_start.sec + 1e-9 * p.time_from_start.nanosec for p in msg.points]
-        try:
-            if not self._connected:
-                raise TrajectoryRejected('servos not connected')
-            duration = self._controller.execute(
-                msg.joint_names, times, [list(p.positions) for p in msg.points],
-                [list(p.velocities) for p in msg.points], self._now())
-        except TrajectoryRejected as err:
-            self._rejected += 1
-            self._controller.stop(self._now(), 'new trajectory was rejected')
-            self._controller.last_event = f'rejected trajectory: {err}'
-            self.get_logger().error(f'trajectory rejected: {err}')
+        if not self._connected:
+            self._controller.rejected += 1
+            self._controller.last_event = 'rejected trajectory: servos not connected'
+            self.get_logger().error('trajectory rejected: servos not connected')
             return
-        self.get_logger().info(f'executing {len(msg.points)} points over {duration:.2f} s')
+        execute_message(self._controller, msg, self._now(), self.get_logger())
 
     def _on_stop(self, request, response):
         self._controller.stop(self._now())
@@ -299,7 +290,8 @@ class ArmDriverNode(Node):
         values = {'mode': mode.value, 'connected': str(self._connected),
                   'last_event': self._controller.last_event,
                   'communication_errors': str(self._comm_errors),
-                  'rejected_trajectories': str(self._rejected), 'last_error': self._last_error,
+                  'rejected_trajectories': str(self._controller.rejected),
+                  'last_error': self._last_error,
                   'hardware_errors': str(self._hardware_errors),
                   'loop_jitter_median_ms': f'{median:.3f}', 'loop_jitter_p99_ms': f'{p99:.3f}'}
         status = DiagnosticStatus(level=level, name='tactex_driver: arm', message=message,
@@ -322,6 +314,20 @@ class ArmDriverNode(Node):
                 self.get_logger().warning(f'could not apply the exit torque policy: {err}')
         self._bus.close()
         super().destroy_node()
+
+
+def execute_message(controller: ArmController, msg: JointTrajectory, now_s: float,
+                    logger) -> None:
+    """Hand a JointTrajectory to the controller; log the outcome either way."""
+    times = [p.time_from_start.sec + 1e-9 * p.time_from_start.nanosec for p in msg.points]
+    try:
+        duration = controller.execute(msg.joint_names, times,
+                                      [list(p.positions) for p in msg.points],
+                                      [list(p.velocities) for p in msg.points], now_s)
+    except TrajectoryRejected as err:
+        logger.error(f'trajectory rejected: {err}')
+        return
+    logger.info(f'executing {len(msg.points)} points over {duration:.2f} s')
 
 
 def main(args: list[str] | None = None) -> None:

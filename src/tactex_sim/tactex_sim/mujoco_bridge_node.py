@@ -28,7 +28,7 @@ from trajectory_msgs.msg import JointTrajectory
 
 from tactex_description.geometry import JOINT_STATE_NAMES
 from tactex_driver.arm import ArmController
-from tactex_driver.errors import TrajectoryRejected
+from tactex_driver.arm_driver_node import execute_message
 from tactex_driver.playback import JointLimits
 from tactex_sensor import topics
 from tactex_sensor.spin_node import spin
@@ -152,15 +152,7 @@ class MujocoBridgeNode(Node):
         self._texture_pub.publish(String(data=truth.texture))
 
     def _on_trajectory(self, msg: JointTrajectory) -> None:
-        times = [p.time_from_start.sec + 1e-9 * p.time_from_start.nanosec for p in msg.points]
-        try:
-            self._controller.execute(msg.joint_names, times,
-                                     [list(p.positions) for p in msg.points],
-                                     [list(p.velocities) for p in msg.points],
-                                     self._world.time_s)
-        except TrajectoryRejected as err:
-            self._controller.stop(self._world.time_s, 'new trajectory was rejected')
-            self.get_logger().error(f'trajectory rejected: {err}')
+        execute_message(self._controller, msg, self._world.time_s, self.get_logger())
 
     def _on_stop(self, request, response):
         self._controller.stop(self._world.time_s)
