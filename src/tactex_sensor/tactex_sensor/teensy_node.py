@@ -15,6 +15,7 @@ from sensor_msgs.msg import FluidPressure, Imu, MagneticField, Temperature
 
 from tactex_sensor import topics
 from tactex_sensor.link import SerialLink
+from tactex_sensor.messages import NoiseVariances, tactile_messages
 from tactex_sensor.protocol import DEFAULT_BAUD
 from tactex_sensor.reader import TeensyReader
 from tactex_sensor.spin_node import spin
@@ -35,24 +36,23 @@ class TeensyNode(Node):
             'frame_id', 'sensor_link', ParameterDescriptor(description='frame of the samples',
                                                            read_only=True)).value
         accel_var = self.declare_parameter(
-            'accel_variance', 4e-4,
+            'accel_variance', NoiseVariances.accel,
             ParameterDescriptor(description='accel noise variance (m/s^2)^2')).value
         gyro_var = self.declare_parameter(
-            'gyro_variance', 4e-6,
+            'gyro_variance', NoiseVariances.gyro,
             ParameterDescriptor(description='gyro noise variance (rad/s)^2')).value
         mag_var = self.declare_parameter(
-            'mag_variance', 4e-14,
+            'mag_variance', NoiseVariances.mag,
             ParameterDescriptor(description='magnetometer noise variance T^2')).value
-        self._pressure_var = self.declare_parameter(
-            'pressure_variance', 4.0,
+        pressure_var = self.declare_parameter(
+            'pressure_variance', NoiseVariances.pressure,
             ParameterDescriptor(description='barometer noise variance Pa^2')).value
         diagnostics_period = self.declare_parameter(
             'diagnostics_period_s', 1.0,
             ParameterDescriptor(description='diagnostics period (s)', read_only=True)).value
 
-        self._accel_cov = [accel_var, 0.0, 0.0, 0.0, accel_var, 0.0, 0.0, 0.0, accel_var]
-        self._gyro_cov = [gyro_var, 0.0, 0.0, 0.0, gyro_var, 0.0, 0.0, 0.0, gyro_var]
-        self._mag_cov = [mag_var, 0.0, 0.0, 0.0, mag_var, 0.0, 0.0, 0.0, mag_var]
+        self._noise = NoiseVariances(accel=accel_var, gyro=gyro_var, mag=mag_var,
+                                     pressure=pressure_var)
         self._reader = TeensyReader(SerialLink(port, int(baud)),
                                     lambda: self.get_clock().now().nanoseconds)
         self._imu_pub = self.create_publisher(Imu, topics.IMU_RAW,
@@ -78,26 +78,13 @@ class TeensyNode(Node):
                 self._publish(stamp_ns, sample)
 
     def _publish(self, stamp_ns: int, sample) -> None:
-        stamp = rclpy.time.Time(nanoseconds=stamp_ns).to_msg()
-        imu = Imu()
-        imu.header.stamp = stamp
-        imu.header.frame_id = self._frame_id
-        imu.orientation_covariance[0] = -1.0  # REP-145: no orientation in raw data
-        imu.angular_velocity.x, imu.angular_velocity.y, imu.angular_velocity.z = sample.gyro
-        a = imu.linear_acceleration
-        a.x, a.y, a.z = sample.accel
-        imu.angular_velocity_covariance = self._gyro_cov
-        imu.linear_acceleration_covariance = self._accel_cov
+        imu, mag, pressure, temperature = tactile_messages(
+            rclpy.time.Time(nanoseconds=stamp_ns).to_msg(), self._frame_id, sample.accel,
+            sample.gyro, sample.mag, sample.pressure_pa, sample.temperature_c, self._noise)
         self._imu_pub.publish(imu)
-        mag = MagneticField()
-        mag.header = imu.header
-        mag.magnetic_field.x, mag.magnetic_field.y, mag.magnetic_field.z = sample.mag
-        mag.magnetic_field_covariance = self._mag_cov
         self._mag_pub.publish(mag)
-        self._pressure_pub.publish(FluidPressure(
-            header=imu.header, fluid_pressure=sample.pressure_pa, variance=self._pressure_var))
-        self._temperature_pub.publish(Temperature(
-            header=imu.header, temperature=sample.temperature_c, variance=0.25))
+        self._pressure_pub.publish(pressure)
+        self._temperature_pub.publish(temperature)
 
     def _publish_diagnostics(self) -> None:
         ok, summary, values = self._reader.health()

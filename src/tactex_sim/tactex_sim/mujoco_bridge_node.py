@@ -31,6 +31,7 @@ from tactex_driver.arm import ArmController
 from tactex_driver.arm_driver_node import execute_message
 from tactex_driver.playback import JointLimits
 from tactex_sensor import topics
+from tactex_sensor.messages import tactile_messages
 from tactex_sensor.spin_node import spin
 from tactex_sim.recording import quaternion_z_to
 from tactex_sim.scene import load_scene, resolve_scene
@@ -117,22 +118,11 @@ class MujocoBridgeNode(Node):
                            velocity=[float(v) for v in self._world.joint_velocities()])
         state.header.stamp = stamp
         self._joint_pub.publish(state)
-        imu = Imu()
-        imu.header.stamp, imu.header.frame_id = stamp, 'sensor_link'
-        imu.orientation_covariance[0] = -1.0
-        w, a = imu.angular_velocity, imu.linear_acceleration
-        w.x, w.y, w.z = (float(v) for v in sample.gyro)
-        a.x, a.y, a.z = (float(v) for v in sample.accel)
-        self._imu_pub.publish(imu)
-        mag = MagneticField()
-        mag.header = imu.header
-        field = mag.magnetic_field
-        field.x, field.y, field.z = (float(v) for v in sample.mag)
-        self._mag_pub.publish(mag)
-        self._pressure_pub.publish(FluidPressure(header=imu.header,
-                                                 fluid_pressure=float(sample.pressure)))
-        self._temperature_pub.publish(Temperature(header=imu.header,
-                                                  temperature=float(sample.temperature)))
+        for publisher, message in zip(
+                (self._imu_pub, self._mag_pub, self._pressure_pub, self._temperature_pub),
+                tactile_messages(stamp, 'sensor_link', sample.accel, sample.gyro, sample.mag,
+                                 sample.pressure, sample.temperature), strict=True):
+            publisher.publish(message)
         truth = sample.truth
         pose = PoseStamped()
         pose.header.stamp, pose.header.frame_id = stamp, 'world'

@@ -19,14 +19,14 @@ from rosbags.typesys import get_typestore, Stores
 
 from tactex_description.geometry import JOINT_STATE_NAMES
 from tactex_sensor import topics
+from tactex_sensor.messages import NoiseVariances
 from tactex_sensor.orientation import gravity_alignment
 from tactex_sim.world import Sample
 
 TYPESTORE = get_typestore(Stores.ROS2_KILTED)
 _T = TYPESTORE.types
 FRAME = 'sensor_link'
-ACCEL_VARIANCE = 4e-4
-GYRO_VARIANCE = 4e-6
+NOISE = NoiseVariances()
 
 
 def _stamp(time_ns: int):
@@ -110,24 +110,23 @@ class SweepBag:
         if sliding != self._active:
             self._active = sliding
             self._write(topics.SWEEP_ACTIVE, t, _T['std_msgs/msg/Bool'](data=sliding))
-        covariance = np.zeros(9)
-        orientation_covariance = covariance.copy()
-        orientation_covariance[0] = -1.0
+        orientation_covariance = np.zeros(9)
+        orientation_covariance[0] = -1.0  # REP-145: raw data carries no orientation
         self._write(topics.IMU_RAW, t, _T['sensor_msgs/msg/Imu'](
             header=header,
             orientation=_T['geometry_msgs/msg/Quaternion'](x=0.0, y=0.0, z=0.0, w=1.0),
             orientation_covariance=orientation_covariance,
             angular_velocity=_vector(sample.gyro),
-            angular_velocity_covariance=np.eye(3).ravel() * GYRO_VARIANCE,
+            angular_velocity_covariance=np.eye(3).ravel() * NOISE.gyro,
             linear_acceleration=_vector(sample.accel),
-            linear_acceleration_covariance=np.eye(3).ravel() * ACCEL_VARIANCE))
+            linear_acceleration_covariance=np.eye(3).ravel() * NOISE.accel))
         self._write(topics.MAG, t, _T['sensor_msgs/msg/MagneticField'](
             header=header, magnetic_field=_vector(sample.mag),
-            magnetic_field_covariance=covariance))
+            magnetic_field_covariance=np.eye(3).ravel() * NOISE.mag))
         self._write(topics.PRESSURE, t, _T['sensor_msgs/msg/FluidPressure'](
-            header=header, fluid_pressure=float(sample.pressure), variance=4.0))
+            header=header, fluid_pressure=float(sample.pressure), variance=NOISE.pressure))
         self._write(topics.TEMPERATURE, t, _T['sensor_msgs/msg/Temperature'](
-            header=header, temperature=float(sample.temperature), variance=0.25))
+            header=header, temperature=float(sample.temperature), variance=NOISE.temperature))
         self._write(topics.JOINT_STATES, t, _T['sensor_msgs/msg/JointState'](
             header=_header(t, ''), name=list(JOINT_STATE_NAMES),
             position=np.asarray(joints, dtype=float),
