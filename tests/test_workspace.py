@@ -11,8 +11,9 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 PACKAGES = sorted(p.name for p in (ROOT / 'src').iterdir() if (p / 'package.xml').is_file())
-EXPECTED_PACKAGES = ['tactex', 'tactex_classify', 'tactex_common', 'tactex_description', 'tactex_driver',
-                     'tactex_probe', 'tactex_sensor', 'tactex_sim', 'tactex_trajectory']
+EXPECTED_PACKAGES = ['tactex', 'tactex_classify', 'tactex_common', 'tactex_description',
+                     'tactex_driver', 'tactex_probe', 'tactex_sensor', 'tactex_sim',
+                     'tactex_trajectory']
 PYTHON_FILES = sorted(p for folder in ('src', 'tests', 'bench', 'launch')
                       for p in (ROOT / folder).rglob('*.py') if '.egg-info' not in str(p))
 LAUNCH_FILES = sorted((ROOT / 'launch').glob('*.launch.py'))

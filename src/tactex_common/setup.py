@@ -18,6 +18,6 @@ setup(
     zip_safe=True,
     maintainer='tactex maintainers',
     maintainer_email='maintainers@tactex.invalid',
-    description='What every tactex package shares: topics, QoS, channels, constants, node helpers.',
+    description='Shared by every tactex package: topics, QoS, channels, constants, node helpers.',
     license='Apache-2.0',
 )
