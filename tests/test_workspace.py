@@ -2,7 +2,9 @@
 # SPDX-License-Identifier: Apache-2.0
 """The workspace's own rules: package layout, pure cores, lint, headers, well-formed XML."""
 
+import ast
 from pathlib import Path
+import re
 import subprocess
 import sys
 from xml.etree import ElementTree as ET
@@ -19,10 +21,45 @@ PYTHON_FILES = sorted(p for folder in ('src', 'tests', 'bench', 'launch')
 LAUNCH_FILES = sorted((ROOT / 'launch').glob('*.launch.py'))
 
 
-def _is_adapter(path: Path) -> bool:
-    """Nodes, launch files and the launcher may import rclpy; nothing else may."""
-    name = path.name
-    return name.endswith('_node.py') or name.endswith('.launch.py') or name == 'launcher.py'
+# Modules that may import rclpy and ROS message packages: the nodes and the ROS helpers.
+# Everything else under src/ is a pure module (no ROS install needed to import it).
+ROS_FACING = frozenset({
+    'tactex_common.ros',
+    'tactex_classify.recorder_node',
+    'tactex_driver.arm_driver_node',
+    'tactex_sensor.madgwick_node',
+    'tactex_sensor.teensy_node',
+    'tactex_sim.mujoco_bridge_node',
+})
+# Layers, bottom first: a package imports only packages of a lower layer (and itself).
+LAYERS = {'tactex_common': 0, 'tactex_msgs': 0, 'tactex_description': 1, 'tactex_sensor': 2,
+          'tactex_driver': 2, 'tactex_sim': 3, 'tactex_probe': 4, 'tactex_classify': 4,
+          'tactex_trajectory': 5, 'tactex': 6}
+# Top-level modules whose presence means ROS was imported (rclpy, generated interfaces).
+ROS_MODULE = re.compile(r'^(rclpy|rosidl_.*|.*_(msgs|srvs|interfaces))$')
+
+
+def _module_name(path: Path) -> str:
+    package_root = path.relative_to(ROOT / 'src').parts[0]
+    return '.'.join(path.relative_to(ROOT / 'src' / package_root).with_suffix('').parts)
+
+
+SOURCE_MODULES = {_module_name(p): p for p in (ROOT / 'src').glob('*/*/**/*.py')
+                  if p.name != 'setup.py' and '.egg-info' not in str(p)}
+PURE_MODULES = sorted(name for name in SOURCE_MODULES
+                      if name not in ROS_FACING and not name.endswith('__main__'))
+
+
+def _imports(path: Path) -> set[str]:
+    """Every module a source file imports (absolute names), at any depth in the file."""
+    names = set()
+    for node in ast.walk(ast.parse(path.read_text(encoding='utf-8'))):
+        if isinstance(node, ast.Import):
+            names.update(alias.name for alias in node.names)
+        elif isinstance(node, ast.ImportFrom) and node.module and not node.level:
+            names.add(node.module)
+            names.update(f'{node.module}.{alias.name}' for alias in node.names)
+    return names
 
 
 def test_every_package_of_the_design_exists():
@@ -41,16 +78,37 @@ def test_package_is_ament_python_format_3(package):
     assert (folder / package / '__init__.py').is_file()
 
 
-@pytest.mark.parametrize('module', sorted(
-    '.'.join(p.relative_to(ROOT / 'src' / p.relative_to(ROOT / 'src').parts[0])
-             .with_suffix('').parts)
-    for p in (ROOT / 'src').glob('*/*/**/*.py')
-    if not _is_adapter(p) and p.name not in ('__main__.py', 'setup.py')))
-def test_pure_module_does_not_import_rclpy(module):
-    code = (f'import importlib, sys; importlib.import_module({module!r}); '
-            "sys.exit(1 if 'rclpy' in sys.modules else 0)")
+def test_every_ros_facing_module_exists():
+    assert ROS_FACING <= set(SOURCE_MODULES)
+
+
+@pytest.mark.parametrize('module', PURE_MODULES)
+def test_pure_module_imports_no_ros(module):
+    code = (f'import importlib, re, sys; importlib.import_module({module!r}); '
+            f'found = sorted(m for m in sys.modules if re.match({ROS_MODULE.pattern!r}, m)); '
+            'print(found); sys.exit(1 if found else 0)')
     result = subprocess.run([sys.executable, '-c', code], capture_output=True, text=True)
-    assert result.returncode == 0, f'{module} imports rclpy\n{result.stderr[-2000:]}'
+    assert result.returncode == 0, f'{module} imports ROS: {result.stdout}{result.stderr[-2000:]}'
+
+
+def test_packages_import_only_lower_layers():
+    upward = []
+    for name, path in SOURCE_MODULES.items():
+        package = name.split('.')[0]
+        for imported in _imports(path):
+            other = imported.split('.')[0]
+            if other in LAYERS and other != package and LAYERS[other] >= LAYERS[package]:
+                upward.append(f'{name} imports {imported}')
+    assert not upward
+
+
+def test_no_node_module_is_imported_by_another_module():
+    nodes = ROS_FACING - {'tactex_common.ros'}
+    offending = [f'{name} imports {imported}' for name, path in SOURCE_MODULES.items()
+                 for imported in _imports(path)
+                 if imported in nodes or (imported == 'tactex_common.ros'
+                                          and name not in ROS_FACING)]
+    assert not offending
 
 
 def test_ruff_finds_nothing():

@@ -7,8 +7,8 @@ from xml.etree import ElementTree as ET
 import pytest
 
 from tactex.cli import main
+from tactex_common.share import share_directory
 from tactex_description.geometry import COMPLIANT_JOINT_NAMES, JointKind, OPEN_MANIPULATOR_X
-from tactex_description.share import share_directory
 from tactex_description.urdf import build_urdf
 
 URDF_PATH = share_directory('tactex_description') / 'urdf' / 'open_manipulator_x_tactile.urdf'

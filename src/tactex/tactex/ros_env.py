@@ -7,7 +7,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 import os
 
-from tactex_description.share import share_directory
+from tactex_common.share import share_directory
 
 RMW_IMPLEMENTATION = 'rmw_fastrtps_cpp'
 

@@ -20,9 +20,10 @@ import numpy as np
 from rosbags.highlevel import AnyReader
 
 from tactex_classify.errors import BagError
-from tactex_sensor import topics
+from tactex_common import topics
+from tactex_common.channels import CHANNELS
+from tactex_common.stamps import gaps, stamp_ns
 
-CHANNELS = ('ax', 'ay', 'az', 'gx', 'gy', 'gz', 'mx', 'my', 'mz', 'baro')
 PART_PREFIX = 'part_'
 _WANTED = {f'/{topics.IMU_RAW}', f'/{topics.MAG}', f'/{topics.PRESSURE}',
            f'/{topics.SWEEP_ACTIVE}', f'/{topics.RECORDING_METADATA}', f'/{topics.JOINT_STATES}'}
@@ -48,7 +49,7 @@ class Recording:
         if self.stamps_ns.size < 2:
             return float('nan')
         steps = np.diff(self.stamps_ns)
-        steady = steps[steps < 2.5 * np.median(steps)]  # gaps excluded, jitter averaged
+        steady = steps[~gaps(self.stamps_ns)]  # gaps excluded, jitter averaged
         return 1e9 / float(np.mean(steady))
 
 
@@ -103,21 +104,21 @@ def read_recording(path: Path) -> Recording:
                 topic = connection.topic[1:]
                 if topic == topics.IMU_RAW:
                     a, w = message.linear_acceleration, message.angular_velocity
-                    imu_ns.append(_ns(message.header.stamp))
+                    imu_ns.append(stamp_ns(message.header.stamp))
                     imu.extend((a.x, a.y, a.z, w.x, w.y, w.z))
                 elif topic == topics.MAG:
                     m = message.magnetic_field
-                    mag_ns.append(_ns(message.header.stamp))
+                    mag_ns.append(stamp_ns(message.header.stamp))
                     mag.extend((m.x, m.y, m.z))
                 elif topic == topics.PRESSURE:
-                    pressure_ns.append(_ns(message.header.stamp))
+                    pressure_ns.append(stamp_ns(message.header.stamp))
                     pressure.append(message.fluid_pressure)
                 elif topic == topics.SWEEP_ACTIVE:
                     active.append((log_ns, bool(message.data)))
                 elif topic == topics.JOINT_STATES:
                     speed = float(np.linalg.norm(message.velocity[:4])) if len(
                         message.velocity) else float('nan')
-                    joints.append((_ns(message.header.stamp) or log_ns, speed))
+                    joints.append((stamp_ns(message.header.stamp) or log_ns, speed))
                 elif topic == topics.RECORDING_METADATA:
                     metadata.update(_parse_metadata(message.data, path))
     except Exception as err:  # rosbags raises several unrelated types for a broken file
@@ -135,10 +136,6 @@ def read_recording(path: Path) -> Recording:
                      _intervals(sorted(active)) if has_segments else None,
                      joint_array[order, 0].astype(np.int64), joint_array[order, 1],
                      dropped, messages)
-
-
-def _ns(stamp) -> int:
-    return int(stamp.sec) * 1_000_000_000 + int(stamp.nanosec)
 
 
 def _parse_metadata(text: str, path: Path) -> dict:

@@ -19,8 +19,8 @@ from pathlib import Path
 
 import numpy as np
 
-from tactex_classify.bags import CHANNELS
 from tactex_classify.errors import CheckpointError, NotFittedError
+from tactex_common.channels import CHANNELS
 
 os.environ.setdefault('OMP_WAIT_POLICY', 'PASSIVE')  # no spinning next to ROS nodes
 CHECKPOINT_VERSION = 1

@@ -18,8 +18,10 @@ import sys
 
 import numpy as np
 
-from tactex_classify.bags import CHANNELS, is_recording, read_recording, Recording
+from tactex_classify.bags import is_recording, read_recording, Recording
 from tactex_classify.errors import BagError, DatasetError
+from tactex_common.channels import CHANNELS
+from tactex_common.stamps import gaps
 
 FORMAT_VERSION = 1
 
@@ -121,12 +123,12 @@ def window_starts(keep: np.ndarray, stamps_ns: np.ndarray, window: int, hop: int
                   ) -> list[int]:
     """Start indices of windows lying inside runs of kept, gap-free samples.
 
-    A gap is a step of more than 2.5 median periods between stamps.
+    A gap is what `tactex_common.stamps.gaps` says it is.
     """
     count = stamps_ns.size
     if count < 2:
         return []
-    gap = np.diff(stamps_ns) > 2.5 * float(np.median(np.diff(stamps_ns)))
+    gap = gaps(stamps_ns)
     boundary = np.concatenate([[True], (keep[1:] != keep[:-1]) | gap])
     run_starts = np.flatnonzero(boundary)
     run_ends = np.append(run_starts[1:], count)

@@ -17,9 +17,9 @@ import sys
 
 import numpy as np
 
-from tactex_classify.bags import CHANNELS
 from tactex_classify.dataset import Dataset
 from tactex_classify.errors import DatasetError
+from tactex_common.channels import CHANNELS
 
 # (module, name) a pickled DataFrame may refer to, across pandas 1.x to 3.x and numpy 1/2.
 ALLOWED_GLOBALS = frozenset({

@@ -21,7 +21,7 @@ from rosbags.typesys import get_typestore, Stores
 
 from tactex_classify.bags import PART_PREFIX
 from tactex_classify.errors import ClassifyError
-from tactex_sensor import topics
+from tactex_common import topics
 
 TYPESTORE = get_typestore(Stores.ROS2_KILTED)
 

@@ -11,13 +11,12 @@ from geometry_msgs.msg import PoseArray
 from rcl_interfaces.msg import ParameterDescriptor
 import rclpy
 from rclpy.node import Node
-from rclpy.qos import qos_profile_sensor_data
 from sensor_msgs.msg import FluidPressure, Imu, JointState, MagneticField, Temperature
 from std_msgs.msg import Bool
 
 from tactex_classify.recorder import SplitRecorder
-from tactex_sensor import topics
-from tactex_sensor.spin_node import spin
+from tactex_common import topics
+from tactex_common.ros import COMMAND, SENSOR_DATA, spin
 
 RECORDED = (
     (topics.IMU_RAW, Imu, 'sensor_msgs/msg/Imu', True),
@@ -25,7 +24,7 @@ RECORDED = (
     (topics.PRESSURE, FluidPressure, 'sensor_msgs/msg/FluidPressure', True),
     (topics.TEMPERATURE, Temperature, 'sensor_msgs/msg/Temperature', True),
     (topics.JOINT_STATES, JointState, 'sensor_msgs/msg/JointState', False),
-    ('probe/contacts', PoseArray, 'geometry_msgs/msg/PoseArray', False),
+    (topics.PROBE_CONTACTS, PoseArray, 'geometry_msgs/msg/PoseArray', False),
     (topics.SWEEP_ACTIVE, Bool, 'std_msgs/msg/Bool', False),
 )
 
@@ -65,7 +64,7 @@ class RecorderNode(Node):
             self._recorder.add_topic(topic, type_name)
             self.create_subscription(
                 message_type, topic, self._writer_for(topic),
-                qos_profile_sensor_data if sensor else 10, raw=True)
+                SENSOR_DATA if sensor else COMMAND, raw=True)
         self.get_logger().info(f'recording to {out} ({metadata})')
 
     def _writer_for(self, topic: str):

@@ -42,31 +42,36 @@ def _fmt(values) -> str:
     return ' '.join(repr(float(v)) for v in values)
 
 
-def _link_geom(body: ET.Element, link: str) -> None:
-    """Add the visual or collision geometry of one link."""
+def _origin(robot: RobotGeometry, joint: str) -> tuple[float, float, float]:
+    return robot.joint(joint).origin_xyz
+
+
+def _link_geom(body: ET.Element, link: str, robot: RobotGeometry) -> None:
+    """Add the visual or collision geometry of one link, sized from the joint origins."""
     visual = {'contype': '0', 'conaffinity': '0', 'group': '1', 'rgba': '0.75 0.75 0.78 1'}
     if link == 'link1':
-        ET.SubElement(body, 'geom', type='cylinder', size='0.025 0.017', pos='0.012 0 0.017',
-                      **visual)
-    elif link == 'link3':
-        ET.SubElement(body, 'geom', type='capsule', fromto='0 0 0 0.024 0 0.128',
-                      size='0.014', **visual)
-    elif link == 'link4':
-        ET.SubElement(body, 'geom', type='capsule', fromto='0 0 0 0.124 0 0', size='0.013',
-                      **visual)
-    elif link == 'link5':
-        ET.SubElement(body, 'geom', type='capsule', fromto='0 0 0 0.09 0 0', size='0.012',
-                      **visual)
+        x, _, z = _origin(robot, 'joint1')  # the base turret up to joint1
+        ET.SubElement(body, 'geom', type='cylinder', size=_fmt((0.025, z)),
+                      pos=_fmt((x, 0.0, z)), **visual)
+    elif link in ('link3', 'link4', 'link5'):
+        # Each arm segment spans from its joint to the next one (link5: to the gripper).
+        following = {'link3': 'joint3', 'link4': 'joint4', 'link5': 'gripper'}[link]
+        x, _, z = _origin(robot, following)
+        radius = {'link3': 0.014, 'link4': 0.013, 'link5': 0.012}[link]
+        ET.SubElement(body, 'geom', type='capsule', fromto=_fmt((0, 0, 0, x, 0, z)),
+                      size=repr(radius), **visual)
     elif link == 'sensor_mount':
         ET.SubElement(body, 'geom', type='box', size='0.012 0.012 0.010',
                       pos='0 0 -0.008', rgba='0.2 0.4 0.8 1', contype='0', conaffinity='0',
                       group='1')
     elif link == 'sensor_link':
-        # Polyurethane body with the MARG inside; its face lies 10 mm past the chip.
+        # Polyurethane body with the MARG inside: the face and its rim are where the
+        # geometry puts sensor_edge (rim radius, face distance past the chip).
+        rim_radius, _, face = _origin(robot, 'sensor_edge_fixed')
         ET.SubElement(body, 'site', name=IMU_SITE, size='0.002')
-        ET.SubElement(body, 'geom', name=SENSOR_GEOM, type='cylinder', size='0.015 0.005',
-                      pos='0 0 0.005', rgba='0.95 0.8 0.2 1', friction='0.6 0.005 0.0001',
-                      condim='3')
+        ET.SubElement(body, 'geom', name=SENSOR_GEOM, type='cylinder',
+                      size=_fmt((rim_radius, face / 2)), pos=_fmt((0.0, 0.0, face / 2)),
+                      rgba='0.95 0.8 0.2 1', friction='0.6 0.005 0.0001', condim='3')
     elif link == 'sensor_edge':
         ET.SubElement(body, 'geom', name=SENSOR_EDGE_GEOM, type='sphere', size='0.002',
                       rgba='1 0.3 0.1 1', friction='0.6 0.005 0.0001', condim='3')
@@ -119,7 +124,7 @@ def build_mjcf(robot: RobotGeometry = OPEN_MANIPULATOR_X, *, timestep_s: float =
                           diaginertia=_fmt(inertial.inertia_diag))
         if joint.is_moving and (compliant or joint.role is not JointRole.COMPLIANT):
             _add_joint(body, joint, servo)
-        _link_geom(body, joint.child)
+        _link_geom(body, joint.child, robot)
     for element in _fragment(worldbody_xml):
         worldbody.append(element)
     actuators = ET.SubElement(mujoco, 'actuator')

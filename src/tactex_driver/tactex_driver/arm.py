@@ -14,7 +14,7 @@ import enum
 import numpy as np
 
 from tactex_driver.errors import TrajectoryRejected
-from tactex_driver.playback import hold, JointLimits, plan, Trajectory
+from tactex_driver.playback import hold, JointLimits, plan, Trajectory, trajectory_arrays
 
 
 class Mode(enum.Enum):
@@ -71,15 +71,33 @@ class ArmController:
         try:
             trajectory = self._plan(joint_names, times_s, positions, velocities)
         except TrajectoryRejected as err:
-            # A refused command still stops what ran before it: the sender wanted a change.
-            self.rejected += 1
-            self.stop(now_s, 'new trajectory was rejected')
-            self.last_event = f'rejected trajectory: {err}'
+            self.reject(str(err), now_s)
             raise
         self._trajectory, self._start_s = trajectory, now_s
         self.mode = Mode.EXECUTING
         self.last_event = f'executing a {trajectory.duration_s:.2f} s trajectory'
         return trajectory.duration_s
+
+    def execute_message(self, message, now_s: float) -> tuple[bool, str]:
+        """Execute a JointTrajectory message; return (accepted, a line for the log)."""
+        try:
+            arrays = trajectory_arrays(message)
+            duration = self.execute(arrays.joint_names, arrays.times_s, arrays.positions,
+                                    arrays.velocities, now_s)
+        except TrajectoryRejected as err:
+            return False, f'trajectory rejected: {err}'
+        return True, f'executing {len(arrays.times_s)} points over {duration:.2f} s'
+
+    def reject(self, reason: str, now_s: float | None = None) -> None:
+        """Count a refused command and record why; what ran before it stops and holds.
+
+        A refused command still stops the running motion (the sender wanted a change);
+        without `now_s` (the arm cannot be commanded at all) only the count and reason change.
+        """
+        self.rejected += 1
+        if now_s is not None:
+            self.stop(now_s, 'new trajectory was rejected')
+        self.last_event = f'rejected trajectory: {reason}'
 
     def _plan(self, joint_names, times_s, positions, velocities) -> Trajectory:
         if self.mode is Mode.FAULT:

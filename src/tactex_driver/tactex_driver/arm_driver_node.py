@@ -15,14 +15,15 @@ from sensor_msgs.msg import JointState
 from std_srvs.srv import SetBool, Trigger
 from trajectory_msgs.msg import JointTrajectory
 
+from tactex_common import topics
+from tactex_common.constants import SERVO_IDS
+from tactex_common.ros import COMMAND, spin
 from tactex_driver import control_table as ct
 from tactex_driver.arm import ArmController, Mode
-from tactex_driver.bus import DEFAULT_BAUD, DEFAULT_IDS, ServoBus
+from tactex_driver.bus import DEFAULT_BAUD, ServoBus
 from tactex_driver.errors import CommunicationError, DriverError, TrajectoryRejected
 from tactex_driver.joints import JointMap, NEWTON_METRE_PER_AMPERE
 from tactex_driver.playback import JointLimits
-from tactex_sensor import topics
-from tactex_sensor.spin_node import spin
 
 TORQUE_POLICIES = ('hold', 'release')
 
@@ -37,7 +38,7 @@ class ArmDriverNode(Node):
             description='serial device of the U2D2/OpenCR', read_only=True)).value
         baud = self.declare_parameter('baud', DEFAULT_BAUD, describe(
             description='bus rate (baud)', read_only=True)).value
-        ids = self.declare_parameter('servo_ids', list(DEFAULT_IDS), describe(
+        ids = self.declare_parameter('servo_ids', list(SERVO_IDS), describe(
             description='IDs of joint1..joint4 and the gripper', read_only=True)).value
         rate = self.declare_parameter('control_rate_hz', 100.0, describe(
             description='control loop and joint_states rate (Hz)', read_only=True)).value
@@ -85,8 +86,8 @@ class ArmDriverNode(Node):
         self._hardware_errors: dict[int, int] = {}
         self._tick_times: deque[float] = deque(maxlen=1000)
 
-        self._state_pub = self.create_publisher(JointState, topics.JOINT_STATES, 10)
-        self._diagnostics_pub = self.create_publisher(DiagnosticArray, 'diagnostics', 10)
+        self._state_pub = self.create_publisher(JointState, topics.JOINT_STATES, COMMAND)
+        self._diagnostics_pub = self.create_publisher(DiagnosticArray, topics.DIAGNOSTICS, COMMAND)
         self.create_subscription(JointTrajectory, topics.JOINT_TRAJECTORY, self._on_trajectory,
                                  10)
         self.create_service(Trigger, 'arm/stop', self._on_stop)
@@ -216,11 +217,14 @@ class ArmDriverNode(Node):
     # -- commands -------------------------------------------------------------------
     def _on_trajectory(self, msg: JointTrajectory) -> None:
         if not self._connected:
-            self._controller.rejected += 1
-            self._controller.last_event = 'rejected trajectory: servos not connected'
+            self._controller.reject('servos not connected')
             self.get_logger().error('trajectory rejected: servos not connected')
             return
-        execute_message(self._controller, msg, self._now(), self.get_logger())
+        ok, report = self._controller.execute_message(msg, self._now())
+        if ok:
+            self.get_logger().info(report)
+        else:
+            self.get_logger().error(report)
 
     def _on_stop(self, request, response):
         self._controller.stop(self._now())
@@ -314,20 +318,6 @@ class ArmDriverNode(Node):
                 self.get_logger().warning(f'could not apply the exit torque policy: {err}')
         self._bus.close()
         super().destroy_node()
-
-
-def execute_message(controller: ArmController, msg: JointTrajectory, now_s: float,
-                    logger) -> None:
-    """Hand a JointTrajectory to the controller; log the outcome either way."""
-    times = [p.time_from_start.sec + 1e-9 * p.time_from_start.nanosec for p in msg.points]
-    try:
-        duration = controller.execute(msg.joint_names, times,
-                                      [list(p.positions) for p in msg.points],
-                                      [list(p.velocities) for p in msg.points], now_s)
-    except TrajectoryRejected as err:
-        logger.error(f'trajectory rejected: {err}')
-        return
-    logger.info(f'executing {len(msg.points)} points over {duration:.2f} s')
 
 
 def main(args: list[str] | None = None) -> None:

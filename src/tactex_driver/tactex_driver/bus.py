@@ -16,10 +16,10 @@ import struct
 import dynamixel_sdk as sdk
 import numpy as np
 
+from tactex_common.constants import SERVO_IDS
 from tactex_driver import control_table as ct
 from tactex_driver.errors import CommunicationError, DriverError, HardwareAlert
 
-DEFAULT_IDS = (11, 12, 13, 14, 15)
 DEFAULT_BAUD = 1_000_000
 
 
@@ -44,7 +44,7 @@ class ServoBus:
     """
 
     def __init__(self, port: str, *, baud: int = DEFAULT_BAUD,
-                 ids: Sequence[int] = DEFAULT_IDS, port_handler=None) -> None:
+                 ids: Sequence[int] = SERVO_IDS, port_handler=None) -> None:
         if len(set(ids)) != len(ids) or not all(0 <= i <= 252 for i in ids):
             raise ValueError(f'servo IDs must be distinct and in 0..252, got {list(ids)!r}')
         self.ids = tuple(int(i) for i in ids)

@@ -46,6 +46,26 @@ class JointLimits:
 
 
 @dataclass(frozen=True)
+class TrajectoryArrays:
+    """A trajectory_msgs/JointTrajectory as plain arrays (what `plan` takes)."""
+
+    joint_names: list[str]
+    times_s: list[float]
+    positions: list[list[float]]
+    velocities: list[list[float]]
+
+
+def trajectory_arrays(message) -> TrajectoryArrays:
+    """Arrays of a JointTrajectory message (rclpy or rosbags: read by attribute only)."""
+    points = list(message.points)
+    return TrajectoryArrays(
+        [str(name) for name in message.joint_names],
+        [p.time_from_start.sec + 1e-9 * p.time_from_start.nanosec for p in points],
+        [[float(v) for v in p.positions] for p in points],
+        [[float(v) for v in p.velocities] for p in points])
+
+
+@dataclass(frozen=True)
 class Trajectory:
     """An accepted trajectory: a C1 interpolant of all joints from t = 0 (the start state)."""
 

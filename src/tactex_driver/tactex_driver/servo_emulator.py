@@ -19,8 +19,9 @@ import struct
 import threading
 import time
 
+from tactex_common.constants import SERVO_IDS
+from tactex_common.pty_link import PtyLink
 from tactex_driver import control_table as ct
-from tactex_sensor.pty_link import PtyLink
 
 HEADER = b'\xff\xff\xfd\x00'
 BROADCAST_ID = 0xFE
@@ -128,7 +129,7 @@ class ServoChainEmulator:
         initial_rad: starting angle of each servo (rad), default 0.
     """
 
-    def __init__(self, link: Path, ids=(11, 12, 13, 14, 15), *,
+    def __init__(self, link: Path, ids=SERVO_IDS, *,
                  initial_rad: dict[int, float] | None = None) -> None:
         self.link = Path(link)
         self.servos = {i: Servo(i) for i in ids}

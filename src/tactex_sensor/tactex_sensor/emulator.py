@@ -19,12 +19,14 @@ import time
 
 import numpy as np
 
+from tactex_common.channels import CHANNELS
+from tactex_common.constants import (
+    EARTH_FIELD_T,
+    SEA_LEVEL_PRESSURE_PA,
+    STANDARD_GRAVITY_M_S2,
+)
+from tactex_common.pty_link import PtyLink
 from tactex_sensor.protocol import encode, Sample
-from tactex_sensor.pty_link import PtyLink
-
-G = 9.80665
-EARTH_FIELD_T = (0.0, 2.0e-5, -4.3e-5)
-SEA_LEVEL_PA = 101325.0
 
 
 class FaultKind(enum.Enum):
@@ -103,17 +105,18 @@ class SignalSource:
         # World -> sensor rotation of a roll-pitch attitude (R^T of Ry(pitch) Rx(roll)).
         world_to_sensor = np.array([[cp, 0.0, -sp], [sr * sp, cr, sr * cp],
                                     [cr * sp, -sr, cr * cp]])
-        accel = world_to_sensor @ (0.0, 0.0, G) + vibration + self._rng.normal(0, 0.02, 3)
+        gravity = (0.0, 0.0, STANDARD_GRAVITY_M_S2)
+        accel = world_to_sensor @ gravity + vibration + self._rng.normal(0, 0.02, 3)
         gyro = np.array([roll_rate, pitch_rate * cr, -pitch_rate * sr]) \
             + self._rng.normal(0, 0.002, 3)
         mag = world_to_sensor @ EARTH_FIELD_T + self._rng.normal(0, 2e-7, 3)
-        pressure = SEA_LEVEL_PA + 150.0 * (1.0 + math.sin(0.5 * t_s)) \
+        pressure = SEA_LEVEL_PRESSURE_PA + 150.0 * (1.0 + math.sin(0.5 * t_s)) \
             + self._rng.normal(0, 2.0)
         temperature = 24.0 + 0.01 * t_s
         return tuple(accel), tuple(gyro), tuple(mag), pressure, temperature
 
 
-REPLAY_COLUMNS = ('t', 'ax', 'ay', 'az', 'gx', 'gy', 'gz', 'mx', 'my', 'mz', 'baro')
+REPLAY_COLUMNS = ('t',) + CHANNELS
 
 
 class ReplaySource:

@@ -9,12 +9,11 @@ import math
 
 from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor, SetParametersResult
 from rclpy.node import Node
-from rclpy.qos import qos_profile_sensor_data
 from sensor_msgs.msg import Imu, MagneticField
 
-from tactex_sensor import topics
+from tactex_common import topics
+from tactex_common.ros import SENSOR_DATA, spin
 from tactex_sensor.madgwick import MadgwickConfig, MadgwickFilter
-from tactex_sensor.spin_node import spin
 
 
 def _stamp_s(msg) -> float:
@@ -44,12 +43,12 @@ class MadgwickNode(Node):
         self._filter = MadgwickFilter(MadgwickConfig(gain=gain, use_mag=use_mag))
         self._last_stamp: float | None = None
         self._mag: tuple[float, tuple[float, float, float]] | None = None
-        self._publisher = self.create_publisher(Imu, topics.IMU_FILTERED, qos_profile_sensor_data)
+        self._publisher = self.create_publisher(Imu, topics.IMU_FILTERED, SENSOR_DATA)
         self.create_subscription(Imu, topics.IMU_RAW, self._on_imu,
-                                 qos_profile_sensor_data)
+                                 SENSOR_DATA)
         if use_mag:
             self.create_subscription(MagneticField, topics.MAG, self._on_mag,
-                                     qos_profile_sensor_data)
+                                     SENSOR_DATA)
         self.add_on_set_parameters_callback(self._on_set_parameters)
 
     def _on_set_parameters(self, parameters) -> SetParametersResult:

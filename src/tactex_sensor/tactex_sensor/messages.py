@@ -1,12 +1,30 @@
 # Copyright 2026 The tactex authors
 # SPDX-License-Identifier: Apache-2.0
-"""The four raw tactile messages of one sample, as the sensor node and the simulator send them."""
+"""The four raw tactile messages of one sample, serialised (CDR) without a ROS install.
+
+One builder for everyone who emits a tactile sample: the sensor node and the simulator
+bridge publish these bytes as they are (rclpy publishes serialised messages), and the
+simulator's bag writer records them. Messages are built with rosbags' type store.
+"""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
-from sensor_msgs.msg import FluidPressure, Imu, MagneticField, Temperature
+import numpy as np
+from rosbags.typesys import get_typestore, Stores
+
+from tactex_common import topics
+
+TYPESTORE = get_typestore(Stores.ROS2_KILTED)
+_T = TYPESTORE.types
+IMU_TYPE = 'sensor_msgs/msg/Imu'
+MAG_TYPE = 'sensor_msgs/msg/MagneticField'
+PRESSURE_TYPE = 'sensor_msgs/msg/FluidPressure'
+TEMPERATURE_TYPE = 'sensor_msgs/msg/Temperature'
+# (topic, message type) of the four raw messages, in the order tactile_cdr returns them.
+TACTILE_TOPICS = ((topics.IMU_RAW, IMU_TYPE), (topics.MAG, MAG_TYPE),
+                  (topics.PRESSURE, PRESSURE_TYPE), (topics.TEMPERATURE, TEMPERATURE_TYPE))
 
 
 @dataclass(frozen=True)
@@ -20,27 +38,61 @@ class NoiseVariances:
     temperature: float = 0.25  # degC^2
 
 
-def _diagonal(variance: float) -> list[float]:
-    return [variance, 0.0, 0.0, 0.0, variance, 0.0, 0.0, 0.0, variance]
+_NO_ORIENTATION = np.zeros(9)
+_NO_ORIENTATION[0] = -1.0  # REP-145: raw data carries no orientation
 
 
-def tactile_messages(stamp, frame_id: str, accel, gyro, mag, pressure_pa: float,
-                     temperature_c: float, noise: NoiseVariances = NoiseVariances()
-                     ) -> tuple[Imu, MagneticField, FluidPressure, Temperature]:
-    """Raw IMU (no orientation), magnetic field, pressure and temperature of one sample."""
-    imu = Imu()
-    imu.header.stamp, imu.header.frame_id = stamp, frame_id
-    imu.orientation_covariance[0] = -1.0  # REP-145: raw data carries no orientation
-    w, a = imu.angular_velocity, imu.linear_acceleration
-    w.x, w.y, w.z = (float(v) for v in gyro)
-    a.x, a.y, a.z = (float(v) for v in accel)
-    imu.angular_velocity_covariance = _diagonal(noise.gyro)
-    imu.linear_acceleration_covariance = _diagonal(noise.accel)
-    field = MagneticField(header=imu.header, magnetic_field_covariance=_diagonal(noise.mag))
-    m = field.magnetic_field
-    m.x, m.y, m.z = (float(v) for v in mag)
-    return (imu, field,
-            FluidPressure(header=imu.header, fluid_pressure=float(pressure_pa),
-                          variance=noise.pressure),
-            Temperature(header=imu.header, temperature=float(temperature_c),
-                        variance=noise.temperature))
+def header(stamp_ns: int, frame_id: str):
+    """A std_msgs/Header of the type store."""
+    sec, nanosec = divmod(int(stamp_ns), 1_000_000_000)
+    return _T['std_msgs/msg/Header'](
+        stamp=_T['builtin_interfaces/msg/Time'](sec=sec, nanosec=nanosec), frame_id=frame_id)
+
+
+def vector3(values):
+    """A geometry_msgs/Vector3 of the type store."""
+    x, y, z = (float(v) for v in values)
+    return _T['geometry_msgs/msg/Vector3'](x=x, y=y, z=z)
+
+
+def tactile_cdr(stamp_ns: int, frame_id: str, accel, gyro, mag, pressure_pa: float,
+                temperature_c: float, noise: NoiseVariances = NoiseVariances()
+                ) -> tuple[bytes, bytes, bytes, bytes]:
+    """Serialised raw IMU, magnetic field, pressure and temperature of one sample.
+
+    Args:
+        stamp_ns: the sample's stamp (ns).
+        frame_id: the frame of the sample (`sensor_link`).
+        accel: acceleration (m/s^2), three values in the sensor frame.
+        gyro: angular rate (rad/s), three values in the sensor frame.
+        mag: magnetic field (T), three values in the sensor frame.
+        pressure_pa: barometer (Pa).
+        temperature_c: the barometer's temperature (degC).
+        noise: the diagonal covariances the messages carry.
+    """
+    stamped = header(stamp_ns, frame_id)
+    imu = _T[IMU_TYPE](
+        header=stamped,
+        orientation=_T['geometry_msgs/msg/Quaternion'](x=0.0, y=0.0, z=0.0, w=1.0),
+        orientation_covariance=_NO_ORIENTATION,
+        angular_velocity=vector3(gyro),
+        angular_velocity_covariance=_diagonal(noise.gyro),
+        linear_acceleration=vector3(accel),
+        linear_acceleration_covariance=_diagonal(noise.accel))
+    field = _T[MAG_TYPE](header=stamped, magnetic_field=vector3(mag),
+                         magnetic_field_covariance=_diagonal(noise.mag))
+    pressure = _T[PRESSURE_TYPE](header=stamped, fluid_pressure=float(pressure_pa),
+                                 variance=float(noise.pressure))
+    temperature = _T[TEMPERATURE_TYPE](header=stamped, temperature=float(temperature_c),
+                                       variance=float(noise.temperature))
+    return (serialize(imu, IMU_TYPE), serialize(field, MAG_TYPE),
+            serialize(pressure, PRESSURE_TYPE), serialize(temperature, TEMPERATURE_TYPE))
+
+
+def serialize(message, msgtype: str) -> bytes:
+    """CDR bytes of a type-store message, as rclpy publishes and rosbag2 stores them."""
+    return bytes(TYPESTORE.serialize_cdr(message, msgtype))
+
+
+def _diagonal(variance: float) -> np.ndarray:
+    return np.eye(3).ravel() * float(variance)

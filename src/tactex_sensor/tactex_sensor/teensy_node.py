@@ -8,17 +8,15 @@ import threading
 
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from rcl_interfaces.msg import ParameterDescriptor
-import rclpy
 from rclpy.node import Node
-from rclpy.qos import qos_profile_sensor_data
 from sensor_msgs.msg import FluidPressure, Imu, MagneticField, Temperature
 
-from tactex_sensor import topics
+from tactex_common import topics
+from tactex_common.ros import COMMAND, SENSOR_DATA, spin
 from tactex_sensor.link import SerialLink
-from tactex_sensor.messages import NoiseVariances, tactile_messages
+from tactex_sensor.messages import NoiseVariances, tactile_cdr, TACTILE_TOPICS
 from tactex_sensor.protocol import DEFAULT_BAUD
 from tactex_sensor.reader import TeensyReader
-from tactex_sensor.spin_node import spin
 
 
 class TeensyNode(Node):
@@ -55,15 +53,13 @@ class TeensyNode(Node):
                                      pressure=pressure_var)
         self._reader = TeensyReader(SerialLink(port, int(baud)),
                                     lambda: self.get_clock().now().nanoseconds)
-        self._imu_pub = self.create_publisher(Imu, topics.IMU_RAW,
-                                              qos_profile_sensor_data)
-        self._mag_pub = self.create_publisher(MagneticField, topics.MAG,
-                                              qos_profile_sensor_data)
-        self._pressure_pub = self.create_publisher(FluidPressure, topics.PRESSURE,
-                                                   qos_profile_sensor_data)
-        self._temperature_pub = self.create_publisher(Temperature, topics.TEMPERATURE,
-                                                      qos_profile_sensor_data)
-        self._diagnostics_pub = self.create_publisher(DiagnosticArray, 'diagnostics', 10)
+        # Publishers in the order of tactex_sensor.messages.TACTILE_TOPICS.
+        self._tactile_pubs = [
+            self.create_publisher(message_class, topic, SENSOR_DATA)
+            for message_class, (topic, _) in zip(
+                (Imu, MagneticField, FluidPressure, Temperature), TACTILE_TOPICS, strict=True)]
+        self._diagnostics_pub = self.create_publisher(DiagnosticArray, topics.DIAGNOSTICS,
+                                                      COMMAND)
         self.create_timer(diagnostics_period, self._publish_diagnostics)
         self._running = True
         self._thread = threading.Thread(target=self._read_loop, name='teensy_reader',
@@ -78,13 +74,10 @@ class TeensyNode(Node):
                 self._publish(stamp_ns, sample)
 
     def _publish(self, stamp_ns: int, sample) -> None:
-        imu, mag, pressure, temperature = tactile_messages(
-            rclpy.time.Time(nanoseconds=stamp_ns).to_msg(), self._frame_id, sample.accel,
-            sample.gyro, sample.mag, sample.pressure_pa, sample.temperature_c, self._noise)
-        self._imu_pub.publish(imu)
-        self._mag_pub.publish(mag)
-        self._pressure_pub.publish(pressure)
-        self._temperature_pub.publish(temperature)
+        for publisher, data in zip(self._tactile_pubs, tactile_cdr(
+                stamp_ns, self._frame_id, sample.accel, sample.gyro, sample.mag,
+                sample.pressure_pa, sample.temperature_c, self._noise), strict=True):
+            publisher.publish(data)
 
     def _publish_diagnostics(self) -> None:
         ok, summary, values = self._reader.health()

@@ -17,6 +17,7 @@ from typing import Any, ClassVar
 import mujoco
 import numpy as np
 
+from tactex_common.constants import EARTH_FIELD_T, SEA_LEVEL_PRESSURE_PA
 from tactex_sim.errors import SceneError, UnknownNameError
 from tactex_sim.textures import Texture
 
@@ -119,20 +120,6 @@ class TextureVibration(Effect):
         self._travelled = 0.0
         self._roughness: dict[str, np.ndarray] = {}
 
-    def _waves(self, surface: Texture) -> list[tuple[float, np.ndarray, float]]:
-        """(amplitude, wavevector in the patch frame, phase) of the texture's periodic parts."""
-        waves = []
-        if surface.ridge_period > 0:
-            k = 2 * math.pi / surface.ridge_period * np.array(
-                [math.cos(surface.ridge_angle), math.sin(surface.ridge_angle)])
-            waves += [(0.8 * surface.ridge_height, k, -math.pi / 2),
-                      (0.2 * surface.ridge_height, 2 * k, -math.pi / 2)]
-        if surface.weave_height > 0:
-            a, b = (2 * math.pi / p for p in surface.weave_period)
-            waves += [(0.5 * surface.weave_height, np.array([a, -b]), 0.0),
-                      (-0.5 * surface.weave_height, np.array([a, b]), 0.0)]
-        return waves
-
     def _roughness_curvature(self, surface: Texture) -> np.ndarray:
         """Second derivative of a 1 m random roughness profile, 20 um apart (cached)."""
         if surface.name not in self._roughness:
@@ -165,7 +152,7 @@ class TextureVibration(Effect):
         d_uv = np.array([cos_h * direction[0] + sin_h * direction[1],
                          -sin_h * direction[0] + cos_h * direction[1]])
         curvature = 0.0
-        for amplitude, k, phase in self._waves(surface):
+        for amplitude, k, phase in surface.waves():
             kappa = float(np.dot(k, d_uv))
             gain = transmissibility(speed * abs(kappa) / (2 * math.pi),
                                     self.options['resonance_hz'],
@@ -214,7 +201,7 @@ class Magnetometer(Effect):
     name = 'magnetometer'
     reads = frozenset({'sensor rotation', 'sensor position'})
     writes = frozenset({'mag'})
-    defaults = {'earth_field_t': [0.0, 2.0e-5, -4.3e-5], 'magnet_position_m': [0.35, 0.25, 0.05],
+    defaults = {'earth_field_t': list(EARTH_FIELD_T), 'magnet_position_m': [0.35, 0.25, 0.05],
                 'magnet_moment_am2': [0.0, 0.0, 0.5], 'noise_sd_t': 2.0e-7}
 
     def apply(self, reading: Reading, inputs: Mapping[str, Any]) -> None:
@@ -235,8 +222,8 @@ class Barometer(Effect):
     name = 'barometer'
     reads = frozenset({'compression', 'time'})
     writes = frozenset({'pressure', 'temperature'})
-    defaults = {'sea_level_pa': 101325.0, 'pa_per_m_compression': 1.5e6, 'noise_sd_pa': 2.0,
-                'drift_pa_per_s': 0.0, 'temperature_c': 24.0}
+    defaults = {'sea_level_pa': SEA_LEVEL_PRESSURE_PA, 'pa_per_m_compression': 1.5e6,
+                'noise_sd_pa': 2.0, 'drift_pa_per_s': 0.0, 'temperature_c': 24.0}
 
     def apply(self, reading: Reading, inputs: Mapping[str, Any]) -> None:
         """Compression raises the pressure inside the cast body."""

@@ -19,29 +19,30 @@ import numpy as np
 from rcl_interfaces.msg import ParameterDescriptor
 import rclpy
 from rclpy.node import Node
-from rclpy.qos import qos_profile_sensor_data
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import FluidPressure, Imu, JointState, MagneticField, Temperature
 from std_msgs.msg import String
 from std_srvs.srv import SetBool, Trigger
 from trajectory_msgs.msg import JointTrajectory
 
-from tactex_description.geometry import JOINT_STATE_NAMES
+from tactex_common import topics
+from tactex_common.ros import COMMAND, SENSOR_DATA, spin
 from tactex_driver.arm import ArmController
-from tactex_driver.arm_driver_node import execute_message
 from tactex_driver.playback import JointLimits
-from tactex_sensor import topics
-from tactex_sensor.messages import tactile_messages
-from tactex_sensor.spin_node import spin
-from tactex_sim.recording import quaternion_z_to
+from tactex_sensor.messages import TACTILE_TOPICS
+from tactex_sim.recording import sample_messages, SAMPLE_TOPICS
 from tactex_sim.scene import load_scene, resolve_scene
 from tactex_sim.world import Sample, World
 
 MAX_SAMPLES_PER_TICK = 50
 
 
-def _time_msg(seconds: float):
-    return rclpy.time.Time(nanoseconds=int(round(seconds * 1e9))).to_msg()
+# The rclpy classes of the types the simulator emits.
+MESSAGE_CLASSES = {'sensor_msgs/msg/Imu': Imu, 'sensor_msgs/msg/MagneticField': MagneticField,
+                   'sensor_msgs/msg/FluidPressure': FluidPressure,
+                   'sensor_msgs/msg/Temperature': Temperature,
+                   'sensor_msgs/msg/JointState': JointState,
+                   'geometry_msgs/msg/PoseStamped': PoseStamped, 'std_msgs/msg/String': String}
 
 
 class MujocoBridgeNode(Node):
@@ -73,17 +74,13 @@ class MujocoBridgeNode(Node):
         self._controller.torque_on(0.0)
         self._world.controller = self._goal
 
-        sensor_qos = qos_profile_sensor_data
         self._clock_pub = self.create_publisher(Clock, '/clock', 10)
-        self._joint_pub = self.create_publisher(JointState, topics.JOINT_STATES, 10)
-        self._imu_pub = self.create_publisher(Imu, topics.IMU_RAW, sensor_qos)
-        self._mag_pub = self.create_publisher(MagneticField, topics.MAG, sensor_qos)
-        self._pressure_pub = self.create_publisher(FluidPressure, topics.PRESSURE, sensor_qos)
-        self._temperature_pub = self.create_publisher(Temperature, topics.TEMPERATURE,
-                                                      sensor_qos)
-        self._contact_pub = self.create_publisher(PoseStamped, topics.GROUND_TRUTH_CONTACT, 10)
-        self._pose_pub = self.create_publisher(PoseStamped, topics.GROUND_TRUTH_SENSOR, 10)
-        self._texture_pub = self.create_publisher(String, topics.GROUND_TRUTH_TEXTURE, 10)
+        sensor_topics = {topic for topic, _ in TACTILE_TOPICS}
+        self._publishers_by_topic = {
+            topic: self.create_publisher(
+                MESSAGE_CLASSES[msgtype], topic,
+                SENSOR_DATA if topic in sensor_topics else COMMAND)
+            for topic, msgtype in SAMPLE_TOPICS}
         self.create_subscription(JointTrajectory, topics.JOINT_TRAJECTORY, self._on_trajectory,
                                  10)
         self.create_service(Trigger, 'arm/stop', self._on_stop)
@@ -111,38 +108,18 @@ class MujocoBridgeNode(Node):
             self._publish(sample)
 
     def _publish(self, sample: Sample) -> None:
-        stamp = _time_msg(sample.time_s)
-        self._clock_pub.publish(Clock(clock=stamp))
-        state = JointState(name=list(JOINT_STATE_NAMES),
-                           position=[float(v) for v in self._world.joint_positions()],
-                           velocity=[float(v) for v in self._world.joint_velocities()])
-        state.header.stamp = stamp
-        self._joint_pub.publish(state)
-        for publisher, message in zip(
-                (self._imu_pub, self._mag_pub, self._pressure_pub, self._temperature_pub),
-                tactile_messages(stamp, 'sensor_link', sample.accel, sample.gyro, sample.mag,
-                                 sample.pressure, sample.temperature), strict=True):
-            publisher.publish(message)
-        truth = sample.truth
-        pose = PoseStamped()
-        pose.header.stamp, pose.header.frame_id = stamp, 'world'
-        p = pose.pose.position
-        p.x, p.y, p.z = (float(v) for v in truth.edge_position)
-        o = pose.pose.orientation
-        o.w, o.x, o.y, o.z = (float(v) for v in truth.sensor_quaternion)
-        self._pose_pub.publish(pose)
-        if truth.contact.touching:
-            contact = PoseStamped()
-            contact.header = pose.header
-            p = contact.pose.position
-            p.x, p.y, p.z = (float(v) for v in truth.contact.point)
-            o = contact.pose.orientation
-            o.w, o.x, o.y, o.z = (float(v) for v in quaternion_z_to(truth.contact.normal))
-            self._contact_pub.publish(contact)
-        self._texture_pub.publish(String(data=truth.texture))
+        time_ns = int(round(sample.time_s * 1e9))
+        self._clock_pub.publish(Clock(clock=rclpy.time.Time(nanoseconds=time_ns).to_msg()))
+        for topic, data in sample_messages(sample, time_ns, self._world.joint_positions(),
+                                           self._world.joint_velocities()):
+            self._publishers_by_topic[topic].publish(data)
 
     def _on_trajectory(self, msg: JointTrajectory) -> None:
-        execute_message(self._controller, msg, self._world.time_s, self.get_logger())
+        ok, report = self._controller.execute_message(msg, self._world.time_s)
+        if ok:
+            self.get_logger().info(report)
+        else:
+            self.get_logger().error(report)
 
     def _on_stop(self, request, response):
         self._controller.stop(self._world.time_s)

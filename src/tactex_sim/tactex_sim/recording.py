@@ -1,11 +1,12 @@
 # Copyright 2026 The tactex authors
 # SPDX-License-Identifier: Apache-2.0
-"""Simulated sweeps written as rosbag2 (mcap) with exactly the topics a real recording has.
+"""Simulated samples as serialised ROS messages, and sweeps written as rosbag2 (mcap).
 
-Messages are built and CDR-serialised with rosbags' Kilted type store, so no ROS
-install is needed. Besides the tactile topics and joint_states, a bag carries the
-sweep segment (`sweep/active`), the recording's metadata (label, trial, surface, ...
-as JSON on `recording/metadata`) and the simulator's ground truth.
+`sample_messages` is the one builder of what the simulator emits per sample (the raw
+tactile topics, joint_states and the ground truth): the bridge node publishes these
+bytes and `SweepBag` records them, with rosbags' type store, so no ROS install is
+needed. Besides those, a bag carries the sweep segment (`sweep/active`) and the
+recording's metadata (label, trial, surface, ... as JSON on `recording/metadata`).
 """
 
 from __future__ import annotations
@@ -15,40 +16,41 @@ from pathlib import Path
 
 import numpy as np
 from rosbags.rosbag2 import StoragePlugin, Writer
-from rosbags.typesys import get_typestore, Stores
 
+from tactex_common import topics
 from tactex_description.geometry import JOINT_STATE_NAMES
-from tactex_sensor import topics
-from tactex_sensor.messages import NoiseVariances
+from tactex_sensor.messages import (
+    header,
+    NoiseVariances,
+    serialize,
+    tactile_cdr,
+    TACTILE_TOPICS,
+    TYPESTORE,
+)
 from tactex_sensor.orientation import gravity_alignment
 from tactex_sim.world import Sample
 
-TYPESTORE = get_typestore(Stores.ROS2_KILTED)
 _T = TYPESTORE.types
 FRAME = 'sensor_link'
 NOISE = NoiseVariances()
+JOINT_STATE_TYPE = 'sensor_msgs/msg/JointState'
+POSE_TYPE = 'geometry_msgs/msg/PoseStamped'
+STRING_TYPE = 'std_msgs/msg/String'
+BOOL_TYPE = 'std_msgs/msg/Bool'
+# Every topic a simulated sample may produce, with its type, in emission order.
+SAMPLE_TOPICS = TACTILE_TOPICS + (
+    (topics.JOINT_STATES, JOINT_STATE_TYPE),
+    (topics.GROUND_TRUTH_CONTACT, POSE_TYPE),
+    (topics.GROUND_TRUTH_SENSOR, POSE_TYPE),
+    (topics.GROUND_TRUTH_TEXTURE, STRING_TYPE))
 
 
-def _stamp(time_ns: int):
-    sec, nanosec = divmod(int(time_ns), 1_000_000_000)
-    return _T['builtin_interfaces/msg/Time'](sec=sec, nanosec=nanosec)
-
-
-def _header(time_ns: int, frame: str):
-    return _T['std_msgs/msg/Header'](stamp=_stamp(time_ns), frame_id=frame)
-
-
-def _vector(values):
-    x, y, z = (float(v) for v in values)
-    return _T['geometry_msgs/msg/Vector3'](x=x, y=y, z=z)
-
-
-def _pose(position, quaternion_wxyz):
+def _pose_stamped(time_ns: int, position, quaternion_wxyz):
     w, x, y, z = (float(v) for v in quaternion_wxyz)
     px, py, pz = (float(v) for v in position)
-    return _T['geometry_msgs/msg/Pose'](
+    return _T[POSE_TYPE](header=header(time_ns, 'world'), pose=_T['geometry_msgs/msg/Pose'](
         position=_T['geometry_msgs/msg/Point'](x=px, y=py, z=pz),
-        orientation=_T['geometry_msgs/msg/Quaternion'](x=x, y=y, z=z, w=w))
+        orientation=_T['geometry_msgs/msg/Quaternion'](x=x, y=y, z=z, w=w)))
 
 
 def quaternion_z_to(normal) -> np.ndarray:
@@ -56,6 +58,31 @@ def quaternion_z_to(normal) -> np.ndarray:
     n = np.asarray(normal, dtype=float)
     w, x, y, z = gravity_alignment(*(n / np.linalg.norm(n)))
     return np.array([w, -x, -y, -z])
+
+
+def sample_messages(sample: Sample, time_ns: int, joints: np.ndarray,
+                    joint_velocities: np.ndarray) -> list[tuple[str, bytes]]:
+    """(topic, CDR bytes) of everything one simulated sample emits, stamped `time_ns`.
+
+    The contact ground truth is emitted only while the sensor touches the surface.
+    """
+    emitted = list(zip((topic for topic, _ in TACTILE_TOPICS), tactile_cdr(
+        time_ns, FRAME, sample.accel, sample.gyro, sample.mag, sample.pressure,
+        sample.temperature, NOISE), strict=True))
+    emitted.append((topics.JOINT_STATES, serialize(_T[JOINT_STATE_TYPE](
+        header=header(time_ns, ''), name=list(JOINT_STATE_NAMES),
+        position=np.asarray(joints, dtype=float),
+        velocity=np.asarray(joint_velocities, dtype=float), effort=np.zeros(0)),
+        JOINT_STATE_TYPE)))
+    truth = sample.truth
+    if truth.contact.touching:
+        emitted.append((topics.GROUND_TRUTH_CONTACT, serialize(_pose_stamped(
+            time_ns, truth.contact.point, quaternion_z_to(truth.contact.normal)), POSE_TYPE)))
+    emitted.append((topics.GROUND_TRUTH_SENSOR, serialize(_pose_stamped(
+        time_ns, truth.edge_position, truth.sensor_quaternion), POSE_TYPE)))
+    emitted.append((topics.GROUND_TRUTH_TEXTURE,
+                    serialize(_T[STRING_TYPE](data=truth.texture), STRING_TYPE)))
+    return emitted
 
 
 class SweepBag:
@@ -77,67 +104,27 @@ class SweepBag:
 
     def __enter__(self) -> SweepBag:
         self._writer.open()
-        for topic, msgtype in (
-                (topics.RECORDING_METADATA, 'std_msgs/msg/String'),
-                (topics.IMU_RAW, 'sensor_msgs/msg/Imu'),
-                (topics.MAG, 'sensor_msgs/msg/MagneticField'),
-                (topics.PRESSURE, 'sensor_msgs/msg/FluidPressure'),
-                (topics.TEMPERATURE, 'sensor_msgs/msg/Temperature'),
-                (topics.JOINT_STATES, 'sensor_msgs/msg/JointState'),
-                (topics.SWEEP_ACTIVE, 'std_msgs/msg/Bool'),
-                (topics.GROUND_TRUTH_CONTACT, 'geometry_msgs/msg/PoseStamped'),
-                (topics.GROUND_TRUTH_SENSOR, 'geometry_msgs/msg/PoseStamped'),
-                (topics.GROUND_TRUTH_TEXTURE, 'std_msgs/msg/String')):
+        for topic, msgtype in ((topics.RECORDING_METADATA, STRING_TYPE),
+                               (topics.SWEEP_ACTIVE, BOOL_TYPE), *SAMPLE_TOPICS):
             self._connections[topic] = self._writer.add_connection(
                 f'/{topic}', msgtype, typestore=TYPESTORE)
-        self._write(topics.RECORDING_METADATA, self._offset,
-                    _T['std_msgs/msg/String'](data=json.dumps(self._metadata, sort_keys=True)))
+        self._write(topics.RECORDING_METADATA, self._offset, serialize(
+            _T[STRING_TYPE](data=json.dumps(self._metadata, sort_keys=True)), STRING_TYPE))
         return self
 
     def __exit__(self, *exc_info) -> None:
         self._writer.close()
 
-    def _write(self, topic: str, time_ns: int, message) -> None:
-        connection = self._connections[topic]
-        self._writer.write(connection, time_ns,
-                           TYPESTORE.serialize_cdr(message, connection.msgtype))
+    def _write(self, topic: str, time_ns: int, data: bytes) -> None:
+        self._writer.write(self._connections[topic], time_ns, data)
 
     def add(self, sample: Sample, joints: np.ndarray, joint_velocities: np.ndarray,
             sliding: bool) -> None:
         """Write one sensor sample, the joint state and the ground truth at its time."""
         t = self._offset + int(round(sample.time_s * 1e9))
-        header = _header(t, FRAME)
         if sliding != self._active:
             self._active = sliding
-            self._write(topics.SWEEP_ACTIVE, t, _T['std_msgs/msg/Bool'](data=sliding))
-        orientation_covariance = np.zeros(9)
-        orientation_covariance[0] = -1.0  # REP-145: raw data carries no orientation
-        self._write(topics.IMU_RAW, t, _T['sensor_msgs/msg/Imu'](
-            header=header,
-            orientation=_T['geometry_msgs/msg/Quaternion'](x=0.0, y=0.0, z=0.0, w=1.0),
-            orientation_covariance=orientation_covariance,
-            angular_velocity=_vector(sample.gyro),
-            angular_velocity_covariance=np.eye(3).ravel() * NOISE.gyro,
-            linear_acceleration=_vector(sample.accel),
-            linear_acceleration_covariance=np.eye(3).ravel() * NOISE.accel))
-        self._write(topics.MAG, t, _T['sensor_msgs/msg/MagneticField'](
-            header=header, magnetic_field=_vector(sample.mag),
-            magnetic_field_covariance=np.eye(3).ravel() * NOISE.mag))
-        self._write(topics.PRESSURE, t, _T['sensor_msgs/msg/FluidPressure'](
-            header=header, fluid_pressure=float(sample.pressure), variance=NOISE.pressure))
-        self._write(topics.TEMPERATURE, t, _T['sensor_msgs/msg/Temperature'](
-            header=header, temperature=float(sample.temperature), variance=NOISE.temperature))
-        self._write(topics.JOINT_STATES, t, _T['sensor_msgs/msg/JointState'](
-            header=_header(t, ''), name=list(JOINT_STATE_NAMES),
-            position=np.asarray(joints, dtype=float),
-            velocity=np.asarray(joint_velocities, dtype=float), effort=np.zeros(0)))
-        truth = sample.truth
-        contact = truth.contact
-        if contact.touching:
-            self._write(topics.GROUND_TRUTH_CONTACT, t, _T['geometry_msgs/msg/PoseStamped'](
-                header=_header(t, 'world'),
-                pose=_pose(contact.point, quaternion_z_to(contact.normal))))
-        self._write(topics.GROUND_TRUTH_SENSOR, t, _T['geometry_msgs/msg/PoseStamped'](
-            header=_header(t, 'world'), pose=_pose(truth.edge_position,
-                                                   truth.sensor_quaternion)))
-        self._write(topics.GROUND_TRUTH_TEXTURE, t, _T['std_msgs/msg/String'](data=truth.texture))
+            self._write(topics.SWEEP_ACTIVE, t, serialize(_T[BOOL_TYPE](data=sliding),
+                                                          BOOL_TYPE))
+        for topic, data in sample_messages(sample, t, joints, joint_velocities):
+            self._write(topic, t, data)

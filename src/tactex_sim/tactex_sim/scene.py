@@ -118,7 +118,7 @@ _TOP_KEYS = {'name', 'seed', 'sensor_rate_hz', 'timestep_s', 'effects', 'surface
 
 def resolve_scene(name: str) -> Path:
     """A scene given by name (config/scenes/NAME.toml of the workspace) or by path."""
-    from tactex_description.share import share_directory
+    from tactex_common.share import share_directory
     if name.endswith('.toml') or '/' in name:
         return Path(name)
     return share_directory('tactex') / 'config' / 'scenes' / f'{name}.toml'

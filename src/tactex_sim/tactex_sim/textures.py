@@ -35,6 +35,24 @@ class Texture:
     friction: float = 0.5
     softness: float = 1.0  # 1: hard; lower: the material damps what it transmits
 
+    def waves(self) -> list[tuple[float, np.ndarray, float]]:
+        """The periodic part of the height: (amplitude m, wavevector rad/m, phase rad) terms.
+
+        Height = sum of amplitude * cos(k . uv + phase) over the terms. Rounded ridges are
+        a sine with its second harmonic; a weave sin(a u) sin(b v) is two plane waves.
+        """
+        terms = []
+        if self.ridge_period > 0:
+            k = 2 * math.pi / self.ridge_period * np.array(
+                [math.cos(self.ridge_angle), math.sin(self.ridge_angle)])
+            terms += [(0.8 * self.ridge_height, k, -math.pi / 2),
+                      (0.2 * self.ridge_height, 2 * k, -math.pi / 2)]
+        if self.weave_height > 0:
+            a, b = (2 * math.pi / p for p in self.weave_period)
+            terms += [(0.5 * self.weave_height, np.array([a, -b]), 0.0),
+                      (-0.5 * self.weave_height, np.array([a, b]), 0.0)]
+        return terms
+
     def profile(self, start_uv: tuple[float, float], heading_rad: float, length_m: float,
                 step_m: float, rng: np.random.Generator) -> np.ndarray:
         """Heights (m) along a straight path in the patch frame, `step_m` apart.
@@ -50,15 +68,8 @@ class Texture:
         u = start_uv[0] + s * math.cos(heading_rad)
         v = start_uv[1] + s * math.sin(heading_rad)
         height = np.zeros_like(s)
-        if self.ridge_period > 0:
-            across = u * math.cos(self.ridge_angle) + v * math.sin(self.ridge_angle)
-            phase = 2 * math.pi * across / self.ridge_period
-            # Rounded ridges: a sine with its second harmonic.
-            height += self.ridge_height * (0.8 * np.sin(phase) + 0.2 * np.sin(2 * phase))
-        if self.weave_height > 0:
-            pu, pv = self.weave_period
-            height += self.weave_height * np.sin(2 * math.pi * u / pu) * \
-                np.sin(2 * math.pi * v / pv)
+        for amplitude, k, phase in self.waves():
+            height += amplitude * np.cos(k[0] * u + k[1] * v + phase)
         if self.roughness_rms > 0:
             height += _rough(s.size, step_m, self.roughness_rms, self.roughness_length, rng)
         return height

@@ -1,0 +1,57 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""ROS-facing helpers every tactex node shares: QoS profiles and the node `main`.
+
+This module imports rclpy; only nodes (and the launcher) import it.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import rclpy
+from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
+from rclpy.node import Node
+from rclpy.qos import (
+    DurabilityPolicy,
+    HistoryPolicy,
+    qos_profile_sensor_data,
+    QoSProfile,
+    ReliabilityPolicy,
+)
+
+# Sensor streams: best effort, keep last 5 (a late sample is worth less than a new one).
+SENSOR_DATA = qos_profile_sensor_data
+# Commands and events: reliable, keep last 10.
+COMMAND = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE,
+                     durability=DurabilityPolicy.VOLATILE, history=HistoryPolicy.KEEP_LAST)
+# Latched state (the pathway, the robot description): a late subscriber gets the last one.
+LATCHED = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
+                     durability=DurabilityPolicy.TRANSIENT_LOCAL,
+                     history=HistoryPolicy.KEEP_LAST)
+
+
+def spin(make_node: Callable[[], Node], args: list[str] | None = None, *,
+         executor_factory: Callable[[], rclpy.executors.Executor] = SingleThreadedExecutor
+         ) -> None:
+    """Create the node and spin it; Ctrl-C or an external shutdown ends it cleanly.
+
+    Args:
+        make_node: builds the node (after rclpy.init).
+        args: command-line arguments (ROS arguments included).
+        executor_factory: the executor to spin with (a MultiThreadedExecutor for nodes
+            whose action callbacks wait on other callbacks).
+    """
+    rclpy.init(args=args)
+    node = None
+    try:
+        node = make_node()
+        executor = executor_factory()
+        executor.add_node(node)
+        executor.spin()
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
+    finally:
+        if node is not None:
+            node.destroy_node()
+        rclpy.try_shutdown()

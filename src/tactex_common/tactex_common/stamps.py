@@ -1,0 +1,26 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""Stamps as int nanoseconds, and the one rule for a gap in a sampled stream."""
+
+from __future__ import annotations
+
+import numpy as np
+
+# A step longer than this many median periods is a gap: windows never cross one.
+GAP_FACTOR = 2.5
+
+
+def stamp_ns(stamp) -> int:
+    """Nanoseconds of a builtin_interfaces/Time (rclpy or rosbags; anything with sec, nanosec)."""
+    return int(stamp.sec) * 1_000_000_000 + int(stamp.nanosec)
+
+
+def gaps(stamps_ns: np.ndarray) -> np.ndarray:
+    """True at step i when stamps i -> i+1 are more than GAP_FACTOR median periods apart.
+
+    Returns a bool array one shorter than `stamps_ns` (empty for fewer than 2 stamps).
+    """
+    steps = np.diff(np.asarray(stamps_ns, dtype=np.int64))
+    if steps.size == 0:
+        return np.zeros(0, dtype=bool)
+    return steps > GAP_FACTOR * float(np.median(steps))
