@@ -145,3 +145,29 @@ def test_launch_files_compile_and_define_a_description():
         source = path.read_text(encoding='utf-8')
         compile(source, str(path), 'exec')
         assert 'def generate_launch_description()' in source, path.name
+
+
+# How a third-party import is declared in package.xml (rosdep keys; *-pip where the
+# library is only on PyPI, as rosdep names them).
+ROSDEP_KEYS = {'numpy': 'python3-numpy', 'scipy': 'python3-scipy', 'sklearn': 'python3-sklearn',
+               'pandas': 'python3-pandas', 'matplotlib': 'python3-matplotlib',
+               'serial': 'python3-serial', 'transforms3d': 'python3-transforms3d',
+               'numba': 'python3-numba', 'rosbags': 'python3-rosbags-pip',
+               'mujoco': 'python3-mujoco-pip', 'torch': 'python3-pytorch-pip'}
+STANDARD_LIBRARY = sys.stdlib_module_names | {'__future__'}
+
+
+@pytest.mark.parametrize('package', EXPECTED_PACKAGES)
+def test_package_xml_declares_every_import(package):
+    declared = {element.text for element in
+                ET.parse(ROOT / 'src' / package / 'package.xml').getroot()
+                if element.tag in ('exec_depend', 'depend')}
+    needed = set()
+    for name, path in SOURCE_MODULES.items():
+        if name.split('.')[0] != package:
+            continue
+        for imported in _imports(path):
+            top = imported.split('.')[0]
+            if top not in STANDARD_LIBRARY and top != package:
+                needed.add(ROSDEP_KEYS.get(top, top))
+    assert needed <= declared, f'undeclared in package.xml: {sorted(needed - declared)}'

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 import torch
 
+from tactex_classify.catalog import DEEP_MODELS
 from tactex_classify.classifier import softmax
 from tactex_classify.models import build_model, MODELS
 
@@ -58,3 +59,7 @@ def test_softmax_and_log_softmax_of_huge_logits_stay_finite():
     assert torch.all(torch.isfinite(log_probabilities))
     loss = torch.nn.functional.cross_entropy(torch.tensor(logits), torch.tensor([1, 0]))
     assert torch.isfinite(loss)
+
+
+def test_the_catalog_names_exactly_the_models_that_exist():
+    assert tuple(MODELS) == DEEP_MODELS

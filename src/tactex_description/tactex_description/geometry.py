@@ -133,6 +133,14 @@ ARM_EFFORT_LIMIT = 4.1  # N m, XM430-W350 stall torque at 12 V
 
 _PI = math.pi
 
+
+def _arm_joint(name: str, parent: str, child: str, origin_xyz: Vector3, axis: Vector3,
+               lower_pi: float, upper_pi: float) -> Joint:
+    """A servo joint of the arm, its position limits given in multiples of pi."""
+    return Joint(name, parent, child, JointKind.REVOLUTE, JointRole.ARM, origin_xyz, axis=axis,
+                 lower=lower_pi * _PI, upper=upper_pi * _PI, velocity=ARM_VELOCITY_LIMIT,
+                 effort=ARM_EFFORT_LIMIT)
+
 OPEN_MANIPULATOR_X = RobotGeometry(
     name='open_manipulator_x_tactile',
     root='world',
@@ -141,22 +149,10 @@ OPEN_MANIPULATOR_X = RobotGeometry(
               (0.0, 0.0, 0.0)),
         Joint('base_fixed', 'base_link', 'link1', JointKind.FIXED, JointRole.STRUCTURE,
               (0.0, 0.0, 0.0)),
-        Joint('joint1', 'link1', 'link2', JointKind.REVOLUTE, JointRole.ARM,
-              (0.012, 0.0, 0.017), axis=(0.0, 0.0, 1.0),
-              lower=-0.9 * _PI, upper=0.9 * _PI,
-              velocity=ARM_VELOCITY_LIMIT, effort=ARM_EFFORT_LIMIT),
-        Joint('joint2', 'link2', 'link3', JointKind.REVOLUTE, JointRole.ARM,
-              (0.0, 0.0, 0.0595), axis=(0.0, 1.0, 0.0),
-              lower=-0.57 * _PI, upper=0.5 * _PI,
-              velocity=ARM_VELOCITY_LIMIT, effort=ARM_EFFORT_LIMIT),
-        Joint('joint3', 'link3', 'link4', JointKind.REVOLUTE, JointRole.ARM,
-              (0.024, 0.0, 0.128), axis=(0.0, 1.0, 0.0),
-              lower=-0.3 * _PI, upper=0.44 * _PI,
-              velocity=ARM_VELOCITY_LIMIT, effort=ARM_EFFORT_LIMIT),
-        Joint('joint4', 'link4', 'link5', JointKind.REVOLUTE, JointRole.ARM,
-              (0.124, 0.0, 0.0), axis=(0.0, 1.0, 0.0),
-              lower=-0.57 * _PI, upper=0.65 * _PI,
-              velocity=ARM_VELOCITY_LIMIT, effort=ARM_EFFORT_LIMIT),
+        _arm_joint('joint1', 'link1', 'link2', (0.012, 0.0, 0.017), (0.0, 0.0, 1.0), -0.9, 0.9),
+        _arm_joint('joint2', 'link2', 'link3', (0.0, 0.0, 0.0595), (0.0, 1.0, 0.0), -0.57, 0.5),
+        _arm_joint('joint3', 'link3', 'link4', (0.024, 0.0, 0.128), (0.0, 1.0, 0.0), -0.3, 0.44),
+        _arm_joint('joint4', 'link4', 'link5', (0.124, 0.0, 0.0), (0.0, 1.0, 0.0), -0.57, 0.65),
         Joint('gripper', 'link5', 'gripper_link', JointKind.PRISMATIC, JointRole.GRIPPER,
               (0.0817, 0.021, 0.0), axis=(0.0, 1.0, 0.0),
               lower=-0.010, upper=0.019, velocity=0.05, effort=10.0),

@@ -7,7 +7,7 @@ from __future__ import annotations
 import threading
 
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
-from rcl_interfaces.msg import ParameterDescriptor
+from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor
 from rclpy.node import Node
 from sensor_msgs.msg import FluidPressure, Imu, MagneticField, Temperature
 
@@ -17,6 +17,9 @@ from tactex_sensor.link import SerialLink
 from tactex_sensor.messages import NoiseVariances, tactile_cdr, TACTILE_TOPICS
 from tactex_sensor.protocol import DEFAULT_BAUD
 from tactex_sensor.reader import TeensyReader
+
+VARIANCE_UNITS = {'accel': '(m/s^2)^2', 'gyro': '(rad/s)^2', 'mag': 'T^2', 'pressure': 'Pa^2',
+                  'temperature': 'degC^2'}
 
 
 class TeensyNode(Node):
@@ -33,24 +36,16 @@ class TeensyNode(Node):
         self._frame_id = self.declare_parameter(
             'frame_id', 'sensor_link', ParameterDescriptor(description='frame of the samples',
                                                            read_only=True)).value
-        accel_var = self.declare_parameter(
-            'accel_variance', NoiseVariances.accel,
-            ParameterDescriptor(description='accel noise variance (m/s^2)^2')).value
-        gyro_var = self.declare_parameter(
-            'gyro_variance', NoiseVariances.gyro,
-            ParameterDescriptor(description='gyro noise variance (rad/s)^2')).value
-        mag_var = self.declare_parameter(
-            'mag_variance', NoiseVariances.mag,
-            ParameterDescriptor(description='magnetometer noise variance T^2')).value
-        pressure_var = self.declare_parameter(
-            'pressure_variance', NoiseVariances.pressure,
-            ParameterDescriptor(description='barometer noise variance Pa^2')).value
         diagnostics_period = self.declare_parameter(
             'diagnostics_period_s', 1.0,
             ParameterDescriptor(description='diagnostics period (s)', read_only=True)).value
-
-        self._noise = NoiseVariances(accel=accel_var, gyro=gyro_var, mag=mag_var,
-                                     pressure=pressure_var)
+        # One `<channel>_variance` parameter per covariance the messages carry.
+        self._noise = NoiseVariances(**{
+            channel: self.declare_parameter(
+                f'{channel}_variance', getattr(NoiseVariances, channel), ParameterDescriptor(
+                    description=f'{channel} noise variance {unit}', read_only=True,
+                    floating_point_range=[FloatingPointRange(from_value=0.0, to_value=1e6)])
+            ).value for channel, unit in VARIANCE_UNITS.items()})
         self._reader = TeensyReader(SerialLink(port, int(baud)),
                                     lambda: self.get_clock().now().nanoseconds)
         # Publishers in the order of tactex_sensor.messages.TACTILE_TOPICS.

@@ -10,14 +10,13 @@ from pathlib import Path
 import sys
 import time
 
-BASELINES = ('minirocket', 'extratrees')
+from tactex_classify.catalog import ALL_MODELS, BASELINES
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Register the options of this subcommand."""
-    from tactex_classify.models import MODELS
     parser.add_argument('data', type=Path, help='dataset (.npz with its .json sidecar)')
-    parser.add_argument('--model', default='cnn_1', choices=list(MODELS) + list(BASELINES),
+    parser.add_argument('--model', default='cnn_1', choices=ALL_MODELS,
                         help='one of the eight models of the original, or a baseline')
     parser.add_argument('--cv', default='both', choices=['grouped', 'stratified', 'both'],
                         help='grouped by recording (honest), stratified windows (the '

@@ -1,0 +1,10 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""Names of every classifier tactex trains, importable without torch (for command lines)."""
+
+# The original's eight deep models, in its table order (tactex_classify.models builds them).
+DEEP_MODELS = ('cnn_bilstm_1', 'cnn_bilstm_2', 'cnn_bilstm_3', 'cnn_1', 'cnn_2', 'cnn_3',
+               'bilstm_1', 'bilstm_2')
+# Fast baselines (tactex_classify.baselines).
+BASELINES = ('minirocket', 'extratrees')
+ALL_MODELS = DEEP_MODELS + BASELINES
