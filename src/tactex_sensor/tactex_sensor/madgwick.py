@@ -24,8 +24,11 @@ magnetometer or one nearly parallel to gravity leaves heading alone; dt <= 0, a
 non-finite dt or a gap longer than `max_dt_s` never integrates the gyro over it.
 Readings are scaled by their largest axis before they are normalised, so neither
 float32-max nor subnormal values overflow or lose their direction. A rejected sample
-leaves the attitude where it was: once valid samples return, the filter tracks again
-from there (tests/hard_cases/test_madgwick_hard_cases.py states the recovery time).
+leaves the attitude where it was. Whatever state bad input left behind (in-range garbage
+can turn the attitude anywhere), a tilt disagreeing with the accel by more than
+`recovery_angle_rad` for `recovery_s` restarts the gain ramp, so the filter is back
+within 1 degree of a resting sensor's tilt 2.5 s after bad input stops
+(tests/hard_cases/test_madgwick.py checks it).
 
 Internally the world frame is north-west-up; the MARG output is turned into ENU (x east,
 y north, z up; REP-145). With the IMU only, heading is free and the first sample defines
@@ -42,7 +45,8 @@ import numba
 import numpy as np
 
 from tactex_common.constants import ACCEL_FULL_SCALE_M_S2, GYRO_FULL_SCALE_RAD_S
-from tactex_sensor.orientation import gravity_alignment
+from tactex_sensor.errors import ReadingError
+from tactex_sensor.orientation import gravity_alignment, unit_direction
 
 # Flags returned by the kernel: which parts of the update ran, and what was rejected.
 USED_GYRO = 1
@@ -52,6 +56,7 @@ INITIALISED = 8
 REJECTED_GYRO = 16
 REJECTED_ACCEL = 32
 REJECTED_DT = 64
+RESTARTED = 128
 
 _SQRT_HALF = math.sqrt(0.5)
 _FLOAT_MAX = sys.float_info.max
@@ -76,6 +81,10 @@ class MadgwickConfig:
         max_dt_s: a longer step is a gap: no gyro integration over it.
         max_rate_rad_s: a gyro axis reading more is a corrupted sample: rejected.
         max_accel_m_s2: an accel axis reading more is a corrupted sample: rejected.
+        recovery_angle_rad: a tilt disagreement between accel and attitude above this ...
+        recovery_s: ... for longer than this (s) restarts the start-up ramp and forgets
+            the bias, so the filter recovers from any state within about
+            `recovery_s + ramp_s` (a gain of 0.04 alone would need 40 s for 180 deg).
         start_from_first_sample: take the attitude of the first valid accel (+mag)
             sample; False starts from identity and lets the start-up ramp converge.
     """
@@ -90,6 +99,8 @@ class MadgwickConfig:
     max_dt_s: float = 0.1
     max_rate_rad_s: float = GYRO_FULL_SCALE_RAD_S
     max_accel_m_s2: float = ACCEL_FULL_SCALE_M_S2
+    recovery_angle_rad: float = math.radians(10.0)
+    recovery_s: float = 1.0
     start_from_first_sample: bool = True
 
     def __post_init__(self) -> None:
@@ -98,12 +109,18 @@ class MadgwickConfig:
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0.0):
                 raise ValueError(f'{name} must be finite and >= 0, got {value!r}')
-        for name in ('ramp_s', 'max_dt_s', 'max_rate_rad_s', 'max_accel_m_s2'):
+        for name in ('ramp_s', 'max_dt_s', 'max_rate_rad_s', 'max_accel_m_s2',
+                     'recovery_angle_rad', 'recovery_s'):
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0.0):
                 raise ValueError(f'{name} must be finite and > 0, got {value!r}')
         if not 0.0 <= self.min_dip_sin < 1.0:
             raise ValueError(f'min_dip_sin must be in [0, 1), got {self.min_dip_sin!r}')
+
+    @property
+    def recovery_error_sq(self) -> float:
+        """|measured - predicted gravity|^2 (unit vectors) at `recovery_angle_rad`."""
+        return (2.0 * math.sin(0.5 * min(self.recovery_angle_rad, math.pi))) ** 2
 
 
 @numba.njit(cache=True)
@@ -118,23 +135,6 @@ def _gains(elapsed: float, gain: float, initial_gain: float, ramp_s: float,
         return gain, bias_gain
     fraction = min(1.0, 2.0 * (1.0 - elapsed / ramp_s))
     return gain + (initial_gain - gain) * fraction, 0.0
-
-
-@numba.njit(cache=True)
-def _direction(x: float, y: float, z: float, limit: float) -> tuple[bool, float, float, float]:
-    """(valid, unit vector) of a reading; invalid when non-finite, zero or an axis > limit.
-
-    Divided by its largest axis before the norm is taken, so float32-max readings do not
-    overflow and subnormal ones keep their direction.
-    """
-    if not (abs(x) <= limit and abs(y) <= limit and abs(z) <= limit):  # NaN fails too
-        return False, 0.0, 0.0, 0.0
-    largest = max(abs(x), abs(y), abs(z))
-    if largest == 0.0:
-        return False, 0.0, 0.0, 0.0
-    x, y, z = x / largest, y / largest, z / largest
-    norm = math.sqrt(x * x + y * y + z * z)
-    return True, x / norm, y / norm, z / norm
 
 
 @numba.njit(cache=True)
@@ -157,12 +157,12 @@ def _first_attitude(ax: float, ay: float, az: float, mx: float, my: float, mz: f
                     use_mag: bool, min_dip_sin: float, max_accel: float
                     ) -> tuple[bool, float, float, float, float]:
     """(found, attitude) from a sample: found when its accel is valid."""
-    accel_ok, ux, uy, uz = _direction(ax, ay, az, max_accel)
+    accel_ok, ux, uy, uz = unit_direction(ax, ay, az, max_accel)
     if not accel_ok:
         return False, 1.0, 0.0, 0.0, 0.0
     mag_ok = False
     if use_mag:
-        mag_ok, mx, my, mz = _direction(mx, my, mz, _FLOAT_MAX)
+        mag_ok, mx, my, mz = unit_direction(mx, my, mz, _FLOAT_MAX)
     q0, q1, q2, q3 = _initial_attitude(ux, uy, uz, mag_ok, mx, my, mz, min_dip_sin)
     return True, q0, q1, q2, q3
 
@@ -191,8 +191,14 @@ def _step(q0: float, q1: float, q2: float, q3: float, b0: float, b1: float, b2: 
           gx: float, gy: float, gz: float, ax: float, ay: float, az: float,
           mx: float, my: float, mz: float, dt: float, beta: float, zeta: float,
           max_bias: float, use_mag: bool, min_dip_sin: float, max_dt: float,
-          max_rate: float, max_accel: float):
-    """One filter update; returns (q0, q1, q2, q3, b0, b1, b2, flags)."""
+          max_rate: float, max_accel: float, disagree_s: float, recovery_s: float,
+          recovery_error_sq: float):
+    """One filter update; returns (q0, q1, q2, q3, b0, b1, b2, disagree_s, flags).
+
+    `disagree_s` is how long the tilt has disagreed with the accel by more than the
+    recovery angle; past `recovery_s` the bias is dropped and RESTARTED flagged (the
+    caller restarts the gain ramp).
+    """
     flags = 0
     step_ok = dt > 0.0 and dt <= max_dt  # False for NaN too
     if not step_ok:
@@ -221,7 +227,7 @@ def _step(q0: float, q1: float, q2: float, q3: float, b0: float, b1: float, b2: 
                           q0 * rx + q1 * c + q2 * rz - q3 * ry,
                           q0 * ry - q1 * rz + q2 * c + q3 * rx,
                           q0 * rz + q1 * ry - q2 * rx + q3 * c)
-    accel_ok, ax, ay, az = _direction(ax, ay, az, max_accel)
+    accel_ok, ax, ay, az = unit_direction(ax, ay, az, max_accel)
     if not accel_ok:
         flags |= REJECTED_ACCEL
     else:
@@ -237,11 +243,13 @@ def _step(q0: float, q1: float, q2: float, q3: float, b0: float, b1: float, b2: 
         s2 = _2q3 * f1 - _2q0 * f0 - 2.0 * _2q2 * f2
         s3 = _2q1 * f0 + _2q2 * f1
         s_sq = s0 * s0 + s1 * s1 + s2 * s2 + s3 * s3
+        error_sq = f0 * f0 + f1 * f1 + f2 * f2
+        disagree_s = disagree_s + h if error_sq > recovery_error_sq else 0.0
         if s_sq > 1e-24:
             # A unit step of beta * h would overshoot an error smaller than the step
             # and chatter (1.2 deg per sample at the start-up gain and 120 Hz): never
             # move q by more than half the tilt error (|f| ~ the angle) in one step.
-            step = min(beta, 0.5 * math.sqrt(f0 * f0 + f1 * f1 + f2 * f2) / h)
+            step = min(beta, 0.5 * math.sqrt(error_sq) / h)
             s_inv = step / math.sqrt(s_sq)
             d0 -= s0 * s_inv
             d1 -= s1 * s_inv
@@ -250,7 +258,7 @@ def _step(q0: float, q1: float, q2: float, q3: float, b0: float, b1: float, b2: 
         heading_error = 0.0
         mag_ok = False
         if use_mag:
-            mag_ok, mx, my, mz = _direction(mx, my, mz, _FLOAT_MAX)
+            mag_ok, mx, my, mz = unit_direction(mx, my, mz, _FLOAT_MAX)
         if mag_ok:
             cx, cy, cz = ay * mz - az * my, az * mx - ax * mz, ax * my - ay * mx
             if cx * cx + cy * cy + cz * cz > min_dip_sin * min_dip_sin:
@@ -285,9 +293,14 @@ def _step(q0: float, q1: float, q2: float, q3: float, b0: float, b1: float, b2: 
             if b0 * b0 + b1 * b1 + b2 * b2 > max_bias * max_bias:
                 k = max_bias / math.sqrt(b0 * b0 + b1 * b1 + b2 * b2)
                 b0, b1, b2 = b0 * k, b1 * k, b2 * k
+        if disagree_s > recovery_s:
+            flags |= RESTARTED
+            disagree_s, b0, b1, b2 = 0.0, 0.0, 0.0, 0.0
     q0, q1, q2, q3 = q0 + d0 * h, q1 + d1 * h, q2 + d2 * h, q3 + d3 * h
     q_inv = 1.0 / math.sqrt(q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
-    return q0 * q_inv, q1 * q_inv, q2 * q_inv, q3 * q_inv, b0, b1, b2, flags
+    return q0 * q_inv, q1 * q_inv, q2 * q_inv, q3 * q_inv, b0, b1, b2, disagree_s, flags
+
+
 
 
 # The streaming filter runs the kernels as plain Python: cheaper than a numba call
@@ -317,14 +330,17 @@ class MadgwickFilter:
 
         `rejected` counts the samples whose gyro (beyond `max_rate_rad_s` or not finite),
         accel (beyond `max_accel_m_s2`, zero or not finite) or dt (<= 0, not finite or a
-        gap) the filter refused since the reset.
+        gap) the filter refused since the reset; `restarts` how often a lasting
+        disagreement with the accel restarted the gain ramp.
         """
         self._q = (1.0, 0.0, 0.0, 0.0)
         self._bias = (0.0, 0.0, 0.0)
         self._elapsed = 0.0
+        self._disagree_s = 0.0
         self.initialised = not self.config.start_from_first_sample
         self.last_flags = 0
         self.rejected = dict.fromkeys(_REJECTIONS, 0)
+        self.restarts = 0
 
     @property
     def quaternion(self) -> np.ndarray:
@@ -363,13 +379,17 @@ class MadgwickFilter:
             return
         beta, zeta = _gains_py(self._elapsed, config.gain, config.initial_gain, config.ramp_s,
                                config.bias_gain)
-        *q, b0, b1, b2, flags = _step_py(
+        *q, b0, b1, b2, self._disagree_s, flags = _step_py(
             *self._q, *self._bias, gx, gy, gz, ax, ay, az, mx, my, mz, dt_s, beta, zeta,
             config.max_bias, config.use_mag, config.min_dip_sin, config.max_dt_s,
-            config.max_rate_rad_s, config.max_accel_m_s2)
+            config.max_rate_rad_s, config.max_accel_m_s2, self._disagree_s,
+            config.recovery_s, config.recovery_error_sq)
         self._q = tuple(q)
         self._bias = (b0, b1, b2)
-        if not flags & REJECTED_DT:
+        if flags & RESTARTED:
+            self._elapsed = 0.0
+            self.restarts += 1
+        elif not flags & REJECTED_DT:
             self._elapsed += dt_s
         self.last_flags = flags
         for name, flag in _REJECTIONS.items():
@@ -379,13 +399,14 @@ class MadgwickFilter:
 
 @numba.njit(cache=True)
 def _run_batch(gyro, accel, mag, dt, gain, initial_gain, ramp_s, bias_gain, max_bias,
-               use_mag, min_dip_sin, max_dt, max_rate, max_accel, initialised):
+               use_mag, min_dip_sin, max_dt, max_rate, max_accel, recovery_s, recovery_error_sq,
+               initialised):
     n = gyro.shape[0]
     out = np.empty((n, 4))
     flags = np.zeros(n, dtype=np.int64)
     q0, q1, q2, q3 = 1.0, 0.0, 0.0, 0.0
     b0 = b1 = b2 = 0.0
-    elapsed = 0.0
+    elapsed = disagree_s = 0.0
     for i in range(n):
         ax, ay, az = accel[i, 0], accel[i, 1], accel[i, 2]
         if not initialised:
@@ -399,11 +420,14 @@ def _run_batch(gyro, accel, mag, dt, gain, initial_gain, ramp_s, bias_gain, max_
                 flags[i] = REJECTED_ACCEL
         else:
             beta, zeta = _gains(elapsed, gain, initial_gain, ramp_s, bias_gain)
-            q0, q1, q2, q3, b0, b1, b2, flags[i] = _step(
+            q0, q1, q2, q3, b0, b1, b2, disagree_s, flags[i] = _step(
                 q0, q1, q2, q3, b0, b1, b2, gyro[i, 0], gyro[i, 1], gyro[i, 2], ax, ay, az,
                 mag[i, 0], mag[i, 1], mag[i, 2], dt[i], beta, zeta, max_bias, use_mag,
-                min_dip_sin, max_dt, max_rate, max_accel)
-            if not flags[i] & REJECTED_DT:
+                min_dip_sin, max_dt, max_rate, max_accel, disagree_s, recovery_s,
+                recovery_error_sq)
+            if flags[i] & RESTARTED:
+                elapsed = 0.0
+            elif not flags[i] & REJECTED_DT:
                 elapsed += dt[i]
         out[i, 0], out[i, 1], out[i, 2], out[i, 3] = q0, q1, q2, q3
     return out, flags
@@ -426,7 +450,7 @@ def filter_batch(gyro, accel, dt_s, mag=None, config: MadgwickConfig = MadgwickC
         (n,) int flags.
 
     Raises:
-        ValueError: an array of the wrong shape.
+        ReadingError: an array of the wrong shape (a ValueError).
     """
     gyro = np.ascontiguousarray(gyro, dtype=np.float64)
     accel = np.ascontiguousarray(accel, dtype=np.float64)
@@ -435,11 +459,12 @@ def filter_batch(gyro, accel, dt_s, mag=None, config: MadgwickConfig = MadgwickC
     mag = np.full((n, 3), np.nan) if mag is None else np.ascontiguousarray(mag, np.float64)
     for name, array in (('gyro', gyro), ('accel', accel), ('mag', mag)):
         if array.shape != (n, 3):
-            raise ValueError(f'{name} must have shape ({n}, 3), got {array.shape!r}')
+            raise ReadingError(f'{name} must have shape ({n}, 3), got {array.shape!r}')
     out, flags = _run_batch(gyro, accel, mag, dt, config.gain, config.initial_gain,
                             config.ramp_s, config.bias_gain, config.max_bias, config.use_mag,
                             config.min_dip_sin, config.max_dt_s, config.max_rate_rad_s,
-                            config.max_accel_m_s2, not config.start_from_first_sample)
+                            config.max_accel_m_s2, config.recovery_s,
+                            config.recovery_error_sq, not config.start_from_first_sample)
     if config.use_mag:
         out = np.stack(_to_enu(*out.T), axis=1)
     return (out, flags) if return_flags else out
