@@ -25,7 +25,7 @@ import numpy as np
 
 from tactex_description.geometry import JOINT_STATE_NAMES, OPEN_MANIPULATOR_X
 from tactex_description.mjcf import build_mjcf, IMU_SITE, SENSOR_EDGE_GEOM, SENSOR_GEOM
-from tactex_sim.effects import Effect, effect_class, Reading
+from tactex_sim.effects import Effect, effect_class, EFFECTS, Reading
 from tactex_sim.scene import Scene
 from tactex_sim.textures import texture as find_texture
 
@@ -70,23 +70,24 @@ class Sample:
     truth: GroundTruth
 
 
-class _Inputs(Mapping):
-    """Effect inputs, each computed on first use within one sample."""
+class _DeclaredInputs(Mapping):
+    """The inputs one effect declared: each computed by the world on first use per sample."""
 
-    def __init__(self, world: World) -> None:
+    def __init__(self, world: World, effect: Effect) -> None:
         self._world = world
-        self._cache: dict[str, Any] = {}
+        self._effect = effect
 
     def __getitem__(self, key: str) -> Any:
-        if key not in self._cache:
-            self._cache[key] = self._world._input(key)  # noqa: SLF001 - the world's helper
-        return self._cache[key]
+        if key not in self._effect.reads:
+            raise KeyError(f'effect {self._effect.name!r} reads {key!r} without declaring it; '
+                           f'it declares {sorted(self._effect.reads)}')
+        return self._world.input(key)
 
     def __iter__(self):
-        return iter(self._cache)
+        return iter(self._effect.reads)
 
     def __len__(self) -> int:
-        return len(self._cache)
+        return len(self._effect.reads)
 
 
 class World:
@@ -113,30 +114,31 @@ class World:
         for patch in self._patches:
             find_texture(patch.texture)
         self.effects: list[Effect] = []
-        for name in scene.effects:
-            options = dict(scene.effect_options.get(name, {}))
-            if name == 'texture':
+        # Registry order, whatever the scene's order (effect_class names unknown ones).
+        for cls in sorted(map(effect_class, scene.effects), key=list(EFFECTS.values()).index):
+            options = dict(scene.effect_options.get(cls.name, {}))
+            if cls.name == 'texture':
                 options.setdefault('heading_rad', texture_heading_rad)
-            if name == 'barometer':
+            if cls.name == 'barometer':
                 options.setdefault('drift_pa_per_s', drift_pa_per_s)
-            self.effects.append(effect_class(name)(self.rng, noise_scale, **options))
-        enabled = {e.name for e in self.effects}
+            self.effects.append(cls(self.rng, noise_scale, **options))
+        written = frozenset().union(*(e.writes for e in self.effects))
         self.period_s = 1.0 / scene.sensor_rate_hz
         # Steps per sample; the tolerance keeps a step that divides the period exactly.
         self.substeps = max(1, math.ceil(self.period_s / scene.timestep_s - 1e-9))
         self.model = mujoco.MjModel.from_xml_string(build_mjcf(
-            timestep_s=self.period_s / self.substeps, compliant='compliance' in enabled,
+            timestep_s=self.period_s / self.substeps, compliant='sensor pose' in written,
             assets_xml=self._surface_assets(), worldbody_xml=self._surface_geoms(),
             sensors_xml=f'<accelerometer name="accel" site="{IMU_SITE}"/>'
                         f'<gyro name="gyro" site="{IMU_SITE}"/>'))
         if scene.surface.kind == 'uneven':
             self._fill_heightfield()
-        if 'contact' not in enabled:
+        if 'contact' not in written:
             self.model.opt.disableflags |= mujoco.mjtDisableBit.mjDSBL_CONTACT
         self.data = mujoco.MjData(self.model)
         self._arm_qpos = [self.model.joint(n).qposadr[0] for n in JOINT_STATE_NAMES]
         self._press = (self.model.joint('sensor_press').qposadr[0]
-                       if 'compliance' in enabled else None)
+                       if 'sensor pose' in written else None)
         self._sensor_geoms = {self.model.geom(SENSOR_GEOM).id,
                               self.model.geom(SENSOR_EDGE_GEOM).id}
         self._surface_geom = self.model.geom(SURFACE_GEOM).id
@@ -147,7 +149,8 @@ class World:
         self._sample_time_s = 0.0
         self._force = np.zeros(6)
         self._edge_velocity = np.zeros(6)
-        self._inputs: _Inputs | None = None
+        self._cache: dict[str, Any] = {}
+        self._effect_inputs = [(effect, _DeclaredInputs(self, effect)) for effect in self.effects]
         self.controller = None  # callable(time_s) -> joint targets, before every step
         for effect in self.effects:
             effect.after_compile(self.model, self.data)
@@ -223,10 +226,10 @@ class World:
         self._samples_taken += 1
         sensordata = self.data.sensordata
         reading = Reading(sensordata[0:3].copy(), sensordata[3:6].copy())
-        self._inputs = _Inputs(self)
-        for effect in self.effects:
-            effect.apply(reading, self._inputs)
-        truth = GroundTruth(sample_time_s, self._inputs['contact'],
+        self._cache.clear()
+        for effect, inputs in self._effect_inputs:
+            effect.apply(reading, inputs)
+        truth = GroundTruth(sample_time_s, self.input('contact'),
                             self.data.xquat[self._sensor_body].copy(),
                             self.data.xpos[self._edge_body].copy(),
                             self._texture_name_at(self.data.xpos[self._edge_body]))
@@ -238,7 +241,17 @@ class World:
         patch = next((p for p in self._patches if p.contains(position[0], position[1])), None)
         return '' if patch is None else patch.texture
 
-    def _input(self, key: str) -> Any:
+    def input(self, key: str) -> Any:
+        """An effect input at the present sample, computed once per sample.
+
+        Raises:
+            KeyError: no such input.
+        """
+        if key not in self._cache:
+            self._cache[key] = self._compute(key)
+        return self._cache[key]
+
+    def _compute(self, key: str) -> Any:
         if key == 'contact':
             return self.contact()
         if key == 'edge velocity':
@@ -246,8 +259,8 @@ class World:
                                      self._edge_body, self._edge_velocity, 0)
             return self._edge_velocity[3:].copy()
         if key == 'texture':
-            name = self._texture_name_at(self._inputs['contact'].point) \
-                if self._inputs['contact'].touching else ''
+            name = self._texture_name_at(self.input('contact').point) \
+                if self.input('contact').touching else ''
             return find_texture(name) if name else None
         if key == 'sensor rotation':
             return self.data.site_xmat[self._site].reshape(3, 3).copy()
@@ -257,7 +270,7 @@ class World:
             if self._press is not None:
                 return max(0.0, -float(self.data.qpos[self._press]))
             # Welded body: what the compliant one would compress under this force.
-            return self._inputs['contact'].force / PRESS_STIFFNESS_N_M
+            return self.input('contact').force / PRESS_STIFFNESS_N_M
         if key == 'time':
             return self._sample_time_s
         if key == 'sample rate':
