@@ -131,8 +131,10 @@ def test_baselines_learn_the_toy_task_honestly(make):
 
 
 def test_a_deep_model_fits_and_generalises_to_held_out_recordings():
-    data = toy(recordings_per_class=10, windows=8)
-    train = data.trial % 100 < 7
+    # 14 training recordings per class: with 7, held-out accuracy swung between chance and
+    # 0.7 with the seed, under either initialisation.
+    data = toy(recordings_per_class=20, windows=8)
+    train = data.trial % 100 < 14
     model = DeepClassifier(TrainingConfig('cnn_1', epochs=25, batch_size=16)).fit(
         data.X[train], data.y[train], CLASSES)
     assert model.history_[-1]['train_accuracy'] > 0.9
