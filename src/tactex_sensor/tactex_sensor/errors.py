@@ -9,3 +9,7 @@ class SensorError(Exception):
 
 class ReadingError(SensorError, ValueError):
     """A reading is unusable (not finite, zero, or the wrong shape); the message quotes it."""
+
+
+class FrameError(SensorError, ValueError):
+    """A sample cannot be put into a protocol frame (a value beyond float32, a bad integer)."""

@@ -19,7 +19,8 @@ Madgwick's zeta term would integrate a unit vector of noise).
 Every input is checked, and a rejected one is flagged (and counted by the streaming
 filter): a gyro axis beyond `max_rate_rad_s` (default: the LSM9DS0's widest range, so
 only a corrupted frame gets there) or non-finite skips the prediction; an accel axis
-beyond `max_accel_m_s2`, a non-finite or zero accel skips the correction; an invalid
+beyond `max_accel_m_s2`, a non-finite accel or one weaker than `min_accel_m_s2` (free
+fall, a dead chip: its direction is noise) skips the correction; an invalid
 magnetometer or one nearly parallel to gravity leaves heading alone; dt <= 0, a
 non-finite dt or a gap longer than `max_dt_s` never integrates the gyro over it.
 Readings are scaled by their largest axis before they are normalised, so neither
@@ -44,7 +45,11 @@ import sys
 import numba
 import numpy as np
 
-from tactex_common.constants import ACCEL_FULL_SCALE_M_S2, GYRO_FULL_SCALE_RAD_S
+from tactex_common.constants import (
+    ACCEL_FULL_SCALE_M_S2,
+    GYRO_FULL_SCALE_RAD_S,
+    STANDARD_GRAVITY_M_S2,
+)
 from tactex_sensor.errors import ReadingError
 from tactex_sensor.orientation import gravity_alignment, unit_direction
 
@@ -81,6 +86,8 @@ class MadgwickConfig:
         max_dt_s: a longer step is a gap: no gyro integration over it.
         max_rate_rad_s: a gyro axis reading more is a corrupted sample: rejected.
         max_accel_m_s2: an accel axis reading more is a corrupted sample: rejected.
+        min_accel_m_s2: a weaker accel (free fall, zero, subnormal) tells no direction:
+            rejected.
         recovery_angle_rad: a tilt disagreement between accel and attitude above this ...
         recovery_s: ... for longer than this (s) restarts the start-up ramp and forgets
             the bias, so the filter recovers from any state within about
@@ -99,6 +106,7 @@ class MadgwickConfig:
     max_dt_s: float = 0.1
     max_rate_rad_s: float = GYRO_FULL_SCALE_RAD_S
     max_accel_m_s2: float = ACCEL_FULL_SCALE_M_S2
+    min_accel_m_s2: float = 0.1 * STANDARD_GRAVITY_M_S2
     recovery_angle_rad: float = math.radians(10.0)
     recovery_s: float = 1.0
     start_from_first_sample: bool = True
@@ -110,7 +118,7 @@ class MadgwickConfig:
             if not (math.isfinite(value) and value >= 0.0):
                 raise ValueError(f'{name} must be finite and >= 0, got {value!r}')
         for name in ('ramp_s', 'max_dt_s', 'max_rate_rad_s', 'max_accel_m_s2',
-                     'recovery_angle_rad', 'recovery_s'):
+                     'min_accel_m_s2', 'recovery_angle_rad', 'recovery_s'):
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0.0):
                 raise ValueError(f'{name} must be finite and > 0, got {value!r}')
@@ -153,11 +161,22 @@ def _initial_attitude(ux: float, uy: float, uz: float, mag_ok: bool, mx: float, 
 
 
 @numba.njit(cache=True)
+def _gravity_direction(ax: float, ay: float, az: float, min_accel: float, max_accel: float
+                       ) -> tuple[bool, float, float, float]:
+    """(valid, unit vector) of an accel: every axis within max_accel, its norm >= min_accel."""
+    valid, ux, uy, uz = unit_direction(ax, ay, az, max_accel)
+    # |a| = max |a_i| / max |u_i|, with no overflow and no underflow.
+    if valid and max(abs(ax), abs(ay), abs(az)) < min_accel * max(abs(ux), abs(uy), abs(uz)):
+        return False, 0.0, 0.0, 0.0
+    return valid, ux, uy, uz
+
+
+@numba.njit(cache=True)
 def _first_attitude(ax: float, ay: float, az: float, mx: float, my: float, mz: float,
-                    use_mag: bool, min_dip_sin: float, max_accel: float
+                    use_mag: bool, min_dip_sin: float, min_accel: float, max_accel: float
                     ) -> tuple[bool, float, float, float, float]:
     """(found, attitude) from a sample: found when its accel is valid."""
-    accel_ok, ux, uy, uz = unit_direction(ax, ay, az, max_accel)
+    accel_ok, ux, uy, uz = _gravity_direction(ax, ay, az, min_accel, max_accel)
     if not accel_ok:
         return False, 1.0, 0.0, 0.0, 0.0
     mag_ok = False
@@ -191,7 +210,8 @@ def _step(q0: float, q1: float, q2: float, q3: float, b0: float, b1: float, b2: 
           gx: float, gy: float, gz: float, ax: float, ay: float, az: float,
           mx: float, my: float, mz: float, dt: float, beta: float, zeta: float,
           max_bias: float, use_mag: bool, min_dip_sin: float, max_dt: float,
-          max_rate: float, max_accel: float, disagree_s: float, recovery_s: float,
+          max_rate: float, min_accel: float, max_accel: float, disagree_s: float,
+          recovery_s: float,
           recovery_error_sq: float):
     """One filter update; returns (q0, q1, q2, q3, b0, b1, b2, disagree_s, flags).
 
@@ -227,7 +247,7 @@ def _step(q0: float, q1: float, q2: float, q3: float, b0: float, b1: float, b2: 
                           q0 * rx + q1 * c + q2 * rz - q3 * ry,
                           q0 * ry - q1 * rz + q2 * c + q3 * rx,
                           q0 * rz + q1 * ry - q2 * rx + q3 * c)
-    accel_ok, ax, ay, az = unit_direction(ax, ay, az, max_accel)
+    accel_ok, ax, ay, az = _gravity_direction(ax, ay, az, min_accel, max_accel)
     if not accel_ok:
         flags |= REJECTED_ACCEL
     else:
@@ -329,8 +349,8 @@ class MadgwickFilter:
         """Forget the attitude, bias, start-up ramp and rejection counts.
 
         `rejected` counts the samples whose gyro (beyond `max_rate_rad_s` or not finite),
-        accel (beyond `max_accel_m_s2`, zero or not finite) or dt (<= 0, not finite or a
-        gap) the filter refused since the reset; `restarts` how often a lasting
+        accel (beyond `max_accel_m_s2`, below `min_accel_m_s2` or not finite) or dt (<= 0,
+        not finite or a gap) the filter refused since the reset; `restarts` how often a lasting
         disagreement with the accel restarted the gain ramp.
         """
         self._q = (1.0, 0.0, 0.0, 0.0)
@@ -368,7 +388,8 @@ class MadgwickFilter:
         mx, my, mz = (math.nan, math.nan, math.nan) if mag is None else mag
         if not self.initialised:
             found, *q = _first_attitude_py(ax, ay, az, mx, my, mz, config.use_mag,
-                                           config.min_dip_sin, config.max_accel_m_s2)
+                                           config.min_dip_sin, config.min_accel_m_s2,
+                                           config.max_accel_m_s2)
             if found:
                 self._q = tuple(q)
                 self.initialised = True
@@ -382,7 +403,8 @@ class MadgwickFilter:
         *q, b0, b1, b2, self._disagree_s, flags = _step_py(
             *self._q, *self._bias, gx, gy, gz, ax, ay, az, mx, my, mz, dt_s, beta, zeta,
             config.max_bias, config.use_mag, config.min_dip_sin, config.max_dt_s,
-            config.max_rate_rad_s, config.max_accel_m_s2, self._disagree_s,
+            config.max_rate_rad_s, config.min_accel_m_s2, config.max_accel_m_s2,
+            self._disagree_s,
             config.recovery_s, config.recovery_error_sq)
         self._q = tuple(q)
         self._bias = (b0, b1, b2)
@@ -399,8 +421,8 @@ class MadgwickFilter:
 
 @numba.njit(cache=True)
 def _run_batch(gyro, accel, mag, dt, gain, initial_gain, ramp_s, bias_gain, max_bias,
-               use_mag, min_dip_sin, max_dt, max_rate, max_accel, recovery_s, recovery_error_sq,
-               initialised):
+               use_mag, min_dip_sin, max_dt, max_rate, min_accel, max_accel, recovery_s,
+               recovery_error_sq, initialised):
     n = gyro.shape[0]
     out = np.empty((n, 4))
     flags = np.zeros(n, dtype=np.int64)
@@ -411,7 +433,8 @@ def _run_batch(gyro, accel, mag, dt, gain, initial_gain, ramp_s, bias_gain, max_
         ax, ay, az = accel[i, 0], accel[i, 1], accel[i, 2]
         if not initialised:
             found, p0, p1, p2, p3 = _first_attitude(ax, ay, az, mag[i, 0], mag[i, 1],
-                                                    mag[i, 2], use_mag, min_dip_sin, max_accel)
+                                                    mag[i, 2], use_mag, min_dip_sin, min_accel,
+                                                    max_accel)
             if found:
                 q0, q1, q2, q3 = p0, p1, p2, p3
                 initialised = True
@@ -423,7 +446,7 @@ def _run_batch(gyro, accel, mag, dt, gain, initial_gain, ramp_s, bias_gain, max_
             q0, q1, q2, q3, b0, b1, b2, disagree_s, flags[i] = _step(
                 q0, q1, q2, q3, b0, b1, b2, gyro[i, 0], gyro[i, 1], gyro[i, 2], ax, ay, az,
                 mag[i, 0], mag[i, 1], mag[i, 2], dt[i], beta, zeta, max_bias, use_mag,
-                min_dip_sin, max_dt, max_rate, max_accel, disagree_s, recovery_s,
+                min_dip_sin, max_dt, max_rate, min_accel, max_accel, disagree_s, recovery_s,
                 recovery_error_sq)
             if flags[i] & RESTARTED:
                 elapsed = 0.0
@@ -463,7 +486,7 @@ def filter_batch(gyro, accel, dt_s, mag=None, config: MadgwickConfig = MadgwickC
     out, flags = _run_batch(gyro, accel, mag, dt, config.gain, config.initial_gain,
                             config.ramp_s, config.bias_gain, config.max_bias, config.use_mag,
                             config.min_dip_sin, config.max_dt_s, config.max_rate_rad_s,
-                            config.max_accel_m_s2, config.recovery_s,
+                            config.min_accel_m_s2, config.max_accel_m_s2, config.recovery_s,
                             config.recovery_error_sq, not config.start_from_first_sample)
     if config.use_mag:
         out = np.stack(_to_enu(*out.T), axis=1)

@@ -133,6 +133,9 @@ class Compliance(Effect):
 
 # Slower than this the edge creeps rather than slides: no texture signal.
 SLIDING_SPEED_M_S = 1e-4
+# The texture model holds up to this sliding speed; faster (a diverging or flung arm)
+# vibrates as at this speed, so the channels stay finite.
+MAX_SLIDING_SPEED_M_S = 2.0
 
 
 def transmissibility(frequency_hz, resonance_hz: float, damping_ratio: float):
@@ -200,6 +203,7 @@ class TextureVibration(Effect):
         if speed < SLIDING_SPEED_M_S:
             return
         direction = tangential / speed
+        speed = min(speed, MAX_SLIDING_SPEED_M_S)
         self._travelled += speed / inputs['sample rate']
         cos_h, sin_h = math.cos(self.heading_rad), math.sin(self.heading_rad)
         uv = np.array([cos_h * contact.point[0] + sin_h * contact.point[1],

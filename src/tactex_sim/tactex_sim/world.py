@@ -26,11 +26,17 @@ import numpy as np
 from tactex_description.geometry import JOINT_STATE_NAMES, OPEN_MANIPULATOR_X
 from tactex_description.mjcf import build_mjcf, IMU_SITE, SENSOR_EDGE_GEOM, SENSOR_GEOM
 from tactex_sim.effects import Effect, effect_class, EFFECTS, Reading
+from tactex_sim.errors import SimError
 from tactex_sim.scene import Scene
 from tactex_sim.textures import texture as find_texture
 
 SURFACE_GEOM = 'surface'
 PRESS_STIFFNESS_N_M = OPEN_MANIPULATOR_X.joint('sensor_press').stiffness
+# The compliant body's travel: no body compresses further, welded or not.
+PRESS_TRAVEL_M = -OPEN_MANIPULATOR_X.joint('sensor_press').lower
+# MuJoCo's warnings that the state went non-finite or huge (it resets the state then).
+_DIVERGED = (mujoco.mjtWarning.mjWARN_BADQPOS, mujoco.mjtWarning.mjWARN_BADQVEL,
+             mujoco.mjtWarning.mjWARN_BADQACC)
 
 
 @dataclass(frozen=True)
@@ -217,11 +223,23 @@ class World:
 
         The first sample is the initial state (time 0); sample k is taken at exactly
         k / sensor_rate_hz, `substeps` physics steps after the previous one.
+
+        Raises:
+            SimError: the physics diverged (MuJoCo found a non-finite or huge state and
+                reset it) or the controller gave non-finite targets.
         """
+        warnings = [self.data.warning[w].number for w in _DIVERGED]
         for _ in range(self.substeps if self._samples_taken else 0):
             if self.controller is not None:
-                self.set_arm_targets(self.controller(self.data.time))
+                targets = np.asarray(self.controller(self.data.time), dtype=float)
+                if not np.all(np.isfinite(targets)):
+                    raise SimError(f'controller gave non-finite joint targets {targets!r} at '
+                                   f't={self.data.time:.4f} s')
+                self.set_arm_targets(targets)
             mujoco.mj_step(self.model, self.data)
+        if [self.data.warning[w].number for w in _DIVERGED] != warnings:
+            raise SimError(f'the physics diverged before t={self.data.time:.4f} s (a '
+                           f'non-finite or huge state; MuJoCo reset it)')
         self._sample_time_s = sample_time_s = self._samples_taken * self.period_s
         self._samples_taken += 1
         sensordata = self.data.sensordata
@@ -270,7 +288,7 @@ class World:
             if self._press is not None:
                 return max(0.0, -float(self.data.qpos[self._press]))
             # Welded body: what the compliant one would compress under this force.
-            return self.input('contact').force / PRESS_STIFFNESS_N_M
+            return min(self.input('contact').force / PRESS_STIFFNESS_N_M, PRESS_TRAVEL_M)
         if key == 'time':
             return self._sample_time_s
         if key == 'sample rate':
