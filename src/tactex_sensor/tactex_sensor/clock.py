@@ -10,12 +10,13 @@ following the jitter of USB reads.
 
 Bad input and how long it lasts: a device time that jumps backwards or further than
 `max_gap_s` (a restart, a corrupted frame) starts the mapping over at the next sample,
-whose stamp is then off by that sample's delay only. A corrupted time that jumps forwards
-by less pulls the estimate too low; once no sample has come within `max_delay_s` of the
-estimate for `recovery_s`, the estimate moves to the smallest offset of that time. So
-`recovery_s` after bad input stops, stamps are again within the smallest transport delay
-seen since (tests/hard_cases/test_clock.py). Offsets are kept relative to the first
-observation, so stamps keep nanosecond resolution at any epoch.
+whose stamp is then late by that sample's transport delay only. A corrupted time ahead
+by less than one sample period, followed by good ones, pulls the estimate early by less
+than that period; the creep takes it back. So from the first good sample after bad
+device times stop, stamps are within the larger of one period and the longest transport
+delay, and converge again as before (tests/hard_cases/test_clock_hard.py). Offsets are
+kept relative to the first observation, so stamps keep nanosecond resolution at any
+epoch.
 """
 
 from __future__ import annotations
@@ -32,31 +33,20 @@ class DeviceClock:
         max_drift_ppm: the largest rate difference between the two clocks (ppm).
         max_gap_s: a device-time jump larger than this (forwards or backwards) is a
             device restart: the clock starts over.
-        max_delay_s: the longest transport delay of a healthy link (s).
-        recovery_s: after this long (device time) with every sample later than
-            `max_delay_s` behind the estimate, the estimate is re-anchored.
     """
 
-    def __init__(self, *, max_drift_ppm: float = 200.0, max_gap_s: float = 5.0,
-                 max_delay_s: float = 0.005, recovery_s: float = 1.0) -> None:
+    def __init__(self, *, max_drift_ppm: float = 200.0, max_gap_s: float = 5.0) -> None:
         if not (math.isfinite(max_drift_ppm) and max_drift_ppm >= 0):
             raise ValueError(f'max_drift_ppm must be finite and >= 0, got {max_drift_ppm!r}')
-        for name, value in (('max_gap_s', max_gap_s), ('max_delay_s', max_delay_s),
-                            ('recovery_s', recovery_s)):
-            if not (math.isfinite(value) and value > 0):
-                raise ValueError(f'{name} must be finite and > 0, got {value!r}')
+        if not (math.isfinite(max_gap_s) and max_gap_s > 0):
+            raise ValueError(f'max_gap_s must be finite and > 0, got {max_gap_s!r}')
         self._drift = max_drift_ppm * 1e-6
         self._max_gap_us = int(max_gap_s * 1e6)
-        self._max_delay_ns = max_delay_s * 1e9
-        self._recovery_us = recovery_s * 1e6
         self._last_raw: int | None = None
         self._device_us = 0
         self._base_ns = 0  # the first observed offset; the estimate is kept relative to it
         self._offset_ns: float | None = None
-        self._late_since_us: int | None = None
-        self._late_min_ns = math.inf
         self.restarts = 0
-        self.recoveries = 0
 
     def reset(self) -> None:
         """Start over (after a reconnect)."""
@@ -90,23 +80,7 @@ class DeviceClock:
         observed = int(host_rx_ns) - device_us * 1000
         if self._offset_ns is None:
             self._base_ns, self._offset_ns = observed, 0.0
-            self._late_since_us, self._late_min_ns = None, math.inf
             return int(host_rx_ns)
-        relative = float(observed - self._base_ns)
         creep = self._drift * max(0, device_us - previous_us) * 1000
-        self._offset_ns = min(self._offset_ns + creep, relative)
-        self._recover(device_us, relative)
+        self._offset_ns = min(self._offset_ns + creep, float(observed - self._base_ns))
         return device_us * 1000 + self._base_ns + math.floor(self._offset_ns)
-
-    def _recover(self, device_us: int, relative: float) -> None:
-        """Re-anchor an estimate that no sample has come near for `recovery_s`."""
-        if relative <= self._offset_ns + self._max_delay_ns:
-            self._late_since_us, self._late_min_ns = None, math.inf
-            return
-        if self._late_since_us is None:
-            self._late_since_us = device_us
-        self._late_min_ns = min(self._late_min_ns, relative)
-        if device_us - self._late_since_us >= self._recovery_us:
-            self._offset_ns = self._late_min_ns
-            self.recoveries += 1
-            self._late_since_us, self._late_min_ns = None, math.inf
