@@ -164,7 +164,7 @@ class TextureVibration(Effect):
     reads = frozenset({'contact', 'edge velocity', 'texture', 'sensor rotation', 'sample rate'})
     writes = frozenset({'accel', 'gyro'})
     defaults = {'resonance_hz': Option(85.0, 0.0, 1e4, above_low=True),
-                'damping_ratio': Option(0.12, 0.0, 10.0),
+                'damping_ratio': Option(0.12, 0.01, 10.0),
                 'rocking_gain': Option(0.6, 0.0, 1e3),
                 'reference_force_n': Option(1.0, 0.0, 1e3, above_low=True),
                 'heading_rad': Option(0.0),
@@ -197,6 +197,9 @@ class TextureVibration(Effect):
         if surface is None:
             return
         velocity = inputs['edge velocity']
+        largest = float(np.max(np.abs(velocity)))
+        if largest > MAX_SLIDING_SPEED_M_S:  # flung: keep the direction, cap the speed
+            velocity = velocity * (MAX_SLIDING_SPEED_M_S / largest)
         normal = contact.normal
         tangential = velocity - np.dot(velocity, normal) * normal
         speed = float(np.linalg.norm(tangential))
@@ -256,11 +259,17 @@ class ImuNoise(Effect):
             0.0, self.options['gyro_sd'] * self.noise_scale, 3)
 
 
+# Farther than this on some axis, a magnet's dipole is computed as at this distance
+# (1e-16 T or less per A m^2).
+FAR_FROM_MAGNET_M = 1e3
+
+
 class Magnetometer(Effect):
     """Earth's field plus a nearby magnet's dipole field, in the sensor frame, with noise.
 
     Closer to the magnet's centre than `magnet_radius_m` (inside the magnet, where the
-    dipole law does not hold), the field is that at the radius, so it stays finite.
+    dipole law does not hold), the field is that at the radius, so it stays finite;
+    farther than FAR_FROM_MAGNET_M, that at FAR_FROM_MAGNET_M in the same direction.
     """
 
     name = 'magnetometer'
@@ -275,6 +284,9 @@ class Magnetometer(Effect):
     def apply(self, reading: Reading, inputs: Mapping[str, Any]) -> None:
         """Field at the sensor, rotated into its frame."""
         offset = inputs['sensor position'] - np.asarray(self.options['magnet_position_m'])
+        largest = float(np.max(np.abs(offset)))
+        if largest > FAR_FROM_MAGNET_M:  # same direction, no overflow
+            offset = offset * (FAR_FROM_MAGNET_M / largest)
         norm = float(np.linalg.norm(offset))
         moment = np.asarray(self.options['magnet_moment_am2'], dtype=float)
         unit = offset / norm if norm > 0.0 else np.array([0.0, 0.0, 1.0])
