@@ -27,6 +27,7 @@ from tactex_common.channels import CHANNELS
 os.environ.setdefault('OMP_WAIT_POLICY', 'PASSIVE')  # no spinning next to ROS nodes
 CHECKPOINT_VERSION = 1
 SCALINGS = ('minmax', 'standard')
+INITS = ('keras', 'pytorch')
 SCALED_LIMIT = 1e4
 
 
@@ -42,10 +43,12 @@ class ChannelScaler:
         """Fit on (n, window, channels); a constant channel gets scale 1.
 
         Raises:
-            ValueError: no windows, or an unknown kind.
+            ValueError: no windows, NaN or inf in them, or an unknown kind.
         """
         if not X.size:
             raise ValueError(f'cannot fit a scaler on no data, got shape {X.shape!r}')
+        if not np.all(np.isfinite(X)):
+            raise ValueError('cannot fit a scaler on data with NaN or inf; drop them first')
         flat = X.reshape(-1, X.shape[-1]).astype(np.float64)
         if self.kind == 'minmax':
             offset, span = flat.min(axis=0), flat.max(axis=0) - flat.min(axis=0)
@@ -114,7 +117,20 @@ def check_windows(X, *, window: int | None = None, channels: int | None = None) 
 
 
 def softmax(logits: np.ndarray) -> np.ndarray:
-    """Row-wise softmax, finite for any finite logits (even +-1e4)."""
+    """Row-wise softmax of (n, classes) logits: a distribution for any finite logits.
+
+    Raises:
+        ValueError: not (n, classes >= 1), or a logit that is not finite.
+    """
+    logits = np.asarray(logits)
+    if logits.ndim != 2 or logits.shape[1] < 1:
+        raise ValueError(f'logits must be (n, classes >= 1), got shape {logits.shape!r}')
+    if not np.all(np.isfinite(logits)):
+        raise ValueError('logits must be finite; the model produced NaN or inf')
+    if not len(logits):
+        return np.zeros(logits.shape, dtype=logits.dtype)
+    # The largest logit maps to exp(0) = 1, so no row sums below 1; a difference that
+    # overflows to -inf just gives 0.
     shifted = logits - logits.max(axis=1, keepdims=True)
     exp = np.exp(shifted)
     return exp / exp.sum(axis=1, keepdims=True)
@@ -134,6 +150,7 @@ class TrainingConfig:
     validation_fraction: float = 0.1
     seed: int = 0
     threads: int = 1
+    init: str = 'keras'  # initial weights: 'keras' (as the original) or 'pytorch' defaults
 
     def check(self) -> TrainingConfig:
         """Return self if every setting is usable.
@@ -153,6 +170,8 @@ class TrainingConfig:
             value = getattr(self, name)
             if not isinstance(value, (int, float)) or not (math.isfinite(value) and value > 0):
                 raise ValueError(f'{name} must be finite and > 0, got {value!r}')
+        if self.init not in INITS:
+            raise ValueError(f'init must be one of {INITS}, got {self.init!r}')
         if self.scaling not in SCALINGS:
             raise ValueError(f'scaling must be one of {SCALINGS}, got {self.scaling!r}')
         fraction = self.validation_fraction
@@ -206,7 +225,7 @@ class DeepClassifier:
         train, validation = validation_split(y, groups, config)
         self.scaler_ = ChannelScaler(config.scaling).fit(X[train])
         self.model_ = build_model(config.model, self.window_, self.n_channels_,
-                                  len(self.classes_))
+                                  len(self.classes_), keras_init=config.init == 'keras')
         optimizer = torch.optim.Adamax(self.model_.parameters(), lr=config.learning_rate)
         loss_fn = torch.nn.CrossEntropyLoss()
         data = torch.from_numpy(self.scaler_.transform(X))
@@ -255,6 +274,8 @@ class DeepClassifier:
     def _logits(self, data) -> np.ndarray:
         import torch
         self.model_.eval()
+        if not len(data):
+            return np.zeros((0, len(self.classes_)), dtype=np.float32)
         with torch.no_grad():
             return np.concatenate([self.model_(data[i:i + 256]).numpy()
                                    for i in range(0, len(data), 256)])
