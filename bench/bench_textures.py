@@ -36,6 +36,15 @@ def _timed(command: list[str], steps: list[dict]) -> None:
                   'seconds': round(time.monotonic() - start, 1)})
 
 
+def build_dataset(folder: Path, sweeps: int, steps: list[dict]) -> Path:
+    """Simulate the uneven-texture set into `folder` and convert it; return the .npz."""
+    bags, data = folder / 'bags', folder / 'sim128.npz'
+    _timed([TACTEX, 'sim', 'collect', '--scene', 'uneven_texture', '--sweeps', str(sweeps),
+            '--out', str(bags)], steps)
+    _timed([TACTEX, 'convert', str(bags), '--out', str(data), '--window', '128'], steps)
+    return data
+
+
 def main() -> int:
     """Collect, convert, train every model on the same windows, keep the reports."""
     parser = argparse.ArgumentParser(description=__doc__)
@@ -48,10 +57,7 @@ def main() -> int:
     args = parser.parse_args()
     steps: list[dict] = []
     with tempfile.TemporaryDirectory() as folder:
-        bags, data = Path(folder) / 'bags', Path(folder) / 'sim128.npz'
-        _timed([TACTEX, 'sim', 'collect', '--scene', 'uneven_texture', '--sweeps',
-                str(args.sweeps), '--out', str(bags)], steps)
-        _timed([TACTEX, 'convert', str(bags), '--out', str(data), '--window', '128'], steps)
+        data = build_dataset(Path(folder), args.sweeps, steps)
         digest = hashlib.sha256(data.read_bytes()).hexdigest()
         sidecar = json.loads(data.with_suffix('.json').read_text(encoding='utf-8'))
         with np.load(data) as arrays:
