@@ -12,7 +12,7 @@ INSTALL_INPUTS := requirements.txt $(wildcard src/*/setup.py src/*/setup.cfg src
 	$(wildcard config/* config/*/* launch/*)
 PYTEST_ARGS ?=
 
-.PHONY: demo test bench urdf lint clean
+.PHONY: demo test bench results urdf lint clean
 
 demo: $(STAMP)
 	$(BIN)/tactex demo
@@ -22,6 +22,10 @@ test: $(STAMP)
 
 bench: $(STAMP)
 	$(BIN)/python bench/run_all.py
+
+# Rewrite the README's generated figures from the outputs kept in bench/results/.
+results: $(STAMP)
+	$(BIN)/python bench/render_results.py
 
 urdf: $(STAMP)
 	$(BIN)/tactex description --write-urdf src/tactex_description/urdf/open_manipulator_x_tactile.urdf
