@@ -25,7 +25,7 @@ from tactex_sensor.madgwick import (
 from tactex_sensor.orientation import rotate, tilt_between
 
 RATE_HZ = 120.0
-RECOVERY_S = 4.0
+RECOVERY_S = 6.0
 CONFIG = MadgwickConfig()
 # In-range garbage: rates the gyro can report, steps the filter integrates over.
 plausible_gyro = vectors(st.floats(-CONFIG.max_rate_rad_s, CONFIG.max_rate_rad_s))
