@@ -75,7 +75,8 @@ def test_any_options_in_range_and_any_world_input_give_finite_channels(name, dat
             assert math.isfinite(getattr(reading, channel)), channel
 
 
-def test_a_diverged_physics_is_a_sim_error_not_a_silent_reset():
+def test_a_diverged_physics_is_a_sim_error_not_a_silent_reset(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)  # MuJoCo logs the warning to MUJOCO_LOG.TXT here
     world = World(load_scene(resolve_scene('probe')))
     world.next_sample()
     world.data.qpos[0] = math.nan  # MuJoCo would reset the state and carry on
