@@ -81,8 +81,9 @@ def madgwick() -> str:
             cases.setdefault((row['bias'], row['rate_hz'], row['mode'], row['motion']),
                              {})[row['filter']] = error
     wins = sum(min(errors, key=errors.get) == 'tactex' for errors in cases.values())
-    lost = sorted({f'{motion} at {rate:g} Hz ({bias})' for (bias, rate, _, motion), errors
-                   in cases.items() if min(errors, key=errors.get) != 'tactex'})
+    lost = [f'{motion}, {rate:g} Hz, {mode}, {bias} ({min(errors, key=errors.get)})'
+            for (bias, rate, mode, motion), errors in cases.items()
+            if min(errors, key=errors.get) != 'tactex']
     lines = ['| gyro bias | mode | tactex | imufusion 1.3.3 | ahrs 0.4.0 |',
              '|---|---|---|---|---|']
     for bias in dict.fromkeys(row['bias'] for row in rows):
@@ -111,7 +112,7 @@ def madgwick() -> str:
             f'RMS error (deg; tilt for IMU, full attitude for MARG) after '
             f'{data["settle_s"]:g} s:\n\n' + '\n'.join(lines) + '\n\n'
             + default + f'Ours has the lowest error in {wins} of {len(cases)} cases; the '
-            f'others win ' + ('; '.join(lost) if lost else 'none') + '.\n')
+            f'others: ' + ('; '.join(lost) if lost else 'none') + '.\n')
 
 
 def driver() -> str:
