@@ -28,8 +28,10 @@
 #endif
 static_assert(TACTEX_RATE_HZ >= 1 && TACTEX_RATE_HZ <= 350, "TACTEX_RATE_HZ must be 1..350");
 
-const tactex::lsm9ds0::AccelRange kAccelRange = tactex::lsm9ds0::AccelRange::k4G;
-const tactex::lsm9ds0::GyroRange kGyroRange = tactex::lsm9ds0::GyroRange::k500Dps;
+// The finest ranges: slow sweeps and texture vibration stay well inside them, and the
+// noise variances of config/sensor.yaml are those of +-2 g.
+const tactex::lsm9ds0::AccelRange kAccelRange = tactex::lsm9ds0::AccelRange::k2G;
+const tactex::lsm9ds0::GyroRange kGyroRange = tactex::lsm9ds0::GyroRange::k245Dps;
 const tactex::lsm9ds0::MagRange kMagRange = tactex::lsm9ds0::MagRange::k2Gauss;
 const uint32_t kI2cClockHz = 400000;
 const uint32_t kCheckIntervalUs = 1000000;  // retry silent chips, re-check live ones

@@ -21,8 +21,8 @@ PRESSURE_PA = ((0x3ECE / 8 + ((0xB3F9 - 65536) / 8192 + (0x33C8 >> 2) / 2**22 * 
                 + (0xC517 - 65536) / 16384 * 507) * 65 / 1023 + 50) * 1000
 TEMPERATURE_C = 25 + (507 - 472) / -5.35
 NAN_BITS = 0x7FC00000
-# One LSB at the sketch's ranges: +-4 g, +-500 dps, +-2 gauss.
-ACCEL_LSB, GYRO_LSB, MAG_LSB = 0.122e-3 * 9.80665, 17.5e-3 * math.pi / 180, 0.08e-7
+# One LSB at the sketch's ranges: +-2 g, +-245 dps, +-2 gauss.
+ACCEL_LSB, GYRO_LSB, MAG_LSB = 0.061e-3 * 9.80665, 8.75e-3 * math.pi / 180, 0.08e-7
 PERIOD_120_US, PERIOD_350_US = 1e6 / 120, 1e6 / 350
 
 
