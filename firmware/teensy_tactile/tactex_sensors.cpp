@@ -44,7 +44,7 @@ void accel_mag_setup(AccelRange accel, MagRange mag,
   writes[2] = {kRegCtrl5XM, 0x74};
   // CTRL_REG6_XM: MFS in bits 6:5.
   writes[3] = {kRegCtrl6XM, static_cast<uint8_t>(code(mag) << 5)};
-  // CTRL_REG7_XM: MD=00, continuous conversion (the reset value 10 powers the mag down).
+  // CTRL_REG7_XM: MD=00, continuous conversion (after reset the magnetometer is not).
   writes[4] = {kRegCtrl7XM, 0x00};
 }
 

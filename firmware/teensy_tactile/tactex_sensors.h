@@ -77,9 +77,10 @@ constexpr uint8_t kAddress = 0x60;
 constexpr uint8_t kRegPadcMsb = 0x00;       // Padc MSB, LSB, Tadc MSB, LSB: 4 bytes
 constexpr uint8_t kRegA0Msb = 0x04;         // a0, b1, b2, c12, each MSB first: 8 bytes
 constexpr uint8_t kCommandConvert = 0x12;   // followed by 0x00: convert pressure and temperature
-constexpr uint32_t kConversionUs = 3000;    // longest time from the command to the result
+constexpr uint32_t kConversionUs = 3000;    // the maximum conversion time drivers quote
 
-// Temperature: 472 counts at 25 degC and -5.35 counts/degC (typical, uncalibrated).
+// Temperature: 472 counts at 25 degC, -5.35 counts/degC, the typical values quoted from the
+// MPL115A1 datasheet (Adafruit's driver uses 498 counts); the sensor is not calibrated.
 constexpr float kTadcAt25C = 472.0f;
 constexpr float kTadcPerDegC = -5.35f;
 
