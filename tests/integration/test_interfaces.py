@@ -89,6 +89,8 @@ def test_message_is_published_and_received_unchanged(ros_context, make):
     node.destroy_node()
     assert received and received[0] == sent
     assert type(received[0]).__module__.startswith('tactex_msgs.msg')
+    # Through Fast DDS: its typesupport library of tactex_msgs was found and loaded.
+    assert rclpy.utilities.get_rmw_implementation_identifier() == 'rmw_fastrtps_cpp'
 
 
 class TinyServers:
