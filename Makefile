@@ -3,7 +3,7 @@
 # package under src/ (editable), builds the interface package tactex_msgs into .venv/,
 # then runs. A second call reinstalls only when requirements.txt, a package's setup
 # files, config/ or launch/ changed, and rebuilds tactex_msgs only when its interface
-# files, CMakeLists.txt or package.xml (or the installed ROS wheels) changed.
+# files, CMakeLists.txt, package.xml, its build script or requirements.txt changed.
 
 PYTHON ?= python3
 VENV := .venv
