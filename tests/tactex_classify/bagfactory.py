@@ -4,12 +4,14 @@
 
 import json
 from pathlib import Path
+import sqlite3
 
 import numpy as np
 from rosbags.rosbag2 import StoragePlugin, Writer
-from rosbags.typesys import get_typestore, Stores
 
-TS = get_typestore(Stores.ROS2_KILTED)
+from tactex_common.interfaces import typestore
+
+TS = typestore()  # ROS 2 Kilted's standard types and tactex_msgs
 T = TS.types
 
 
@@ -24,16 +26,18 @@ def vector(x, y, z):
 
 
 def write_bag(path: Path, stamps_ns, values, *, mag_stamps_ns=None, pressure_stamps_ns=None,
-              active=None, metadata=None, joint_speed=None):
+              active=None, metadata=None, joint_speed=None, estimates=None,
+              storage=StoragePlugin.MCAP):
     """Write a recording of `values` (n, 10), channel order, at header `stamps_ns`.
 
     Mag and pressure may use their own stamps; `active` lists (start_ns, end_ns) spans
-    for sweep/active; `metadata` goes to recording/metadata as JSON.
+    for sweep/active; `metadata` goes to recording/metadata as JSON; `estimates` lists
+    tactex_msgs/TextureEstimate messages for texture/estimate.
     """
     values = np.asarray(values, dtype=float)
     mag_stamps_ns = stamps_ns if mag_stamps_ns is None else mag_stamps_ns
     pressure_stamps_ns = stamps_ns if pressure_stamps_ns is None else pressure_stamps_ns
-    writer = Writer(path, version=9, storage_plugin=StoragePlugin.MCAP)
+    writer = Writer(path, version=9, storage_plugin=storage)
     with writer:
         def connect(topic, kind):
             return writer.add_connection(topic, kind, typestore=TS)
@@ -53,6 +57,11 @@ def write_bag(path: Path, stamps_ns, values, *, mag_stamps_ns=None, pressure_sta
                         T['std_msgs/msg/Bool'](data=state), 'std_msgs/msg/Bool'))
         if joint_speed is not None:
             joints = connect('/joint_states', 'sensor_msgs/msg/JointState')
+        if estimates is not None:
+            estimate = connect('/texture/estimate', 'tactex_msgs/msg/TextureEstimate')
+            for message in estimates:
+                writer.write(estimate, _ns(message.header.stamp), TS.serialize_cdr(
+                    message, 'tactex_msgs/msg/TextureEstimate'))
         for i, stamp in enumerate(stamps_ns):
             row = values[i]
             message = T['sensor_msgs/msg/Imu'](
@@ -79,6 +88,19 @@ def write_bag(path: Path, stamps_ns, values, *, mag_stamps_ns=None, pressure_sta
                 header=header(stamp), fluid_pressure=float(values[i, 9]), variance=0.0),
                 'sensor_msgs/msg/FluidPressure'))
     return path
+
+
+def strip_type_definitions(path: Path):
+    """Remove the type definitions from a sqlite3 bag, as ROS 2 Humble writes it."""
+    (database,) = path.glob('*.db3')
+    with sqlite3.connect(database) as connection:
+        connection.execute('DELETE FROM message_definitions')
+    connection.close()
+    return path
+
+
+def _ns(stamp):
+    return int(stamp.sec) * 10**9 + int(stamp.nanosec)
 
 
 def ramp(count, start_ns=10**12, period_ns=8_333_333):

@@ -4,14 +4,17 @@
 
 import json
 
-from bagfactory import ramp, write_bag
+from bagfactory import ramp, strip_type_definitions, T, write_bag
 import numpy as np
 import pytest
+from rosbags.highlevel import AnyReader, AnyReaderError
+from rosbags.rosbag2 import StoragePlugin
 
 from tactex.cli import main
 from tactex_classify.bags import read_recording
 from tactex_classify.dataset import convert, Dataset, window_starts
 from tactex_classify.errors import DatasetError
+from tactex_common.interfaces import typestore
 
 QUIET = {'progress': lambda line: None}
 
@@ -170,6 +173,47 @@ def test_cli_converts_and_reports(tmp_path, capsys):
                  '--window', '16', '--all-samples']) == 0
     assert 'wrote' in capsys.readouterr().out
     assert main(['convert', str(tmp_path / 'nothing'), '--out', str(tmp_path / 'e.npz')]) == 1
+
+
+def texture_estimate(end_ns, windows=2):
+    time = T['builtin_interfaces/msg/Time']
+    starts = [time(*divmod(int(end_ns - (windows - i) * 10**9), 10**9)) for i in range(windows)]
+    ends = [time(*divmod(int(end_ns - (windows - 1 - i) * 10**9), 10**9)) for i in range(windows)]
+    return T['tactex_msgs/msg/TextureEstimate'](
+        header=T['std_msgs/msg/Header'](stamp=ends[-1], frame_id='sensor_edge'),
+        label='wood', class_id=1, confidence=0.75, class_names=['cork', 'wood'],
+        probabilities=np.array([0.25, 0.75], dtype=np.float32), decided=False,
+        contact_seconds=float(windows), windows_used=windows, window_starts=starts,
+        window_ends=ends, model_id='cnn_3@test')
+
+
+@pytest.mark.parametrize('definitions', ['in the bag', 'none as from ROS 2 Humble'])
+def test_bag_with_texture_estimates_converts_without_ros(tmp_path, capsys, definitions):
+    stamps, values = ramp(64)
+    estimates = [texture_estimate(stamps[i]) for i in (20, 40, 60)]
+    bag = tmp_path / 'a'
+    if definitions == 'in the bag':
+        write_bag(bag, stamps, values, metadata={'label': 'wood', 'trial': 2},
+                  estimates=estimates)
+    else:
+        write_bag(bag, stamps, values, metadata={'label': 'wood', 'trial': 2},
+                  estimates=estimates, storage=StoragePlugin.SQLITE3)
+        strip_type_definitions(bag)
+        with pytest.raises(AnyReaderError, match='no type definitions'), AnyReader([bag]):
+            pass  # only the registered tactex_msgs types make this bag readable
+    assert main(['convert', str(bag), '--out', str(tmp_path / 'd.npz'), '--window', '16',
+                 '--all-samples']) == 0
+    assert 'wrote' in capsys.readouterr().out
+    data = Dataset.load(tmp_path / 'd.npz')
+    assert data.X.shape == (7, 16, 10) and data.classes == ['wood'] and set(data.trial) == {2}
+    with AnyReader([bag], default_typestore=typestore()) as reader:
+        (connection,) = [c for c in reader.connections if c.topic == '/texture/estimate']
+        read = [reader.deserialize(raw, connection.msgtype)
+                for _, _, raw in reader.messages(connections=[connection])]
+    assert [m.header.stamp for m in read] == [e.header.stamp for e in estimates]
+    assert read[0].label == 'wood' and read[0].class_names == ['cork', 'wood']
+    np.testing.assert_array_equal(read[0].probabilities, [0.25, 0.75])
+    assert read[0].window_ends[-1] == read[0].header.stamp and read[0].windows_used == 2
 
 
 def test_bad_window_settings_are_refused(tmp_path):

@@ -22,6 +22,7 @@ from rosbags.highlevel import AnyReader
 from tactex_classify.errors import BagError
 from tactex_common import topics
 from tactex_common.channels import CHANNELS
+from tactex_common.interfaces import typestore
 from tactex_common.stamps import gaps, stamp_ns
 
 PART_PREFIX = 'part_'
@@ -95,7 +96,9 @@ def read_recording(path: Path) -> Recording:
     has_segments = False
     messages = 0
     try:
-        with AnyReader(readable) as reader:
+        # Bags without type definitions (ROS 2 Humble's) decode with the standard types
+        # and tactex_msgs, read from the package's .msg files.
+        with AnyReader(readable, default_typestore=typestore()) as reader:
             connections = [c for c in reader.connections if c.topic in _WANTED]
             has_segments = any(c.topic == f'/{topics.SWEEP_ACTIVE}' for c in connections)
             for connection, log_ns, raw in reader.messages(connections=connections):
