@@ -67,7 +67,7 @@ def cross_validate(dataset: Dataset, make: Callable[[], object], scheme: str, *,
                  f'{len(test)} test windows')
         estimator = make()
         estimator.fit(dataset.X[train], dataset.y[train], dataset.classes,
-                      groups=dataset.trial[train])
+                      groups=dataset.trial[train], channels=dataset.channels)
         result.proba[test] = estimator.predict_proba(dataset.X[test])
         result.fold[test] = index
         result.histories.append(getattr(estimator, 'history_', []))
