@@ -178,8 +178,11 @@ FOREIGN_HEADER = '"Zeit [s]";"acc_x";"acc_y";"acc_z";"Druck (hPa)";'
 
 
 def foreign_csv(rows: int, *, start: float = 0.0, period: float = 0.01, nan_rows=()) -> bytes:
-    """A European spreadsheet export: BOM, ';', quoted header, CRLF, decimal commas,
-    a trailing ';' on every row, 'n/a' cells, latin-1 text in a header."""
+    """A European spreadsheet export.
+
+    UTF-8 BOM, ';' delimiters, a quoted header, CRLF, decimal commas, a trailing ';'
+    on every row, 'n/a' cells.
+    """
     lines = [FOREIGN_HEADER]
     for i in range(rows):
         cells = [f'{start + i * period:.4f}', f'{i},5', f'{-i}', '9,81', f'{1013 + i * 0.01:.2f}']
