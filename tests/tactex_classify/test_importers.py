@@ -304,3 +304,16 @@ def test_cli_import(tmp_path, capsys):
                  '--columns', 'ax=acc_x,ay=acc_y,az=acc_z', '--time', 'Zeit [s]',
                  '--window', '100']) == 0
     assert 'channels ax,ay,az, 100.0 Hz' in capsys.readouterr().out
+
+
+def test_mun_plain_frames_never_stitch_across_nan_rows_and_keep_t0(tmp_path):
+    write_mun(tmp_path, textures=1, trials=1)
+    path = next(tmp_path.glob('pickles_30/texture_01/full_imu/*.pkl'))
+    frame = pd.read_pickle(path)
+    frame.iloc[:, 0] = np.arange(800.0)
+    frame.iloc[400:405, 3] = np.nan
+    path.write_bytes(pickle.dumps(frame))
+    data = import_mun(tmp_path, window=350, hop=175, **QUIET)
+    first = data.trial == data.trial.min()
+    np.testing.assert_array_equal(data.X[first, 0, 0], [0.0, 405.0])
+    np.testing.assert_allclose(data.t0[first], [0.0, 405 / 350.0])
