@@ -95,12 +95,12 @@ def check_output_file(path: Path, option: str = '--out', *, suffix: str | None =
         suffix: the suffix the file must have (added when missing).
         companions: suffixes of files written beside it (e.g. a sidecar's '.json').
     """
-    path = Path(path)
+    path = given = Path(path)
     if suffix is not None:
         if path.suffix and path.suffix != suffix:
             raise CommandError(f'{option} {path}: must end in {suffix}')
         path = path.with_suffix(suffix)
-    for item in (path, *(path.with_suffix(s) for s in companions)):
+    for item in (given, path, *(path.with_suffix(s) for s in companions)):
         if item.is_dir():
             raise CommandError(f'{option} {item} is a folder; give a file path such as '
                                f'{item / ("data" + (suffix or ""))}')

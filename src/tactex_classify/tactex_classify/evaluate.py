@@ -17,9 +17,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from sklearn.model_selection import StratifiedGroupKFold, StratifiedKFold
 
+from tactex_classify.catalog import SCHEMES
 from tactex_classify.dataset import Dataset
-
-SCHEMES = ('grouped', 'stratified')
 
 
 @dataclass

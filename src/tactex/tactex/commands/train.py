@@ -11,7 +11,7 @@ import time
 
 from tactex.errors import CommandError
 from tactex.options import check_output_folder, integer, staged_folder
-from tactex_classify.catalog import ALL_MODELS, BASELINES
+from tactex_classify.catalog import ALL_MODELS, BASELINES, SCHEMES
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -19,7 +19,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('data', type=Path, help='dataset (.npz with its .json sidecar)')
     parser.add_argument('--model', default='cnn_1', choices=ALL_MODELS,
                         help='one of the eight models of the original, or a baseline')
-    parser.add_argument('--cv', default='both', choices=['grouped', 'stratified', 'both'],
+    parser.add_argument('--cv', default='both', choices=[*SCHEMES, 'both'],
                         help='grouped by recording (honest), stratified windows (the '
                              "original's, leaky), or both side by side (default)")
     parser.add_argument('--folds', type=integer(2), default=5, help='folds per scheme (5)')
@@ -38,11 +38,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Cross-validate, report, and save the final model."""
+    from tactex_classify.dataset import Dataset
+
+    check_output_folder(args.out)
+    dataset = Dataset.load(args.data)
+    schemes = SCHEMES if args.cv == 'both' else (args.cv,)
+    check_folds(dataset, schemes, args.folds)
+
     from tactex_classify.baselines import MiniRocketRidge, StatsExtraTrees
     from tactex_classify.classifier import DeepClassifier, TrainingConfig
-    from tactex_classify.dataset import Dataset
     from tactex_classify.errors import ClassifyError
-    from tactex_classify.evaluate import cross_validate, SCHEMES
+    from tactex_classify.evaluate import cross_validate
     from tactex_classify.report import write_report
 
     config = TrainingConfig(model=args.model, epochs=args.epochs,
@@ -67,10 +73,6 @@ def run(args: argparse.Namespace) -> int:
             return StatsExtraTrees(seed=args.seed)
         return DeepClassifier(config, progress=epoch_progress)
 
-    check_output_folder(args.out)
-    dataset = Dataset.load(args.data)
-    schemes = SCHEMES if args.cv == 'both' else (args.cv,)
-    check_folds(dataset, schemes, args.folds)
     try:
         with staged_folder(args.out) as folder:
             results = [cross_validate(dataset, make, scheme, folds=args.folds, seed=args.seed,
