@@ -160,6 +160,8 @@ BAD_INPUTS = {
              '{w}/run'),
         Case('train {w}/one_class.npz --out {w}/run', 'DATA has 1 class.*at least two',
              '{w}/run'),
+        Case('train {w}/data.npz --out {w}/run --model cnn_3 --epochs 1 --folds 2',
+             'the window is too short for this model', '{w}/run'),  # fails mid-way
         Case('train {w}/data.npz --out {w}/text.txt', '--out .*text.txt is a file; give a '
              'folder', '{w}/text.txt'),
         Case('train {w}/data.npz --out {w}/full', '--out .*full already holds files; choose a '
