@@ -55,7 +55,7 @@ def test_train_says_when_a_class_is_missing_from_a_training_fold(tmp_path, capsy
     assert main(['train', str(path), '--model', 'extratrees', '--folds', '2', '--cv', 'grouped',
                  '--out', str(tmp_path / 'run')]) == 0
     out = capsys.readouterr().out
-    assert "note: grouped fold" in out and "['high'] absent from training" in out
+    assert 'note: grouped fold' in out and "['high'] absent from training" in out
 
 
 def test_a_failing_run_leaves_no_output_behind(tmp_path, capsys):
