@@ -94,6 +94,7 @@ def make_workspace(w: Path) -> Path:
     (w / 'scenes').mkdir()
     (w / 'scenes' / 'standing.toml').write_text(STANDING_SCENE)
     (w / 'scenes' / 'binary.toml').write_bytes(b'\xff\xfe\x00name')
+    (w / 'broken.launch.py').write_text('LAUNCH = (\n')
     (w / 'readonly').mkdir()
     (w / 'readonly').chmod(0o555)
     return w
@@ -269,6 +270,14 @@ BAD_INPUTS = {
         Case('description --check-urdf {w}/folder', '--check-urdf .*folder is a folder'),
         Case('description --check-urdf {w}/text.txt', 'is stale; regenerate it with `make '
              'urdf`'),
+    ],
+    'launch': [
+        Case('launch', 'name a launch file'),
+        Case('launch nope', "no launch file 'nope'.*known: "),
+        Case('launch {w}/binary.bin', 'no launch file .*binary.bin'),
+        Case('launch {w}/broken.launch.py', 'broken.launch.py cannot be loaded: SyntaxError'),
+        Case('launch sim nope', "launch argument 'nope' is not NAME:=VALUE"),
+        Case('launch sim nope:=1 --print', r"unknown launch argument\(s\) \['nope'\]"),
     ],
     'demo': [
         Case('demo --sweeps 1', 'argument --sweeps: must be a whole number in 3..50'),
