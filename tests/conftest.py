@@ -6,6 +6,7 @@ import os
 import random
 
 from hypothesis import settings
+import pytest
 
 from tactex.ros_env import ros_environment
 
@@ -21,3 +22,13 @@ os.environ.setdefault('OMP_WAIT_POLICY', 'PASSIVE')
 # load a numba cache); each test sets max_examples for its own cost.
 settings.register_profile('tactex', deadline=None)
 settings.load_profile('tactex')
+
+@pytest.fixture
+def ros_context():
+    """A ROS context of the test's own, shut down after it."""
+    import rclpy
+    from rclpy.context import Context
+    context = Context()
+    rclpy.init(context=context)
+    yield context
+    rclpy.shutdown(context=context)

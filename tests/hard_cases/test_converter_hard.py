@@ -8,7 +8,7 @@ from hypothesis import strategies as st
 import numpy as np
 import pytest
 
-from tactex_classify.bags import _align
+from tactex_classify.alignment import align, Stream
 from tactex_classify.dataset import window_starts
 from tactex_common.stamps import gaps
 
@@ -18,28 +18,35 @@ stamps = st.one_of(st.integers(STAMP_LOW, STAMP_HIGH), st.sampled_from([STAMP_LO
                    st.integers(10**12, 10**12 + 10**9))
 
 
+CHANNELS = {'imu': ('ax', 'ay', 'az', 'gx', 'gy', 'gz'), 'mag': ('mx', 'my', 'mz'),
+            'pressure': ('baro',)}
+
+
 @st.composite
-def streams(draw, width):
+def streams(draw, name):
+    width = len(CHANNELS[name])
     count = draw(st.integers(0, 12))
-    return (np.array(draw(st.lists(stamps, min_size=count, max_size=count)), dtype=np.int64),
-            np.array(draw(st.lists(st.lists(anything(), min_size=width, max_size=width),
-                                   min_size=count, max_size=count)), dtype=float
-                     ).reshape(count, width))
+    return Stream(name, CHANNELS[name],
+                  np.array(draw(st.lists(stamps, min_size=count, max_size=count)),
+                           dtype=np.int64),
+                  np.array(draw(st.lists(st.lists(anything(), min_size=width, max_size=width),
+                                         min_size=count, max_size=count)),
+                           dtype=float).reshape(count, width))
 
 
 @settings(max_examples=150)
-@given(streams(6), streams(3), streams(1))
+@given(streams('imu'), streams('mag'), streams('pressure'))
 def test_aligning_any_streams_keeps_sorted_finite_samples_and_accounts_for_the_rest(
         imu, mag, pressure):
-    dropped = {}
-    aligned_stamps, values = _align(imu, mag, pressure, dropped)
-    assert values.shape == (aligned_stamps.size, 10)
-    assert np.all(np.isfinite(values))
-    assert np.all(np.diff(aligned_stamps) > 0)
-    assert set(aligned_stamps.tolist()) <= set(imu[0].tolist())
+    aligned = align(imu, [mag, pressure])
+    dropped = aligned.dropped
+    assert aligned.values.shape == (aligned.stamps_ns.size, 10)
+    assert np.all(np.isfinite(aligned.values))
+    assert np.all(np.diff(aligned.stamps_ns) > 0)
+    assert set(aligned.stamps_ns.tolist()) <= set(imu.stamps_ns.tolist())
     assert all(count >= 0 for count in dropped.values())
-    assert aligned_stamps.size + dropped['nan_samples'] + dropped['unaligned_samples'] + \
-        dropped['imu_duplicates'] == imu[0].size
+    assert aligned.stamps_ns.size + dropped['nan_samples'] + dropped['unaligned_samples'] + \
+        dropped['imu_duplicates'] == imu.stamps_ns.size
 
 
 @settings(max_examples=60)
@@ -47,11 +54,11 @@ def test_aligning_any_streams_keeps_sorted_finite_samples_and_accounts_for_the_r
 def test_aligned_streams_keep_each_channel_where_it_belongs(count, period_ns, start_ns):
     stamps_ns = start_ns + period_ns * np.arange(count, dtype=np.int64)
     values = np.arange(count * 10, dtype=float).reshape(count, 10)  # every channel distinct
-    dropped = {}
-    aligned_stamps, aligned = _align((stamps_ns, values[:, :6]), (stamps_ns, values[:, 6:9]),
-                                     (stamps_ns, values[:, 9:]), dropped)
-    np.testing.assert_array_equal(aligned_stamps, stamps_ns)
-    np.testing.assert_array_equal(aligned, values)
+    aligned = align(Stream('imu', CHANNELS['imu'], stamps_ns, values[:, :6]),
+                    [Stream('mag', CHANNELS['mag'], stamps_ns, values[:, 6:9]),
+                     Stream('pressure', CHANNELS['pressure'], stamps_ns, values[:, 9:])])
+    np.testing.assert_array_equal(aligned.stamps_ns, stamps_ns)
+    np.testing.assert_array_equal(aligned.values, values)
 
 
 @settings(max_examples=150)

@@ -93,6 +93,9 @@ class ChannelScaler:
         """
         if self.offset is None:
             raise NotFittedError('ChannelScaler is not fitted')
+        if X.shape[-1] != len(self.offset):
+            raise ValueError(f'X has {X.shape[-1]} channels, the scaler was fitted on '
+                             f'{len(self.offset)}')
         scaled = (X - np.array(self.offset)) / np.array(self.scale)
         return np.clip(scaled, -SCALED_LIMIT, SCALED_LIMIT).astype(np.float32)
 
@@ -114,6 +117,22 @@ def check_windows(X, *, window: int | None = None, channels: int | None = None) 
         raise ValueError(f'X windows are {X.shape[1:]}, the model was fitted on '
                          f'({window}, {channels})')
     return X.astype(np.float32)
+
+
+def channel_names(channels, count: int) -> list[str]:
+    """The fitted channels' names: given, or this system's channels when there are ten.
+
+    Raises:
+        ValueError: no names for a channel count other than ten, or a count mismatch.
+    """
+    if channels is None:
+        if count != len(CHANNELS):
+            raise ValueError(f'X has {count} channels: pass their names (channels=...)')
+        return list(CHANNELS)
+    names = [str(name) for name in channels]
+    if len(names) != count:
+        raise ValueError(f'{len(names)} channel names for {count} channels')
+    return names
 
 
 def softmax(logits: np.ndarray) -> np.ndarray:
@@ -199,9 +218,8 @@ class DeepClassifier:
             classes: all class names (the output columns), even ones absent from y.
             groups: recording of each window; required with early stopping, which holds
                 out whole recordings (GroupShuffleSplit) before the scaler is fitted.
-            channels: the name of each channel (default: the system's own order for 10
-                channels, `channel_0`, ... otherwise); kept in the checkpoint and checked
-                by `predict_proba(..., channels=...)`.
+            channels: names of X's channels (the dataset's); default this system's ten.
+                Kept in the checkpoint and checked by `predict_proba(..., channels=...)`.
 
         Raises:
             ValueError: bad windows, labels or settings; early stopping without groups,
@@ -221,7 +239,7 @@ class DeepClassifier:
         rng = np.random.default_rng(config.seed)
         self.classes_ = list(classes)
         self.window_, self.n_channels_ = X.shape[1], X.shape[2]
-        self.channels_ = _channel_names(channels, self.n_channels_)
+        self.channels_ = channel_names(channels, self.n_channels_)
         train, validation = validation_split(y, groups, config)
         self.scaler_ = ChannelScaler(config.scaling).fit(X[train])
         self.model_ = build_model(config.model, self.window_, self.n_channels_,
@@ -392,17 +410,6 @@ def _names(value, field: str) -> list[str]:
             or len(set(value)) != len(value):
         raise ValueError(f'{field} must be a non-empty list of distinct names, got {value!r}')
     return value
-
-
-def _channel_names(channels: Sequence[str] | None, count: int) -> list[str]:
-    """Given channel names checked against the data, or the default ones."""
-    if channels is None:
-        return list(CHANNELS) if count == len(CHANNELS) else [f'channel_{i}'
-                                                              for i in range(count)]
-    names = list(channels)
-    if len(names) != count or len(set(names)) != count:
-        raise ValueError(f'channels must name each of the {count} channels once, got {names}')
-    return names
 
 
 def validation_split(y: np.ndarray, groups, config: TrainingConfig

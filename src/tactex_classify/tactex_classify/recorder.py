@@ -17,13 +17,13 @@ from pathlib import Path
 
 from rosbags.rosbag2 import StoragePlugin, Writer
 from rosbags.rosbag2.writer import CompressionFormat, CompressionMode
-from rosbags.typesys import get_typestore, Stores
 
 from tactex_classify.bags import PART_PREFIX
 from tactex_classify.errors import ClassifyError
 from tactex_common import topics
+from tactex_common.interfaces import typestore
 
-TYPESTORE = get_typestore(Stores.ROS2_KILTED)
+TYPESTORE = typestore()  # the Kilted types and tactex_msgs
 
 
 class SplitRecorder:
