@@ -7,9 +7,10 @@ PATH` kept; without it, the set is built as bench_textures builds it), each of t
 models is trained as the original trained them (Adamax, lr
 1e-3, clipping, batch 32, Min-Max scaling) from both initialisations and the same seeds,
 and the first epoch whose training accuracy reaches 95 % is noted (or "not within" the
-cap). To fit a shared CPU, training uses a subset of whole recordings per class (stated
-in the output). Prints the table with the ratio PyTorch / Keras measured in the same run;
-writes bench/results/init.md and bench/results/init.json.
+cap, with the training accuracy the run ended at). To fit a shared CPU, training uses a
+subset of whole recordings per class (stated in the output). Prints the table with the
+ratio PyTorch / Keras measured in the same run; writes bench/results/init.md and
+bench/results/init.json.
 """
 
 import argparse
@@ -34,17 +35,28 @@ class _Reached(Exception):
     """Raised from the progress callback to stop training once the target is reached."""
 
 
-def epochs_to_target(X, y, classes, model: str, init: str, seed: int, cap: int) -> int | None:
-    """First epoch with training accuracy >= TARGET, or None within `cap` epochs."""
+def epochs_to_target(X, y, classes, model: str, init: str, seed: int, cap: int
+                     ) -> tuple[int | None, list[float]]:
+    """First epoch with training accuracy >= TARGET (None within `cap`), and the curve."""
+    curve: list[float] = []
+
     def progress(record: dict) -> None:
+        curve.append(record['train_accuracy'])
         if record['train_accuracy'] >= TARGET:
             raise _Reached(record['epoch'])
     config = TrainingConfig(model=model, epochs=cap, seed=seed, init=init)
     try:
         DeepClassifier(config, progress=progress).fit(X, y, classes)
     except _Reached as reached:
-        return int(reached.args[0])
-    return None
+        return int(reached.args[0]), curve
+    return None, curve
+
+
+def cell(result: dict, cap: int) -> str:
+    """Epochs to the target, or `>cap (accuracy reached)`."""
+    if result['epochs']:
+        return str(result['epochs'])
+    return f'>{cap} ({100 * result["final_train_accuracy"]:.0f} %)'
 
 
 def subset(dataset: Dataset, recordings_per_class: int, seed: int) -> np.ndarray:
@@ -64,7 +76,7 @@ def main() -> int:
     parser.add_argument('--models', nargs='+', default=list(MODELS), choices=list(MODELS))
     parser.add_argument('--seeds', type=int, nargs='+', default=[0, 1])
     parser.add_argument('--recordings-per-class', type=int, default=6)
-    parser.add_argument('--cap', type=int, default=40, help='most epochs per run')
+    parser.add_argument('--cap', type=int, default=50, help='most epochs per run')
     args = parser.parse_args()
     if args.data is None:
         with tempfile.TemporaryDirectory() as folder:
@@ -81,18 +93,22 @@ def main() -> int:
         for seed in args.seeds:
             for init in ('pytorch', 'keras'):
                 start = time.monotonic()
-                epochs = epochs_to_target(X, y, dataset.classes, model, init, seed, args.cap)
+                epochs, curve = epochs_to_target(X, y, dataset.classes, model, init, seed,
+                                                 args.cap)
                 results.append({'model': model, 'seed': seed, 'init': init, 'epochs': epochs,
+                                'final_train_accuracy': curve[-1], 'curve': curve,
                                 'seconds': round(time.monotonic() - start, 1)})
                 print(f'{model} seed {seed} {init}: '
-                      f'{epochs if epochs else f"not within {args.cap}"} epochs '
-                      f'({results[-1]["seconds"]} s)', flush=True)
+                      f'{epochs if epochs else f"not within {args.cap}"} epochs, training '
+                      f'accuracy {100 * curve[-1]:.1f} % ({results[-1]["seconds"]} s)',
+                      flush=True)
     lines = ['| model | PyTorch init: epochs to 95 % | Keras init: epochs to 95 % | '
              'ratio PyTorch / Keras |', '|---|---|---|---|']
     for model in args.models:
         epochs = {init: [r['epochs'] for r in results if r['model'] == model
                          and r['init'] == init] for init in ('pytorch', 'keras')}
-        cells = [', '.join(str(e) if e else f'>{args.cap}' for e in epochs[init])
+        cells = [', '.join(cell(r, args.cap) for r in results
+                           if r['model'] == model and r['init'] == init)
                  for init in ('pytorch', 'keras')]
         capped = {init: [e or args.cap for e in epochs[init]] for init in epochs}
         ratio = np.mean(capped['pytorch']) / np.mean(capped['keras'])

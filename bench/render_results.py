@@ -194,11 +194,11 @@ def init() -> str:
     cap = data['cap']
     lines = ['| model | PyTorch init | Keras init |', '|---|---|---|']
     for model in dict.fromkeys(row['model'] for row in data['results']):
-        cells = []
-        for init_name in ('pytorch', 'keras'):
-            epochs = [row['epochs'] for row in data['results']
-                      if row['model'] == model and row['init'] == init_name]
-            cells.append(', '.join(str(e) if e else f'>{cap}' for e in epochs))
+        cells = [', '.join(str(row['epochs']) if row['epochs'] else
+                           f'>{cap} ({100 * row["final_train_accuracy"]:.0f} %)'
+                           for row in data['results']
+                           if row['model'] == model and row['init'] == init_name)
+                 for init_name in ('pytorch', 'keras')]
         lines.append(f'| {model} | {cells[0]} | {cells[1]} |')
     return (f'Epochs to {100 * data["target"]:.0f} % training accuracy from each '
             f'initialisation (`python bench/bench_init.py`: {data["windows"]} windows of '
