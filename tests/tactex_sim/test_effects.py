@@ -31,7 +31,7 @@ def applied(instance, inputs=SLIDING):
 
 @pytest.mark.parametrize('name, option, value', [
     ('texture', 'slip_length_m', 0.0), ('texture', 'reference_force_n', 0.0),
-    ('texture', 'resonance_hz', 0.0), ('texture', 'gain', -1.0),
+    ('texture', 'resonance_hz', 0.5), ('texture', 'gain', -1.0),
     ('texture', 'damping_ratio', math.nan), ('texture', 'heading_rad', math.inf),
     ('texture', 'gain', '20'), ('texture', 'gain', True),
     ('imu_noise', 'accel_sd', -0.1), ('magnetometer', 'magnet_radius_m', 0.0),

@@ -150,7 +150,8 @@ def softmax(logits: np.ndarray) -> np.ndarray:
         return np.zeros(logits.shape, dtype=logits.dtype)
     # The largest logit maps to exp(0) = 1, so no row sums below 1; a difference that
     # overflows to -inf just gives 0.
-    shifted = logits - logits.max(axis=1, keepdims=True)
+    with np.errstate(over='ignore'):
+        shifted = logits - logits.max(axis=1, keepdims=True)
     exp = np.exp(shifted)
     return exp / exp.sum(axis=1, keepdims=True)
 

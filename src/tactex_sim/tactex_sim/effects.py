@@ -163,7 +163,7 @@ class TextureVibration(Effect):
     name = 'texture'
     reads = frozenset({'contact', 'edge velocity', 'texture', 'sensor rotation', 'sample rate'})
     writes = frozenset({'accel', 'gyro'})
-    defaults = {'resonance_hz': Option(85.0, 0.0, 1e4, above_low=True),
+    defaults = {'resonance_hz': Option(85.0, 1.0, 1e4),
                 'damping_ratio': Option(0.12, 0.01, 10.0),
                 'rocking_gain': Option(0.6, 0.0, 1e3),
                 'reference_force_n': Option(1.0, 0.0, 1e3, above_low=True),
