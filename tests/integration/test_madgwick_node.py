@@ -68,7 +68,7 @@ def test_node_library_and_parameter_file_share_one_default_gain(ros_context):
 
     node = MadgwickNode(context=ros_context)
     config = yaml.safe_load((Path(__file__).parents[2] / 'config' / 'sensor.yaml').read_text())
-    in_file = config['madgwick_node']['ros__parameters']
+    in_file = config['/**/madgwick_node']['ros__parameters']
     defaults = MadgwickConfig()
     assert node.get_parameter('gain').value == in_file['gain'] == defaults.gain
     assert node.get_parameter('max_rate_rad_s').value == defaults.max_rate_rad_s
