@@ -200,7 +200,8 @@ ROSDEP_KEYS = {'numpy': 'python3-numpy', 'scipy': 'python3-scipy', 'sklearn': 'p
                'pandas': 'python3-pandas', 'matplotlib': 'python3-matplotlib',
                'serial': 'python3-serial', 'transforms3d': 'python3-transforms3d',
                'numba': 'python3-numba', 'rosbags': 'python3-rosbags-pip',
-               'mujoco': 'python3-mujoco-pip', 'torch': 'python3-pytorch-pip'}
+               'mujoco': 'python3-mujoco-pip', 'torch': 'python3-pytorch-pip',
+               'ray': 'python3-ray-pip'}
 STANDARD_LIBRARY = sys.stdlib_module_names | {'__future__'}
 
 

@@ -204,9 +204,10 @@ class DeepClassifier:
     """One of the eight models, trained as the original trained them."""
 
     def __init__(self, config: TrainingConfig | None = None, *,
-                 progress: Callable[[dict], None] | None = None) -> None:
+                 progress: Callable[[dict], None] | None = None, device: str = 'cpu') -> None:
         self.config = config or TrainingConfig()
         self.progress = progress
+        self.device = device  # where fit trains: 'cpu', 'cuda', 'cuda:1', ...
         self.model_ = None
 
     def fit(self, X, y, classes: list[str], groups=None, *,
@@ -243,36 +244,45 @@ class DeepClassifier:
         self.channels_ = channel_names(channels, self.n_channels_)
         train, validation = validation_split(y, groups, config)
         self.scaler_ = ChannelScaler(config.scaling).fit(X[train])
+        device = torch.device(self.device)
         self.model_ = build_model(config.model, self.window_, self.n_channels_,
-                                  len(self.classes_), keras_init=config.init == 'keras')
+                                  len(self.classes_), keras_init=config.init == 'keras'
+                                  ).to(device)
         optimizer = torch.optim.Adamax(self.model_.parameters(), lr=config.learning_rate)
         loss_fn = torch.nn.CrossEntropyLoss()
-        data = torch.from_numpy(self.scaler_.transform(X))
-        target = torch.from_numpy(y)
+        data = torch.from_numpy(self.scaler_.transform(X)).to(device)
+        target = torch.from_numpy(y).to(device)
+        train_data, train_target = data[torch.from_numpy(train)], target[torch.from_numpy(train)]
         best_loss, best_state, waited = math.inf, None, 0
         self.history_ = []
+        self.best_epoch_ = 0
         for epoch in range(1, config.epochs + 1):
             self.model_.train()
-            order = train[rng.permutation(train.size)]
-            total, correct = 0.0, 0
-            for start in range(0, order.size, config.batch_size):
-                batch = order[start:start + config.batch_size]
-                if batch.size < 2:
+            # One gather per epoch; each batch is then a contiguous slice of it. Loss and
+            # hits add up on the device: no host round trip per batch.
+            order = torch.from_numpy(rng.permutation(train.size)).to(device)
+            shuffled, labels = train_data[order], train_target[order]
+            loss_sum = torch.zeros((), dtype=torch.float64, device=device)
+            hits = torch.zeros((), dtype=torch.int64, device=device)
+            for start in range(0, train.size, config.batch_size):
+                inputs = shuffled[start:start + config.batch_size]
+                if len(inputs) < 2:
                     continue  # BatchNorm needs two samples to train
+                expected = labels[start:start + config.batch_size]
                 optimizer.zero_grad()
-                logits = self.model_(data[batch])
-                loss = loss_fn(logits, target[batch])
+                logits = self.model_(inputs)
+                loss = loss_fn(logits, expected)
                 loss.backward()
                 torch.nn.utils.clip_grad_norm_(self.model_.parameters(), config.clip_norm)
                 optimizer.step()
-                total += float(loss.detach()) * batch.size
-                correct += int((logits.argmax(1) == target[batch]).sum())
-            record = {'epoch': epoch, 'train_loss': total / max(train.size, 1),
-                      'train_accuracy': correct / max(train.size, 1)}
+                loss_sum += loss.detach() * len(inputs)
+                hits += (logits.detach().argmax(1) == expected).sum()
+            record = {'epoch': epoch, 'train_loss': float(loss_sum) / max(train.size, 1),
+                      'train_accuracy': int(hits) / max(train.size, 1)}
             if validation.size:
-                logits = self._logits(data[validation])
+                logits = self._logits(data[torch.from_numpy(validation)])
                 record['val_loss'] = float(loss_fn(torch.from_numpy(logits),
-                                                   target[validation]))
+                                                   torch.from_numpy(y[validation])))
                 record['val_accuracy'] = float(np.mean(logits.argmax(1) ==
                                                        y[validation]))
             self.history_.append(record)
@@ -280,7 +290,7 @@ class DeepClassifier:
                 self.progress(record)
             if config.early_stopping and validation.size:
                 if record['val_loss'] < best_loss - 1e-6:
-                    best_loss, waited = record['val_loss'], 0
+                    best_loss, waited, self.best_epoch_ = record['val_loss'], 0, epoch
                     best_state = {k: v.clone() for k, v in self.model_.state_dict().items()}
                 else:
                     waited += 1
@@ -288,16 +298,20 @@ class DeepClassifier:
                         break
         if best_state is not None:
             self.model_.load_state_dict(best_state)
+        else:
+            self.best_epoch_ = len(self.history_)
         return self
 
     def _logits(self, data) -> np.ndarray:
+        """Logits of (n, window, channels) scaled windows, on the model's device."""
         import torch
         self.model_.eval()
         if not len(data):
             return np.zeros((0, len(self.classes_)), dtype=np.float32)
-        with torch.no_grad():
-            return np.concatenate([self.model_(data[i:i + 256]).numpy()
-                                   for i in range(0, len(data), 256)])
+        device = next(self.model_.parameters()).device
+        with torch.inference_mode():
+            return torch.cat([self.model_(data[i:i + 256].to(device))
+                              for i in range(0, len(data), 256)]).cpu().numpy()
 
     def predict_proba(self, X, *, channels: Sequence[str] | None = None) -> np.ndarray:
         """(n, n_classes) probabilities in `classes_` order.

@@ -13,3 +13,7 @@ class TableError(CommonError, ValueError):
 
 class LinkError(CommonError, OSError):
     """A path given for a pty link holds something the tool did not create."""
+
+
+class ClusterError(CommonError):
+    """Ray cannot be started or reached, or is asked for something it cannot give."""

@@ -7,10 +7,12 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from dataclasses import asdict
 from pathlib import Path
+import tempfile
 import time
 
 import numpy as np
 
+from tactex_common.cluster import ray_session, run_tasks
 from tactex_sim.errors import SceneError, SimError
 from tactex_sim.recording import SweepBag
 from tactex_sim.scene import Scene
@@ -92,28 +94,71 @@ def record_sweep(scene: Scene, texture_name: str, trial: int, out: Path,
     return path
 
 
+def recorded_sweep(scene: Scene, texture_name: str, trial: int,
+                   seed_sequence: np.random.SeedSequence) -> tuple[str, dict[str, bytes]]:
+    """One sweep recorded where this runs: its bag's folder name and files (path -> bytes).
+
+    A Ray task on any node: the bag is written to a scratch folder there and comes back
+    as bytes, so the caller writes every bag into its own output folder.
+    """
+    with tempfile.TemporaryDirectory(prefix='tactex-sweep-') as scratch:
+        path = record_sweep(scene, texture_name, trial, Path(scratch), seed_sequence)
+        return path.name, {str(item.relative_to(path)): item.read_bytes()
+                           for item in sorted(path.rglob('*')) if item.is_file()}
+
+
 def collect(scene: Scene, sweeps: int, out: Path, *, textures: Sequence[str] = tuple(TEXTURES),
-            progress: Callable[[str], None] = print) -> list[Path]:
+            progress: Callable[[str], None] = print, workers: int | None = None,
+            address: str | None = None) -> list[Path]:
     """Record `sweeps` sweeps of every texture; deterministic for the scene's seed.
+
+    Each sweep draws from its own seed (scene seed, texture, sweep number), so the bags
+    are the same whatever the number of workers and the order sweeps finish in.
+
+    Args:
+        scene: a collectable scene.
+        sweeps: sweeps per texture.
+        out: folder for the bags (`<texture>_<trial>`, one per sweep).
+        textures: the textures to sweep, in order (trial numbers follow it).
+        progress: receives a line per finished sweep.
+        workers: sweeps recorded at once. None or 1 without `address` records here, one
+            after another; more start a local Ray instance with that many cores.
+        address: a Ray cluster to run the sweeps on (every node needs tactex installed);
+            `workers` then caps the sweeps in flight (None: as many as it takes).
 
     Raises:
         SceneError: the scene cannot slide in contact over a patch (`check_collectable`).
         SimError: a sweep is unreachable or never touched the patch.
+        ClusterError: Ray cannot be started or reached.
     """
     check_collectable(scene)
     out.mkdir(parents=True, exist_ok=True)
-    total = sweeps * len(textures)
-    paths = []
+    jobs = [(name, texture_index * sweeps + sweep,
+             np.random.SeedSequence([scene.seed, TEXTURES_INDEX[name], sweep]))
+            for texture_index, name in enumerate(textures) for sweep in range(sweeps)]
+    paths: dict[int, Path] = {}
     start = time.monotonic()
-    for texture_index, name in enumerate(textures):
-        for sweep in range(sweeps):
-            trial = texture_index * sweeps + sweep
-            sequence = np.random.SeedSequence([scene.seed, TEXTURES_INDEX[name], sweep])
-            paths.append(record_sweep(scene, name, trial, out, sequence))
-            done = len(paths)
-            eta = (time.monotonic() - start) / done * (total - done)
-            progress(f'[{done}/{total}] {paths[-1].name}  (about {eta:.0f} s left)')
-    return paths
+
+    def finished(index: int, path: Path) -> None:
+        paths[index] = path
+        eta = (time.monotonic() - start) / len(paths) * (len(jobs) - len(paths))
+        progress(f'[{len(paths)}/{len(jobs)}] {path.name}  (about {eta:.0f} s left)')
+
+    if (workers or 1) == 1 and address is None:
+        for index, (name, trial, sequence) in enumerate(jobs):
+            finished(index, record_sweep(scene, name, trial, out, sequence))
+    else:
+        def write(index: int, result: tuple[str, dict[str, bytes]]) -> None:
+            folder = out / result[0]
+            for relative, content in result[1].items():
+                (folder / relative).parent.mkdir(parents=True, exist_ok=True)
+                (folder / relative).write_bytes(content)
+            finished(index, folder)
+
+        with ray_session(address=address, cpus=None if address else workers):
+            run_tasks(recorded_sweep, jobs, shared=(scene,), on_result=write,
+                      max_in_flight=workers if address else None)
+    return [paths[index] for index in range(len(jobs))]
 
 
 TEXTURES_INDEX = {name: index for index, name in enumerate(TEXTURES)}

@@ -8,7 +8,7 @@ import argparse
 from pathlib import Path
 
 from tactex.errors import CommandError
-from tactex.options import check_output_folder, integer, staged_folder
+from tactex.options import check_output_folder, integer, staged_folder, text
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -23,6 +23,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     collect.add_argument('--out', type=Path, required=True, help='folder for the bags (new)')
     collect.add_argument('--textures', nargs='+', metavar='NAME',
                          help='only these textures (default: all 12)')
+    collect.add_argument('--workers', type=integer(1, 1024), default=None,
+                         help='sweeps recorded at once, as Ray tasks (default 1: one after '
+                              'another here); the bags are the same for any number')
+    collect.add_argument('--address', type=text, metavar='HOST:PORT',
+                         help='run the sweeps on this Ray cluster (every node needs tactex '
+                              'installed); --workers then caps the sweeps in flight')
 
 
 def run(args: argparse.Namespace) -> int:
@@ -42,6 +48,7 @@ def run(args: argparse.Namespace) -> int:
     scene = load_scene(resolve_scene(args.scene))
     check_collectable(scene)
     with staged_folder(args.out) as folder:
-        paths = collect(scene, args.sweeps, folder, textures=textures)
+        paths = collect(scene, args.sweeps, folder, textures=textures,
+                        workers=args.workers, address=args.address)
     print(f'wrote {len(paths)} recordings to {args.out}')
     return 0

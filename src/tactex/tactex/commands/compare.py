@@ -1,0 +1,216 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""`tactex compare`: a model x window x seed x fold grid on Ray, resumable, with its table."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+import re
+import time
+
+from tactex.commands.train import check_folds
+from tactex.errors import CommandError
+from tactex.options import integer
+from tactex_classify.catalog import ALL_MODELS, BASELINES, SCHEMES
+
+DEFAULT_WINDOWS = (128, 256, 512)
+ADDRESS = re.compile(r'^(ray://)?[A-Za-z0-9_.\-\[\]:]+:\d{1,5}$')
+
+
+def names(value: str) -> list[str]:
+    """An argparse type: comma-separated model names, each known, none twice."""
+    items = [item.strip() for item in value.split(',')]
+    unknown = [item for item in items if item not in ALL_MODELS]
+    if unknown:
+        raise argparse.ArgumentTypeError(f'unknown model(s) {unknown}; known: '
+                                         f'{",".join(ALL_MODELS)}')
+    if len(set(items)) != len(items):
+        raise argparse.ArgumentTypeError(f'{value!r} names a model twice')
+    return items
+
+
+def windows(value: str) -> list[int]:
+    """An argparse type: comma-separated window sizes (samples >= 2), none twice."""
+    parse = integer(2, 1_000_000)
+    items = [parse(item.strip()) for item in value.split(',')]
+    if len(set(items)) != len(items):
+        raise argparse.ArgumentTypeError(f'{value!r} names a window twice')
+    return items
+
+
+def address(value: str) -> str:
+    """An argparse type: a Ray cluster address, HOST:PORT or ray://HOST:PORT."""
+    if not ADDRESS.match(value):
+        raise argparse.ArgumentTypeError(f'must be HOST:PORT or ray://HOST:PORT (as `ray start '
+                                         f'--head` prints it), got {value!r}')
+    return value
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """Register the options of this subcommand."""
+    parser.add_argument('data', nargs='+', type=Path, metavar='DATA',
+                        help='recordings (bag folders, or folders of them: converted per '
+                             'window, 50 %% overlap) or datasets (.npz, one per window)')
+    parser.add_argument('--models', type=names, default=list(ALL_MODELS), metavar='NAME,...',
+                        help='models to compare (default: the eight and both baselines)')
+    parser.add_argument('--windows', type=windows, metavar='N,...',
+                        help='window sizes (default 128,256,512 for recordings; the '
+                             "datasets' own for .npz)")
+    parser.add_argument('--folds', type=integer(2), default=5, help='folds per scheme (5)')
+    parser.add_argument('--seeds', type=integer(1, 1000), default=1,
+                        help='seeds 0..N-1; each draws the folds and the initial weights (1)')
+    parser.add_argument('--cv', default='both', choices=[*SCHEMES, 'both'],
+                        help='grouped by recording (honest), stratified windows (leaky), or '
+                             'both side by side (default)')
+    parser.add_argument('--epochs', type=integer(1), default=250, help='epochs at most (250)')
+    parser.add_argument('--early-stopping', type=integer(0), default=0, metavar='PATIENCE',
+                        help='stop a cell when the loss on recordings held out of its '
+                             'training fold has not improved for PATIENCE epochs (0: off)')
+    parser.add_argument('--threads', type=integer(1, 256), default=1,
+                        help='torch threads (and CPUs asked) per deep-model cell (1)')
+    parser.add_argument('--cpus', type=integer(1, 4096),
+                        help='most cores the local Ray instance may use (default: all it '
+                             'detects); not with --address')
+    parser.add_argument('--address', type=address,
+                        help='run on this Ray cluster instead of a local instance (nodes '
+                             'need tactex installed; results land in --out here)')
+    parser.add_argument('--device', default='auto', choices=['auto', 'cpu', 'cuda'],
+                        help='auto: a GPU per deep-model cell when the cluster has one')
+    parser.add_argument('--cells-per-gpu', type=integer(1, 64), default=1,
+                        help='deep-model cells sharing one GPU (1)')
+    parser.add_argument('--out', type=Path, required=True,
+                        help='grid folder: new, or one to resume (finished cells are kept)')
+
+
+def run(args: argparse.Namespace) -> int:
+    """Check everything, run the missing cells on Ray, write the table and plots."""
+    from tactex_classify.compare import grid_cells, GridSettings, GridStore, run_grid
+    from tactex_classify.compare_report import write_report
+    from tactex_common.cluster import ray_session
+
+    if args.address and args.cpus:
+        raise CommandError("--cpus caps a local Ray instance; a cluster's cores are set where "
+                           'its nodes start (ray start --num-cpus): drop --cpus or --address')
+    store = GridStore(args.out)
+    check_grid_folder(store)
+    started = time.monotonic()
+
+    def log(line: str) -> None:
+        print(f'[{time.monotonic() - started:7.1f} s] {line}', flush=True)
+
+    datasets, sources, converted = load_data(args, store, log)
+    schemes = SCHEMES if args.cv == 'both' else (args.cv,)
+    for window, dataset in datasets.items():
+        try:
+            check_folds(dataset, schemes, args.folds)
+        except CommandError as err:
+            raise CommandError(f'window {window}: {err}') from None
+        check_models_fit(args.models, window, dataset)
+    settings = GridSettings(folds=args.folds, epochs=args.epochs,
+                            early_stopping=args.early_stopping)
+    store.open(settings, datasets, sources)
+    for window in converted:
+        datasets[window].save(store.folder / 'data' / f'w{window}.npz')
+    cells = grid_cells(args.models, sorted(datasets), args.seeds, args.folds, schemes)
+    with ray_session(address=args.address, cpus=args.cpus) as resources:
+        gpus = resources.get('GPU', 0.0)
+        if args.device == 'cuda' and not gpus:
+            raise CommandError('--device cuda: the Ray instance has no GPU; use --device '
+                               'auto or cpu')
+        device = 'cuda' if args.device != 'cpu' and gpus else 'cpu'
+        log(f'Ray: {resources.get("CPU", 0):.0f} CPUs, {gpus:.0f} GPUs; deep models on '
+            f'{device}, {args.threads} thread(s) per cell')
+        try:
+            run_grid(store, cells, datasets, settings, threads=args.threads, device=device,
+                     gpus_per_cell=1.0 / args.cells_per_gpu, progress=log)
+        finally:
+            report = write_report(args.out, store.results(), store.manifest(),
+                                  expected_cells=args.seeds * args.folds * len(schemes))
+            log(f'report: {report}')
+    return 0
+
+
+def check_grid_folder(store) -> None:
+    """--out is a new folder, an empty one, or a comparison to resume.
+
+    Raises:
+        CommandError: a file, an unwritable place, or a folder of something else.
+    """
+    from tactex.options import check_output_folder
+    folder = store.folder
+    if folder.is_dir() and store.manifest_path.is_file():
+        return
+    check_output_folder(folder)
+
+
+def load_data(args: argparse.Namespace, store, log) -> tuple[dict, dict, list[int]]:
+    """The dataset and its source of every window, and the windows converted now.
+
+    Datasets converted from recordings are kept in `--out/data/` (by the caller, once
+    the grid folder is checked) and read back when the grid resumes on the same
+    recordings.
+
+    Raises:
+        CommandError: missing paths, datasets mixed with recordings, a window without a
+            dataset or given twice.
+    """
+    from tactex_classify.dataset import convert, Dataset
+    for path in args.data:
+        if not path.exists():
+            raise CommandError(f'DATA {path} does not exist')
+    npz = [path for path in args.data if path.is_file()]
+    if npz and len(npz) != len(args.data):
+        raise CommandError('DATA mixes dataset files with recording folders: give datasets '
+                           '(.npz, one per window) or recordings, not both')
+    if npz:
+        datasets = {}
+        for path in npz:
+            if path.suffix != '.npz':
+                raise CommandError(f'DATA {path} is neither a dataset (.npz) nor a folder of '
+                                   'recordings')
+            dataset = Dataset.load(path)
+            window = dataset.X.shape[1]
+            if window in datasets:
+                raise CommandError(f'DATA gives two datasets of window {window} ({path}); '
+                                   'give one per window')
+            datasets[window] = (dataset, str(path))
+        wanted = args.windows or sorted(datasets)
+        missing = [w for w in wanted if w not in datasets]
+        if missing:
+            have = ','.join(map(str, sorted(datasets)))
+            raise CommandError(f'--windows {",".join(map(str, missing))}: no dataset of that '
+                               f'window in DATA (they have {have})')
+        return ({w: datasets[w][0] for w in wanted}, {w: datasets[w][1] for w in wanted}, [])
+    source = ' '.join(str(path.resolve()) for path in args.data)
+    kept = store.manifest()['data'] if store.manifest_path.is_file() else {}
+    datasets, sources, converted = {}, {}, []
+    for window in args.windows or DEFAULT_WINDOWS:
+        cached = store.folder / 'data' / f'w{window}.npz'
+        if cached.is_file() and kept.get(str(window), {}).get('source') == source:
+            log(f'window {window}: the recordings converted before ({cached})')
+            datasets[window] = Dataset.load(cached)
+        else:
+            log(f'window {window}: converting the recordings (hop {window // 2})')
+            datasets[window] = convert(args.data, window=window, hop=window // 2,
+                                       progress=lambda line: None)
+            converted.append(window)
+        sources[window] = source
+    return datasets, sources, converted
+
+
+def check_models_fit(models: list[str], window: int, dataset) -> None:
+    """Every deep model can take the window (pooling leaves at least one step).
+
+    Raises:
+        CommandError: naming the model and the window.
+    """
+    from tactex_classify.models import build_model
+    for model in models:
+        if model in BASELINES:
+            continue
+        try:
+            build_model(model, window, dataset.X.shape[2], len(dataset.classes))
+        except ValueError as err:
+            raise CommandError(f'--models {model} cannot take window {window}: {err}; drop the '
+                               'model or the window') from None

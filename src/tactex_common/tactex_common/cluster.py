@@ -1,0 +1,103 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""Independent jobs as Ray tasks: on a local instance sized to a core budget, or a cluster.
+
+`ray_session` starts a Ray instance of this machine (`address=None`: never one that
+another program started here; `cpus` caps the cores it may use, default the cores Ray
+detects) or joins a cluster by address, and shuts it down (or leaves it) on exit.
+`run_tasks` submits one task per job with its CPU/GPU request and hands each result to
+the caller in the order they finish, in the calling process: whatever node ran a job,
+its result lands where the caller puts it. Ray is imported only here, only when used.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
+from dataclasses import dataclass
+import os
+from typing import Any
+
+from tactex_common.errors import ClusterError
+
+
+@dataclass(frozen=True)
+class Resources:
+    """What one task asks the scheduler for."""
+
+    cpus: float = 1.0
+    gpus: float = 0.0
+
+
+@contextmanager
+def ray_session(*, address: str | None = None, cpus: int | None = None) -> Iterator[dict]:
+    """A Ray connection for the block; yields the cluster's resources (CPU, GPU, ...).
+
+    Args:
+        address: a cluster to join (`ray start --head` prints it); None starts a local
+            instance that ends with the block.
+        cpus: most cores the local instance may use (default: the cores Ray detects);
+            a cluster's nodes declare their own, so it must be None with `address`.
+
+    Raises:
+        ClusterError: `cpus` given with `address`, or the cluster cannot be reached.
+    """
+    if address is not None and cpus is not None:
+        raise ClusterError('the cores of a cluster are set where its nodes start (ray start '
+                           '--num-cpus); give no core cap with an address')
+    os.environ.setdefault('RAY_USAGE_STATS_ENABLED', '0')  # never phone home
+    import ray
+    options = {'include_dashboard': False, 'log_to_driver': False,
+               'logging_level': 'WARNING', 'configure_logging': True}
+    try:
+        if address is None:
+            ray.init(address='local', num_cpus=cpus, **options)
+        else:
+            ray.init(address=address, **options)
+    except (ConnectionError, RuntimeError, ValueError) as err:
+        reason = (str(err).strip().splitlines() or [type(err).__name__])[0]
+        raise ClusterError(f'cannot start or reach Ray at {address or "a local instance"}: '
+                           f'{reason}') from None
+    try:
+        yield dict(ray.cluster_resources())
+    finally:
+        ray.shutdown()
+
+
+def run_tasks(function: Callable[..., Any], jobs: Sequence[tuple], *,
+              resources: Callable[[int], Resources] | Resources = Resources(),
+              on_result: Callable[[int, Any], None], shared: Sequence[Any] = (),
+              max_in_flight: int | None = None) -> None:
+    """Run `function(*shared, *jobs[i])` as one Ray task per job, inside `ray_session`.
+
+    Args:
+        function: a module-level function (Ray ships it by reference to the workers).
+        jobs: the per-task arguments.
+        resources: one request for all, or a function of the job's index.
+        on_result: called with (index, result) in the calling process as tasks finish.
+        shared: large arguments common to every task, put in the object store once.
+        max_in_flight: most tasks submitted at a time (default: all at once; Ray queues
+            them until a worker is free).
+
+    A task's exception is raised here (as its own type); tasks still queued are cancelled.
+    """
+    import ray
+    remote = ray.remote(function)
+    shared_refs = [ray.put(value) for value in shared]
+    queue = list(range(len(jobs)))[::-1]
+    pending: dict = {}
+    limit = max_in_flight or len(jobs)
+    try:
+        while queue or pending:
+            while queue and len(pending) < limit:
+                index = queue.pop()
+                need = resources(index) if callable(resources) else resources
+                ref = remote.options(num_cpus=need.cpus, num_gpus=need.gpus).remote(
+                    *shared_refs, *jobs[index])
+                pending[ref] = index
+            done, _ = ray.wait(list(pending), num_returns=1)
+            for ref in done:
+                on_result(pending.pop(ref), ray.get(ref))
+    finally:
+        for ref in pending:
+            ray.cancel(ref, force=True)

@@ -1,0 +1,178 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""`tactex compare`: cells kept whole, resumed without recomputing, summarised as a table."""
+
+import json
+import os
+from pathlib import Path
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+
+from tactex_classify.compare import (
+    Cell,
+    dataset_digest,
+    grid_cells,
+    GridError,
+    GridSettings,
+    GridStore,
+    run_cell,
+)
+from tactex_classify.compare_report import summarise, table, write_report
+from tactex_classify.dataset import Dataset
+
+TACTEX = Path(sys.executable).parent / 'tactex'
+
+
+def toy(window: int = 64, classes: int = 3, recordings: int = 4, per: int = 6) -> Dataset:
+    """Separable windows: class k is noise shifted by k / 2."""
+    rng = np.random.default_rng(window)
+    count = classes * recordings * per
+    y = np.repeat(np.arange(classes), recordings * per)
+    X = (rng.normal(size=(count, window, 10)) + 0.5 * y[:, None, None]).astype(np.float32)
+    return Dataset(X, y, np.repeat(np.arange(classes * recordings), per),
+                   np.tile(np.arange(per, dtype=float), classes * recordings),
+                   [f'texture{k}' for k in range(classes)],
+                   {'sampling_rate_hz': 100.0, 'hop': window // 2})
+
+
+def test_grid_has_every_cell_once_and_each_fold_round_covers_every_model():
+    cells = grid_cells(['cnn_1', 'extratrees'], [128, 256], seeds=2, folds=3)
+    assert len(cells) == len(set(cells)) == 2 * 2 * 2 * 3 * 2
+    first_round = cells[:8]
+    assert {(c.seed, c.fold) for c in first_round} == {(0, 1)}
+    assert {(c.model, c.window, c.scheme) for c in first_round} == {
+        (m, w, s) for m in ('cnn_1', 'extratrees') for w in (128, 256)
+        for s in ('grouped', 'stratified')}
+
+
+def test_a_saved_cell_loads_back_and_a_torn_or_foreign_file_counts_as_not_run(tmp_path):
+    store = GridStore(tmp_path / 'grid')
+    store.open(GridSettings(folds=2, epochs=1), {64: toy()}, {64: 'toy'})
+    cell = Cell(0, 1, 'grouped', 64, 'extratrees')
+    assert store.load(cell) is None
+    store.save(cell, {'cell': {'seed': 0, 'fold': 1, 'scheme': 'grouped', 'window': 64,
+                               'model': 'extratrees'}, 'accuracy': 0.5})
+    assert store.load(cell)['accuracy'] == 0.5
+    path = tmp_path / 'grid' / 'cells' / cell.relative_path
+    path.write_text(path.read_text()[:20])  # torn
+    assert store.load(cell) is None
+    other = Cell(0, 2, 'grouped', 64, 'extratrees')
+    path.write_text(json.dumps({'cell': {'seed': 0, 'fold': 2, 'scheme': 'grouped',
+                                         'window': 64, 'model': 'extratrees'}}))
+    assert store.load(cell) is None and store.load(other) is None
+    assert not list((tmp_path / 'grid').rglob('*.partial'))
+
+
+def test_a_grid_resumes_only_with_its_settings_and_its_data(tmp_path):
+    store = GridStore(tmp_path / 'grid')
+    store.open(GridSettings(folds=2, epochs=3), {64: toy()}, {64: 'toy'})
+    store.open(GridSettings(folds=2, epochs=3), {64: toy(), 32: toy(32)}, {64: 'toy', 32: 't'})
+    assert set(store.manifest()['data']) == {'64', '32'}
+    with pytest.raises(GridError, match=r"epochs 3 \(now 5\); give the same settings"):
+        store.open(GridSettings(folds=2, epochs=5), {64: toy()}, {64: 'toy'})
+    changed = toy()
+    changed.X[0, 0, 0] += 1.0
+    assert dataset_digest(changed) != dataset_digest(toy())
+    with pytest.raises(GridError, match='other data for window 64'):
+        store.open(GridSettings(folds=2, epochs=3), {64: changed}, {64: 'toy'})
+    (tmp_path / 'other').mkdir()
+    (tmp_path / 'other' / 'notes.txt').write_text('mine')
+    with pytest.raises(GridError, match='holds files but no grid.json'):
+        GridStore(tmp_path / 'other').open(GridSettings(), {64: toy()}, {64: 'toy'})
+
+
+@pytest.mark.parametrize('model', ['extratrees', 'cnn_2'])
+def test_a_cell_scores_its_own_test_fold_and_reports_its_cost(model):
+    dataset = toy()
+    cell = Cell(0, 2, 'grouped', 64, model)
+    result = run_cell({64: dataset}, cell, GridSettings(folds=2, epochs=2), 1, 'cpu')
+    assert result['cell'] == {'seed': 0, 'fold': 2, 'scheme': 'grouped', 'window': 64,
+                              'model': model}
+    assert result['test_windows'] == len(result['y_pred']) == len(result['y_true'])
+    assert result['train_windows'] + result['test_windows'] == len(dataset.y)
+    hits = np.mean(np.array(result['y_true']) == np.array(result['y_pred']))
+    assert result['accuracy'] == pytest.approx(hits)
+    assert result['train_s'] > 0 and result['latency_ms'] > 0
+    deep = model != 'extratrees'
+    assert (result['epochs_run'] == 2) if deep else result['epochs_run'] is None
+    assert (result['train_accuracy'] is not None) == deep
+
+
+def test_early_stopping_reports_the_chosen_epoch():
+    settings = GridSettings(folds=2, epochs=6, early_stopping=1, validation_fraction=0.25)
+    result = run_cell({64: toy()}, Cell(0, 1, 'grouped', 64, 'cnn_2'), settings, 1, 'cpu')
+    assert 1 <= result['chosen_epoch'] <= result['epochs_run'] <= 6
+
+
+def fake_result(model, scheme, fold, accuracy, train_s=10.0):
+    right = int(round(10 * accuracy))
+    return {'cell': {'seed': 0, 'fold': fold, 'scheme': scheme, 'window': 64, 'model': model},
+            'accuracy': accuracy, 'macro_precision': accuracy, 'macro_recall': accuracy,
+            'macro_f1': accuracy, 'train_accuracy': 0.9, 'train_s': train_s,
+            'latency_ms': 1.0, 'throughput_ms': 0.1, 'epochs_per_s': 1.0, 'chosen_epoch': 4,
+            'y_true': [0] * 10, 'y_pred': [0] * right + [1] * (10 - right)}
+
+
+def test_the_table_gives_mean_and_sd_over_cells_best_honest_model_first(tmp_path):
+    results = [fake_result('cnn_1', 'grouped', 1, 0.6), fake_result('cnn_1', 'grouped', 2, 0.8),
+               fake_result('cnn_1', 'stratified', 1, 0.9),
+               fake_result('cnn_3', 'grouped', 1, 0.9), fake_result('cnn_3', 'grouped', 2, 0.9)]
+    rows = summarise(results, {64: ['a', 'b']})
+    assert [row['model'] for row in rows] == ['cnn_3', 'cnn_1']
+    cnn_1 = rows[1]['schemes']['grouped']
+    assert cnn_1['accuracy']['mean'] == pytest.approx(0.7)
+    assert cnn_1['accuracy']['sd'] == pytest.approx(np.std([0.6, 0.8], ddof=1))
+    assert cnn_1['pooled']['accuracy'] == pytest.approx(0.7)  # 14 of 20 windows
+    text = table(rows, expected_cells=4)
+    assert '| 64 | cnn_1 | 4 | 90.0 ± 0.0 | 70.0 ± 14.1 |' in text
+    assert text.splitlines()[2].startswith('| 64 | cnn_3 |') and '| 3 of 4 |' in text
+    manifest = {'settings': {'folds': 2, 'epochs': 4, 'early_stopping': 0},
+                'data': {'64': {'classes': ['a', 'b'], 'windows': 20, 'recordings': 4}}}
+    write_report(tmp_path, results, manifest)
+    for name in ('report.md', 'summary.json', 'accuracy.png', 'cost.png'):
+        assert (tmp_path / name).stat().st_size > 0
+
+
+def cell_files(folder: Path) -> dict[str, bytes]:
+    return {str(path.relative_to(folder)): path.read_bytes()
+            for path in sorted((folder / 'cells').rglob('*.json'))}
+
+
+@pytest.mark.slow
+def test_a_grid_killed_midway_resumes_without_recomputing_finished_cells(tmp_path):
+    """2 models x 1 window x 2 folds (x 2 schemes) on a local Ray instance of one core."""
+    toy().save(tmp_path / 'toy.npz')
+    out = tmp_path / 'grid'
+    argv = [str(TACTEX), 'compare', str(tmp_path / 'toy.npz'), '--models', 'cnn_2,extratrees',
+            '--folds', '2', '--epochs', '40', '--cpus', '1', '--out', str(out)]
+    first = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                             stdin=subprocess.DEVNULL, start_new_session=True)
+    try:
+        deadline = time.monotonic() + 240
+        while not cell_files(out) and first.poll() is None and time.monotonic() < deadline:
+            time.sleep(0.1)
+        os.kill(first.pid, signal.SIGKILL)
+        first.wait(timeout=30)
+    finally:
+        try:
+            os.killpg(first.pid, signal.SIGTERM)  # Ray helpers of the killed driver
+        except ProcessLookupError:
+            pass
+    kept = cell_files(out)
+    assert 0 < len(kept) < 8, first.stdout.read().decode()
+    second = subprocess.run(argv, capture_output=True, text=True, timeout=300,
+                            stdin=subprocess.DEVNULL)
+    assert second.returncode == 0, second.stdout + second.stderr
+    assert f'{len(kept)} of 8 cells finished before; {8 - len(kept)} to run' in second.stdout
+    assert second.stdout.count('] [') == 8 - len(kept)  # one progress line per cell run
+    final = cell_files(out)
+    assert len(final) == 8
+    assert {name: final[name] for name in kept} == kept  # never recomputed
+    report = (out / 'report.md').read_text()
+    assert '| cnn_2 |' in report and '| extratrees (baseline) |' in report
+    assert (out / 'accuracy.png').is_file() and (out / 'cost.png').is_file()
