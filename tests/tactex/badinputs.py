@@ -15,6 +15,7 @@ import pickle
 from bagfactory import ramp, write_bag
 import numpy as np
 
+from tactex_classify.compare import GridSettings, GridStore
 from tactex_classify.dataset import Dataset
 
 
@@ -95,6 +96,8 @@ def make_workspace(w: Path) -> Path:
     (w / 'scenes' / 'standing.toml').write_text(STANDING_SCENE)
     (w / 'scenes' / 'binary.toml').write_bytes(b'\xff\xfe\x00name')
     (w / 'broken.launch.py').write_text('LAUNCH = (\n')
+    dataset = Dataset.load(w / 'data.npz')
+    GridStore(w / 'grid').open(GridSettings(folds=2, epochs=3), {32: dataset}, {32: 'data'})
     (w / 'readonly').mkdir()
     (w / 'readonly').chmod(0o555)
     return w
@@ -168,6 +171,57 @@ BAD_INPUTS = {
         Case('train {w}/data.npz --out {w}/full', '--out .*full already holds files; choose a '
              'new folder', '{w}/full'),
     ],
+    'compare': [
+        Case('compare --out {w}/g', 'the following arguments are required: DATA'),
+        Case('compare {w}/data.npz', 'the following arguments are required: --out'),
+        Case('compare {w}/nothing.npz --out {w}/g', 'DATA .*nothing.npz does not exist', '{w}/g'),
+        Case('compare {w}/text.txt --out {w}/g', 'text.txt is neither a dataset', '{w}/g'),
+        Case('compare {w}/garbage.npz --out {w}/g', 'garbage.npz is not a tactex dataset',
+             '{w}/g'),
+        Case('compare {w}/data.npz {w}/bags --out {w}/g', 'DATA mixes dataset files with '
+             'recording folders', '{w}/g'),
+        Case('compare {w}/data.npz {w}/data.npz --out {w}/g', 'two datasets of window 32',
+             '{w}/g'),
+        Case('compare {w}/folder --out {w}/g --windows 16', 'no recordings found', '{w}/g'),
+        Case('compare {w}/data.npz --out {w}/g --models nope', r"argument --models: unknown "
+             r"model\(s\) \['nope'\]", '{w}/g'),
+        Case('compare {w}/data.npz --out {w}/g --models cnn_1,cnn_1', 'names a model twice',
+             '{w}/g'),
+        Case('compare {w}/data.npz --out {w}/g --windows 1', 'argument --windows: must be a '
+             'whole number in 2', '{w}/g'),
+        Case('compare {w}/data.npz --out {w}/g --windows 32,32', 'names a window twice',
+             '{w}/g'),
+        Case('compare {w}/data.npz --out {w}/g --windows 64', '--windows 64: no dataset of that '
+             r'window in DATA \(they have 32\)', '{w}/g'),
+        Case('compare {w}/data.npz --out {w}/g --folds 1', 'argument --folds', '{w}/g'),
+        Case('compare {w}/data.npz --out {w}/g --folds 50', 'window 32: --folds 50 needs at '
+             'least 50 recordings', '{w}/g'),
+        Case('compare {w}/one_class.npz --out {w}/g', 'window 32: DATA has 1 class', '{w}/g'),
+        Case('compare {w}/data.npz --out {w}/g --models cnn_3', '--models cnn_3 cannot take '
+             'window 32.*drop the model or the window', '{w}/g'),
+        Case('compare {w}/data.npz --out {w}/g --seeds 0', 'argument --seeds', '{w}/g'),
+        Case('compare {w}/data.npz --out {w}/g --epochs 0', 'argument --epochs', '{w}/g'),
+        Case('compare {w}/data.npz --out {w}/g --threads 0', 'argument --threads', '{w}/g'),
+        Case('compare {w}/data.npz --out {w}/g --cpus 0', 'argument --cpus', '{w}/g'),
+        Case('compare {w}/data.npz --out {w}/g --cells-per-gpu 0', 'argument --cells-per-gpu',
+             '{w}/g'),
+        Case('compare {w}/data.npz --out {w}/g --device tpu', 'argument --device: invalid '
+             'choice', '{w}/g'),
+        Case('compare {w}/data.npz --out {w}/g --device cuda', '--device cuda: this machine has '
+             'no usable GPU', '{w}/g'),
+        Case('compare {w}/data.npz --out {w}/g --address nohost', 'argument --address: must be '
+             'HOST:PORT', '{w}/g'),
+        Case('compare {w}/data.npz --out {w}/g --address 10.0.0.1:6379 --cpus 2', '--cpus caps '
+             'a local Ray instance', '{w}/g'),
+        Case('compare {w}/data.npz --out {w}/grid --folds 2 --epochs 4', r'grid was started '
+             r'with epochs 3 \(now 4\); give the same settings', '{w}/grid'),
+        Case('compare {w}/data.npz --out {w}/text.txt', '--out .*text.txt is a file',
+             '{w}/text.txt'),
+        Case('compare {w}/data.npz --out {w}/full', '--out .*full already holds files',
+             '{w}/full'),
+        Case('compare {w}/data.npz --out {w}/readonly/g', '--out .*is not writable',
+             '{w}/readonly/g', needs_non_root=True),
+    ],
     'import': [
         Case('import csv {w}/good --out {w}/o.npz', 'csv needs --rate HZ', OUT_NPZ),
         Case('import csv {w}/good --out {w}/o.npz --rate 0', 'argument --rate: must be a finite '
@@ -216,6 +270,9 @@ BAD_INPUTS = {
         Case('sim collect --out {w}/text.txt', '--out .*text.txt is a file', '{w}/text.txt'),
         Case('sim collect --out {w}/full', '--out .*already holds files', '{w}/full'),
         Case('sim', 'the following arguments are required: ACTION'),
+        Case('sim collect --out {w}/bagsout --workers 0', 'argument --workers', '{w}/bagsout'),
+        Case('sim collect --out {w}/bagsout --address nohost', 'argument --address: must be '
+             'HOST:PORT', '{w}/bagsout'),
     ],
     'record': [
         Case('record --out {w}/full', '--out .*already holds files', '{w}/full'),

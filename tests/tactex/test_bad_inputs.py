@@ -56,7 +56,7 @@ def check(case, workspace: Path, run) -> None:
     assert re.search(case.match, errors[0]), errors[0]
     assert snapshot(workspace, out) == before, 'something outside --out changed'
     if out is not None and out.exists() and not out.is_symlink():
-        assert out.name in ('folder', 'full', 'text.txt'), f'{out} was written'
+        assert out.name in ('folder', 'full', 'grid', 'text.txt'), f'{out} was written'
 
 
 def in_process(capsys):

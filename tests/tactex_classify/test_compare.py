@@ -149,13 +149,14 @@ def test_a_grid_killed_midway_resumes_without_recomputing_finished_cells(tmp_pat
     toy().save(tmp_path / 'toy.npz')
     out = tmp_path / 'grid'
     argv = [str(TACTEX), 'compare', str(tmp_path / 'toy.npz'), '--models', 'cnn_2,extratrees',
-            '--folds', '2', '--epochs', '40', '--cpus', '1', '--out', str(out)]
+            '--folds', '2', '--epochs', '10', '--cpus', '1', '--out', str(out)]
     first = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                              stdin=subprocess.DEVNULL, start_new_session=True)
     try:
         deadline = time.monotonic() + 240
         while not cell_files(out) and first.poll() is None and time.monotonic() < deadline:
             time.sleep(0.1)
+        assert first.poll() is None, first.stdout.read().decode()
         os.kill(first.pid, signal.SIGKILL)
         first.wait(timeout=30)
     finally:

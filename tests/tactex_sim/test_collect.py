@@ -75,3 +75,21 @@ def test_cli_refuses_the_scene_before_creating_the_output(tmp_path, capsys):
     error = capsys.readouterr().err
     assert error.startswith('error: ') and 'speed_m_s' in error
     assert not (tmp_path / 'bags').exists()
+
+
+@pytest.mark.slow
+def test_two_workers_record_the_same_bags_as_one(tmp_path):
+    scene = parse_scene(tomllib.loads(SCENE.read_text()), 'uneven_texture')
+    textures = ('wood', 'carpet wool')
+    lines = []
+    serial = collect(scene, 2, tmp_path / 'one', textures=textures, progress=lines.append)
+    parallel = collect(scene, 2, tmp_path / 'two', textures=textures, progress=lines.append,
+                       workers=2)
+    assert [p.name for p in serial] == [p.name for p in parallel] == [
+        'wood_0000', 'wood_0001', 'carpet_wool_0002', 'carpet_wool_0003']
+    for one, two in zip(serial, parallel, strict=True):
+        files = sorted(p.relative_to(one) for p in one.rglob('*') if p.is_file())
+        assert files == sorted(p.relative_to(two) for p in two.rglob('*') if p.is_file())
+        for name in files:
+            assert (one / name).read_bytes() == (two / name).read_bytes(), f'{one.name}/{name}'
+    assert sum('[4/4]' in line for line in lines) == 2

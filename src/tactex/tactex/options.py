@@ -17,6 +17,7 @@ from contextlib import contextmanager
 import math
 import os
 from pathlib import Path
+import re
 import secrets
 import shutil
 
@@ -61,6 +62,17 @@ def number(*, above: float | None = 0.0, at_least: float | None = None,
         return value
     parse.__name__ = 'number'
     return parse
+
+
+RAY_ADDRESS = re.compile(r'^(ray://)?[A-Za-z0-9_.\-\[\]:]+:\d{1,5}$')
+
+
+def ray_address(value: str) -> str:
+    """An argparse type: a Ray cluster address, HOST:PORT or ray://HOST:PORT."""
+    if not RAY_ADDRESS.match(value):
+        raise argparse.ArgumentTypeError(f'must be HOST:PORT or ray://HOST:PORT (as `ray start '
+                                         f'--head` prints it), got {value!r}')
+    return value
 
 
 def text(value: str) -> str:

@@ -97,6 +97,34 @@ class GridStore:
         """The grid's settings and datasets."""
         return self.folder / 'grid.json'
 
+    def check(self, settings: GridSettings) -> dict:
+        """The manifest of the grid begun here (a new one if none), checked against settings.
+
+        Raises:
+            GridError: the folder holds something else, or the grid was started with
+                other settings.
+        """
+        if not self.manifest_path.is_file():
+            if self.folder.is_dir() and any(self.folder.iterdir()):
+                raise GridError(f'{self.folder} holds files but no grid.json: not a '
+                                'comparison; choose a new --out')
+            return {'format_version': GRID_FORMAT, 'settings': asdict(settings), 'data': {}}
+        try:
+            manifest = json.loads(self.manifest_path.read_text(encoding='utf-8'))
+            old = manifest['settings']
+            if not isinstance(manifest['data'], dict):
+                raise TypeError
+        except (ValueError, KeyError, TypeError):
+            raise GridError(f'{self.manifest_path} is not a tactex comparison manifest; '
+                            'choose a new --out') from None
+        changed = {k: (old.get(k), v) for k, v in asdict(settings).items() if old.get(k) != v}
+        if changed:
+            described = ', '.join(f'{k} {was!r} (now {now!r})' for k, (was, now)
+                                  in changed.items())
+            raise GridError(f'{self.folder} was started with {described}; give the same '
+                            'settings to resume it, or a new --out')
+        return manifest
+
     def open(self, settings: GridSettings, datasets: dict[int, Dataset],
              sources: dict[int, str]) -> None:
         """Start the grid here, or check that a grid begun here agrees with these inputs.
@@ -107,30 +135,13 @@ class GridStore:
             GridError: the folder holds something else, or the grid was started with
                 other settings or other data for a window.
         """
-        manifest = {'format_version': GRID_FORMAT, 'settings': asdict(settings), 'data': {}}
-        if self.manifest_path.is_file():
-            try:
-                manifest = json.loads(self.manifest_path.read_text(encoding='utf-8'))
-                old = manifest['settings']
-                data = manifest['data']
-            except (ValueError, KeyError, TypeError):
-                raise GridError(f'{self.manifest_path} is not a tactex comparison manifest; '
-                                'choose a new --out') from None
-            changed = {k: (old.get(k), v) for k, v in asdict(settings).items() if old.get(k) != v}
-            if changed:
-                described = ', '.join(f'{k} {was!r} (now {now!r})' for k, (was, now)
-                                      in changed.items())
-                raise GridError(f'{self.folder} was started with {described}; give the same '
-                                'settings to resume it, or a new --out')
-            for window, dataset in datasets.items():
-                kept = data.get(str(window))
-                if kept and kept['sha256'] != dataset_digest(dataset):
-                    raise GridError(f'{self.folder} was started with other data for window '
-                                    f'{window} ({kept["source"]}); give the same data to resume '
-                                    'it, or a new --out')
-        elif self.folder.is_dir() and any(self.folder.iterdir()):
-            raise GridError(f'{self.folder} holds files but no grid.json: not a comparison; '
-                            'choose a new --out')
+        manifest = self.check(settings)
+        for window, dataset in datasets.items():
+            kept = manifest['data'].get(str(window))
+            if kept and kept['sha256'] != dataset_digest(dataset):
+                raise GridError(f'{self.folder} was started with other data for window '
+                                f'{window} ({kept["source"]}); give the same data to resume '
+                                'it, or a new --out')
         for window, dataset in datasets.items():
             manifest['data'].setdefault(str(window), {
                 'sha256': dataset_digest(dataset), 'source': sources[window],

@@ -6,16 +6,14 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
-import re
 import time
 
 from tactex.commands.train import check_folds
 from tactex.errors import CommandError
-from tactex.options import integer
+from tactex.options import integer, ray_address
 from tactex_classify.catalog import ALL_MODELS, BASELINES, SCHEMES
 
 DEFAULT_WINDOWS = (128, 256, 512)
-ADDRESS = re.compile(r'^(ray://)?[A-Za-z0-9_.\-\[\]:]+:\d{1,5}$')
 
 
 def names(value: str) -> list[str]:
@@ -37,14 +35,6 @@ def windows(value: str) -> list[int]:
     if len(set(items)) != len(items):
         raise argparse.ArgumentTypeError(f'{value!r} names a window twice')
     return items
-
-
-def address(value: str) -> str:
-    """An argparse type: a Ray cluster address, HOST:PORT or ray://HOST:PORT."""
-    if not ADDRESS.match(value):
-        raise argparse.ArgumentTypeError(f'must be HOST:PORT or ray://HOST:PORT (as `ray start '
-                                         f'--head` prints it), got {value!r}')
-    return value
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -72,7 +62,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('--cpus', type=integer(1, 4096),
                         help='most cores the local Ray instance may use (default: all it '
                              'detects); not with --address')
-    parser.add_argument('--address', type=address,
+    parser.add_argument('--address', type=ray_address, metavar='HOST:PORT',
                         help='run on this Ray cluster instead of a local instance (nodes '
                              'need tactex installed; results land in --out here)')
     parser.add_argument('--device', default='auto', choices=['auto', 'cpu', 'cuda'],
@@ -89,11 +79,19 @@ def run(args: argparse.Namespace) -> int:
     from tactex_classify.compare_report import write_report
     from tactex_common.cluster import ray_session
 
+    if args.device == 'cuda' and not args.address:
+        import torch
+        if not torch.cuda.is_available():
+            raise CommandError('--device cuda: this machine has no usable GPU; use --device '
+                               'auto or cpu')
     if args.address and args.cpus:
         raise CommandError("--cpus caps a local Ray instance; a cluster's cores are set where "
                            'its nodes start (ray start --num-cpus): drop --cpus or --address')
     store = GridStore(args.out)
     check_grid_folder(store)
+    settings = GridSettings(folds=args.folds, epochs=args.epochs,
+                            early_stopping=args.early_stopping)
+    store.check(settings)
     started = time.monotonic()
 
     def log(line: str) -> None:
@@ -107,8 +105,6 @@ def run(args: argparse.Namespace) -> int:
         except CommandError as err:
             raise CommandError(f'window {window}: {err}') from None
         check_models_fit(args.models, window, dataset)
-    settings = GridSettings(folds=args.folds, epochs=args.epochs,
-                            early_stopping=args.early_stopping)
     store.open(settings, datasets, sources)
     for window in converted:
         datasets[window].save(store.folder / 'data' / f'w{window}.npz')

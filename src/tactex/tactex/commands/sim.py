@@ -8,7 +8,7 @@ import argparse
 from pathlib import Path
 
 from tactex.errors import CommandError
-from tactex.options import check_output_folder, integer, staged_folder, text
+from tactex.options import check_output_folder, integer, ray_address, staged_folder
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -26,7 +26,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     collect.add_argument('--workers', type=integer(1, 1024), default=None,
                          help='sweeps recorded at once, as Ray tasks (default 1: one after '
                               'another here); the bags are the same for any number')
-    collect.add_argument('--address', type=text, metavar='HOST:PORT',
+    collect.add_argument('--address', type=ray_address, metavar='HOST:PORT',
                          help='run the sweeps on this Ray cluster (every node needs tactex '
                               'installed); --workers then caps the sweeps in flight')
 
