@@ -173,10 +173,10 @@ def main() -> int:
     lines += [f'| {r["model"]} | ' + ' | '.join(f'{r[label]:.4f}' for label in labels)
               + f' | {r[labels[2]] / r[labels[1]]:.2f}x |' for r in cells]
     lines += ['', f'Evaluation ({overhead["model"]}): classifying {overhead["test_windows"]} '
-              f'test windows takes {overhead["predict_s"]:.2f} s against {overhead["epoch_s"]:.1f} '
-              f's for an epoch; checking held-out recordings each epoch (early stopping, 10 % of '
-              f'the recordings) adds about {100 * overhead["validation_share"]:.1f} % to an '
-              'epoch.', '']
+              f'test windows takes {overhead["predict_s"]:.2f} s against '
+              f'{overhead["epoch_s"]:.1f} s for an epoch; checking held-out recordings each '
+              'epoch (early stopping, 10 % of the recordings) adds about '
+              f'{100 * overhead["validation_share"]:.1f} % to an epoch.', '']
     (RESULTS / 'training.md').write_text('\n'.join(lines), encoding='utf-8')
     print('\n'.join(lines))
     return 0

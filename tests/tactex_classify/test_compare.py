@@ -73,7 +73,7 @@ def test_a_grid_resumes_only_with_its_settings_and_its_data(tmp_path):
     store.open(GridSettings(folds=2, epochs=3), {64: toy()}, {64: 'toy'})
     store.open(GridSettings(folds=2, epochs=3), {64: toy(), 32: toy(32)}, {64: 'toy', 32: 't'})
     assert set(store.manifest()['data']) == {'64', '32'}
-    with pytest.raises(GridError, match=r"epochs 3 \(now 5\); give the same settings"):
+    with pytest.raises(GridError, match=r'epochs 3 \(now 5\); give the same settings'):
         store.open(GridSettings(folds=2, epochs=5), {64: toy()}, {64: 'toy'})
     changed = toy()
     changed.X[0, 0, 0] += 1.0
