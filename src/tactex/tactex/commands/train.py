@@ -45,9 +45,9 @@ def run(args: argparse.Namespace) -> int:
     schemes = SCHEMES if args.cv == 'both' else (args.cv,)
     check_folds(dataset, schemes, args.folds)
 
-    from tactex_classify.baselines import MiniRocketRidge, StatsExtraTrees
-    from tactex_classify.classifier import DeepClassifier, TrainingConfig
+    from tactex_classify.classifier import TrainingConfig
     from tactex_classify.errors import ClassifyError
+    from tactex_classify.estimators import build_estimator
     from tactex_classify.evaluate import cross_validate
     from tactex_classify.report import write_report
 
@@ -67,11 +67,7 @@ def run(args: argparse.Namespace) -> int:
                 f'acc {100 * record["train_accuracy"]:.1f} %{extra}')
 
     def make():
-        if args.model == 'minirocket':
-            return MiniRocketRidge(seed=args.seed)
-        if args.model == 'extratrees':
-            return StatsExtraTrees(seed=args.seed)
-        return DeepClassifier(config, progress=epoch_progress)
+        return build_estimator(config, progress=epoch_progress)
 
     try:
         with staged_folder(args.out) as folder:
