@@ -46,6 +46,9 @@ def main() -> int:
     parser.add_argument('--seeds', type=int, default=1)
     parser.add_argument('--cpus', type=int, default=2)
     parser.add_argument('--models', help='comma-separated (default: every model)')
+    parser.add_argument('--windows', default=','.join(map(str, WINDOWS)),
+                        help='comma-separated window sizes (default 128,256,512); a later call '
+                             'with more windows adds them to the same grid')
     args = parser.parse_args()
     steps: list[dict] = []
     bags = args.bags or args.work / 'bags'
@@ -53,7 +56,7 @@ def main() -> int:
         _timed([TACTEX, 'sim', 'collect', '--scene', 'uneven_texture', '--sweeps', '25',
                 '--workers', str(args.cpus), '--out', str(bags)], steps)
     datasets = []
-    for window in WINDOWS:
+    for window in (int(w) for w in args.windows.split(',')):
         data = args.work / f'sim{window}.npz'
         if not data.is_file():
             _timed([TACTEX, 'convert', str(bags), '--out', str(data), '--window',

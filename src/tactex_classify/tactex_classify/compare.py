@@ -190,6 +190,12 @@ def _write_json(path: Path, value) -> None:
     os.replace(staged, path)
 
 
+def cuda_available() -> bool:
+    """Whether torch sees a usable GPU on this machine."""
+    import torch
+    return torch.cuda.is_available()
+
+
 def run_cell(datasets: dict[int, Dataset], cell: Cell, settings: GridSettings, threads: int,
              device: str) -> dict:
     """Train and score one cell; returns its result (a Ray task on any node).

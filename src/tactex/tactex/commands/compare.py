@@ -80,8 +80,8 @@ def run(args: argparse.Namespace) -> int:
     from tactex_common.cluster import ray_session
 
     if args.device == 'cuda' and not args.address:
-        import torch
-        if not torch.cuda.is_available():
+        from tactex_classify.compare import cuda_available
+        if not cuda_available():
             raise CommandError('--device cuda: this machine has no usable GPU; use --device '
                                'auto or cpu')
     if args.address and args.cpus:
