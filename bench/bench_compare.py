@@ -41,7 +41,7 @@ def main() -> int:
     parser.add_argument('--work', type=Path, default=Path('/tmp/tactex-compare-data'),
                         help='where the bags and the converted datasets are kept')
     parser.add_argument('--bags', type=Path, help='use these bags instead of collecting')
-    parser.add_argument('--epochs', type=int, default=2)
+    parser.add_argument('--epochs', type=int, default=1)
     parser.add_argument('--folds', type=int, default=5)
     parser.add_argument('--seeds', type=int, default=1)
     parser.add_argument('--cpus', type=int, default=2)
