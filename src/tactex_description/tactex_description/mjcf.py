@@ -21,6 +21,7 @@ from tactex_description.geometry import (
     JointRole,
     OPEN_MANIPULATOR_X,
     RobotGeometry,
+    SENSOR_EDGE_RADIUS_M,
 )
 
 SENSOR_GEOM = 'sensor_body'
@@ -73,7 +74,8 @@ def _link_geom(body: ET.Element, link: str, robot: RobotGeometry) -> None:
                       size=_fmt((rim_radius, face / 2)), pos=_fmt((0.0, 0.0, face / 2)),
                       rgba='0.95 0.8 0.2 1', friction='0.6 0.005 0.0001', condim='3')
     elif link == 'sensor_edge':
-        ET.SubElement(body, 'geom', name=SENSOR_EDGE_GEOM, type='sphere', size='0.002',
+        ET.SubElement(body, 'geom', name=SENSOR_EDGE_GEOM, type='sphere',
+                      size=repr(SENSOR_EDGE_RADIUS_M),
                       rgba='1 0.3 0.1 1', friction='0.6 0.005 0.0001', condim='3')
 
 
