@@ -57,7 +57,7 @@ class PoseSettings:
 
     edge_offset_rad: float = 0.5
     press_depth_m: float = 0.0015
-    max_residual_rad: float = 0.1
+    max_residual_rad: float = 0.2
 
     def __post_init__(self) -> None:
         """Reject values outside their ranges."""

@@ -1,0 +1,190 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""Sweeps played in the simulator and measured against its ground truth.
+
+`execute` plays a planned trajectory through the driver's own controller in a
+`tactex_sim` World (as the bridge does) and records the ground truth at every sensor
+sample; `measure` scores it over the planned contact segment: the fraction of it in
+contact, the sliding speed along the path (in windows), and the press depth the arm
+really held (its joints' edge position against the true surface) minus the one asked.
+`probe_like_pathway` makes the contacts a probe would report from the scene's surface,
+with the probe's noise, for planning without probing.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+import math
+
+import numpy as np
+
+from tactex_description.geometry import ARM_JOINT_NAMES, SENSOR_EDGE_RADIUS_M
+from tactex_driver.arm import ArmController
+from tactex_driver.playback import JointLimits
+from tactex_sim.scene import Surface
+from tactex_sim.world import World
+from tactex_trajectory.planner import SweepPlan
+from tactex_trajectory.poses import ARM
+
+# Length of the windows the sliding speed is measured over (s).
+SPEED_WINDOW_S = 0.25
+
+
+@dataclass(frozen=True)
+class SweepRecord:
+    """Ground truth at every sensor sample of a simulated sweep (times from its start)."""
+
+    times_s: np.ndarray
+    touching: np.ndarray
+    force_n: np.ndarray
+    edge_positions: np.ndarray  # the compliant body's sensor_edge (m)
+    arm_edge_positions: np.ndarray  # sensor_edge of the measured arm joints, body rigid
+    pressure_pa: np.ndarray
+
+
+@dataclass(frozen=True)
+class SweepMeasurement:
+    """How well a simulated sweep did over its planned contact segment.
+
+    Attributes:
+        contact_fraction: fraction of the segment's samples in contact.
+        speed_mean_m_s: mean sliding speed along the path over the segment.
+        speed_error_max: largest |window speed / set speed - 1| over the segment.
+        speed_errors: that ratio for every window.
+        press_depth_error_rms_m, press_depth_error_mean_m: (held - asked) press depth.
+        planned_depth_error_rms_m: (commanded - asked) press depth: the path's share of
+            the error (the rest is the arm's tracking).
+    """
+
+    contact_fraction: float
+    speed_mean_m_s: float
+    speed_error_max: float
+    speed_errors: np.ndarray
+    press_depth_error_rms_m: float
+    press_depth_error_mean_m: float
+    planned_depth_error_rms_m: float
+
+    def summary(self) -> str:
+        """One line of the numbers."""
+        return (f'contact {100 * self.contact_fraction:.1f} %, speed '
+                f'{self.speed_mean_m_s * 1e3:.2f} mm/s (worst window '
+                f'{100 * self.speed_error_max:+.1f} %), press depth error rms '
+                f'{self.press_depth_error_rms_m * 1e3:.2f} mm (mean '
+                f'{self.press_depth_error_mean_m * 1e3:+.2f} mm; planned '
+                f'{self.planned_depth_error_rms_m * 1e3:.2f} mm)')
+
+
+def execute(world: World, plan: SweepPlan, *, start_joints=None, tail_s: float = 0.2
+            ) -> SweepRecord:
+    """Play `plan` in `world` through the driver's controller and record the ground truth.
+
+    Args:
+        world: a fresh world (its time is the trajectory's time origin).
+        plan: planned from `start_joints`.
+        start_joints: where the arm is placed (joint1..joint4 and the gripper); default
+            the plan's first point.
+        tail_s: simulated time after the trajectory's end.
+    """
+    first = plan.trajectory.positions[0]
+    start = np.concatenate([first, [0.0]]) if start_joints is None else np.asarray(
+        start_joints, dtype=float)
+    world.place_arm(start)
+    controller = ArmController(JointLimits.of_robot())
+    controller.update_measured(world.joint_positions())
+    controller.torque_on(world.time_s)
+    origin = world.time_s
+    trajectory = plan.trajectory
+    controller.execute(list(ARM_JOINT_NAMES), trajectory.times_s.tolist(),
+                       trajectory.positions.tolist(), trajectory.velocities.tolist(), origin)
+
+    def goal(time_s: float) -> np.ndarray:
+        target = controller.goal(time_s)
+        return world.joint_positions() if target is None else target
+
+    world.controller = goal
+    rows = []
+    while world.time_s < origin + trajectory.duration_s + tail_s:
+        sample = world.next_sample()
+        joints = world.joint_positions()
+        controller.update_measured(joints)
+        rows.append((sample.time_s - origin, sample.truth.contact.touching,
+                     sample.truth.contact.force, *sample.truth.edge_position,
+                     *ARM.tool_pose(joints[:4])[0], sample.pressure))
+    table = np.array(rows, dtype=float)
+    return SweepRecord(table[:, 0], table[:, 1] > 0.5, table[:, 2], table[:, 3:6],
+                       table[:, 6:9], table[:, 9])
+
+
+def measure(record: SweepRecord, plan: SweepPlan, surface: Surface) -> SweepMeasurement:
+    """Score a simulated sweep over its planned contact segment against the true surface."""
+    segment = (record.times_s >= plan.contact_start_s) & (record.times_s <= plan.contact_end_s)
+    if not np.any(segment):
+        raise ValueError('the record does not cover the planned contact segment')
+    travel = _travel_along(plan, record.edge_positions[segment])
+    times = record.times_s[segment]
+    speed = plan.settings.sliding_speed_m_s
+    edges = np.arange(times[0], times[-1] + 1e-9, SPEED_WINDOW_S)
+    window_speeds = np.diff(np.interp(edges, times, travel)) / np.diff(edges)
+    errors = window_speeds / speed - 1.0
+    held = _press_depth(record.arm_edge_positions[segment], surface)
+    depth_error = held - plan.settings.pose.press_depth_m
+    commanded = plan.trajectory.interpolant()(times)
+    planned = _press_depth(np.array([ARM.tool_pose(q)[0] for q in commanded]), surface)
+    planned_error = planned - plan.settings.pose.press_depth_m
+    return SweepMeasurement(
+        contact_fraction=float(np.mean(record.touching[segment])),
+        speed_mean_m_s=float((travel[-1] - travel[0]) / (times[-1] - times[0])),
+        speed_error_max=float(np.max(np.abs(errors))) if errors.size else math.nan,
+        speed_errors=errors,
+        press_depth_error_rms_m=float(np.sqrt(np.mean(depth_error ** 2))),
+        press_depth_error_mean_m=float(np.mean(depth_error)),
+        planned_depth_error_rms_m=float(np.sqrt(np.mean(planned_error ** 2))))
+
+
+def _travel_along(plan: SweepPlan, positions: np.ndarray) -> np.ndarray:
+    """Arc length along the planned path of the path point closest to each position."""
+    path = plan.path
+    travel = np.empty(len(positions))
+    for index, position in enumerate(positions):
+        k = int(np.argmin(np.sum((path.points - position) ** 2, axis=1)))
+        best = (math.inf, 0.0)
+        for a in (max(k - 1, 0), k):
+            b = min(a + 1, len(path.points) - 1)
+            chord = path.points[b] - path.points[a]
+            length2 = float(chord @ chord)
+            fraction = 0.0 if length2 == 0.0 else min(1.0, max(0.0, float(
+                (position - path.points[a]) @ chord) / length2))
+            distance = float(np.sum((path.points[a] + fraction * chord - position) ** 2))
+            if distance < best[0]:
+                best = (distance, path.arclength_m[a] + fraction * (
+                    path.arclength_m[b] - path.arclength_m[a]))
+        travel[index] = best[1]
+    return travel
+
+
+def _press_depth(edge_positions: np.ndarray, surface: Surface) -> np.ndarray:
+    """How deep the rim of an edge at these positions would be in the true surface (m)."""
+    x, z = edge_positions[:, 0], edge_positions[:, 2]
+    height_above = (z - surface.height(x)) / np.sqrt(1.0 + surface.slope(x) ** 2)
+    return SENSOR_EDGE_RADIUS_M - height_above
+
+
+def probe_like_pathway(surface: Surface, start_x_m: float, end_x_m: float, step_m: float,
+                       rng: np.random.Generator, *, position_sd_m: float = 0.001,
+                       normal_sd_rad: float = math.radians(2.0), y_m: float = 0.0
+                       ) -> tuple[np.ndarray, np.ndarray]:
+    """Contacts every `step_m` along x on the true surface, with probe-like noise.
+
+    Returns (points, normals), (n, 3) each: positions perturbed by isotropic Gaussian
+    noise, normals tilted by Gaussian angles about two axes across them.
+    """
+    xs = np.arange(start_x_m, end_x_m + 1e-9, step_m)
+    slopes = surface.slope(xs)
+    normals = np.stack([-slopes, np.zeros_like(xs), np.ones_like(xs)], axis=1)
+    normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+    points = np.stack([xs, np.full_like(xs, y_m), surface.height(xs)], axis=1)
+    points = points + rng.normal(0.0, position_sd_m, points.shape)
+    across = np.cross(normals, [0.0, 1.0, 0.0])
+    tilts = rng.normal(0.0, normal_sd_rad, (len(xs), 2))
+    noisy = (normals + tilts[:, :1] * across + tilts[:, 1:] * np.array([0.0, 1.0, 0.0]))
+    return points, noisy / np.linalg.norm(noisy, axis=1, keepdims=True)
