@@ -105,6 +105,25 @@ class SweepPath:
         """Arc length of the whole path (m)."""
         return float(self.arclength_m[-1])
 
+    def travel_of(self, positions) -> np.ndarray:
+        """Arc length (m) of the path point closest to each of (k, 3) positions."""
+        positions = np.atleast_2d(np.asarray(positions, dtype=float))
+        last = len(self.points) - 1
+        travel = np.empty(len(positions))
+        for index, position in enumerate(positions):
+            nearest = int(np.argmin(np.sum((self.points - position) ** 2, axis=1)))
+            best = (math.inf, 0.0)
+            for a in (max(nearest - 1, 0), min(nearest, last - 1)):
+                chord = self.points[a + 1] - self.points[a]
+                fraction = min(1.0, max(0.0, float((position - self.points[a]) @ chord)
+                                        / max(float(chord @ chord), 1e-300)))
+                distance = float(np.sum((self.points[a] + fraction * chord - position) ** 2))
+                if distance < best[0]:
+                    best = (distance, self.arclength_m[a] + fraction
+                            * (self.arclength_m[a + 1] - self.arclength_m[a]))
+            travel[index] = best[1]
+        return travel
+
     def report(self) -> str:
         """One line on what was used and dropped."""
         text = (f'{len(self.kept)} contacts -> {len(self.arclength_m)} samples over '

@@ -28,6 +28,7 @@ from tactex_trajectory.poses import (
     ARM,
     edge_positions,
     PoseSettings,
+    reached_rotation,
     solve_poses,
     sweep_poses,
     SweepPoses,
@@ -195,6 +196,40 @@ def plan_sweep(points, normals, ok, start_joints, settings: SweepSettings = Swee
     _check_with_driver(trajectory, current)
     return SweepPlan(trajectory, path, poses, tuple(phases), slide_phase.start_s + ramp_s,
                      slide_phase.end_s - ramp_s, settings)
+
+
+def retract(plan: SweepPlan, joints) -> TimedJoints:
+    """Lift the edge off the surface from the arm's present joints (an abort or a cancel).
+
+    The edge rises straight along the path's normal under it, by the approach height, at
+    the descent speed, keeping the sensor's orientation, on the sweep's IK branch; where
+    that cannot be solved it rises straight up. An edge already the approach height or
+    more above the path holds where it is. The first point is `joints` at t = 0.
+    """
+    joints = np.asarray(joints, dtype=float)[:4]
+    hold = TimedJoints(np.zeros(1), joints[None], np.zeros((1, 4)), np.zeros((1, 4)))
+    edge, _ = ARM.tool_pose(joints)
+    travel = float(plan.path.travel_of(edge)[0])
+    point, normal = (np.array([np.interp(travel, plan.path.arclength_m, values[:, k])
+                               for k in range(3)])
+                     for values in (plan.path.points, plan.path.normals))
+    normal /= np.linalg.norm(normal)
+    height = plan.settings.approach_height_m
+    if float((edge - point) @ normal) - SENSOR_EDGE_RADIUS_M >= height:
+        return hold
+    lifts = np.linspace(0.0, height, max(2, int(math.ceil(height / LINE_STEP_M)) + 1))
+    rotation = reached_rotation(joints)
+    for direction in (normal, np.array([0.0, 0.0, 1.0])):
+        try:
+            solved = solve_poses(edge + lifts[:, None] * direction,
+                                 np.repeat(rotation[None], len(lifts), axis=0), joints,
+                                 plan.settings.pose.max_residual_rad, branch=plan.poses.branch)
+        except SweepRefused:
+            continue
+        line = JointPath(lifts, solved.joints)
+        return timed_move(line, move_duration(line, peak_speed=plan.settings.descent_speed_m_s,
+                                              minimum_s=MIN_MOVE_S))
+    return hold
 
 
 def _line(path: SweepPath, poses: SweepPoses, index: int, settings: SweepSettings, *,

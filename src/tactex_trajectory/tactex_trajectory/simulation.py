@@ -23,11 +23,9 @@ from tactex_driver.arm import ArmController
 from tactex_driver.playback import JointLimits
 from tactex_sim.scene import Surface
 from tactex_sim.world import World
+from tactex_trajectory.monitor import window_speeds
 from tactex_trajectory.planner import SweepPlan
 from tactex_trajectory.poses import ARM
-
-# Length of the windows the sliding speed is measured over (s).
-SPEED_WINDOW_S = 0.25
 
 
 @dataclass(frozen=True)
@@ -40,6 +38,7 @@ class SweepRecord:
     edge_positions: np.ndarray  # the compliant body's sensor_edge (m)
     arm_edge_positions: np.ndarray  # sensor_edge of the measured arm joints, body rigid
     pressure_pa: np.ndarray
+    joints: np.ndarray  # measured joint1..joint4 (rad)
 
 
 @dataclass(frozen=True)
@@ -109,10 +108,10 @@ def execute(world: World, plan: SweepPlan, *, start_joints=None, tail_s: float =
         controller.update_measured(joints)
         rows.append((sample.time_s - origin, sample.truth.contact.touching,
                      sample.truth.contact.force, *sample.truth.edge_position,
-                     *ARM.tool_pose(joints[:4])[0], sample.pressure))
+                     *ARM.tool_pose(joints[:4])[0], sample.pressure, *joints[:4]))
     table = np.array(rows, dtype=float)
     return SweepRecord(table[:, 0], table[:, 1] > 0.5, table[:, 2], table[:, 3:6],
-                       table[:, 6:9], table[:, 9])
+                       table[:, 6:9], table[:, 9], table[:, 10:14])
 
 
 def measure(record: SweepRecord, plan: SweepPlan, surface: Surface) -> SweepMeasurement:
@@ -120,12 +119,10 @@ def measure(record: SweepRecord, plan: SweepPlan, surface: Surface) -> SweepMeas
     segment = (record.times_s >= plan.contact_start_s) & (record.times_s <= plan.contact_end_s)
     if not np.any(segment):
         raise ValueError('the record does not cover the planned contact segment')
-    travel = _travel_along(plan, record.edge_positions[segment])
+    travel = plan.path.travel_of(record.edge_positions[segment])
     times = record.times_s[segment]
     speed = plan.settings.sliding_speed_m_s
-    edges = np.arange(times[0], times[-1] + 1e-9, SPEED_WINDOW_S)
-    window_speeds = np.diff(np.interp(edges, times, travel)) / np.diff(edges)
-    errors = window_speeds / speed - 1.0
+    errors = window_speeds(times, travel, [(times[0], times[-1])]) / speed - 1.0
     held = _press_depth(record.arm_edge_positions[segment], surface)
     depth_error = held - plan.settings.pose.press_depth_m
     commanded = plan.trajectory.interpolant()(times)
@@ -139,27 +136,6 @@ def measure(record: SweepRecord, plan: SweepPlan, surface: Surface) -> SweepMeas
         press_depth_error_rms_m=float(np.sqrt(np.mean(depth_error ** 2))),
         press_depth_error_mean_m=float(np.mean(depth_error)),
         planned_depth_error_rms_m=float(np.sqrt(np.mean(planned_error ** 2))))
-
-
-def _travel_along(plan: SweepPlan, positions: np.ndarray) -> np.ndarray:
-    """Arc length along the planned path of the path point closest to each position."""
-    path = plan.path
-    travel = np.empty(len(positions))
-    for index, position in enumerate(positions):
-        k = int(np.argmin(np.sum((path.points - position) ** 2, axis=1)))
-        best = (math.inf, 0.0)
-        for a in (max(k - 1, 0), k):
-            b = min(a + 1, len(path.points) - 1)
-            chord = path.points[b] - path.points[a]
-            length2 = float(chord @ chord)
-            fraction = 0.0 if length2 == 0.0 else min(1.0, max(0.0, float(
-                (position - path.points[a]) @ chord) / length2))
-            distance = float(np.sum((path.points[a] + fraction * chord - position) ** 2))
-            if distance < best[0]:
-                best = (distance, path.arclength_m[a] + fraction * (
-                    path.arclength_m[b] - path.arclength_m[a]))
-        travel[index] = best[1]
-    return travel
 
 
 def _press_depth(edge_positions: np.ndarray, surface: Surface) -> np.ndarray:
