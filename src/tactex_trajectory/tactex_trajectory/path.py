@@ -381,6 +381,8 @@ class _Curve:
 def _fit(points: np.ndarray, normals: np.ndarray, settings: PathSettings) -> _Curve:
     """Fit positions (with the normals' tangent condition) and the normal field."""
     units = normals / np.linalg.norm(normals, axis=1, keepdims=True)
+    origin = points.mean(axis=0)  # fitted about their mean: far from base_link stays exact
+    points = points - origin
     chords = np.linalg.norm(np.diff(points, axis=0), axis=1)
     u = np.concatenate([[0.0], np.cumsum(chords)])
     intervals = min(MAX_INTERVALS, max(4, 2 * (len(points) - 1)))
@@ -390,7 +392,7 @@ def _fit(points: np.ndarray, normals: np.ndarray, settings: PathSettings) -> _Cu
     basis = BSpline(knots, np.eye(count), DEGREE, extrapolate=True)
     values = basis(u)
     slopes = basis.derivative()(u)
-    second = np.diff(np.eye(count), n=2, axis=0)
+    second = _second_differences(knots, count)
     # Positions: (p_i - c(u_i)) / sigma_p; tangent condition: n_i . c'(u_i) / sigma_n.
     design = np.vstack([np.kron(values, np.eye(3)),
                         np.einsum('ij,ik->ijk', slopes, units).reshape(len(u), -1)])
@@ -406,9 +408,26 @@ def _fit(points: np.ndarray, normals: np.ndarray, settings: PathSettings) -> _Cu
     log_coefficients = np.stack([
         _penalised_fit(values, column, np.full(len(u), 1.0 / settings.normal_noise_rad),
                        second) for column in log.T], axis=1)
-    position = BSpline(knots, coefficients, DEGREE, extrapolate=True)
+    position = BSpline(knots, coefficients + origin, DEGREE, extrapolate=True)
     return _Curve(position, position.derivative(),
                   BSpline(knots, log_coefficients, DEGREE, extrapolate=True), base, u)
+
+
+def _second_differences(knots: np.ndarray, count: int) -> np.ndarray:
+    """Rows taking second divided differences of coefficients over their Greville abscissae.
+
+    Coefficients at the Greville abscissae reproduce u itself, so every straight line,
+    parameterised uniformly, costs nothing (plain second differences would bend the
+    parameterisation near the clamped ends).
+    """
+    greville = np.array([knots[j + 1:j + DEGREE + 1].mean() for j in range(count)])
+    steps = np.diff(greville)
+    rows = np.zeros((count - 2, count))
+    for j in range(1, count - 1):
+        rows[j - 1, j - 1] = 1.0 / steps[j - 1]
+        rows[j - 1, j] = -1.0 / steps[j - 1] - 1.0 / steps[j]
+        rows[j - 1, j + 1] = 1.0 / steps[j]
+    return rows * float(np.mean(steps))
 
 
 def _penalised_fit(design: np.ndarray, values: np.ndarray, weights: np.ndarray,

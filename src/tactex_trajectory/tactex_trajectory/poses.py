@@ -264,9 +264,9 @@ def _solve_one(position: np.ndarray, rotation: np.ndarray, seed: np.ndarray,
     if best is None:
         if branch is not None:
             detail = '; '.join(reasons) or 'no solution on this branch'
-            raise SweepRefused(f"{label} at {_mm(position)} cannot be reached on the sweep's "
-                               f'IK branch ({branch}): {detail}; a branch switch is never '
-                               f'made within one sweep')
+            raise SweepRefused(f"{label} at {_mm(position)} is out of the arm's reach on the "
+                               f"sweep's IK branch ({branch}): {detail}; a branch switch is "
+                               f'never made within one sweep')
         raise SweepRefused(f"{label} at {_mm(position)} is out of the arm's reach: "
                            f'{"; ".join(reasons)}')
     solution, pitch, residual, _ = best
