@@ -203,8 +203,9 @@ def retract(plan: SweepPlan, joints) -> TimedJoints:
 
     The edge rises straight along the path's normal under it, by the approach height, at
     the descent speed, keeping the sensor's orientation, on the sweep's IK branch; where
-    that cannot be solved it rises straight up. An edge already the approach height or
-    more above the path holds where it is. The first point is `joints` at t = 0.
+    that cannot be solved it rises straight up. An edge already as high above the path as
+    the approach (where the planned lift ends) holds where it is. The first point is
+    `joints` at t = 0.
     """
     joints = np.asarray(joints, dtype=float)[:4]
     hold = TimedJoints(np.zeros(1), joints[None], np.zeros((1, 4)), np.zeros((1, 4)))
@@ -215,7 +216,8 @@ def retract(plan: SweepPlan, joints) -> TimedJoints:
                      for values in (plan.path.points, plan.path.normals))
     normal /= np.linalg.norm(normal)
     height = plan.settings.approach_height_m
-    if float((edge - point) @ normal) - SENSOR_EDGE_RADIUS_M >= height:
+    rim_height = float((edge - point) @ normal) - SENSOR_EDGE_RADIUS_M
+    if rim_height >= height - plan.settings.pose.press_depth_m - LINE_STEP_M:
         return hold
     lifts = np.linspace(0.0, height, max(2, int(math.ceil(height / LINE_STEP_M)) + 1))
     rotation = reached_rotation(joints)
@@ -281,8 +283,10 @@ def _moves(start: np.ndarray, goal: np.ndarray, path: SweepPath,
     lifted = ARM.inverse([position[0], position[1], max(top, float(position[2]))], pitch,
                          seed=start)
     if lifted.reachable:
+        # The lift rises from wherever the edge is (even pressed in): only the travel
+        # after it must keep clear.
         moves = [_move(start, lifted.solutions[0]), _move(lifted.solutions[0], goal)]
-        if not any(_too_close(move, path, settings) for move in moves):
+        if not _too_close(moves[1], path, settings):
             return moves
     raise SweepRefused('the move from the present pose to above the first path sample '
                        'would pass within '
