@@ -40,8 +40,8 @@ def stream(sweep, *, latency_s=0.3, pressure=None, joints_offset=0.0):
         yield time_s, joints, value
 
 
-def watch(sweep, samples, settings=MonitorSettings()):
-    monitor = SweepMonitor(sweep, settings)
+def watch(sweep, samples):
+    monitor = SweepMonitor(sweep)
     status = None
     for time_s, joints, pressure in samples:
         monitor.update_joints(time_s, joints)
