@@ -8,7 +8,7 @@ from conftest import START_JOINTS, wave_pathway
 import numpy as np
 import pytest
 
-from tactex_description.geometry import SENSOR_EDGE_RADIUS_M
+from tactex_description.mjcf import EDGE_TIP_RADIUS_M
 from tactex_trajectory.monitor import MonitorSettings, SweepMonitor
 from tactex_trajectory.planner import plan_sweep
 from tactex_trajectory.poses import ARM
@@ -33,7 +33,7 @@ def stream(sweep, *, latency_s=0.3, pressure=None, joints_offset=0.0):
         travel = path.travel_of(edge)[0]
         point, normal = (np.array([np.interp(travel, path.arclength_m, v[:, k])
                                    for k in range(3)]) for v in (path.points, path.normals))
-        depth = SENSOR_EDGE_RADIUS_M - float((edge - point) @ (normal / np.linalg.norm(normal)))
+        depth = EDGE_TIP_RADIUS_M - float((edge - point) @ (normal / np.linalg.norm(normal)))
         value = BASELINE_PA + 1.35e6 * max(0.0, depth)
         if pressure is not None:
             value = pressure(t, value)

@@ -8,7 +8,7 @@ from conftest import START_JOINTS, wave_pathway
 import numpy as np
 import pytest
 
-from tactex_description.geometry import SENSOR_EDGE_RADIUS_M
+from tactex_description.mjcf import EDGE_TIP_RADIUS_M
 from tactex_driver.playback import JointLimits, plan
 from tactex_trajectory.errors import PathError, SweepRefused
 from tactex_trajectory.planner import plan_sweep, retract, SweepSettings
@@ -143,6 +143,6 @@ def test_the_press_depth_and_the_rim_radius_set_where_the_edge_goes():
     points, normals = wave_pathway(position_sd=0.0, normal_sd=0.0)
     deep = plan_sweep(points, normals, None, START_JOINTS,
                       SweepSettings(pose=PoseSettings(press_depth_m=0.003)))
-    depth = SENSOR_EDGE_RADIUS_M - np.sum((deep.poses.edge_positions - deep.path.points)
+    depth = EDGE_TIP_RADIUS_M - np.sum((deep.poses.edge_positions - deep.path.points)
                                           * deep.path.normals, axis=1)
     np.testing.assert_allclose(depth, 0.003, atol=1e-9)

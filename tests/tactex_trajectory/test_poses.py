@@ -8,8 +8,8 @@ from conftest import START_JOINTS, wave_pathway
 import numpy as np
 import pytest
 
-from tactex_description.geometry import SENSOR_EDGE_RADIUS_M
 from tactex_description.kinematics import forward_kinematics
+from tactex_description.mjcf import EDGE_TIP_RADIUS_M
 from tactex_trajectory.errors import SweepRefused
 from tactex_trajectory.path import path_from_contacts
 from tactex_trajectory.poses import (
@@ -39,7 +39,7 @@ def test_the_rim_is_pressed_into_the_path_by_the_depth(path, poses):
     frames = [forward_kinematics(q, 'sensor_edge') for q in poses.joints]
     edges = np.array([frame[:3, 3] for frame in frames])
     np.testing.assert_allclose(edges, poses.edge_positions, atol=1e-9)
-    depth = SENSOR_EDGE_RADIUS_M - np.sum((edges - path.points) * path.normals, axis=1)
+    depth = EDGE_TIP_RADIUS_M - np.sum((edges - path.points) * path.normals, axis=1)
     np.testing.assert_allclose(depth, 0.0015, atol=1e-9)
 
 
@@ -132,8 +132,8 @@ def test_a_pose_off_the_sweeps_branch_is_refused_not_switched(poses):
 def test_lifted_edge_positions_move_along_the_normal():
     lifted = edge_positions(np.zeros((2, 3)), np.array([[0, 0, 1.0], [0, 0, 1.0]]), 0.001,
                             np.array([0.0, 0.01]))
-    np.testing.assert_allclose(lifted[:, 2], [SENSOR_EDGE_RADIUS_M - 0.001,
-                                              SENSOR_EDGE_RADIUS_M + 0.009])
+    np.testing.assert_allclose(lifted[:, 2], [EDGE_TIP_RADIUS_M - 0.001,
+                                              EDGE_TIP_RADIUS_M + 0.009])
 
 
 @pytest.mark.parametrize('name, value', [('edge_offset_rad', -0.1),

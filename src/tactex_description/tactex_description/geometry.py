@@ -17,8 +17,7 @@ The tactile module sits on a 3D-printed mount held by the gripper. Its compliant
 polyurethane body is modelled as revolute joints about x, y, z followed by a
 prismatic joint along z (the sensor's outward axis), each with a stiffness and a
 damping; `sensor_link` is the MARG chip and `sensor_edge` the point of the face rim
-that slides on the surface during a sweep. The rim is rounded: `sensor_edge` is the
-centre of that rounding, so the surface touches the rim `SENSOR_EDGE_RADIUS_M` from it.
+that slides on the surface during a sweep.
 """
 
 from __future__ import annotations
@@ -135,7 +134,6 @@ COMPLIANT_JOINT_NAMES = ('sensor_roll', 'sensor_pitch', 'sensor_yaw', 'sensor_pr
 ARM_VELOCITY_LIMIT = 2.0  # rad/s, see module docstring
 ARM_ACCELERATION_LIMIT = 4.0  # rad/s^2, see module docstring
 ARM_EFFORT_LIMIT = 4.1  # N m, XM430-W350 stall torque at 12 V
-SENSOR_EDGE_RADIUS_M = 0.002  # rounding of the sensor's rim, centred on sensor_edge
 
 _PI = math.pi
 

@@ -22,7 +22,8 @@ import math
 
 import numpy as np
 
-from tactex_description.geometry import OPEN_MANIPULATOR_X, SENSOR_EDGE_RADIUS_M
+from tactex_description.geometry import OPEN_MANIPULATOR_X
+from tactex_description.mjcf import EDGE_TIP_RADIUS_M
 from tactex_trajectory.planner import SweepPlan
 from tactex_trajectory.poses import ARM
 
@@ -253,7 +254,7 @@ class SweepMonitor:
                           for k in range(3)])
         normal = np.array([np.interp(travel, path.arclength_m, path.normals[:, k])
                            for k in range(3)])
-        return SENSOR_EDGE_RADIUS_M - float((edge - point) @ (normal / np.linalg.norm(normal)))
+        return EDGE_TIP_RADIUS_M - float((edge - point) @ (normal / np.linalg.norm(normal)))
 
     def _set_active(self, t_s: float, active: bool) -> None:
         if active and not self._active:

@@ -19,7 +19,7 @@ import math
 
 import numpy as np
 
-from tactex_description.geometry import SENSOR_EDGE_RADIUS_M
+from tactex_description.mjcf import EDGE_TIP_RADIUS_M
 from tactex_driver.errors import TrajectoryRejected
 from tactex_driver.playback import JointLimits, plan
 from tactex_trajectory.errors import SweepRefused
@@ -216,7 +216,7 @@ def retract(plan: SweepPlan, joints) -> TimedJoints:
                      for values in (plan.path.points, plan.path.normals))
     normal /= np.linalg.norm(normal)
     height = plan.settings.approach_height_m
-    rim_height = float((edge - point) @ normal) - SENSOR_EDGE_RADIUS_M
+    rim_height = float((edge - point) @ normal) - EDGE_TIP_RADIUS_M
     if rim_height >= height - plan.settings.pose.press_depth_m - LINE_STEP_M:
         return hold
     lifts = np.linspace(0.0, height, max(2, int(math.ceil(height / LINE_STEP_M)) + 1))
@@ -279,7 +279,7 @@ def _moves(start: np.ndarray, goal: np.ndarray, path: SweepPath,
     if not _too_close(direct, path, settings):
         return [direct]
     position, pitch = ARM.tool_pose(start)
-    top = float(np.max(path.points[:, 2])) + settings.approach_height_m + SENSOR_EDGE_RADIUS_M
+    top = float(np.max(path.points[:, 2])) + settings.approach_height_m + EDGE_TIP_RADIUS_M
     lifted = ARM.inverse([position[0], position[1], max(top, float(position[2]))], pitch,
                          seed=start)
     if lifted.reachable:
@@ -303,7 +303,7 @@ def _too_close(move: TimedJoints, path: SweepPath, settings: SweepSettings) -> b
     """True when the edge comes within the clearance of the surface near the path."""
     times = np.linspace(0.0, move.duration_s, CLEARANCE_SAMPLES)
     joints = move.interpolant()(times)
-    clearance = CLEARANCE_FRACTION * settings.approach_height_m + SENSOR_EDGE_RADIUS_M
+    clearance = CLEARANCE_FRACTION * settings.approach_height_m + EDGE_TIP_RADIUS_M
     for q in joints:
         edge, _ = ARM.tool_pose(q)
         offsets = edge - path.points

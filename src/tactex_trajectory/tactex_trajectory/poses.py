@@ -26,8 +26,9 @@ import math
 
 import numpy as np
 
-from tactex_description.geometry import OPEN_MANIPULATOR_X, SENSOR_EDGE_RADIUS_M
+from tactex_description.geometry import OPEN_MANIPULATOR_X
 from tactex_description.kinematics import PlanarArm
+from tactex_description.mjcf import EDGE_TIP_RADIUS_M
 from tactex_trajectory.errors import SweepRefused
 from tactex_trajectory.path import SweepPath
 
@@ -133,7 +134,7 @@ def edge_positions(points: np.ndarray, normals: np.ndarray, press_depth_m: float
     With `lift_m` > 0 the pressed position is lifted that far along the normal.
     """
     lift = np.reshape(lift_m, (-1, 1)) if np.ndim(lift_m) else lift_m
-    return points + (SENSOR_EDGE_RADIUS_M - press_depth_m + lift) * normals
+    return points + (EDGE_TIP_RADIUS_M - press_depth_m + lift) * normals
 
 
 def sweep_poses(path: SweepPath, settings: PoseSettings, seed) -> SweepPoses:

@@ -18,7 +18,8 @@ import math
 
 import numpy as np
 
-from tactex_description.geometry import ARM_JOINT_NAMES, SENSOR_EDGE_RADIUS_M
+from tactex_description.geometry import ARM_JOINT_NAMES
+from tactex_description.mjcf import EDGE_TIP_RADIUS_M
 from tactex_driver.arm import ArmController
 from tactex_driver.playback import JointLimits
 from tactex_sim.scene import Surface
@@ -142,7 +143,7 @@ def _press_depth(edge_positions: np.ndarray, surface: Surface) -> np.ndarray:
     """How deep the rim of an edge at these positions would be in the true surface (m)."""
     x, z = edge_positions[:, 0], edge_positions[:, 2]
     height_above = (z - surface.height(x)) / np.sqrt(1.0 + surface.slope(x) ** 2)
-    return SENSOR_EDGE_RADIUS_M - height_above
+    return EDGE_TIP_RADIUS_M - height_above
 
 
 def probe_like_pathway(surface: Surface, start_x_m: float, end_x_m: float, step_m: float,
