@@ -35,11 +35,11 @@ from tactex_trajectory.path import SweepPath
 TOOL_FRAME = 'sensor_edge'
 # Pitch steps tried around the best pitch when it breaks a joint limit (rad).
 PITCH_SEARCH_STEP_RAD = 0.005
-# Largest joint change between neighbouring samples before the sweep is refused (rad):
-# more means a singularity or a branch flip between them.
-MAX_JOINT_STEP_RAD = 0.3
-# A wrist this close to full stretch or full fold has no defined elbow side (rad).
-ELBOW_SINGULAR_RAD = 1e-3
+# Neighbouring solutions further apart than this (rad, any joint) are checked for a
+# singularity between them: the poses between are solved, halving the gap up to
+# CONTINUITY_DEPTH times; a jump that does not shrink refuses the sweep.
+MAX_JOINT_STEP_RAD = 0.1
+CONTINUITY_DEPTH = 6
 PRESS_TRAVEL_M = -OPEN_MANIPULATOR_X.joint('sensor_press').lower
 ARM = PlanarArm.from_geometry(OPEN_MANIPULATOR_X, TOOL_FRAME)
 
@@ -180,11 +180,13 @@ def solve_poses(positions: np.ndarray, rotations: np.ndarray, seed, max_residual
     for position, rotation, label in zip(positions, rotations, labels, strict=True):
         solution, pitch, residual, branch = _solve_one(position, rotation, previous, branch,
                                                        max_residual_rad, label)
-        if joints and np.max(np.abs(solution - joints[-1])) > MAX_JOINT_STEP_RAD:
+        if joints and not _continuous(joints[-1], positions[len(joints) - 1],
+                                      rotations[len(joints) - 1], solution, position, rotation,
+                                      branch, max_residual_rad, CONTINUITY_DEPTH):
             jump = float(np.max(np.abs(solution - joints[-1])))
             raise SweepRefused(f'{label}: the joints would jump {jump:.2f} rad from the pose '
-                               f'before (a singularity between them); sample the path more '
-                               f'finely or keep it away from full stretch')
+                               f'before (a singularity between them); keep the path away '
+                               f'from full stretch and from above joint1')
         joints.append(solution)
         pitches.append(pitch)
         residuals.append(residual)
@@ -192,6 +194,28 @@ def solve_poses(positions: np.ndarray, rotations: np.ndarray, seed, max_residual
     return SweepPoses(np.array(joints).reshape(-1, 4), np.asarray(positions, dtype=float),
                       np.asarray(rotations, dtype=float), np.array(pitches),
                       np.array(residuals), branch)
+
+
+def _continuous(start_joints: np.ndarray, start_position: np.ndarray,
+                start_rotation: np.ndarray, end_joints: np.ndarray, end_position: np.ndarray,
+                end_rotation: np.ndarray, branch: Branch, max_residual_rad: float,
+                depth: int) -> bool:
+    """True when the arm moves between two solutions without a jump (bisecting the gap)."""
+    if np.max(np.abs(end_joints - start_joints)) <= MAX_JOINT_STEP_RAD:
+        return True
+    if depth == 0:
+        return False
+    position = 0.5 * (start_position + end_position)
+    left, _, right = np.linalg.svd(start_rotation + end_rotation)
+    rotation = left @ right  # the rotation halfway (polar factor of the mean)
+    try:
+        middle = _solve_one(position, rotation, start_joints, branch, max_residual_rad, '')[0]
+    except SweepRefused:
+        return False
+    return (_continuous(start_joints, start_position, start_rotation, middle, position, rotation,
+                        branch, max_residual_rad, depth - 1)
+            and _continuous(middle, position, rotation, end_joints, end_position, end_rotation,
+                            branch, max_residual_rad, depth - 1))
 
 
 def branch_of(joints, position) -> Branch:

@@ -25,6 +25,7 @@ from tactex_driver.playback import JointLimits
 from tactex_sim.scene import Surface
 from tactex_sim.world import World
 from tactex_trajectory.monitor import window_speeds
+from tactex_trajectory.path import SweepPath
 from tactex_trajectory.planner import SweepPlan
 from tactex_trajectory.poses import ARM
 
@@ -92,21 +93,32 @@ def execute(world: World, plan: SweepPlan, *, start_joints=None, tail_s: float =
     controller = ArmController(JointLimits.of_robot())
     controller.update_measured(world.joint_positions())
     controller.torque_on(world.time_s)
-    origin = world.time_s
     trajectory = plan.trajectory
     controller.execute(list(ARM_JOINT_NAMES), trajectory.times_s.tolist(),
-                       trajectory.positions.tolist(), trajectory.velocities.tolist(), origin)
+                       trajectory.positions.tolist(), trajectory.velocities.tolist(),
+                       world.time_s)
 
     def goal(time_s: float) -> np.ndarray:
         target = controller.goal(time_s)
         return world.joint_positions() if target is None else target
 
-    world.controller = goal
+    return record(world, goal, trajectory.duration_s + tail_s,
+                  on_sample=lambda: controller.update_measured(world.joint_positions()))
+
+
+def record(world: World, controller, duration_s: float, *, on_sample=None) -> SweepRecord:
+    """Run `world` under `controller` (time s -> joint targets) for `duration_s`, recording.
+
+    Times in the record start at the world's present time.
+    """
+    world.controller = controller
+    origin = world.time_s
     rows = []
-    while world.time_s < origin + trajectory.duration_s + tail_s:
+    while world.time_s < origin + duration_s:
         sample = world.next_sample()
         joints = world.joint_positions()
-        controller.update_measured(joints)
+        if on_sample is not None:
+            on_sample()
         rows.append((sample.time_s - origin, sample.truth.contact.touching,
                      sample.truth.contact.force, *sample.truth.edge_position,
                      *ARM.tool_pose(joints[:4])[0], sample.pressure, *joints[:4]))
@@ -117,18 +129,36 @@ def execute(world: World, plan: SweepPlan, *, start_joints=None, tail_s: float =
 
 def measure(record: SweepRecord, plan: SweepPlan, surface: Surface) -> SweepMeasurement:
     """Score a simulated sweep over its planned contact segment against the true surface."""
-    segment = (record.times_s >= plan.contact_start_s) & (record.times_s <= plan.contact_end_s)
+    return measure_segment(record, (plan.contact_start_s, plan.contact_end_s), plan.path,
+                           plan.settings.sliding_speed_m_s, plan.settings.pose.press_depth_m,
+                           plan.trajectory.interpolant(), surface)
+
+
+def measure_segment(record: SweepRecord, segment_s: tuple[float, float], path: SweepPath,
+                    speed_m_s: float, press_depth_m: float, commanded, surface: Surface
+                    ) -> SweepMeasurement:
+    """Score a simulated sweep over `segment_s` against the true surface.
+
+    Args:
+        record: what happened.
+        segment_s: the planned contact segment (s, record time).
+        path: the path the edge should slide along (speeds are measured along it).
+        speed_m_s: the sliding speed asked.
+        press_depth_m: the press depth asked.
+        commanded: record time (s) -> the commanded joint1..joint4.
+        surface: the true surface.
+    """
+    segment = (record.times_s >= segment_s[0]) & (record.times_s <= segment_s[1])
     if not np.any(segment):
         raise ValueError('the record does not cover the planned contact segment')
-    travel = plan.path.travel_of(record.edge_positions[segment])
+    travel = path.travel_of(record.edge_positions[segment])
     times = record.times_s[segment]
-    speed = plan.settings.sliding_speed_m_s
-    errors = window_speeds(times, travel, [(times[0], times[-1])]) / speed - 1.0
+    errors = window_speeds(times, travel, [(times[0], times[-1])]) / speed_m_s - 1.0
     held = _press_depth(record.arm_edge_positions[segment], surface)
-    depth_error = held - plan.settings.pose.press_depth_m
-    commanded = plan.trajectory.interpolant()(times)
-    planned = _press_depth(np.array([ARM.tool_pose(q)[0] for q in commanded]), surface)
-    planned_error = planned - plan.settings.pose.press_depth_m
+    depth_error = held - press_depth_m
+    planned = _press_depth(np.array([ARM.tool_pose(np.asarray(commanded(t))[:4])[0]
+                                     for t in times]), surface)
+    planned_error = planned - press_depth_m
     return SweepMeasurement(
         contact_fraction=float(np.mean(record.touching[segment])),
         speed_mean_m_s=float((travel[-1] - travel[0]) / (times[-1] - times[0])),
