@@ -29,6 +29,8 @@ DEGREE = 3
 # Most B-spline intervals of a fit: enough for any probed pathway, small enough to solve.
 MAX_INTERVALS = 48
 # Curve samples per metre used for arc lengths (0.1 mm apart).
+# Weight of bending beside the change of curvature in the position fit's roughness.
+BENDING_SHARE = 0.1
 # An end contact is judged by extrapolating its neighbours: its tolerances are this much wider.
 END_LENIENCY = 2.5
 DENSE_PER_M = 10_000
@@ -392,7 +394,11 @@ def _fit(points: np.ndarray, normals: np.ndarray, settings: PathSettings) -> _Cu
     basis = BSpline(knots, np.eye(count), DEGREE, extrapolate=True)
     values = basis(u)
     slopes = basis.derivative()(u)
-    second = _second_differences(knots, count)
+    turning = _divided_differences(knots, count, 2)
+    # Mostly the change of curvature; a little bending too, which ties the parameter to
+    # the distance travelled (a quadratic parameter along a straight line is not free).
+    roughness = np.vstack([_divided_differences(knots, count, 3),
+                           BENDING_SHARE * turning])
     # Positions: (p_i - c(u_i)) / sigma_p; tangent condition: n_i . c'(u_i) / sigma_n.
     design = np.vstack([np.kron(values, np.eye(3)),
                         np.einsum('ij,ik->ijk', slopes, units).reshape(len(u), -1)])
@@ -400,34 +406,34 @@ def _fit(points: np.ndarray, normals: np.ndarray, settings: PathSettings) -> _Cu
     weights = np.concatenate([np.full(3 * len(u), 1.0 / settings.position_noise_m),
                               np.full(len(u), 1.0 / settings.normal_noise_rad)])
     coefficients = _penalised_fit(design, targets, weights,
-                                  np.kron(second, np.eye(3))).reshape(count, 3)
+                                  np.kron(roughness, np.eye(3))).reshape(count, 3)
     base = _tangent_base(units)
     log = _log_map(units, base)
     # Each principal direction of the normals' variation gets its own smoothing: a wave
     # across the path must be followed, the noise along it (the arm's roll) smoothed.
     log_coefficients = np.stack([
         _penalised_fit(values, column, np.full(len(u), 1.0 / settings.normal_noise_rad),
-                       second) for column in log.T], axis=1)
+                       turning) for column in log.T], axis=1)
     position = BSpline(knots, coefficients + origin, DEGREE, extrapolate=True)
     return _Curve(position, position.derivative(),
                   BSpline(knots, log_coefficients, DEGREE, extrapolate=True), base, u)
 
 
-def _second_differences(knots: np.ndarray, count: int) -> np.ndarray:
-    """Rows taking second divided differences of coefficients over their Greville abscissae.
+def _divided_differences(knots: np.ndarray, count: int, order: int) -> np.ndarray:
+    """Rows taking divided differences of `order` of coefficients over their Greville abscissae.
 
-    Coefficients at the Greville abscissae reproduce u itself, so every straight line,
-    parameterised uniformly, costs nothing (plain second differences would bend the
-    parameterisation near the clamped ends).
+    Coefficients at the Greville abscissae reproduce u itself, so a straight line,
+    parameterised uniformly, costs nothing at any order (plain differences would bend the
+    parameterisation near the clamped ends); order 3 also lets curves of constant
+    curvature through, so the penalty smooths how fast the curvature changes, which is
+    what the joints' accelerations feel.
     """
     greville = np.array([knots[j + 1:j + DEGREE + 1].mean() for j in range(count)])
-    steps = np.diff(greville)
-    rows = np.zeros((count - 2, count))
-    for j in range(1, count - 1):
-        rows[j - 1, j - 1] = 1.0 / steps[j - 1]
-        rows[j - 1, j] = -1.0 / steps[j - 1] - 1.0 / steps[j]
-        rows[j - 1, j + 1] = 1.0 / steps[j]
-    return rows * float(np.mean(steps))
+    rows = np.eye(count)
+    for level in range(1, order + 1):
+        spans = greville[level:] - greville[:-level]
+        rows = (rows[1:] - rows[:-1]) / spans[:, None]
+    return rows * float(np.mean(np.diff(greville))) ** order
 
 
 def _penalised_fit(design: np.ndarray, values: np.ndarray, weights: np.ndarray,
