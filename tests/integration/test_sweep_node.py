@@ -14,6 +14,7 @@ from tactex_sim.scene import load_scene, resolve_scene
 from tactex_trajectory.simulation import probe_like_pathway
 
 pytestmark = [pytest.mark.ros, pytest.mark.slow]
+pytest.importorskip('tactex_msgs', reason='the interface package tactex_msgs is not built')
 SCENE = load_scene(resolve_scene('uneven_texture'))
 
 

@@ -40,6 +40,9 @@ PITCH_SEARCH_STEP_RAD = 0.005
 # CONTINUITY_DEPTH times; a jump that does not shrink refuses the sweep.
 MAX_JOINT_STEP_RAD = 0.1
 CONTINUITY_DEPTH = 6
+# Planned poses keep this far inside the joint limits, so the trajectory between them
+# (and the arm's tracking) stays inside too (rad).
+LIMIT_MARGIN_RAD = 0.02
 PRESS_TRAVEL_M = -OPEN_MANIPULATOR_X.joint('sensor_press').lower
 ARM = PlanarArm.from_geometry(OPEN_MANIPULATOR_X, TOOL_FRAME)
 
@@ -273,7 +276,9 @@ def _solve_one(position: np.ndarray, rotation: np.ndarray, seed: np.ndarray,
                 continue
             found = [q for q in result.solutions if branch is None
                      or branch_of(q, position) == branch]
-            found = [q for q in found if branch_of(q, position).facing == facing]
+            found = [q for q in found if branch_of(q, position).facing == facing
+                     and np.all(q >= ARM.lower + LIMIT_MARGIN_RAD)
+                     and np.all(q <= ARM.upper_limit - LIMIT_MARGIN_RAD)]
             if not found:
                 if offset == 0.0:
                     others = ', '.join(sorted({str(branch_of(q, position))
