@@ -274,16 +274,17 @@ def _solve_one(position: np.ndarray, rotation: np.ndarray, seed: np.ndarray,
                 if offset == 0.0:
                     reasons.append(result.detail)
                 continue
-            found = [q for q in result.solutions if branch is None
-                     or branch_of(q, position) == branch]
-            found = [q for q in found if branch_of(q, position).facing == facing
-                     and np.all(q >= ARM.lower + LIMIT_MARGIN_RAD)
+            on_branch = [q for q in result.solutions
+                         if (branch is None or branch_of(q, position) == branch)
+                         and branch_of(q, position).facing == facing]
+            found = [q for q in on_branch if np.all(q >= ARM.lower + LIMIT_MARGIN_RAD)
                      and np.all(q <= ARM.upper_limit - LIMIT_MARGIN_RAD)]
             if not found:
                 if offset == 0.0:
-                    others = ', '.join(sorted({str(branch_of(q, position))
-                                               for q in result.solutions}))
-                    reasons.append(f'only reachable as {others}')
+                    reasons.append(_near_limit(on_branch[0]) if on_branch else
+                                   'only reachable as ' + ', '.join(sorted(
+                                       {str(branch_of(q, position))
+                                        for q in result.solutions})))
                 continue
             solution = found[0]
             residual = _angle_between(rotation, reached_rotation(solution))
@@ -308,6 +309,14 @@ def _solve_one(position: np.ndarray, rotation: np.ndarray, seed: np.ndarray,
             f"must run roughly along the arm's radial plane there")
     return solution, pitch, residual, branch_of(solution, position) if branch is None \
         else branch
+
+
+def _near_limit(joints: np.ndarray) -> str:
+    """Which joint comes closer to its limit than the planning margin."""
+    room = np.minimum(joints - ARM.lower, ARM.upper_limit - joints)
+    index = int(np.argmin(room))
+    return (f'joint{index + 1}={joints[index]:.4f} rad is within {LIMIT_MARGIN_RAD} rad of its '
+            f'limit [{ARM.lower[index]:.4f}, {ARM.upper_limit[index]:.4f}]')
 
 
 def _mm(position: np.ndarray) -> str:
