@@ -11,7 +11,8 @@ the true surface, over the same stretch at the same speed, edge offset and press
 (a) against the number of path samples (trajectory points along the slide), probing
     every 10 mm; (b) against the probing step, samples every 2 mm (the default).
 Each point: 3 pathways (seeds). Metrics over the planned contact segment: fraction in
-contact (ground truth), worst 0.25 s window of the sliding speed, press depth error
+contact (ground truth), worst 0.25 s window of the sliding speed (in brackets: of the
+edge where the arm's joints hold it, before the compliant body), press depth error
 (rms; in brackets the share of the plan itself, before the arm's tracking), and the
 planning time (median of 5 plans, one BLAS thread). Table on stdout, curves in
 bench/results/sweep_accuracy.png.
@@ -25,6 +26,7 @@ os.environ.setdefault('OPENBLAS_NUM_THREADS', '1')  # planning time on one core
 
 from pathlib import Path  # noqa: E402
 import statistics  # noqa: E402
+import sys  # noqa: E402
 import time  # noqa: E402
 
 import matplotlib  # noqa: E402
@@ -56,6 +58,7 @@ SPEED, OFFSET, DEPTH = 0.015, 0.5, 0.0015
 SEEDS = (0, 1, 2)
 SAMPLE_COUNTS = (8, 16, 32, 66, 132, 264)
 PROBE_STEPS = (0.005, 0.01, 0.015, 0.02, 0.03)
+REFERENCE_TRIM_S = 0.75
 
 
 def our_sweep(step: float, seed: int, samples: int | None = None) -> dict:
@@ -94,8 +97,9 @@ def scripted_reference(seed: int) -> dict:
         np.stack([xs, np.zeros_like(xs), SCENE.surface.height(xs)], axis=1),
         np.stack([-SCENE.surface.slope(xs), np.zeros_like(xs), np.ones_like(xs)], axis=1),
         settings=PathSettings(position_noise_m=1e-6, normal_noise_rad=1e-4))
-    result = measure_segment(run, (plan.slide_start_s, plan.slide_end_s), truth, SPEED, DEPTH,
-                             plan.targets, SCENE.surface)
+    # It starts and stops sliding at once: its ends are left out as long as our ramps.
+    segment = (plan.slide_start_s + REFERENCE_TRIM_S, plan.slide_end_s - REFERENCE_TRIM_S)
+    result = measure_segment(run, segment, truth, SPEED, DEPTH, plan.targets, SCENE.surface)
     return {'result': result, 'plan_ms': plan_ms}
 
 
@@ -105,6 +109,7 @@ def summarise(runs: list[dict]) -> dict:
         'contact': 100 * min(r.contact_fraction for r in results),
         'contact_mean': 100 * statistics.mean(r.contact_fraction for r in results),
         'speed': 100 * max(r.speed_error_max for r in results),
+        'arm_speed': 100 * max(r.arm_speed_error_max for r in results),
         'depth': 1e3 * statistics.mean(r.press_depth_error_rms_m for r in results),
         'planned': 1e3 * statistics.mean(r.planned_depth_error_rms_m for r in results),
         'bias': 1e3 * statistics.mean(r.press_depth_error_mean_m for r in results),
@@ -114,23 +119,25 @@ def summarise(runs: list[dict]) -> dict:
 
 def row(label: str, numbers: dict, reference: dict) -> str:
     return (f'| {label} | {numbers["contact"]:.1f} ({numbers["contact_mean"]:.1f}) | '
-            f'{numbers["speed"]:.1f} | {numbers["depth"]:.2f} ({numbers["planned"]:.2f}) | '
+            f'{numbers["speed"]:.1f} ({numbers["arm_speed"]:.1f}) | '
+            f'{numbers["depth"]:.2f} ({numbers["planned"]:.2f}) | '
             f'{numbers["bias"]:+.2f} | {numbers["depth"] / reference["depth"]:.2f} | '
             f'{numbers["plan_ms"]:.0f} |')
 
 
 def main() -> None:
     started = time.monotonic()
-    print('reference: the scripted sweep of the simulator on the true surface ...', flush=True)
+    print('reference: the scripted sweep of the simulator on the true surface ...',
+          file=sys.stderr)
     reference = summarise([scripted_reference(seed) for seed in SEEDS])
     by_samples, by_step = {}, {}
     for count in SAMPLE_COUNTS:
-        print(f'(a) {count} path samples ...', flush=True)
+        print(f'(a) {count} path samples ...', file=sys.stderr)
         by_samples[count] = summarise([our_sweep(0.01, seed, count) for seed in SEEDS])
     for step in PROBE_STEPS:
-        print(f'(b) probing every {step * 1e3:g} mm ...', flush=True)
+        print(f'(b) probing every {step * 1e3:g} mm ...', file=sys.stderr)
         by_step[step] = summarise([our_sweep(step, seed) for seed in SEEDS])
-    header = ('| setting | contact % min (mean) | worst speed window % | press depth error '
+    header = ('| setting | contact % min (mean) | worst speed window % (arm) | press depth error '
               'rms mm (planned) | mean mm | depth error vs reference | planning ms |\n'
               '|---|---|---|---|---|---|---|')
     print()
@@ -148,11 +155,12 @@ def main() -> None:
     print()
     print(f'goals: contact >= 99 %, speed within +-5 %; thresholds: >= 95 %, +-10 %. '
           f'Default (10 mm probing, 2 mm samples): contact {default["contact"]:.1f} % (worst '
-          f'pathway), worst window {default["speed"]:.1f} %, press depth error '
+          f'pathway), worst window {default["speed"]:.1f} % (the arm\'s edge '
+          f'{default["arm_speed"]:.1f} %), press depth error '
           f'{default["depth"]:.2f} mm rms ({default["depth"] / reference["depth"]:.2f}x the '
           f'scripted sweep on the true surface), planned in {default["plan_ms"]:.0f} ms.')
     plot(by_samples, by_step, reference)
-    print(f'({time.monotonic() - started:.0f} s)')
+    print(f'({time.monotonic() - started:.0f} s)', file=sys.stderr)
 
 
 def plot(by_samples: dict, by_step: dict, reference: dict) -> None:
@@ -165,6 +173,12 @@ def plot(by_samples: dict, by_step: dict, reference: dict) -> None:
         xs = [x * 1e3 if scale == 'linear' else x for x in series]
         for axis, (key, title) in zip(row_axes, metrics, strict=True):
             axis.plot(xs, [series[x][key] for x in series], 'o-', label='tactex_trajectory')
+            extra = {'speed': ('arm_speed', "the arm's edge"),
+                     'depth': ('planned', 'the plan alone')}.get(key)
+            if extra:
+                axis.plot(xs, [series[x][extra[0]] for x in series], 's:', color='tab:blue',
+                          alpha=0.6, label=extra[1])
+                axis.legend(fontsize=7)
             if key != 'plan_ms':
                 axis.axhline(reference[key], color='grey', linestyle='--',
                              label='scripted, true surface')

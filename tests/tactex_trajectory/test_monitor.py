@@ -110,17 +110,6 @@ def test_the_edge_far_from_its_command_aborts(sweep):
     assert 'mm from where it is commanded' in status.abort_reason
 
 
-def test_no_pressure_aborts_once_the_descent_begins(sweep):
-    monitor = SweepMonitor(sweep)
-    status = None
-    for time_s, joints, _ in stream(sweep):
-        status = monitor.update_joints(time_s, joints)
-        if status.abort_reason:
-            break
-    assert status.abort_reason.startswith('no pressure for')
-    assert monitor.trajectory_time(time_s) > sweep.phase('descend').start_s
-
-
 def test_non_finite_samples_are_ignored(sweep):
     def broken(t, value):
         return math.nan if int(t * RATE_HZ) % 7 == 0 else value

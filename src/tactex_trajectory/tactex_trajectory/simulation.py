@@ -52,6 +52,8 @@ class SweepMeasurement:
         speed_mean_m_s: mean sliding speed along the path over the segment.
         speed_error_max: largest |window speed / set speed - 1| over the segment.
         speed_errors: that ratio for every window.
+        arm_speed_error_max: the same for the edge where the arm's joints hold it (the
+            body rigid): what the trajectory itself does, before the body's compliance.
         press_depth_error_rms_m, press_depth_error_mean_m: (held - asked) press depth.
         planned_depth_error_rms_m: (commanded - asked) press depth: the path's share of
             the error (the rest is the arm's tracking).
@@ -61,6 +63,7 @@ class SweepMeasurement:
     speed_mean_m_s: float
     speed_error_max: float
     speed_errors: np.ndarray
+    arm_speed_error_max: float
     press_depth_error_rms_m: float
     press_depth_error_mean_m: float
     planned_depth_error_rms_m: float
@@ -69,7 +72,8 @@ class SweepMeasurement:
         """One line of the numbers."""
         return (f'contact {100 * self.contact_fraction:.1f} %, speed '
                 f'{self.speed_mean_m_s * 1e3:.2f} mm/s (worst window '
-                f'{100 * self.speed_error_max:+.1f} %), press depth error rms '
+                f'{100 * self.speed_error_max:.1f} %, of the arm '
+                f'{100 * self.arm_speed_error_max:.1f} %), press depth error rms '
                 f'{self.press_depth_error_rms_m * 1e3:.2f} mm (mean '
                 f'{self.press_depth_error_mean_m * 1e3:+.2f} mm; planned '
                 f'{self.planned_depth_error_rms_m * 1e3:.2f} mm)')
@@ -154,6 +158,8 @@ def measure_segment(record: SweepRecord, segment_s: tuple[float, float], path: S
     travel = path.travel_of(record.edge_positions[segment])
     times = record.times_s[segment]
     errors = window_speeds(times, travel, [(times[0], times[-1])]) / speed_m_s - 1.0
+    arm_errors = window_speeds(times, path.travel_of(record.arm_edge_positions[segment]),
+                               [(times[0], times[-1])]) / speed_m_s - 1.0
     held = _press_depth(record.arm_edge_positions[segment], surface)
     depth_error = held - press_depth_m
     planned = _press_depth(np.array([ARM.tool_pose(np.asarray(commanded(t))[:4])[0]
@@ -164,6 +170,7 @@ def measure_segment(record: SweepRecord, segment_s: tuple[float, float], path: S
         speed_mean_m_s=float((travel[-1] - travel[0]) / (times[-1] - times[0])),
         speed_error_max=float(np.max(np.abs(errors))) if errors.size else math.nan,
         speed_errors=errors,
+        arm_speed_error_max=float(np.max(np.abs(arm_errors))) if arm_errors.size else math.nan,
         press_depth_error_rms_m=float(np.sqrt(np.mean(depth_error ** 2))),
         press_depth_error_mean_m=float(np.mean(depth_error)),
         planned_depth_error_rms_m=float(np.sqrt(np.mean(planned_error ** 2))))

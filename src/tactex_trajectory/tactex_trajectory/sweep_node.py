@@ -30,6 +30,7 @@ from rclpy.action import ActionServer, CancelResponse, GoalResponse
 from rclpy.callback_groups import MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
 from rclpy.executors import MultiThreadedExecutor
 from rclpy.node import Node
+from rclpy.qos import QoSProfile
 from sensor_msgs.msg import FluidPressure, JointState
 from std_msgs.msg import Bool, ColorRGBA, String
 from std_srvs.srv import Trigger
@@ -50,14 +51,21 @@ from tactex_trajectory.planner import plan_sweep, retract, SweepPlan, SweepSetti
 from tactex_trajectory.poses import ARM, PoseSettings
 from tactex_trajectory.timing import TimedJoints
 
-QOS = {'sensor': SENSOR_DATA, 'command': COMMAND, 'latched': LATCHED}
+RECORD_QUEUE_DEPTH = 500
+# Recording subscriptions: the recorder's QoS, with a deep queue for the sensor streams
+# (a busy moment must not drop samples a recording keeps).
+QOS = {'sensor': QoSProfile(history=SENSOR_DATA.history, depth=RECORD_QUEUE_DEPTH,
+                            reliability=SENSOR_DATA.reliability,
+                            durability=SENSOR_DATA.durability),
+       'command': COMMAND, 'latched': LATCHED}
 # Period of the watch loop and of the feedback (s, node clock).
 WATCH_PERIOD_S = 0.01
 FEEDBACK_PERIOD_S = 0.1
 # The goal ends this long after the trajectory (s), so the last samples arrive.
 TAIL_S = 0.3
-# Abort when no joint_states arrive for this long (s, wall clock: sim time may stop).
-JOINT_STATE_TIMEOUT_S = 2.0
+# Abort when joint_states or (finite) pressures stop for this long (s, wall clock: the
+# simulated clock may stop with them).
+STREAM_TIMEOUT_S = 1.0
 # Abort when the arm has not started to follow the trajectory after this long (s).
 START_TIMEOUT_S = 10.0
 # How long a goal waits for the driver to subscribe to the trajectory topic (s, wall).
@@ -132,7 +140,10 @@ class SweepNode(Node):
         self._surface = declare('surface', 'uneven', ParameterDescriptor(
             description='surface written to recording/metadata', read_only=True)).value
 
+        # The watched streams have a group of their own: a recording's writes never hold
+        # them up.
         data_group = MutuallyExclusiveCallbackGroup()
+        self._record_group = MutuallyExclusiveCallbackGroup()
         self.create_subscription(JointState, topics.JOINT_STATES, self._on_joints, COMMAND,
                                  callback_group=data_group)
         self.create_subscription(FluidPressure, topics.PRESSURE, self._on_pressure,
@@ -149,6 +160,7 @@ class SweepNode(Node):
         self._lock = threading.Lock()
         self._joints: tuple[float, np.ndarray] | None = None
         self._joints_wall_s = -math.inf
+        self._pressure_wall_s = -math.inf
         self._active: bool | None = None
         self._joint_queue: deque = deque(maxlen=10_000)
         self._pressure_queue: deque = deque(maxlen=10_000)
@@ -158,11 +170,7 @@ class SweepNode(Node):
         self._state = 'idle'
         self._last_outcome = ''
         self._last_planning_s = math.nan
-        for topic, type_name, qos in RECORDED_TOPICS:
-            if topic != topics.RECORDING_METADATA:
-                self.create_subscription(message_class(type_name), topic,
-                                         self._writer_for(topic), QOS[qos], raw=True,
-                                         callback_group=data_group)
+        self._recording_subscriptions: list = []
         self._stop_client = self.create_client(Trigger, 'arm/stop',
                                                callback_group=ReentrantCallbackGroup())
         self._server = ActionServer(self, Sweep, topics.SWEEP_ACTION,
@@ -192,6 +200,8 @@ class SweepNode(Node):
     def _on_pressure(self, msg: FluidPressure) -> None:
         with self._lock:
             self._pressure_queue.append((self._stamp_s(msg.header), float(msg.fluid_pressure)))
+            if math.isfinite(msg.fluid_pressure):
+                self._pressure_wall_s = time.monotonic()
 
     def _on_pathway(self, msg: Pathway) -> None:
         with self._lock:
@@ -213,21 +223,26 @@ class SweepNode(Node):
         return GoalResponse.ACCEPT
 
     def _execute(self, goal_handle) -> Sweep.Result:
-        try:
-            return self._run(goal_handle)
-        finally:
-            self._publish_active(False)
-            self._stop_recording()
-            self._busy = False
-            self._state = 'idle'
-
-    def _run(self, goal_handle) -> Sweep.Result:
-        goal = goal_handle.request
         result = Sweep.Result()
+        try:
+            try:
+                outcome, message = self._run(goal_handle, result)
+            finally:
+                # Everything ends before the goal does: its result is kept only so long.
+                self._publish_active(False)
+                self._stop_recording()
+                self._state = 'idle'
+            return self._finish(goal_handle, result, message, outcome)
+        finally:
+            self._busy = False
+
+    def _run(self, goal_handle, result: Sweep.Result) -> tuple[str, str]:
+        """Plan and execute a goal, filling `result`; return (outcome, message)."""
+        goal = goal_handle.request
         try:
             plan = self._plan(goal)
         except (TrajectoryError, ValueError) as err:
-            return self._finish(goal_handle, result, f'not planned: {err}', 'abort')
+            return 'abort', f'not planned: {err}'
         metadata = self._metadata(goal, plan)
         self._metadata_pub.publish(String(data=json.dumps(metadata, sort_keys=True)))
         self._publish_markers(plan)
@@ -235,16 +250,16 @@ class SweepNode(Node):
             try:
                 result.recording_path = str(self._start_recording(goal, metadata))
             except (OSError, ValueError) as err:
-                return self._finish(goal_handle, result, f'cannot record: {err}', 'abort')
+                return 'abort', f'cannot record: {err}'
         if not self._wait_for_subscriber():
-            return self._finish(goal_handle, result, f'nothing subscribes to '
-                                f'{topics.JOINT_TRAJECTORY}: is the arm driver (or the '
-                                'simulator) running?', 'abort')
+            return 'abort', (f'nothing subscribes to {topics.JOINT_TRAJECTORY}: is the arm '
+                             'driver (or the simulator) running?')
         monitor = SweepMonitor(plan, self._monitor_settings)
         with self._lock:
             self._joint_queue.clear()
             self._pressure_queue.clear()
         start_s = self._now_s()
+        sent_wall_s = time.monotonic()
         self._send(plan.trajectory)
         self._state = 'sweeping'
         next_feedback = 0.0
@@ -262,24 +277,29 @@ class SweepNode(Node):
             if goal_handle.is_cancel_requested:
                 failed = self._retract(plan)
                 self._fill(result, monitor.result(), start_s)
-                return self._finish(goal_handle, result, f'canceled: {failed}' if failed else
-                                    'canceled: the edge was lifted off the surface', 'cancel')
+                return 'cancel', (f'canceled: {failed}' if failed else
+                                  'canceled: the edge was lifted off the surface')
             reason = status.abort_reason
-            if time.monotonic() - self._joints_wall_s > JOINT_STATE_TIMEOUT_S:
-                reason = (f'no {topics.JOINT_STATES} for {JOINT_STATE_TIMEOUT_S:g} s: the arm '
-                          'driver (or the simulator) stopped')
+            silent = {name: time.monotonic() - max(wall_s, sent_wall_s) for name, wall_s in (
+                (topics.JOINT_STATES, self._joints_wall_s),
+                (topics.PRESSURE, self._pressure_wall_s))}
+            for name, seconds in silent.items():
+                if seconds > STREAM_TIMEOUT_S:
+                    reason = (f'no {name} (finite) for {seconds:.1f} s: contact and motion '
+                              'cannot be watched; check the arm driver (or the simulator) and '
+                              'the tactile module')
             if not monitor.started and elapsed > START_TIMEOUT_S:
                 reason = (f'the arm did not start moving within {START_TIMEOUT_S:g} s: did '
                           f'the driver reject the trajectory? (see its log and diagnostics)')
             if reason:
                 failed = self._retract(plan)
                 self._fill(result, monitor.result(), start_s)
-                return self._finish(goal_handle, result, f'aborted: {reason}; '
-                                    f'{failed or "the edge was lifted off"}', 'abort')
+                return 'abort', (f'aborted: {reason}; '
+                                 f'{failed or "the edge was lifted off"}')
             if monitor.trajectory_time(elapsed) > plan.trajectory.duration_s + TAIL_S:
                 break
         self._fill(result, monitor.result(), start_s)
-        return self._finish(goal_handle, result, '', 'succeed')
+        return 'succeed', ''
 
     def _plan(self, goal) -> SweepPlan:
         for name in ('sliding_speed', 'edge_offset_angle', 'press_depth'):
@@ -459,10 +479,18 @@ class SweepNode(Node):
             recorder.add_topic(topic, type_name)
         with self._lock:
             self._recorder = recorder
+        self._recording_subscriptions = [
+            self.create_subscription(message_class(type_name), topic, self._writer_for(topic),
+                                     QOS[qos], raw=True, callback_group=self._record_group)
+            for topic, type_name, qos in RECORDED_TOPICS
+            if topic != topics.RECORDING_METADATA]
         self.get_logger().info(f'recording to {root}')
         return root
 
     def _stop_recording(self) -> None:
+        for subscription in self._recording_subscriptions:
+            self.destroy_subscription(subscription)
+        self._recording_subscriptions = []
         with self._lock:
             recorder, self._recorder = self._recorder, None
         if recorder is not None:
