@@ -38,7 +38,7 @@ def pathway_message(start_x, end_x, seed=0):
 class Harness:
     """Bridge, sweep node and a client node spun by one executor in a thread."""
 
-    def __init__(self, context, tmp_path):
+    def __init__(self, context, tmp_path, scene='uneven_texture'):
         from geometry_msgs.msg import PoseStamped
         import rclpy
         from rclpy.action import ActionClient
@@ -51,7 +51,7 @@ class Harness:
         from tactex_trajectory.sweep_node import SweepNode
 
         self.bridge = MujocoBridgeNode(context=context, parameter_overrides=[
-            Parameter('scene', value='uneven_texture'), Parameter('rate_factor', value=4.0)])
+            Parameter('scene', value=scene), Parameter('rate_factor', value=4.0)])
         self.sweeper = SweepNode(context=context, parameter_overrides=[
             Parameter('use_sim_time', value=True), Parameter('approach_height', value=0.01),
             Parameter('recording_root', value=str(tmp_path))])
@@ -179,3 +179,17 @@ def test_cancel_mid_sweep_lifts_the_edge_off_before_stopping(harness):
 
 def stamp(msg):
     return msg.header.stamp.sec + 1e-9 * msg.header.stamp.nanosec
+
+
+def test_a_sweep_without_pressure_is_aborted_and_lifted(ros_context, tmp_path):
+    from action_msgs.msg import GoalStatus
+    harness = Harness(ros_context, tmp_path, scene='probe')  # no barometer: pressure is NaN
+    try:
+        handle = harness.send(pathway=pathway_message(0.10, 0.17), sliding_speed=0.015,
+                              edge_offset_angle=0.5, press_depth=0.0015)
+        outcome = wait(handle.get_result_async(), 240)
+    finally:
+        harness.close()
+    assert outcome.status == GoalStatus.STATUS_ABORTED
+    assert outcome.result.message.startswith('aborted: no finite tactile/pressure')
+    assert outcome.result.message.endswith('the edge was lifted off')

@@ -63,9 +63,10 @@ WATCH_PERIOD_S = 0.01
 FEEDBACK_PERIOD_S = 0.1
 # The goal ends this long after the trajectory (s), so the last samples arrive.
 TAIL_S = 0.3
-# Abort when joint_states or (finite) pressures stop for this long (s, wall clock: the
-# simulated clock may stop with them).
-STREAM_TIMEOUT_S = 1.0
+# Abort when joint_states stop for this long (s, wall clock: a stopped driver stops a
+# simulated clock too), or finite pressures while the arm's clock runs (s, node clock).
+JOINT_STATE_TIMEOUT_S = 5.0
+PRESSURE_TIMEOUT_S = 1.0
 # Abort when the arm has not started to follow the trajectory after this long (s).
 START_TIMEOUT_S = 10.0
 # How long a goal waits for the driver to subscribe to the trajectory topic (s, wall).
@@ -160,7 +161,7 @@ class SweepNode(Node):
         self._lock = threading.Lock()
         self._joints: tuple[float, np.ndarray] | None = None
         self._joints_wall_s = -math.inf
-        self._pressure_wall_s = -math.inf
+        self._pressure_s = -math.inf
         self._active: bool | None = None
         self._joint_queue: deque = deque(maxlen=10_000)
         self._pressure_queue: deque = deque(maxlen=10_000)
@@ -201,7 +202,7 @@ class SweepNode(Node):
         with self._lock:
             self._pressure_queue.append((self._stamp_s(msg.header), float(msg.fluid_pressure)))
             if math.isfinite(msg.fluid_pressure):
-                self._pressure_wall_s = time.monotonic()
+                self._pressure_s = self._now_s()
 
     def _on_pathway(self, msg: Pathway) -> None:
         with self._lock:
@@ -280,14 +281,14 @@ class SweepNode(Node):
                 return 'cancel', (f'canceled: {failed}' if failed else
                                   'canceled: the edge was lifted off the surface')
             reason = status.abort_reason
-            silent = {name: time.monotonic() - max(wall_s, sent_wall_s) for name, wall_s in (
-                (topics.JOINT_STATES, self._joints_wall_s),
-                (topics.PRESSURE, self._pressure_wall_s))}
-            for name, seconds in silent.items():
-                if seconds > STREAM_TIMEOUT_S:
-                    reason = (f'no {name} (finite) for {seconds:.1f} s: contact and motion '
-                              'cannot be watched; check the arm driver (or the simulator) and '
-                              'the tactile module')
+            joints_silent_s = time.monotonic() - max(self._joints_wall_s, sent_wall_s)
+            pressure_silent_s = self._now_s() - max(self._pressure_s, start_s)
+            if joints_silent_s > JOINT_STATE_TIMEOUT_S:
+                reason = (f'no {topics.JOINT_STATES} for {joints_silent_s:.1f} s: the arm '
+                          'driver (or the simulator) stopped')
+            elif pressure_silent_s > PRESSURE_TIMEOUT_S:
+                reason = (f'no finite {topics.PRESSURE} for {pressure_silent_s:.1f} s while '
+                          'the arm runs: contact cannot be watched; check the tactile module')
             if not monitor.started and elapsed > START_TIMEOUT_S:
                 reason = (f'the arm did not start moving within {START_TIMEOUT_S:g} s: did '
                           f'the driver reject the trajectory? (see its log and diagnostics)')
