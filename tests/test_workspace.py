@@ -14,9 +14,11 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 PACKAGES = sorted(p.name for p in (ROOT / 'src').iterdir() if (p / 'package.xml').is_file())
 EXPECTED_PACKAGES = ['tactex', 'tactex_classify', 'tactex_common', 'tactex_description',
-                     'tactex_driver', 'tactex_probe', 'tactex_sensor', 'tactex_sim',
+                     'tactex_driver', 'tactex_msgs', 'tactex_probe', 'tactex_sensor', 'tactex_sim',
                      'tactex_trajectory']
-PYTHON_FILES = sorted(p for folder in ('src', 'tests', 'bench', 'launch')
+INTERFACE_PACKAGES = ['tactex_msgs']
+PYTHON_PACKAGES = [p for p in EXPECTED_PACKAGES if p not in INTERFACE_PACKAGES]
+PYTHON_FILES = sorted(p for folder in ('src', 'tests', 'bench', 'launch', 'tools')
                       for p in (ROOT / folder).rglob('*.py') if '.egg-info' not in str(p))
 LAUNCH_FILES = sorted((ROOT / 'launch').glob('*.launch.py'))
 
@@ -68,16 +70,60 @@ def test_every_package_of_the_design_exists():
     assert PACKAGES == EXPECTED_PACKAGES
 
 
-@pytest.mark.parametrize('package', EXPECTED_PACKAGES)
-def test_package_is_ament_python_format_3(package):
-    folder = ROOT / 'src' / package
-    manifest = ET.parse(folder / 'package.xml').getroot()
+def _manifest(package: str, build_type: str) -> ET.Element:
+    """The package's package.xml (format 3, named after its folder, of `build_type`)."""
+    manifest = ET.parse(ROOT / 'src' / package / 'package.xml').getroot()
     assert manifest.get('format') == '3'
     assert manifest.findtext('name') == package
-    assert manifest.find('export').findtext('build_type') == 'ament_python'
+    assert manifest.find('export').findtext('build_type') == build_type
+    return manifest
+
+
+@pytest.mark.parametrize('package', PYTHON_PACKAGES)
+def test_package_is_ament_python_format_3(package):
+    folder = ROOT / 'src' / package
+    _manifest(package, 'ament_python')
     assert (folder / 'resource' / package).is_file()
     assert f'script_dir=$base/lib/{package}' in (folder / 'setup.cfg').read_text()
     assert (folder / package / '__init__.py').is_file()
+
+
+@pytest.mark.parametrize('package', INTERFACE_PACKAGES)
+def test_interface_package_is_ament_cmake_format_3(package):
+    manifest = _manifest(package, 'ament_cmake')
+    assert manifest.findtext('member_of_group') == 'rosidl_interface_packages'
+    buildtool = {e.text for e in manifest.findall('buildtool_depend')}
+    assert {'ament_cmake', 'rosidl_default_generators'} <= buildtool
+    assert 'rosidl_default_runtime' in {e.text for e in manifest.findall('exec_depend')}
+    assert not (ROOT / 'src' / package / 'setup.py').exists()
+
+
+@pytest.mark.parametrize('package', INTERFACE_PACKAGES)
+def test_every_interface_file_is_generated(package):
+    folder = ROOT / 'src' / package
+    files = sorted(str(p.relative_to(folder)) for kind in ('msg', 'srv', 'action')
+                   for p in (folder / kind).glob(f'*.{kind}'))
+    listed = re.search(r'rosidl_generate_interfaces\(\$\{PROJECT_NAME\}(.*?)\)',
+                       (folder / 'CMakeLists.txt').read_text(), re.DOTALL).group(1)
+    assert files and files == sorted(re.findall(r'\b(?:msg|srv|action)/\w+\.\w+', listed))
+
+
+@pytest.mark.parametrize('package', EXPECTED_PACKAGES)
+def test_manifest_passes_catkin_pkg_validation(package):
+    # What colcon, rosdep and ament_cmake read it with (it checks the maintainer e-mail).
+    from catkin_pkg.package import parse_package
+    parse_package(ROOT / 'src' / package / 'package.xml').validate()
+
+
+def test_every_interface_and_cmake_file_has_the_copyright_header():
+    files = [p for folder in (ROOT / 'src').iterdir() for pattern in
+             ('msg/*.msg', 'srv/*.srv', 'action/*.action', 'CMakeLists.txt')
+             for p in folder.glob(pattern)]
+    assert files
+    missing = [str(p.relative_to(ROOT)) for p in files
+               if not p.read_text(encoding='utf-8').startswith('# Copyright ')
+               or 'SPDX-License-Identifier: Apache-2.0' not in p.read_text(encoding='utf-8')]
+    assert not missing
 
 
 def test_every_ros_facing_module_exists():

@@ -4,14 +4,19 @@
 
 import json
 
-from bagfactory import ramp, write_bag
+from bagfactory import ramp, strip_type_definitions, T, write_bag
 import numpy as np
 import pytest
+from rosbags.highlevel import AnyReader, AnyReaderError
+from rosbags.rosbag2 import StoragePlugin
 
 from tactex.cli import main
-from tactex_classify.bags import read_recording
+from tactex_classify.alignment import align, Stream
+from tactex_classify.bags import parse_topic_remaps, read_recording, resolve_topics
 from tactex_classify.dataset import convert, Dataset, window_starts
-from tactex_classify.errors import DatasetError
+from tactex_classify.errors import BagError, DatasetError
+from tactex_common.channels import CHANNELS
+from tactex_common.interfaces import typestore
 
 QUIET = {'progress': lambda line: None}
 
@@ -147,7 +152,7 @@ def test_recording_shorter_than_a_window_is_reported(tmp_path):
 def test_label_and_trial_options_for_bare_bags(tmp_path):
     stamps, values = ramp(40)
     write_bag(tmp_path / 'a', stamps, values)
-    with pytest.raises(DatasetError, match='no label'):
+    with pytest.raises(DatasetError, match='no label in the recording'):
         convert([tmp_path / 'a'], window=10, hop=10, all_samples=True, **QUIET)
     data = convert([tmp_path / 'a'], window=10, hop=10, label='carpet wool', trial=12,
                    all_samples=True, **QUIET)
@@ -172,6 +177,226 @@ def test_cli_converts_and_reports(tmp_path, capsys):
     assert main(['convert', str(tmp_path / 'nothing'), '--out', str(tmp_path / 'e.npz')]) == 1
 
 
+def texture_estimate(end_ns, windows=2):
+    time = T['builtin_interfaces/msg/Time']
+    starts = [time(*divmod(int(end_ns - (windows - i) * 10**9), 10**9)) for i in range(windows)]
+    ends = [time(*divmod(int(end_ns - (windows - 1 - i) * 10**9), 10**9)) for i in range(windows)]
+    return T['tactex_msgs/msg/TextureEstimate'](
+        header=T['std_msgs/msg/Header'](stamp=ends[-1], frame_id='sensor_edge'),
+        label='wood', class_id=1, confidence=0.75, class_names=['cork', 'wood'],
+        probabilities=np.array([0.25, 0.75], dtype=np.float32), decided=False,
+        contact_seconds=float(windows), windows_used=windows, window_starts=starts,
+        window_ends=ends, model_id='cnn_3@test')
+
+
+@pytest.mark.parametrize('definitions', ['in the bag', 'none as from ROS 2 Humble'])
+def test_bag_with_texture_estimates_converts_without_ros(tmp_path, capsys, definitions):
+    stamps, values = ramp(64)
+    estimates = [texture_estimate(stamps[i]) for i in (20, 40, 60)]
+    bag = tmp_path / 'a'
+    if definitions == 'in the bag':
+        write_bag(bag, stamps, values, metadata={'label': 'wood', 'trial': 2},
+                  estimates=estimates)
+    else:
+        write_bag(bag, stamps, values, metadata={'label': 'wood', 'trial': 2},
+                  estimates=estimates, storage=StoragePlugin.SQLITE3)
+        strip_type_definitions(bag)
+        with pytest.raises(AnyReaderError, match='no type definitions'), AnyReader([bag]):
+            pass  # only the registered tactex_msgs types make this bag readable
+    assert main(['convert', str(bag), '--out', str(tmp_path / 'd.npz'), '--window', '16',
+                 '--all-samples']) == 0
+    assert 'wrote' in capsys.readouterr().out
+    data = Dataset.load(tmp_path / 'd.npz')
+    assert data.X.shape == (7, 16, 10) and data.classes == ['wood'] and set(data.trial) == {2}
+    with AnyReader([bag], default_typestore=typestore()) as reader:
+        (connection,) = [c for c in reader.connections if c.topic == '/texture/estimate']
+        read = [reader.deserialize(raw, connection.msgtype)
+                for _, _, raw in reader.messages(connections=[connection])]
+    assert [m.header.stamp for m in read] == [e.header.stamp for e in estimates]
+    assert read[0].label == 'wood' and read[0].class_names == ['cork', 'wood']
+    np.testing.assert_array_equal(read[0].probabilities, [0.25, 0.75])
+    assert read[0].window_ends[-1] == read[0].header.stamp and read[0].windows_used == 2
+
+
 def test_bad_window_settings_are_refused(tmp_path):
     with pytest.raises(DatasetError, match='window'):
         convert([tmp_path], window=1, hop=1, **QUIET)
+
+
+# -- labels, duplicates, broken parts: nothing is lost or mislabelled silently ---------
+
+def test_label_option_never_replaces_a_recorded_label(tmp_path):
+    stamps, values = ramp(40)
+    write_bag(tmp_path / 'a', stamps, values, metadata={'label': 'wood', 'trial': 1})
+    write_bag(tmp_path / 'b', stamps, values, metadata={'trial': 2})
+    data = convert([tmp_path], window=10, hop=10, label='carpet', all_samples=True, **QUIET)
+    assert data.classes == ['carpet', 'wood']
+    assert data.classes[data.y[data.trial == 1][0]] == 'wood'
+
+
+def test_an_unlabelled_recording_is_skipped_and_named_the_rest_converts(tmp_path):
+    stamps, values = ramp(40)
+    write_bag(tmp_path / 'a', stamps, values, metadata={'label': 'wood', 'trial': 1})
+    write_bag(tmp_path / 'b', stamps, values)
+    lines = []
+    data = convert([tmp_path], window=10, hop=10, all_samples=True, progress=lines.append)
+    assert data.classes == ['wood'] and set(data.trial) == {1}
+    assert data.info['skipped'][0]['path'].endswith('b')
+    assert any('skipped' in line and '--label' in line for line in lines)
+
+
+def test_a_corrupt_part_is_named_and_the_good_parts_convert(tmp_path):
+    stamps, values = ramp(90)
+    for index in range(3):
+        part = slice(30 * index, 30 * index + 30)
+        write_bag(tmp_path / 'rec' / f'part_{index:04d}', stamps[part], values[part],
+                  metadata={'label': 'wood', 'trial': 3})
+    storage = next((tmp_path / 'rec' / 'part_0001').glob('*.mcap'))
+    storage.write_bytes(storage.read_bytes()[:300])
+    lines = []
+    data = convert([tmp_path / 'rec'], window=10, hop=10, all_samples=True,
+                   progress=lines.append)
+    np.testing.assert_array_equal(data.X[:, 0, 0], [0, 10, 20, 60, 70, 80])
+    assert any('part_0001 skipped' in line for line in lines)
+    assert data.info['recordings'][0]['dropped']['unreadable_parts'] == 1
+
+
+def test_the_same_recording_given_twice_is_converted_once(tmp_path):
+    stamps, values = ramp(40)
+    write_bag(tmp_path / 'bags' / 'wood_0000', stamps, values,
+              metadata={'label': 'wood', 'trial': 1})
+    lines = []
+    data = convert([tmp_path / 'bags', tmp_path / 'bags' / 'wood_0000',
+                    tmp_path / 'bags' / '..' / 'bags' / 'wood_0000'], window=10, hop=10,
+                   all_samples=True, progress=lines.append)
+    assert len(data.X) == 4 and len(data.info['recordings']) == 1
+    assert sum('converted once' in line for line in lines) == 2
+
+
+@pytest.mark.parametrize('key, value', [('label', 3), ('label', ''), ('trial', 'x'),
+                                        ('trial', -2), ('trial', True), ('trial', 1.5)])
+def test_metadata_of_the_wrong_type_is_reported_by_bag_and_key(tmp_path, key, value):
+    stamps, values = ramp(40)
+    write_bag(tmp_path / 'good', stamps, values, metadata={'label': 'wood', 'trial': 1})
+    write_bag(tmp_path / 'odd', stamps, values, metadata={'label': 'wood', key: value})
+    data = convert([tmp_path], window=10, hop=10, all_samples=True, **QUIET)
+    reason = data.info['skipped'][0]['reason']
+    assert data.info['skipped'][0]['path'].endswith('odd') and f'"{key}"' in reason
+
+
+def test_class_names_sort_naturally(tmp_path):
+    stamps, values = ramp(20)
+    for index, label in enumerate(('mat10', 'mat2', 'Mat1')):
+        write_bag(tmp_path / label, stamps, values, metadata={'label': label, 'trial': index})
+    data = convert([tmp_path], window=10, hop=10, all_samples=True, **QUIET)
+    assert data.classes == ['Mat1', 'mat2', 'mat10']
+
+
+# -- ground truth: only sliding contact over the labelled texture is labelled -----------
+
+def truth(count, *, contact=(0, None), texture=('wood', 0, None), moving=(0, None),
+          speed_m_s=0.015, period_s=8_333_333e-9):
+    """Ground truth per sample: touching, texture under the edge, edge positions."""
+    index = np.arange(count)
+
+    def within(span):
+        return (index >= span[0]) & (index < (count if span[1] is None else span[1]))
+
+    name, *span = texture
+    names = np.where(within(span), name, '')
+    step = np.where(within(moving), speed_m_s * period_s, 0.0)
+    edge = np.zeros((count, 3))
+    edge[:, 0] = np.cumsum(step)
+    return {'contact': within(contact), 'texture': list(names), 'edge_m': edge}
+
+
+def test_ground_truth_keeps_only_sliding_contact_over_the_labelled_texture(tmp_path):
+    stamps, values = ramp(120)
+    write_bag(tmp_path / 'a', stamps, values, metadata={'label': 'wood', 'trial': 1},
+              active=[(stamps[0], stamps[-1])],
+              truth=truth(120, contact=(20, 100), texture=('wood', 30, None), moving=(0, 80)))
+    data = convert([tmp_path / 'a'], window=10, hop=10, **QUIET)
+    # touching from 20, over wood from 30, moving until 80 (less the speed span's half)
+    assert data.X[0, 0, 0] >= 30 and data.X[-1, -1, 0] < 80
+    assert len(data.X) >= 4
+
+
+@pytest.mark.parametrize('case', ['standing still', 'never touching', 'off the patch',
+                                  'another texture'])
+def test_scenes_that_never_slide_over_the_texture_give_no_window(tmp_path, case):
+    stamps, values = ramp(120)
+    ground = {'standing still': truth(120, moving=(0, 0)),
+              'never touching': truth(120, contact=(0, 0)),
+              'off the patch': truth(120, texture=('', 0, None)),
+              'another texture': truth(120, texture=('cork', 0, None))}[case]
+    write_bag(tmp_path / 'a', stamps, values, metadata={'label': 'wood', 'trial': 1},
+              active=[(stamps[0], stamps[-1])], truth=ground)
+    write_bag(tmp_path / 'b', stamps, values, metadata={'label': 'wood', 'trial': 2},
+              active=[(stamps[0], stamps[-1])], truth=truth(120))
+    data = convert([tmp_path], window=10, hop=10, **QUIET)
+    assert set(data.trial) == {2}
+    assert data.info['skipped'][0]['reason'].startswith('0 samples slid in contact')
+
+
+# -- topics: namespaces, remaps, no leading slash, no magnetometer -----------------------
+
+@pytest.mark.parametrize('namespace', ['/left_arm/', 'left_arm/', ''])
+def test_topics_are_found_under_a_namespace_and_without_the_leading_slash(tmp_path, namespace):
+    stamps, values = ramp(40)
+    write_bag(tmp_path / 'a', stamps, values, metadata={'label': 'wood'}, namespace=namespace)
+    data = convert([tmp_path / 'a'], window=10, hop=10, all_samples=True, **QUIET)
+    assert len(data.X) == 4 and data.channels == list(CHANNELS)
+
+
+def test_two_namespaces_ask_for_a_remap_which_then_works(tmp_path):
+    stamps, values = ramp(40)
+    names = {'imu': '/right_arm/tactile/imu/data_raw'}
+    write_bag(tmp_path / 'a', stamps, values, metadata={'label': 'wood'},
+              namespace='/left_arm/', names={'mag': '/left_arm/tactile/imu/mag'})
+    with pytest.raises(DatasetError, match='no windows'):
+        convert([tmp_path / 'a'], window=10, hop=10, all_samples=True, **QUIET,
+                remaps={'imu': '/nothing/here'})
+    write_bag(tmp_path / 'b', stamps, values, metadata={'label': 'wood'}, names=names)
+    data = convert([tmp_path / 'b'], window=10, hop=10, all_samples=True, **QUIET,
+                   remaps=parse_topic_remaps(['imu=right_arm/tactile/imu/data_raw']))
+    assert len(data.X) == 4
+
+
+def test_ambiguous_namespaces_are_refused_with_the_fix():
+    available = {'/left/tactile/imu/data_raw': 'sensor_msgs/msg/Imu',
+                 '/right/tactile/imu/data_raw': 'sensor_msgs/msg/Imu'}
+    with pytest.raises(BagError, match='several namespaces.*--topic imu=NAME'):
+        resolve_topics(available)
+    found = resolve_topics(available, {'imu': '/right/tactile/imu/data_raw'})
+    assert found['imu'] == '/right/tactile/imu/data_raw'
+    with pytest.raises(BagError, match='is sensor_msgs/msg/Imu, expected'):
+        resolve_topics(available, {'imu': '/left/tactile/imu/data_raw',
+                                   'mag': '/right/tactile/imu/data_raw'})
+
+
+def test_a_bag_without_magnetometer_converts_without_mag_channels(tmp_path):
+    stamps, values = ramp(40)
+    values[:, 6:9] = np.nan  # would drop every sample if joined
+    write_bag(tmp_path / 'a', stamps, values, metadata={'label': 'wood'}, mag_stamps_ns=[])
+    lines = []
+    data = convert([tmp_path / 'a'], window=10, hop=10, all_samples=True,
+                   progress=lines.append)
+    assert data.channels == ['ax', 'ay', 'az', 'gx', 'gy', 'gz', 'baro']
+    assert data.X.shape == (4, 10, 7)
+    assert any('no mag topic' in line and 'mx, my, mz' in line for line in lines)
+    with pytest.raises(DatasetError, match='no tactile/imu/mag topic'):
+        convert([tmp_path / 'a'], window=10, hop=10, all_samples=True, channels=CHANNELS,
+                **QUIET)
+    chosen = convert([tmp_path / 'a'], window=10, hop=10, all_samples=True,
+                     channels=['az', 'baro'], **QUIET)
+    assert chosen.channels == ['az', 'baro'] and chosen.X.shape == (4, 10, 2)
+
+
+def test_alignment_is_channel_agnostic_and_counts_what_it_drops():
+    stamps = np.arange(10, dtype=np.int64) * 1000
+    reference = Stream('a', ('x',), stamps[::-1], np.arange(10.0)[::-1, None])
+    other = Stream('b', ('p', 'q'), stamps[:8] + 100, np.ones((8, 2)))
+    aligned = align(reference, [other])
+    assert aligned.channels == ('x', 'p', 'q') and len(aligned.values) == 8
+    assert aligned.dropped['unaligned_samples'] == 2 and aligned.dropped['a_out_of_order'] == 9
+    np.testing.assert_array_equal(aligned.stamps_ns, stamps[:8])

@@ -1,41 +1,58 @@
 # Copyright 2026 The tactex authors
 # SPDX-License-Identifier: Apache-2.0
-"""Importers: MUN pickles through the restricted unpickler, folders of CSV."""
+"""Importers: MUN pickles (modern and old pandas layouts) and CSV files as people export them."""
 
 import os
 import pickle
 
 import numpy as np
+from oldpickle import frame_pickle
 import pandas as pd
 import pytest
 
 from tactex.cli import main
+from tactex_classify import pickles
 from tactex_classify.errors import DatasetError
 from tactex_classify.importers import (
     import_csv,
     import_mun,
-    load_frame,
     MUN_IMU_COLUMNS,
-    parse_column_mapping,
+    parse_channel_specs,
 )
+from tactex_classify.pickles import load_frame, RefusedPickle
 
 QUIET = {'progress': lambda line: None}
+PERIOD_NS = 2_857_143  # 350 Hz
+START_NS = 1_500_000_000_000_000_000
 
 
-def write_mun(root, textures=2, trials=2, samples=800, protocol=4):
+def mun_folder(root, speed, texture):
+    folder = root / f'pickles_{speed}' / f'texture_{texture:02d}'
+    (folder / 'full_imu').mkdir(parents=True, exist_ok=True)
+    (folder / 'full_baro').mkdir(parents=True, exist_ok=True)
+    return folder
+
+
+def write_mun(root, textures=2, trials=2, samples=800, protocol=4, index=None):
     rng = np.random.default_rng(0)
     for speed in ('30', '40'):
         for texture in range(1, textures + 1):
-            folder = root / f'pickles_{speed}' / f'texture_{texture:02d}'
-            (folder / 'full_imu').mkdir(parents=True)
-            (folder / 'full_baro').mkdir(parents=True)
+            folder = mun_folder(root, speed, texture)
             for trial in range(trials):
                 imu = pd.DataFrame(rng.normal(texture, 1.0, (samples, 9)),
-                                   columns=list(MUN_IMU_COLUMNS))
-                baro = pd.DataFrame({'baro': rng.normal(1000.0, 1.0, samples)})
+                                   columns=list(MUN_IMU_COLUMNS), index=index)
+                baro = pd.DataFrame({'baro': rng.normal(1000.0, 1.0, samples)}, index=index)
                 name = f'trial_{trial}.pkl'
                 (folder / 'full_imu' / name).write_bytes(pickle.dumps(imu, protocol=protocol))
                 (folder / 'full_baro' / name).write_bytes(pickle.dumps(baro, protocol=protocol))
+
+
+def write_old_mun_trial(root, texture, imu_values, baro_values, imu_ns, baro_ns, name='t.pkl'):
+    """One trial as the public dataset stores it: py2 pickles over a DatetimeIndex."""
+    folder = mun_folder(root, '30', texture)
+    imu = {column: imu_values[:, i] for i, column in enumerate(MUN_IMU_COLUMNS)}
+    (folder / 'full_imu' / name).write_bytes(frame_pickle(imu, imu_ns))
+    (folder / 'full_baro' / name).write_bytes(frame_pickle({'baro': baro_values}, baro_ns))
 
 
 class Boom:
@@ -55,6 +72,57 @@ def test_mun_layout_imports_with_trials_and_classes(tmp_path, protocol):
     assert data.info['sampling_rate_hz'] == 350.0
 
 
+def test_modern_pickles_over_a_datetime_index_import(tmp_path):
+    write_mun(tmp_path, trials=1, index=pd.DatetimeIndex(START_NS + np.arange(800) * PERIOD_NS))
+    data = import_mun(tmp_path, window=350, hop=175, **QUIET)
+    assert len(data.X) == 4 * 3
+
+
+def test_old_pandas_pickle_with_datetime_index_loads(tmp_path):
+    stamps = START_NS + np.arange(6) * PERIOD_NS
+    path = tmp_path / 'old.pkl'
+    path.write_bytes(frame_pickle({'imu_ax': np.arange(6.0), 'imu_ay': -np.arange(6.0)}, stamps))
+    frame = load_frame(path)
+    assert isinstance(frame.index, pd.DatetimeIndex)
+    np.testing.assert_array_equal(frame.index.asi8, stamps)
+    np.testing.assert_array_equal(frame['imu_ay'], -np.arange(6.0))
+
+
+def test_old_layout_mun_trials_import_and_join_baro_by_time(tmp_path):
+    imu_ns = START_NS + np.arange(800) * PERIOD_NS
+    imu = np.repeat(np.arange(800.0)[:, None], 9, axis=1)
+    baro = 1000.0 + np.arange(800.0)
+    for texture in (1, 2):
+        write_old_mun_trial(tmp_path, texture, imu, baro, imu_ns, imu_ns + 1_000_000)
+    data = import_mun(tmp_path, window=350, hop=175, **QUIET)
+    assert data.classes == ['texture_01', 'texture_02'] and len(data.X) == 2 * 3
+    np.testing.assert_array_equal(data.X[1, :, 9] - 1000.0, data.X[1, :, 0])  # same rows joined
+    np.testing.assert_allclose(data.t0[1], (imu_ns[175]) * 1e-9)
+
+
+def test_a_baro_table_shorter_than_the_imu_is_reported_not_cut_silently(tmp_path):
+    imu_ns = START_NS + np.arange(800) * PERIOD_NS
+    imu = np.ones((800, 9))
+    write_old_mun_trial(tmp_path, 1, imu, np.full(600, 1000.0), imu_ns, imu_ns[:600])
+    lines = []
+    data = import_mun(tmp_path, window=350, hop=175, progress=lines.append)
+    record = data.info['recordings'][0]
+    assert record['dropped']['unaligned_samples'] == 200 and record['kept'] == 600
+    assert any('unaligned_samples' in line for line in lines)
+
+
+def test_mun_windows_never_stitch_across_dropped_nan_rows(tmp_path):
+    imu_ns = START_NS + np.arange(800) * PERIOD_NS
+    imu = np.repeat(np.arange(800.0)[:, None], 9, axis=1)
+    imu[400:405, 3] = np.nan  # the gyro was silent for five samples
+    write_old_mun_trial(tmp_path, 1, imu, np.full(800, 1000.0), imu_ns, imu_ns)
+    data = import_mun(tmp_path, window=350, hop=175, **QUIET)
+    np.testing.assert_array_equal(data.X[:, 0, 0], [0.0, 405.0])
+    for window in data.X:  # consecutive samples only: no hole inside a window
+        assert np.all(np.diff(window[:, 0]) == 1.0)
+    np.testing.assert_allclose(data.t0, imu_ns[[0, 405]] * 1e-9)
+
+
 def test_malicious_pickle_is_refused_and_runs_nothing(tmp_path):
     write_mun(tmp_path)
     target = next(tmp_path.glob('pickles_30/texture_01/full_imu/*.pkl'))
@@ -68,31 +136,161 @@ def test_malicious_pickle_is_refused_and_runs_nothing(tmp_path):
 
 def test_a_pickle_of_something_else_is_refused(tmp_path):
     path = tmp_path / 'x.pkl'
-    path.write_bytes(pickle.dumps(np.arange(3)))
-    with pytest.raises(DatasetError, match='not a DataFrame'):
+    path.write_bytes(pickle.dumps({'a': 1}))
+    with pytest.raises(pickle.UnpicklingError, match='not a DataFrame'):
         load_frame(path)
     path.write_bytes(b'not a pickle')
-    with pytest.raises(DatasetError, match='not a readable pickle'):
+    with pytest.raises(pickle.UnpicklingError, match='not a readable pickle'):
         load_frame(path)
 
 
-def test_csv_folder_with_column_mapping(tmp_path):
-    names = ['acc_x', 'acc_y', 'acc_z', 'gx', 'gy', 'gz', 'mx', 'my', 'mz', 'pressure']
-    for label in ('wood', 'carpet wool'):
+@pytest.mark.parametrize('build', [
+    lambda: pickle.dumps(pd.DataFrame(index=pd.RangeIndex(10**12))),
+    lambda: pickle.dumps(pd.Series([1.0])),
+    lambda: pickle.dumps(np.arange(3.0)),
+    lambda: frame_pickle({'a': np.zeros(3)}, START_NS + np.arange(3), freq='L'),
+], ids=['huge-range-index', 'series', 'bare-array', 'frequency-object'])
+def test_pickles_beyond_a_plain_frame_are_refused(tmp_path, build):
+    path = tmp_path / 'x.pkl'
+    path.write_bytes(build())
+    with pytest.raises(pickle.UnpicklingError):
+        load_frame(path)
+
+
+def test_a_pickle_constructing_an_array_of_its_own_size_is_refused(tmp_path):
+    data = pickle.dumps(np.zeros(3), protocol=2).replace(b'K\x00\x85', b'J\x00\x00\x00\x40\x85')
+    path = tmp_path / 'x.pkl'
+    path.write_bytes(data)
+    with pytest.raises(RefusedPickle, match='outside its saved data'):
+        load_frame(path)
+
+
+def test_a_pickle_larger_than_the_bound_is_refused_unread(tmp_path, monkeypatch):
+    write_mun(tmp_path, textures=1, trials=1)
+    monkeypatch.setattr(pickles, 'MAX_PICKLE_BYTES', 1000)
+    with pytest.raises(DatasetError, match='more than the 1000 allowed'):
+        import_mun(tmp_path, window=350, hop=175, **QUIET)
+
+
+# -- CSV --------------------------------------------------------------------------------
+
+FOREIGN_HEADER = '"Zeit [s]";"acc_x";"acc_y";"acc_z";"Druck (hPa)";'
+
+
+def foreign_csv(rows: int, *, start: float = 0.0, period: float = 0.01, nan_rows=()) -> bytes:
+    """A European spreadsheet export.
+
+    UTF-8 BOM, ';' delimiters, a quoted header, CRLF, decimal commas, a trailing ';'
+    on every row, 'n/a' cells.
+    """
+    lines = [FOREIGN_HEADER]
+    for i in range(rows):
+        cells = [f'{start + i * period:.4f}', f'{i},5', f'{-i}', '9,81', f'{1013 + i * 0.01:.2f}']
+        if i in nan_rows:
+            cells[2] = 'n/a'
+        lines.append(';'.join(c.replace('.', ',') for c in cells) + ';')
+    return '\ufeff'.encode() + '\r\n'.join(lines).encode('utf-8') + b'\r\n'
+
+
+def test_a_foreign_csv_layout_imports_with_renamed_channels(tmp_path):
+    for label in ('mat2', 'mat10'):
         (tmp_path / label).mkdir()
-        for trial in range(2):
-            table = np.random.default_rng(trial).normal(size=(300, 10))
-            header = ','.join(names)
-            np.savetxt(tmp_path / label / f'{trial}.csv', table, delimiter=',', header=header,
-                       comments='')
-    mapping = parse_column_mapping('ax=acc_x, ay=acc_y, az=acc_z, baro=pressure')
-    data = import_csv(tmp_path, rate_hz=350.0, window=100, hop=50, columns=mapping, **QUIET)
-    assert data.classes == ['carpet wool', 'wood'] and data.X.shape == (20, 100, 10)
-    with pytest.raises(DatasetError, match='missing column'):
-        import_csv(tmp_path, rate_hz=350.0, window=100, hop=50, **QUIET)
-    with pytest.raises(DatasetError, match='unknown channel'):
-        import_csv(tmp_path, rate_hz=350.0, window=100, hop=50, columns={'accel': 'x'},
-                   **QUIET)
+        (tmp_path / label / 'trial_1.csv').write_bytes(foreign_csv(300))
+    specs = parse_channel_specs('ax=acc_x, ay=acc_y, az=acc_z, baro=Druck (hPa)')
+    data = import_csv(tmp_path, window=100, hop=50, columns=specs, time_column='Zeit [s]',
+                      **QUIET)
+    assert data.channels == ['ax', 'ay', 'az', 'baro']
+    assert data.classes == ['mat2', 'mat10']  # natural order
+    assert data.X.shape == (2 * 5, 100, 4)
+    np.testing.assert_allclose(data.X[0, :3, 0], [0.5, 1.5, 2.5])
+    np.testing.assert_allclose(data.X[0, 0, 2], 9.81, rtol=1e-6)
+    assert data.info['sampling_rate_hz'] == pytest.approx(100.0)
+
+
+def test_latin1_csv_and_tab_delimiter_given(tmp_path):
+    (tmp_path / 'wood').mkdir()
+    text = 'temp°C\tpdc\tpac1\n' + ''.join(f'{i}\t{i * 2}\t{i * 3}\n' for i in range(50))
+    (tmp_path / 'wood' / 'a.csv').write_bytes(text.encode('latin-1'))
+    data = import_csv(tmp_path, window=10, hop=10, columns=parse_channel_specs('pdc,pac1'),
+                      rate_hz=2200.0, delimiter='\t', **QUIET)
+    assert data.channels == ['pdc', 'pac1'] and data.X.shape == (5, 10, 2)
+    np.testing.assert_array_equal(data.X[1, 0], [20.0, 30.0])
+
+
+def test_csv_nan_rows_are_dropped_and_windows_respect_the_gap(tmp_path):
+    (tmp_path / 'wood').mkdir()
+    (tmp_path / 'wood' / 'a.csv').write_bytes(foreign_csv(300, nan_rows=range(100, 105)))
+    specs = parse_channel_specs('ax=acc_x,ay=acc_y')
+    data = import_csv(tmp_path, window=100, hop=100, columns=specs, time_column='Zeit [s]',
+                      **QUIET)
+    np.testing.assert_allclose(data.t0, [0.0, 1.05])  # row 105 restarts after the gap
+    assert data.info['recordings'][0]['dropped']['nan_samples'] == 5
+
+
+def test_a_timestamp_column_gives_rate_and_gaps(tmp_path):
+    (tmp_path / 'wood').mkdir()
+    first = foreign_csv(150, period=0.004).decode('utf-8-sig')
+    second = foreign_csv(150, start=10.0, period=0.004).decode('utf-8-sig').split('\r\n', 1)[1]
+    (tmp_path / 'wood' / 'a.csv').write_text(first + second, encoding='utf-8')
+    data = import_csv(tmp_path, window=100, hop=50, columns=parse_channel_specs('ax=acc_x'),
+                      time_column='Zeit [s]', **QUIET)
+    assert data.info['sampling_rate_hz'] == pytest.approx(250.0)
+    np.testing.assert_allclose(data.t0, [0.0, 0.2, 10.0, 10.2])  # nothing spans the jump
+
+
+def test_date_time_stamps_are_read(tmp_path):
+    (tmp_path / 'wood').mkdir()
+    stamps = pd.date_range('2024-03-01 12:00', periods=40, freq='10ms')
+    rows = ''.join(f'{s.isoformat()},{i}\n' for i, s in enumerate(stamps))
+    (tmp_path / 'wood' / 'a.csv').write_text('time,pdc\n' + rows)
+    data = import_csv(tmp_path, window=20, hop=20, columns=parse_channel_specs('pdc'),
+                      time_column='time', **QUIET)
+    assert data.info['sampling_rate_hz'] == pytest.approx(100.0) and len(data.X) == 2
+
+
+def test_header_only_files_are_skipped_and_named(tmp_path):
+    (tmp_path / 'wood').mkdir()
+    (tmp_path / 'wood' / 'a.csv').write_text('pdc\n' + ''.join(f'{i}\n' for i in range(30)))
+    (tmp_path / 'wood' / 'b.csv').write_text('pdc\n')
+    data = import_csv(tmp_path, window=10, hop=10, columns=parse_channel_specs('pdc'),
+                      rate_hz=100.0, **QUIET)
+    assert len(data.X) == 3 and data.info['skipped'][0]['path'].endswith('b.csv')
+
+
+@pytest.mark.parametrize('content, match', [
+    (b'pdc,pac\n1,2\n3,4,5,6\n', r'a\.csv, line 3: 4 fields, but the header has 2'),
+    (b'pdc,pac\n1,2\n3\n', r'a\.csv, line 3: 1 fields'),
+    (b'pdc,pac\n1,2\n3,x\n', r"a\.csv, line 3: column 'pac' holds 'x', not a number"),
+    (b'\x00\x01\x02binary', 'binary file'),
+    (b'pdc,pdc\n1,2\n', 'appear twice'),
+    (b'', 'empty file'),
+], ids=['long-row', 'short-row', 'text-cell', 'binary', 'repeated-column', 'empty'])
+def test_unreadable_csv_names_file_and_line(tmp_path, content, match):
+    (tmp_path / 'wood').mkdir()
+    (tmp_path / 'wood' / 'a.csv').write_bytes(content)
+    with pytest.raises(DatasetError, match=match):
+        import_csv(tmp_path, window=2, hop=1, columns=parse_channel_specs('pdc,pac'),
+                   rate_hz=100.0, **QUIET)
+
+
+def test_missing_columns_and_bad_specs_are_explained(tmp_path):
+    (tmp_path / 'wood').mkdir()
+    (tmp_path / 'wood' / 'a.csv').write_text('acc_x,acc_y\n1,2\n')
+    with pytest.raises(DatasetError, match=r"no column\(s\) \['ax', 'ay'.*acc_x.*--columns"):
+        import_csv(tmp_path, window=2, hop=1, rate_hz=100.0, **QUIET)
+    with pytest.raises(DatasetError, match='repeat'):
+        parse_channel_specs('ax=acc_x,ax=acc_y')
+    with pytest.raises(DatasetError, match='NAME or NAME=COLUMN'):
+        parse_channel_specs('ax=,ay')
+
+
+def test_files_of_different_rates_are_refused(tmp_path):
+    (tmp_path / 'wood').mkdir()
+    (tmp_path / 'wood' / 'a.csv').write_bytes(foreign_csv(50, period=0.01))
+    (tmp_path / 'wood' / 'b.csv').write_bytes(foreign_csv(50, period=0.02))
+    with pytest.raises(DatasetError, match='differ in rate'):
+        import_csv(tmp_path, window=10, hop=10, columns=parse_channel_specs('ax=acc_x'),
+                   time_column='Zeit [s]', **QUIET)
 
 
 def test_cli_import(tmp_path, capsys):
@@ -100,4 +298,22 @@ def test_cli_import(tmp_path, capsys):
     assert main(['import', 'mun', str(tmp_path / 'mun'), '--out', str(tmp_path / 'm.npz'),
                  '--window', '350']) == 0
     assert 'wrote' in capsys.readouterr().out
-    assert main(['import', 'csv', str(tmp_path), '--out', str(tmp_path / 'c.npz')]) == 1
+    (tmp_path / 'csv' / 'wood').mkdir(parents=True)
+    (tmp_path / 'csv' / 'wood' / 'a.csv').write_bytes(foreign_csv(300))
+    assert main(['import', 'csv', str(tmp_path / 'csv'), '--out', str(tmp_path / 'c.npz'),
+                 '--columns', 'ax=acc_x,ay=acc_y,az=acc_z', '--time', 'Zeit [s]',
+                 '--window', '100']) == 0
+    assert 'channels ax,ay,az, 100.0 Hz' in capsys.readouterr().out
+
+
+def test_mun_plain_frames_never_stitch_across_nan_rows_and_keep_t0(tmp_path):
+    write_mun(tmp_path, textures=1, trials=1)
+    path = next(tmp_path.glob('pickles_30/texture_01/full_imu/*.pkl'))
+    frame = pd.read_pickle(path)
+    frame.iloc[:, 0] = np.arange(800.0)
+    frame.iloc[400:405, 3] = np.nan
+    path.write_bytes(pickle.dumps(frame))
+    data = import_mun(tmp_path, window=350, hop=175, **QUIET)
+    first = data.trial == data.trial.min()
+    np.testing.assert_array_equal(data.X[first, 0, 0], [0.0, 405.0])
+    np.testing.assert_allclose(data.t0[first], [0.0, 405 / 350.0])

@@ -43,3 +43,24 @@ def test_train_reports_a_missing_dataset(tmp_path, capsys):
     assert main(['train', str(tmp_path / 'none.npz'), '--out', str(tmp_path / 'r')]) == 1
     assert 'error:' in capsys.readouterr().err
 
+
+
+def test_train_says_when_a_class_is_missing_from_a_training_fold(tmp_path, capsys):
+    data = toy()
+    keep = (data.y != 2) | (data.trial == 200)  # one recording of 'high' only
+    from tactex_classify.dataset import Dataset
+    small = Dataset(data.X[keep], data.y[keep], data.trial[keep], data.t0[keep], data.classes,
+                    data.info)
+    path = small.save(tmp_path / 'small.npz')
+    assert main(['train', str(path), '--model', 'extratrees', '--folds', '2', '--cv', 'grouped',
+                 '--out', str(tmp_path / 'run')]) == 0
+    out = capsys.readouterr().out
+    assert 'note: grouped fold' in out and "['high'] absent from training" in out
+
+
+def test_a_failing_run_leaves_no_output_behind(tmp_path, capsys):
+    path = toy(window=40).save(tmp_path / 'toy.npz')
+    assert main(['train', str(path), '--model', 'cnn_3', '--epochs', '1', '--folds', '2',
+                 '--out', str(tmp_path / 'run')]) == 1
+    assert 'too short' in capsys.readouterr().err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ['toy.json', 'toy.npz']

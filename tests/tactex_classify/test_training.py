@@ -11,7 +11,7 @@ import torch
 from tactex_classify.baselines import MiniRocketRidge, StatsExtraTrees
 from tactex_classify.classifier import ChannelScaler, DeepClassifier, TrainingConfig
 from tactex_classify.dataset import Dataset
-from tactex_classify.errors import CheckpointError, NotFittedError
+from tactex_classify.errors import CheckpointError, DatasetError, NotFittedError
 from tactex_classify.evaluate import confusion, cross_validate, metrics, sequence_accuracy
 
 CLASSES = ['low', 'mid', 'high']
@@ -174,3 +174,53 @@ def test_metrics_from_a_confusion_matrix():
     assert result['accuracy'] == 0.9
     assert result['per_class']['a']['precision'] == pytest.approx(5 / 6)
     assert result['macro_recall'] == pytest.approx((1.0 + 0.8) / 2)
+
+
+THREE_AXES = ['ax', 'ay', 'az']
+
+
+def three_channel(data):
+    """The toy set as a 3-axis sensor's dataset (channel 0 carries the class)."""
+    return Dataset(data.X[:, :, :3].copy(), data.y, data.trial, data.t0, data.classes,
+                   data.info, THREE_AXES)
+
+
+@pytest.mark.parametrize('name', ['cnn_bilstm_1', 'cnn_bilstm_2', 'cnn_bilstm_3', 'cnn_1',
+                                  'cnn_2', 'cnn_3', 'bilstm_1', 'bilstm_2'])
+def test_every_model_trains_on_any_channel_set_and_its_checkpoint_names_them(tmp_path, name):
+    data = three_channel(toy(recordings_per_class=1, windows=3))
+    model = DeepClassifier(TrainingConfig(model=name, epochs=1)).fit(
+        data.X, data.y, data.classes, channels=data.channels)
+    assert model.channels_ == THREE_AXES
+    loaded = DeepClassifier.load(model.save(tmp_path / 'ckpt'))
+    assert loaded.channels_ == THREE_AXES and loaded.n_channels_ == 3
+    np.testing.assert_allclose(loaded.predict_proba(data.X[:2]), model.predict_proba(data.X[:2]),
+                               rtol=1e-5, atol=1e-6)
+
+
+def test_baselines_and_cross_validation_carry_the_dataset_channels():
+    data = three_channel(toy())
+    for model in (StatsExtraTrees(trees=10), MiniRocketRidge(dilations=2)):
+        assert model.fit(data.X, data.y, data.classes, channels=data.channels
+                         ).channels_ == THREE_AXES
+    result = cross_validate(data, lambda: StatsExtraTrees(trees=10), 'grouped', folds=2)
+    assert result.proba.shape == (len(data.y), 3)
+
+
+def test_channel_names_are_required_beyond_the_ten_and_must_fit():
+    data = three_channel(toy(recordings_per_class=1, windows=2))
+    with pytest.raises(ValueError, match='pass their names'):
+        StatsExtraTrees(trees=2).fit(data.X, data.y, data.classes)
+    with pytest.raises(ValueError, match='2 channel names for 3 channels'):
+        StatsExtraTrees(trees=2).fit(data.X, data.y, data.classes, channels=['a', 'b'])
+    scaler = ChannelScaler().fit(data.X)
+    with pytest.raises(ValueError, match='fitted on 3'):
+        scaler.transform(np.zeros((1, 4, 10)))
+
+
+def test_a_dataset_keeps_its_channel_names_through_save_and_load(tmp_path):
+    data = three_channel(toy(recordings_per_class=1, windows=2))
+    loaded = Dataset.load(data.save(tmp_path / 'three.npz'))
+    assert loaded.channels == THREE_AXES and loaded.X.shape[2] == 3
+    with pytest.raises(DatasetError, match='3 channel names for 10 channels'):
+        Dataset(toy().X, toy().y, toy().trial, toy().t0, CLASSES, {}, THREE_AXES)

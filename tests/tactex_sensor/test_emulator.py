@@ -2,6 +2,7 @@
 # SPDX-License-Identifier: Apache-2.0
 """Teensy emulator: real frames on a pty, faults as asked, replayed recordings."""
 
+import os
 import threading
 
 import numpy as np
@@ -9,6 +10,8 @@ import pytest
 import serial
 
 from tactex.cli import main
+from tactex_common.errors import LinkError
+from tactex_common.pty_link import PtyLink
 from tactex_sensor.emulator import (
     Fault,
     FaultKind,
@@ -81,9 +84,50 @@ def test_replay_rejects_a_file_without_the_channels(tmp_path):
         ReplaySource(recording)
 
 
-def test_cli_reports_a_bad_fault(capsys):
-    assert main(['emulate', 'teensy', '--fault', 'nope']) == 1
-    assert 'error: bad fault' in capsys.readouterr().err
+def test_cli_reports_a_bad_fault(capsys, tmp_path):
+    assert main(['emulate', 'teensy', '--link', str(tmp_path / 'l'), '--fault', 'nope']) == 1
+    assert 'error: --fault: bad fault' in capsys.readouterr().err
+
+
+@pytest.mark.parametrize('device', ['teensy', 'dynamixel'])
+def test_a_regular_file_at_the_link_path_is_never_replaced(tmp_path, capsys, device):
+    precious = tmp_path / 'notes.txt'
+    precious.write_text('hours of work')
+    assert main(['emulate', device, '--link', str(precious), '--duration', '0.2']) == 1
+    assert precious.read_text() == 'hours of work' and not precious.is_symlink()
+    assert 'is an existing file' in capsys.readouterr().err
+    with pytest.raises(LinkError, match='existing file'):
+        TeensyEmulator(precious, 100.0, SignalSource()).open()
+    assert precious.read_text() == 'hours of work'
+
+
+def test_only_an_emulator_pty_symlink_is_replaced_and_removed(tmp_path):
+    other = tmp_path / 'port'
+    other.symlink_to('/dev/ttyUSB0')
+    with pytest.raises(LinkError, match='not to a pty'):
+        PtyLink(other).open()
+    assert os.readlink(other) == '/dev/ttyUSB0'
+    stale = tmp_path / 'teensy'
+    stale.symlink_to('/dev/pts/9999')  # left by a killed emulator
+    neighbour = tmp_path / 'teensy.tmp'
+    neighbour.write_text('mine')
+    link = PtyLink(stale)
+    link.open()
+    assert os.readlink(stale) != '/dev/pts/9999'
+    link.close()
+    assert not stale.exists() and not stale.is_symlink() and neighbour.read_text() == 'mine'
+
+
+@pytest.mark.parametrize('fault', ['stall@0.05:60', 'disconnect@0.05:60'])
+def test_duration_is_honoured_during_stalls_and_disconnects(tmp_path, fault):
+    emulator = TeensyEmulator(tmp_path / 'teensy', 100.0, SignalSource(),
+                              faults=(Fault.parse(fault),))
+    with emulator:
+        streamer = threading.Thread(target=emulator.run, args=(0.3,), daemon=True)
+        streamer.start()
+        streamer.join(timeout=15)  # the fault lasts 60 s; the duration ends it
+        assert not streamer.is_alive()
+    assert not (tmp_path / 'teensy').exists()
 
 
 def test_sway_motion_moves(tmp_path):

@@ -1,12 +1,22 @@
 # Copyright 2026 The tactex authors
 # SPDX-License-Identifier: Apache-2.0
-"""The `tactex` command line: one subcommand per job, each returning an exit code."""
+"""The `tactex` command line: one subcommand per job, each returning an exit code.
+
+Bad input is normal: argument errors, the project's errors and the usual OS errors
+end in one `error: ...` line on stderr and exit code 1, never a traceback.
+"""
 
 from __future__ import annotations
 
 import argparse
 import importlib
 import sys
+
+from tactex.errors import CommandError
+from tactex_classify.errors import ClassifyError
+from tactex_common.errors import CommonError
+from tactex_driver.errors import DriverError
+from tactex_sim.errors import SimError
 
 # Subcommand name -> module under tactex.commands with add_arguments(parser) and run(args).
 COMMANDS = {
@@ -24,11 +34,21 @@ COMMANDS = {
 
 # Subcommands whose module name differs (`import` is a Python keyword).
 MODULES = {'import': 'import_data'}
+# What a user can cause: reported in one line, never as a traceback.
+USER_ERRORS = (CommandError, ClassifyError, CommonError, DriverError, SimError, OSError)
+
+
+class CommandParser(argparse.ArgumentParser):
+    """An argument parser whose errors are one `error:` line and exit code 1."""
+
+    def error(self, message: str):
+        """Print `error: MESSAGE; see ... --help` and exit with 1."""
+        self.exit(1, f'error: {message}; see `{self.prog} --help`\n')
 
 
 def build_parser() -> argparse.ArgumentParser:
     """Return the parser with every subcommand registered."""
-    parser = argparse.ArgumentParser(
+    parser = CommandParser(
         prog='tactex', description='Texture recognition by touch on a ROS 2 arm.')
     subparsers = parser.add_subparsers(dest='command', required=True, metavar='COMMAND')
     for name, help_text in COMMANDS.items():
@@ -39,6 +59,14 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def describe(error: BaseException) -> str:
+    """One line for an error (OS errors as `PATH: reason`)."""
+    if isinstance(error, OSError) and not isinstance(error, CommonError) and error.strerror:
+        where = f'{error.filename}: ' if error.filename else ''
+        return f'{where}{error.strerror}'
+    return ' '.join(str(error).split()) or type(error).__name__
+
+
 def main(argv: list[str] | None = None) -> int:
     """Parse `argv`, run the subcommand and return its exit code."""
     args = build_parser().parse_args(argv)
@@ -47,6 +75,9 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print('error: interrupted', file=sys.stderr)
         return 130
+    except USER_ERRORS as error:
+        print(f'error: {describe(error)}', file=sys.stderr)
+        return 1
 
 
 if __name__ == '__main__':

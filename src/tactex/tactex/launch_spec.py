@@ -143,13 +143,17 @@ def load_launch_file(name_or_path: str) -> LaunchFile:
     path = Path(name_or_path)
     if not path.suffix:
         path = launch_directory() / f'{name_or_path}.launch.py'
-    if not path.is_file():
+    if not path.is_file() or path.suffix != '.py':
         known = sorted(p.name.removesuffix('.launch.py')
                        for p in launch_directory().glob('*.launch.py'))
-        raise LaunchError(f'no launch file {name_or_path!r}; known: {", ".join(known)}')
+        raise LaunchError(f'no launch file {name_or_path!r} (a NAME or a .launch.py path); '
+                          f'known: {", ".join(known)}')
     spec = importlib.util.spec_from_file_location(f'tactex_launch_{path.stem}', path)
     module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
+    try:
+        spec.loader.exec_module(module)
+    except Exception as err:  # noqa: BLE001 - a launch file is code; any failure is its fault
+        raise LaunchError(f'{path} cannot be loaded: {type(err).__name__}: {err}') from None
     launch = getattr(module, 'LAUNCH', None)
     if not isinstance(launch, LaunchFile):
         raise LaunchError(f'{path} defines no LAUNCH = LaunchFile(...)')

@@ -1,32 +1,72 @@
 # Copyright 2026 The tactex authors
 # SPDX-License-Identifier: Apache-2.0
-"""Recordings read from rosbag2 (rosbags, no ROS): the 10 channels aligned on the sensor clock.
+"""Recordings read from rosbag2 (rosbags, no ROS): the tactile channels aligned on the IMU.
 
 A recording is one bag directory, or a directory of part bags written one after the
-other (the recorder splits every second so a crash loses at most the last part). The
-IMU stream is the reference: magnetometer and pressure samples are joined to each IMU
-sample by header stamp (nearest within half a period). Out-of-order and duplicated
-stamps are sorted out, samples with NaN in any channel are dropped and counted.
+other (the recorder splits every second so a crash loses at most the last part). Each
+part is read on its own: a corrupt part is named and left out, the others are kept.
+
+Topics are found by role (`TOPIC_ROLES`): under any ROS namespace
+(`/left_arm/tactile/imu/data_raw`), with or without the leading slash, or where the
+caller remaps a role to a name of its own (`{'imu': '/my/imu'}`). The IMU stream is
+the reference: magnetometer and pressure samples are joined to each IMU sample by
+`tactex_classify.alignment.align`. A recording without a magnetometer (or barometer)
+topic has no such channels, with a note. Metadata whose label is not text or whose
+trial is not an integer is refused by bag and key.
 """
 
 from __future__ import annotations
 
 from array import array
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 import json
 from pathlib import Path
 
 import numpy as np
-from rosbags.highlevel import AnyReader
 
+from tactex_classify.alignment import align, Stream
 from tactex_classify.errors import BagError
 from tactex_common import topics
-from tactex_common.channels import CHANNELS
+from tactex_common.channels import ACCEL, BARO, CHANNELS, GYRO, MAG
+from tactex_common.interfaces import typestore
+from tactex_common.naming import natural_sorted
 from tactex_common.stamps import gaps, stamp_ns
 
 PART_PREFIX = 'part_'
-_WANTED = {f'/{topics.IMU_RAW}', f'/{topics.MAG}', f'/{topics.PRESSURE}',
-           f'/{topics.SWEEP_ACTIVE}', f'/{topics.RECORDING_METADATA}', f'/{topics.JOINT_STATES}'}
+# Role -> (topic relative to the recording's namespace, message type).
+TOPIC_ROLES = {
+    'imu': (topics.IMU_RAW, 'sensor_msgs/msg/Imu'),
+    'mag': (topics.MAG, 'sensor_msgs/msg/MagneticField'),
+    'pressure': (topics.PRESSURE, 'sensor_msgs/msg/FluidPressure'),
+    'active': (topics.SWEEP_ACTIVE, 'std_msgs/msg/Bool'),
+    'metadata': (topics.RECORDING_METADATA, 'std_msgs/msg/String'),
+    'joints': (topics.JOINT_STATES, 'sensor_msgs/msg/JointState'),
+    'contact': (topics.GROUND_TRUTH_CONTACT, 'geometry_msgs/msg/PoseStamped'),
+    'edge': (topics.GROUND_TRUTH_SENSOR, 'geometry_msgs/msg/PoseStamped'),
+    'texture': (topics.GROUND_TRUTH_TEXTURE, 'std_msgs/msg/String'),
+}
+# The channels each sensor role gives, in CHANNELS order.
+ROLE_CHANNELS = {'imu': ACCEL + GYRO, 'mag': MAG, 'pressure': BARO}
+
+
+@dataclass
+class GroundTruth:
+    """What the simulator says happened (topics `sim/ground_truth/*`).
+
+    Attributes:
+        contact_ns: stamps at which the sensor touched the surface.
+        edge_ns: stamps of the sensor edge positions.
+        edge_m: (n, 3) world positions of the sensor edge.
+        texture_ns: stamps of the texture names.
+        texture: the texture under the edge at each of those stamps ('' for none).
+    """
+
+    contact_ns: np.ndarray
+    edge_ns: np.ndarray
+    edge_m: np.ndarray
+    texture_ns: np.ndarray
+    texture: np.ndarray
 
 
 @dataclass
@@ -35,12 +75,15 @@ class Recording:
 
     path: Path
     stamps_ns: np.ndarray  # (n,) int64, header stamps of the IMU samples
-    values: np.ndarray  # (n, 10) float64 in CHANNELS order, SI units
+    values: np.ndarray  # (n, len(channels)) float64 in `channels` order, SI units
     metadata: dict
     active_ns: list[tuple[int, int]] | None  # sweep/active intervals, None if no such topic
     joint_stamps_ns: np.ndarray
     joint_speed: np.ndarray  # norm of the joint velocities (rad/s) at joint_stamps_ns
+    channels: tuple[str, ...] = CHANNELS
+    truth: GroundTruth | None = None
     dropped: dict[str, int] = field(default_factory=dict)
+    notes: list[str] = field(default_factory=list)
     messages: int = 0
 
     @property
@@ -52,6 +95,10 @@ class Recording:
         steady = steps[~gaps(self.stamps_ns)]  # gaps excluded, jitter averaged
         return 1e9 / float(np.mean(steady))
 
+    def channel(self, name: str) -> np.ndarray:
+        """The samples of one channel."""
+        return self.values[:, self.channels.index(name)]
+
 
 def is_recording(path: Path) -> bool:
     """True for a bag directory (even a truncated one) or a directory of part bags."""
@@ -61,12 +108,12 @@ def is_recording(path: Path) -> bool:
 
 
 def bag_parts(path: Path) -> list[Path]:
-    """The bag directories of a recording: itself, or its part bags in name order.
+    """The bag directories of a recording: itself, or its part bags in natural order.
 
     Raises:
         BagError: not a recording.
     """
-    parts = sorted(path.glob(f'{PART_PREFIX}*/')) if path.is_dir() else []
+    parts = natural_sorted(path.glob(f'{PART_PREFIX}*/')) if path.is_dir() else []
     if parts:
         return parts
     if is_recording(path):
@@ -74,68 +121,289 @@ def bag_parts(path: Path) -> list[Path]:
     raise BagError(f'{path}: not a rosbag2 directory nor a directory of part bags')
 
 
-def read_recording(path: Path) -> Recording:
-    """Read and align one recording.
+def parse_topic_remaps(items: Sequence[str]) -> dict[str, str]:
+    """['imu=/my/imu', ...] -> {'imu': '/my/imu'}.
 
     Raises:
-        BagError: the bag (or every part of it) cannot be read; the message says why.
+        BagError: not ROLE=TOPIC, an unknown role, or a role given twice.
     """
+    remaps: dict[str, str] = {}
+    for item in items:
+        role, sep, topic = item.partition('=')
+        role, topic = role.strip(), topic.strip()
+        if not sep or not topic.strip('/'):
+            raise BagError(f'--topic {item!r} is not ROLE=TOPIC, e.g. imu=/my/imu')
+        if role not in TOPIC_ROLES:
+            raise BagError(f'--topic {item!r}: unknown role {role!r}; roles: '
+                           f'{", ".join(TOPIC_ROLES)}')
+        if role in remaps:
+            raise BagError(f'--topic gives {role!r} twice')
+        remaps[role] = '/' + topic.strip('/')
+    return remaps
+
+
+def resolve_topics(available: Mapping[str, str], remaps: Mapping[str, str] | None = None
+                   ) -> dict[str, str]:
+    """Role -> topic name in the bag, for every role the bag has.
+
+    Args:
+        available: topic name as stored -> message type.
+        remaps: role -> topic name given by the user (with or without leading slash).
+
+    Raises:
+        BagError: a role is found under several namespaces (pick one with a remap), or a
+            topic's message type is not the role's.
+    """
+    remaps = remaps or {}
+    by_name = {'/' + name.strip('/'): name for name in available}
+    found: dict[str, str] = {}
+    for role in sorted(TOPIC_ROLES, key=lambda r: r != 'imu'):  # imu first: its namespace
+        relative, msgtype = TOPIC_ROLES[role]
+        if role in remaps:
+            candidates = [remaps[role]] if remaps[role] in by_name else []
+        else:
+            candidates = [n for n in by_name if n == f'/{relative}' or n.endswith(f'/{relative}')]
+            if len(candidates) > 1 and 'imu' in found:
+                namespace = found['imu'][:-len(TOPIC_ROLES['imu'][0])]
+                candidates = [n for n in candidates if n == namespace + relative] or candidates
+        if len(candidates) > 1:
+            raise BagError(f'{relative} appears under several namespaces '
+                           f'({", ".join(sorted(candidates))}); pick one with --topic '
+                           f'{role}=NAME')
+        if candidates:
+            stored = by_name[candidates[0]]
+            if available[stored] != msgtype:
+                raise BagError(f'topic {stored} is {available[stored]}, expected {msgtype} '
+                               f'for {role}; remap with --topic {role}=NAME')
+            found[role] = stored
+    return found
+
+
+def check_metadata(metadata: Mapping, path: Path) -> dict:
+    """The recording's metadata with `label` text and `trial` an integer, if present.
+
+    Raises:
+        BagError: naming the bag and the key whose value has the wrong type.
+    """
+    metadata = dict(metadata)
+    label = metadata.get('label')
+    if label is not None and (not isinstance(label, str) or not label.strip()):
+        raise BagError(f'{path}: metadata key "label" must be non-empty text, got {label!r}')
+    trial = metadata.get('trial')
+    if trial is not None:
+        if isinstance(trial, float) and trial.is_integer():
+            trial = int(trial)
+        if isinstance(trial, bool) or not isinstance(trial, int) or trial < 0:
+            raise BagError(f'{path}: metadata key "trial" must be an integer >= 0, got '
+                           f'{metadata["trial"]!r}')
+        metadata['trial'] = trial
+    return metadata
+
+
+class _Collected:
+    """Samples of one part, kept in flat arrays (8 bytes a value at any length)."""
+
+    def __init__(self) -> None:
+        self.values = {role: array('d') for role in ROLE_CHANNELS}
+        self.stamps = {role: array('q') for role in (*ROLE_CHANNELS, 'contact', 'edge',
+                                                     'texture')}
+        self.edge = array('d')
+        self.texture: list[str] = []
+        self.active: list[tuple[int, bool]] = []
+        self.joints: list[tuple[int, float]] = []
+        self.metadata: dict = {}
+        self.messages = 0
+
+    def merge(self, other: _Collected) -> None:
+        for role in self.values:
+            self.values[role].extend(other.values[role])
+        for role in self.stamps:
+            self.stamps[role].extend(other.stamps[role])
+        self.edge.extend(other.edge)
+        self.texture += other.texture
+        self.active += other.active
+        self.joints += other.joints
+        self.metadata.update(other.metadata)
+        self.messages += other.messages
+
+    def add(self, role: str, message, log_ns: int, path: Path) -> None:
+        self.messages += 1
+        if role in ROLE_CHANNELS:
+            self.stamps[role].append(stamp_ns(message.header.stamp))
+            if role == 'imu':
+                a, w = message.linear_acceleration, message.angular_velocity
+                self.values[role].extend((a.x, a.y, a.z, w.x, w.y, w.z))
+            elif role == 'mag':
+                m = message.magnetic_field
+                self.values[role].extend((m.x, m.y, m.z))
+            else:
+                self.values[role].append(message.fluid_pressure)
+        elif role == 'active':
+            self.active.append((log_ns, bool(message.data)))
+        elif role == 'joints':
+            speed = float(np.linalg.norm(message.velocity[:4])) if len(
+                message.velocity) else float('nan')
+            self.joints.append((stamp_ns(message.header.stamp) or log_ns, speed))
+        elif role == 'metadata':
+            self.metadata.update(_parse_metadata(message.data, path))
+        elif role in ('contact', 'edge'):
+            self.stamps[role].append(stamp_ns(message.header.stamp))
+            if role == 'edge':
+                p = message.pose.position
+                self.edge.extend((p.x, p.y, p.z))
+        elif role == 'texture':
+            self.stamps[role].append(log_ns)
+            self.texture.append(str(message.data))
+
+    def stream(self, role: str) -> Stream:
+        channels = ROLE_CHANNELS[role]
+        return Stream(role, channels, np.frombuffer(self.stamps[role], dtype=np.int64),
+                      np.frombuffer(self.values[role]).reshape(-1, len(channels)))
+
+
+def _inventory(part: Path) -> dict[str, str]:
+    """Topic -> message type of one part bag, for topics holding messages."""
+    from rosbags.rosbag2 import Reader
+    with Reader(part) as reader:
+        return {c.topic: c.msgtype for c in reader.connections if c.msgcount != 0}
+
+
+def recording_topics(path: Path, remaps: Mapping[str, str] | None = None) -> dict[str, str]:
+    """Role -> topic of a recording, from the readable parts' bag metadata (no messages read).
+
+    Raises:
+        BagError: not a recording, no readable part, or ambiguous topics.
+    """
+    available: dict[str, str] = {}
+    for part in bag_parts(Path(path)):
+        try:
+            available.update(_inventory(part))
+        except Exception:  # noqa: BLE001 - an unreadable part is named by read_recording
+            continue
+    return resolve_topics(available, remaps)
+
+
+def read_recording(path: Path, *, remaps: Mapping[str, str] | None = None,
+                   channels: Sequence[str] | None = None) -> Recording:
+    """Read and align one recording.
+
+    Args:
+        path: a bag directory or a directory of part bags.
+        remaps: role -> topic name, for bags whose topics have other names.
+        channels: the channels wanted (a subset of CHANNELS); default every channel the
+            recording has.
+
+    Raises:
+        BagError: no part can be read, no IMU messages, a wanted channel has no topic,
+            or the metadata has the wrong types; the message says which.
+    """
+    from rosbags.highlevel import AnyReader
+
     path = Path(path)
     parts = bag_parts(path)
-    readable = [p for p in parts if (p / 'metadata.yaml').is_file()]
-    dropped = {'unreadable_parts': len(parts) - len(readable)}
-    if not readable:
-        raise BagError(f'{path}: truncated or corrupt bag (no metadata.yaml)')
-    # Flat arrays: 8 bytes a value however long the recording is; stamps stay int64.
-    imu, mag, pressure = array('d'), array('d'), array('d')
-    imu_ns, mag_ns, pressure_ns = array('q'), array('q'), array('q')
-    active: list[tuple[int, bool]] = []
-    joints: list[tuple[int, float]] = []
-    metadata: dict = {}
-    has_segments = False
-    messages = 0
-    try:
-        with AnyReader(readable) as reader:
-            connections = [c for c in reader.connections if c.topic in _WANTED]
-            has_segments = any(c.topic == f'/{topics.SWEEP_ACTIVE}' for c in connections)
-            for connection, log_ns, raw in reader.messages(connections=connections):
-                messages += 1
-                message = reader.deserialize(raw, connection.msgtype)
-                topic = connection.topic[1:]
-                if topic == topics.IMU_RAW:
-                    a, w = message.linear_acceleration, message.angular_velocity
-                    imu_ns.append(stamp_ns(message.header.stamp))
-                    imu.extend((a.x, a.y, a.z, w.x, w.y, w.z))
-                elif topic == topics.MAG:
-                    m = message.magnetic_field
-                    mag_ns.append(stamp_ns(message.header.stamp))
-                    mag.extend((m.x, m.y, m.z))
-                elif topic == topics.PRESSURE:
-                    pressure_ns.append(stamp_ns(message.header.stamp))
-                    pressure.append(message.fluid_pressure)
-                elif topic == topics.SWEEP_ACTIVE:
-                    active.append((log_ns, bool(message.data)))
-                elif topic == topics.JOINT_STATES:
-                    speed = float(np.linalg.norm(message.velocity[:4])) if len(
-                        message.velocity) else float('nan')
-                    joints.append((stamp_ns(message.header.stamp) or log_ns, speed))
-                elif topic == topics.RECORDING_METADATA:
-                    metadata.update(_parse_metadata(message.data, path))
-    except Exception as err:  # rosbags raises several unrelated types for a broken file
-        raise BagError(f'{path}: cannot read: {type(err).__name__}: {err}') from err
-    if not imu:
-        raise BagError(f'{path}: no messages on /{topics.IMU_RAW}')
-    stamps, values = _align(
-        (np.frombuffer(imu_ns, dtype=np.int64), np.frombuffer(imu).reshape(-1, 6)),
-        (np.frombuffer(mag_ns, dtype=np.int64), np.frombuffer(mag).reshape(-1, 3)),
-        (np.frombuffer(pressure_ns, dtype=np.int64), np.frombuffer(pressure).reshape(-1, 1)),
-        dropped)
-    joint_array = np.array(joints).reshape(-1, 2)
-    order = np.argsort(joint_array[:, 0], kind='stable')
-    return Recording(path, stamps, values, metadata,
-                     _intervals(sorted(active)) if has_segments else None,
-                     joint_array[order, 0].astype(np.int64), joint_array[order, 1],
-                     dropped, messages)
+    collected, notes, dropped = _Collected(), [], {'unreadable_parts': 0}
+    roles: dict[str, str] = {}
+    inventories = {}
+    for part in parts:
+        try:
+            inventories[part] = _inventory(part)
+        except Exception as err:  # noqa: BLE001 - rosbags raises many unrelated types
+            dropped['unreadable_parts'] += 1
+            notes.append(f'part {part.name} skipped: {_why(err, part)}')
+    if not inventories:
+        raise BagError(f'{path}: cannot read: {notes[0].split(": ", 1)[1]}'
+                       if len(parts) == 1 else f'{path}: cannot read any of its '
+                       f'{len(parts)} part bags')
+    roles = resolve_topics({t: m for inv in inventories.values() for t, m in inv.items()},
+                           remaps)
+    if 'imu' not in roles:
+        wanted = (remaps or {}).get('imu', f'/{topics.IMU_RAW}')
+        raise BagError(f'{path}: no messages on {wanted}; name the IMU topic with --topic '
+                       'imu=NAME')
+    wanted_roles = _roles_for(channels, roles, path)
+    by_topic = {topic: role for role, topic in roles.items()
+                if role in wanted_roles or role not in ROLE_CHANNELS}
+    for part in inventories:
+        part_data = _Collected()
+        try:
+            # Bags without type definitions (ROS 2 Humble's) decode with the standard
+            # types and tactex_msgs, read from the package's .msg files.
+            with AnyReader([part], default_typestore=typestore()) as reader:
+                connections = [c for c in reader.connections if c.topic in by_topic]
+                for connection, log_ns, raw in reader.messages(connections=connections):
+                    part_data.add(by_topic[connection.topic],
+                                  reader.deserialize(raw, connection.msgtype), log_ns, path)
+        except BagError:
+            raise
+        except Exception as err:  # noqa: BLE001 - rosbags raises many unrelated types
+            if len(parts) == 1:
+                raise BagError(f'{path}: cannot read: {_why(err, part)}') from err
+            dropped['unreadable_parts'] += 1
+            notes.append(f'part {part.name} skipped: {_why(err, part)}')
+            continue
+        collected.merge(part_data)
+    if not collected.stamps['imu']:
+        raise BagError(f'{path}: no readable messages on {roles["imu"]}')
+    for role in ('mag', 'pressure'):
+        if role not in wanted_roles and channels is None:
+            notes.append(f'no {TOPIC_ROLES[role][0]} topic: channels '
+                         f'{", ".join(ROLE_CHANNELS[role])} absent')
+    aligned = align(collected.stream('imu'), [collected.stream(r) for r in ('mag', 'pressure')
+                                              if r in wanted_roles])
+    dropped.update(aligned.dropped)
+    order = [aligned.channels.index(c) for c in CHANNELS if c in aligned.channels]
+    if channels is not None:
+        order = [aligned.channels.index(c) for c in channels]
+    joint_array = np.array(collected.joints, dtype=np.float64).reshape(-1, 2)
+    joint_order = np.argsort(joint_array[:, 0], kind='stable')
+    return Recording(
+        path, aligned.stamps_ns, aligned.values[:, order], check_metadata(
+            collected.metadata, path),
+        _intervals(sorted(collected.active)) if 'active' in roles else None,
+        joint_array[joint_order, 0].astype(np.int64), joint_array[joint_order, 1],
+        tuple(aligned.channels[i] for i in order), _truth(collected, roles), dropped, notes,
+        collected.messages)
+
+
+def _roles_for(channels: Sequence[str] | None, roles: Mapping[str, str], path: Path
+               ) -> set[str]:
+    """The sensor roles to read for the wanted channels."""
+    if channels is None:
+        return {role for role in ROLE_CHANNELS if role in roles}
+    unknown = [c for c in channels if c not in CHANNELS]
+    if unknown:
+        raise BagError(f'channel(s) {unknown} are not recorded in bags; bag channels: '
+                       f'{", ".join(CHANNELS)}')
+    wanted = {role for role, names in ROLE_CHANNELS.items() if set(names) & set(channels)}
+    missing = sorted(wanted - set(roles), key=list(ROLE_CHANNELS).index)
+    if missing:
+        role = missing[0]
+        raise BagError(f'{path}: no {TOPIC_ROLES[role][0]} topic, so no channels '
+                       f'{", ".join(ROLE_CHANNELS[role])}; leave them out of --channels or '
+                       f'remap with --topic {role}=NAME')
+    return wanted | {'imu'}
+
+
+def _truth(collected: _Collected, roles: Mapping[str, str]) -> GroundTruth | None:
+    if not {'edge', 'texture'} <= set(roles):
+        return None  # no simulator ground truth (a contact topic is absent when never touching)
+
+    def ordered(role: str, *values: np.ndarray) -> list[np.ndarray]:
+        stamps = np.frombuffer(collected.stamps[role], dtype=np.int64)
+        order = np.argsort(stamps, kind='stable')
+        return [stamps[order]] + [v[order] for v in values]
+
+    contact_ns, = ordered('contact')
+    edge_ns, edge_m = ordered('edge', np.frombuffer(collected.edge).reshape(-1, 3))
+    texture_ns, texture = ordered('texture', np.array(collected.texture, dtype=str))
+    return GroundTruth(contact_ns, edge_ns, edge_m, texture_ns, texture)
+
+
+def _why(err: Exception, part: Path) -> str:
+    if not (part / 'metadata.yaml').is_file():
+        return 'truncated or corrupt bag (no metadata.yaml)'
+    text = str(err).replace(str(part), '').strip(' :') or type(err).__name__
+    return f'{type(err).__name__}: {text}'
 
 
 def _parse_metadata(text: str, path: Path) -> dict:
@@ -146,49 +414,6 @@ def _parse_metadata(text: str, path: Path) -> dict:
     if not isinstance(value, dict):
         raise BagError(f'{path}: recording/metadata must be a JSON object')
     return value
-
-
-Stream = tuple[np.ndarray, np.ndarray]  # (stamps_ns int64, values (n, k))
-
-
-def _sorted_unique(stream: Stream, dropped: dict, name: str) -> Stream:
-    """Samples sorted by stamp, duplicates of a stamp dropped (first kept), both counted."""
-    stamps, values = stream
-    dropped[f'{name}_out_of_order'] = int(np.sum(np.diff(stamps) < 0))
-    order = np.argsort(stamps, kind='stable')
-    stamps, values = stamps[order], values[order]
-    keep = np.concatenate([[True], np.diff(stamps) > 0]) if stamps.size else \
-        np.zeros(0, dtype=bool)
-    dropped[f'{name}_duplicates'] = int(np.sum(~keep))
-    return stamps[keep], values[keep]
-
-
-def _align(imu: Stream, mag: Stream, pressure: Stream, dropped: dict
-           ) -> tuple[np.ndarray, np.ndarray]:
-    """Join mag and pressure to each IMU sample by nearest stamp; drop what cannot join."""
-    stamps, imu_values = _sorted_unique(imu, dropped, 'imu')
-    period = float(np.median(np.diff(stamps))) if stamps.size > 1 else 1e9
-    values = np.full((stamps.size, len(CHANNELS)), np.nan)
-    values[:, :6] = imu_values
-    joined = np.ones(stamps.size, dtype=bool)
-    for columns, (name, stream) in ((slice(6, 9), ('mag', mag)),
-                                    (slice(9, 10), ('pressure', pressure))):
-        other_stamps, other_values = _sorted_unique(stream, dropped, name)
-        if other_stamps.size == 0:
-            joined[:] = False
-            continue
-        index = np.clip(np.searchsorted(other_stamps, stamps), 0, other_stamps.size - 1)
-        previous = np.maximum(index - 1, 0)
-        nearer = np.abs(stamps - other_stamps[previous]) <= np.abs(other_stamps[index] - stamps)
-        index = np.where(nearer, previous, index)
-        close = np.abs(other_stamps[index] - stamps) <= period / 2
-        values[close, columns] = other_values[index[close]]
-        joined &= close
-    finite = np.all(np.isfinite(values), axis=1)
-    dropped['nan_samples'] = int(np.sum(joined & ~finite))
-    dropped['unaligned_samples'] = int(np.sum(~joined))
-    finite &= joined
-    return stamps[finite], values[finite]
 
 
 def _intervals(transitions: list[tuple[int, bool]]) -> list[tuple[int, int]]:
@@ -203,3 +428,4 @@ def _intervals(transitions: list[tuple[int, bool]]) -> list[tuple[int, int]]:
     if start is not None:
         spans.append((start, np.iinfo(np.int64).max))
     return spans
+

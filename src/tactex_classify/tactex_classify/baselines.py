@@ -22,7 +22,7 @@ from sklearn.ensemble import ExtraTreesClassifier
 from sklearn.linear_model import RidgeClassifierCV
 from sklearn.preprocessing import StandardScaler
 
-from tactex_classify.classifier import ChannelScaler, check_windows, softmax
+from tactex_classify.classifier import channel_names, ChannelScaler, check_windows, softmax
 from tactex_classify.errors import NotFittedError
 
 KERNELS = np.array(list(combinations(range(9), 3)))  # positions of the +2 weights
@@ -80,13 +80,14 @@ class MiniRocketRidge:
                 columns.append((out[:, :, None] > biases).mean(axis=1))
         return np.concatenate(columns, axis=1)
 
-    def fit(self, X, y, classes, groups=None) -> MiniRocketRidge:
+    def fit(self, X, y, classes, groups=None, channels=None) -> MiniRocketRidge:
         """Transform the training windows and fit the ridge."""
         del groups
         X = check_windows(X)
         rng = np.random.default_rng(self.seed)
         self.classes_ = list(classes)
         self.window_, self.n_channels_ = X.shape[1], X.shape[2]
+        self.channels_ = channel_names(channels, self.n_channels_)
         self.scaler_ = ChannelScaler('standard').fit(X)
         self._plan(self.window_, self.n_channels_, rng)
         self.biases_ = {}
@@ -131,12 +132,13 @@ class StatsExtraTrees:
         parts += [np.log1p(band.sum(1)) for band in bands]
         return np.concatenate(parts, axis=1)
 
-    def fit(self, X, y, classes, groups=None) -> StatsExtraTrees:
+    def fit(self, X, y, classes, groups=None, channels=None) -> StatsExtraTrees:
         """Fit the forest on the windows' statistics."""
         del groups
         X = check_windows(X)
         self.classes_ = list(classes)
         self.window_, self.n_channels_ = X.shape[1], X.shape[2]
+        self.channels_ = channel_names(channels, self.n_channels_)
         self.forest_ = ExtraTreesClassifier(n_estimators=self.trees, random_state=self.seed,
                                             n_jobs=1).fit(self.features(X), np.asarray(y))
         return self

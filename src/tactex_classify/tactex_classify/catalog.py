@@ -8,3 +8,5 @@ DEEP_MODELS = ('cnn_bilstm_1', 'cnn_bilstm_2', 'cnn_bilstm_3', 'cnn_1', 'cnn_2',
 # Fast baselines (tactex_classify.baselines).
 BASELINES = ('minirocket', 'extratrees')
 ALL_MODELS = DEEP_MODELS + BASELINES
+# Cross-validation schemes: grouped by recording (honest), stratified windows (leaky).
+SCHEMES = ('grouped', 'stratified')

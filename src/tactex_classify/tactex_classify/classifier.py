@@ -51,6 +51,9 @@ class ChannelScaler:
         """Scaled copy of X (float32)."""
         if self.offset is None:
             raise NotFittedError('ChannelScaler is not fitted')
+        if X.shape[-1] != len(self.offset):
+            raise ValueError(f'X has {X.shape[-1]} channels, the scaler was fitted on '
+                             f'{len(self.offset)}')
         return ((X - np.array(self.offset)) / np.array(self.scale)).astype(np.float32)
 
 
@@ -71,6 +74,22 @@ def check_windows(X, *, window: int | None = None, channels: int | None = None) 
         raise ValueError(f'X windows are {X.shape[1:]}, the model was fitted on '
                          f'({window}, {channels})')
     return X.astype(np.float32)
+
+
+def channel_names(channels, count: int) -> list[str]:
+    """The fitted channels' names: given, or this system's channels when there are ten.
+
+    Raises:
+        ValueError: no names for a channel count other than ten, or a count mismatch.
+    """
+    if channels is None:
+        if count != len(CHANNELS):
+            raise ValueError(f'X has {count} channels: pass their names (channels=...)')
+        return list(CHANNELS)
+    names = [str(name) for name in channels]
+    if len(names) != count:
+        raise ValueError(f'{len(names)} channel names for {count} channels')
+    return names
 
 
 def softmax(logits: np.ndarray) -> np.ndarray:
@@ -105,7 +124,7 @@ class DeepClassifier:
         self.progress = progress
         self.model_ = None
 
-    def fit(self, X, y, classes: list[str], groups=None) -> DeepClassifier:
+    def fit(self, X, y, classes: list[str], groups=None, channels=None) -> DeepClassifier:
         """Train on windows X with class indices y (into `classes`).
 
         Args:
@@ -113,6 +132,7 @@ class DeepClassifier:
             y: (n,) class indices.
             classes: all class names (the output columns), even ones absent from y.
             groups: recording of each window; the early-stopping split keeps them whole.
+            channels: names of X's channels (the dataset's); default this system's ten.
         """
         import torch
 
@@ -125,6 +145,7 @@ class DeepClassifier:
         rng = np.random.default_rng(config.seed)
         self.classes_ = list(classes)
         self.window_, self.n_channels_ = X.shape[1], X.shape[2]
+        self.channels_ = channel_names(channels, self.n_channels_)
         self.scaler_ = ChannelScaler(config.scaling).fit(X)
         train, validation = _validation_split(y, groups, config, rng)
         self.model_ = build_model(config.model, self.window_, self.n_channels_,
@@ -202,7 +223,7 @@ class DeepClassifier:
         folder.mkdir(parents=True, exist_ok=True)
         torch.save(self.model_.state_dict(), folder / 'weights.pt')
         meta = {'format_version': CHECKPOINT_VERSION, 'kind': 'deep', 'classes': self.classes_,
-                'channels': list(CHANNELS)[:self.n_channels_], 'window': self.window_,
+                'channels': self.channels_, 'window': self.window_,
                 'scaler': asdict(self.scaler_), 'config': asdict(self.config)}
         (folder / 'checkpoint.json').write_text(json.dumps(meta, indent=2), encoding='utf-8')
         return folder
@@ -231,7 +252,8 @@ class DeepClassifier:
             raise CheckpointError(f'{folder}: not a tactex deep-model checkpoint')
         self = cls(TrainingConfig(**meta['config']))
         self.classes_, self.window_ = meta['classes'], meta['window']
-        self.n_channels_ = len(meta['channels'])
+        self.channels_ = list(meta['channels'])
+        self.n_channels_ = len(self.channels_)
         self.scaler_ = ChannelScaler(**meta['scaler'])
         self.model_ = build_model(self.config.model, self.window_, self.n_channels_,
                                   len(self.classes_))

@@ -17,9 +17,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from sklearn.model_selection import StratifiedGroupKFold, StratifiedKFold
 
+from tactex_classify.catalog import SCHEMES
 from tactex_classify.dataset import Dataset
-
-SCHEMES = ('grouped', 'stratified')
 
 
 @dataclass
@@ -67,7 +66,7 @@ def cross_validate(dataset: Dataset, make: Callable[[], object], scheme: str, *,
                  f'{len(test)} test windows')
         estimator = make()
         estimator.fit(dataset.X[train], dataset.y[train], dataset.classes,
-                      groups=dataset.trial[train])
+                      groups=dataset.trial[train], channels=dataset.channels)
         result.proba[test] = estimator.predict_proba(dataset.X[test])
         result.fold[test] = index
         result.histories.append(getattr(estimator, 'history_', []))

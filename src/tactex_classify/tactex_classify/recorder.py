@@ -17,13 +17,13 @@ from pathlib import Path
 
 from rosbags.rosbag2 import StoragePlugin, Writer
 from rosbags.rosbag2.writer import CompressionFormat, CompressionMode
-from rosbags.typesys import get_typestore, Stores
 
 from tactex_classify.bags import PART_PREFIX
 from tactex_classify.errors import ClassifyError
 from tactex_common import topics
+from tactex_common.interfaces import typestore
 
-TYPESTORE = get_typestore(Stores.ROS2_KILTED)
+TYPESTORE = typestore()  # the Kilted types and tactex_msgs
 # What a recording holds: (topic, message type, QoS: 'sensor', 'command' or 'latched').
 # The metadata topic carries what a sweep node publishes (label, trial, parameters); it
 # updates the recorder's own metadata when a recording is converted.

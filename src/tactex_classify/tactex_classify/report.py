@@ -19,6 +19,7 @@ import numpy as np  # noqa: E402
 
 from tactex_classify.dataset import Dataset  # noqa: E402
 from tactex_classify.evaluate import confusion, CrossValidation, metrics, sequence_accuracy  # noqa: E402
+from tactex_common.naming import natural_key, natural_sorted  # noqa: E402
 
 LABELS = {'grouped': 'grouped by recording (honest)',
           'stratified': 'stratified windows (leaky)'}
@@ -68,7 +69,7 @@ def write_report(folder: Path, dataset: Dataset, results: list[CrossValidation],
               '## Per class', '',
               '| class | ' + ' | '.join(f'{s} precision | {s} recall' for s in schemes) + ' |',
               '|---|' + '---|---|' * len(schemes)]
-    for name in dataset.classes:
+    for name in natural_sorted(dataset.classes):
         lines.append(f'| {name} | ' + ' | '.join(
             f'{100 * summary[s]["per_class"][name]["precision"]:.1f} | '
             f'{100 * summary[s]["per_class"][name]["recall"]:.1f}' for s in schemes) + ' |')
@@ -93,8 +94,10 @@ def write_report(folder: Path, dataset: Dataset, results: list[CrossValidation],
 
 def _plot_confusions(path: Path, classes: list[str], summary: dict) -> None:
     figure, axes = plt.subplots(1, len(summary), figsize=(7 * len(summary), 6), squeeze=False)
+    order = sorted(range(len(classes)), key=lambda i: natural_key(classes[i]))
+    classes = [classes[i] for i in order]
     for axis, (scheme, values) in zip(axes[0], summary.items(), strict=True):
-        matrix = np.array(values['confusion'], dtype=float)
+        matrix = np.array(values['confusion'], dtype=float)[np.ix_(order, order)]
         rows = matrix / np.maximum(matrix.sum(axis=1, keepdims=True), 1)
         axis.imshow(rows, cmap='Blues', vmin=0, vmax=1)
         for (i, j), count in np.ndenumerate(matrix):

@@ -26,6 +26,7 @@ from tactex_common.constants import (
     STANDARD_GRAVITY_M_S2,
 )
 from tactex_common.pty_link import PtyLink
+from tactex_common.tables import read_table
 from tactex_sensor.protocol import encode, Sample
 
 
@@ -128,26 +129,25 @@ class ReplaySource:
     Values are linearly interpolated and the recording loops.
 
     Raises:
-        ValueError: a column is missing, t is not increasing, or there are under 2 rows.
+        ValueError: an unreadable table (`tactex_common.errors.TableError`), a missing
+            column, t not increasing, or under 2 rows.
     """
 
     def __init__(self, path: Path) -> None:
-        with open(path, encoding='utf-8') as handle:
-            header = [name.strip() for name in handle.readline().split(',')]
-        missing = [c for c in REPLAY_COLUMNS if c not in header]
+        table = read_table(path)
+        missing = [c for c in REPLAY_COLUMNS if c not in table.columns]
         if missing:
             raise ValueError(f'{path}: missing column(s) {", ".join(missing)}; need '
                              f'{", ".join(REPLAY_COLUMNS)} (+ optional temp)')
-        table = np.loadtxt(path, delimiter=',', skiprows=1, ndmin=2)
-        if table.shape[0] < 2:
-            raise ValueError(f'{path}: needs at least 2 rows, has {table.shape[0]}')
-        columns = {name: table[:, header.index(name)] for name in header if name}
-        self._t = columns['t'] - columns['t'][0]
-        if np.any(np.diff(self._t) <= 0):
-            raise ValueError(f'{path}: column t must be strictly increasing')
+        if len(table) < 2:
+            raise ValueError(f'{path}: needs at least 2 rows, has {len(table)}')
+        names = list(REPLAY_COLUMNS[1:]) + (['temp'] if 'temp' in table.columns else [])
+        t = table.numeric('t')
+        if not np.all(np.isfinite(t)) or np.any(np.diff(t) <= 0):
+            raise ValueError(f'{path}: column t must be finite and strictly increasing')
+        self._t = t - t[0]
         self._period = self._t[-1]
-        names = list(REPLAY_COLUMNS[1:]) + (['temp'] if 'temp' in columns else [])
-        self._values = np.stack([columns[name] for name in names], axis=1)
+        self._values = np.stack([table.numeric(name) for name in names], axis=1)
 
     def sample(self, t_s: float) -> tuple[tuple, tuple, tuple, float, float]:
         """Return accel, gyro, mag, pressure, temperature at time `t_s` (looping)."""
@@ -205,10 +205,17 @@ class TeensyEmulator:
         corrupt = drop = 0
         sequence = sequence_start
         index = 0
+        end = start + duration_s
+
+        def pause(seconds: float) -> bool:
+            """Sleep up to `seconds`, never past the end; True while time is left."""
+            time.sleep(max(0.0, min(seconds, end - time.monotonic())))
+            return time.monotonic() < end
+
         while True:
             due = start + index * period
             now = time.monotonic()
-            if due - start >= duration_s or self._pty.master is None:
+            if due >= end or now >= end or self._pty.master is None:
                 return  # done, or closed from another thread
             if due > now:
                 time.sleep(due - now)
@@ -222,10 +229,12 @@ class TeensyEmulator:
                 elif fault.kind is FaultKind.DROP:
                     drop += int(fault.arg)
                 elif fault.kind is FaultKind.STALL:
-                    time.sleep(fault.arg)
+                    if not pause(fault.arg):
+                        return
                 else:
                     self.close()
-                    time.sleep(fault.arg)
+                    if not pause(fault.arg):
+                        return
                     self.open()
             accel, gyro, mag, pressure, temperature = self.source.sample(t_s)
             device_us = (self._start_time_us + int(round(t_s * 1e6))) % (1 << 32)

@@ -4,7 +4,8 @@
 
 One builder for everyone who emits a tactile sample: the sensor node and the simulator
 bridge publish these bytes as they are (rclpy publishes serialised messages), and the
-simulator's bag writer records them. Messages are built with rosbags' type store.
+simulator's bag writer records them. Messages are built with rosbags' type store
+(`tactex_common.interfaces`: the standard types and tactex_msgs).
 """
 
 from __future__ import annotations
@@ -12,11 +13,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from rosbags.typesys import get_typestore, Stores
 
 from tactex_common import topics
+from tactex_common.interfaces import typestore
 
-TYPESTORE = get_typestore(Stores.ROS2_KILTED)
+TYPESTORE = typestore()  # the Kilted types and tactex_msgs
 _T = TYPESTORE.types
 IMU_TYPE = 'sensor_msgs/msg/Imu'
 MAG_TYPE = 'sensor_msgs/msg/MagneticField'

@@ -135,9 +135,16 @@ def load_scene(path: Path | str) -> Scene:
         with open(path, 'rb') as handle:
             raw = tomllib.load(handle)
     except FileNotFoundError:
-        raise SceneError(f'no scene file {str(path)!r}') from None
-    except tomllib.TOMLDecodeError as err:
+        known = sorted(p.stem for p in path.parent.glob('*.toml')) if path.parent.is_dir() \
+            else []
+        raise SceneError(f'no scene file {str(path)!r}' + (
+            f'; scenes there: {", ".join(known)}' if known else '')) from None
+    except IsADirectoryError:
+        raise SceneError(f'scene {str(path)!r} is a folder; give a .toml file') from None
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as err:
         raise SceneError(f'{path}: not valid TOML: {err}') from None
+    except OSError as err:
+        raise SceneError(f'{path}: cannot read: {err.strerror}') from None
     return parse_scene(raw, str(path))
 
 

@@ -6,7 +6,10 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
-import sys
+
+from tactex.errors import CommandError
+from tactex.options import check_output_file, integer, text
+from tactex_common.channels import CHANNELS
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -14,28 +17,54 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('paths', nargs='+', type=Path, metavar='BAG_OR_DIR',
                         help='recordings, or folders holding recordings')
     parser.add_argument('--out', type=Path, required=True, help='dataset path (.npz)')
-    parser.add_argument('--window', type=int, default=128, help='samples per window (128)')
-    parser.add_argument('--hop', type=int, help='samples between window starts (window/2)')
-    parser.add_argument('--label', help='class of recordings that carry none')
-    parser.add_argument('--trial', type=int, help='recording id of a single recording')
+    parser.add_argument('--window', type=integer(2), default=128,
+                        help='samples per window (128)')
+    parser.add_argument('--hop', type=integer(1), help='samples between window starts '
+                        '(window/2)')
+    parser.add_argument('--label', type=text,
+                        help='class of the recordings that carry no label (never replaces one)')
+    parser.add_argument('--trial', type=integer(0), help='recording id of a single recording')
     parser.add_argument('--all-samples', action='store_true',
-                        help='keep every sample, not only "moving and in contact"')
+                        help='keep every sample, not only "sliding in contact"')
+    parser.add_argument('--channels', metavar='NAME,...',
+                        help=f'the dataset channels, of {",".join(CHANNELS)} (default: '
+                             'every channel all recordings have)')
+    parser.add_argument('--topic', action='append', default=[], metavar='ROLE=TOPIC',
+                        help='read a role from another topic, e.g. imu=/my/imu (roles: imu, '
+                             'mag, pressure, active, metadata, joints); repeatable. Without '
+                             'it topics are found under any namespace')
 
 
 def run(args: argparse.Namespace) -> int:
     """Convert and save."""
+    from tactex_classify.bags import parse_topic_remaps
     from tactex_classify.dataset import convert
-    from tactex_classify.errors import DatasetError
 
-    try:
-        dataset = convert(args.paths, window=args.window, hop=args.hop or args.window // 2,
-                          label=args.label, trial=args.trial, all_samples=args.all_samples)
-    except DatasetError as err:
-        print(f'error: {err}', file=sys.stderr)
-        return 1
-    path = dataset.save(args.out)
+    out = check_output_file(args.out, suffix='.npz', companions=('.json',))
+    hop = args.hop or max(1, args.window // 2)
+    if hop > args.window:
+        raise CommandError(f'--hop {hop} is longer than --window {args.window}; use a hop '
+                           '<= the window')
+    for path in args.paths:
+        if not path.exists():
+            raise CommandError(f'BAG_OR_DIR {path} does not exist')
+        if not path.is_dir():
+            raise CommandError(f'BAG_OR_DIR {path} is a file; give a bag folder (the folder '
+                               'holding metadata.yaml) or a folder of recordings')
+    channels = None
+    if args.channels is not None:
+        channels = [c.strip() for c in args.channels.split(',')]
+        unknown = [c for c in channels if c not in CHANNELS]
+        if unknown or not all(channels):
+            raise CommandError(f'--channels {args.channels!r}: unknown channel(s) {unknown}; '
+                               f'bags have {",".join(CHANNELS)}')
+    dataset = convert(args.paths, window=args.window, hop=hop, label=args.label,
+                      trial=args.trial, all_samples=args.all_samples, channels=channels,
+                      remaps=parse_topic_remaps(args.topic))
+    path = dataset.save(out)
     skipped = len(dataset.info['skipped'])
     print(f'wrote {path}: {len(dataset.X)} windows of {args.window} samples, '
-          f'{len(dataset.classes)} classes, {len(set(dataset.trial.tolist()))} recordings'
+          f'{len(dataset.classes)} classes, {len(set(dataset.trial.tolist()))} recordings, '
+          f'channels {",".join(dataset.channels)}'
           + (f'; {skipped} skipped (see the sidecar)' if skipped else ''))
     return 0

@@ -22,15 +22,23 @@ from pathlib import Path
 
 import numpy as np
 
+from tactex.errors import CommandError
+from tactex.options import integer, number
+
+# Folds of the demo's grouped cross-validation.
+DEMO_FOLDS = 3
+
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Register the options of this subcommand."""
-    parser.add_argument('--points', type=int, default=5,
-                        help='probe stations, 1 cm apart (default 5)')
-    parser.add_argument('--settle-s', type=float, default=1.5,
+    parser.add_argument('--points', type=integer(1, 10), default=5,
+                        help='probe stations, 1 cm apart (1..10, default 5)')
+    parser.add_argument('--settle-s', type=number(at_most=60.0), default=1.5,
                         help='simulated time to hold each waypoint (default 1.5 s)')
-    parser.add_argument('--sweeps', type=int, default=6,
-                        help='sweeps per texture in the data slice (default 6)')
+    parser.add_argument('--sweeps', type=integer(DEMO_FOLDS, 50), default=6,
+                        help=f'sweeps per texture in the data slice ({DEMO_FOLDS}..50, default '
+                             f'6): each texture needs a recording in every one of the '
+                             f'{DEMO_FOLDS} folds')
 
 
 def run(args: argparse.Namespace) -> int:
@@ -41,9 +49,6 @@ def run(args: argparse.Namespace) -> int:
     from tactex_description.kinematics import forward_kinematics, inverse_kinematics
     from tactex_description.mjcf import build_mjcf
 
-    if args.points < 1 or not math.isfinite(args.settle_s) or args.settle_s <= 0:
-        print('error: --points must be >= 1 and --settle-s > 0')
-        return 1
     print('tactex demo, slice 1/5: robot description (IK -> MuJoCo servos -> FK).')
     print('Not yet in the demo: probing the surface, the online classifier.\n')
     model = mujoco.MjModel.from_xml_string(build_mjcf())
@@ -60,8 +65,8 @@ def run(args: argparse.Namespace) -> int:
     for target in waypoints:
         result = inverse_kinematics(target, math.pi / 2, seed=seed)
         if not result.reachable:
-            print(f'error: waypoint {target} unreachable: {result.detail}')
-            return 1
+            raise CommandError(f'--points {args.points}: waypoint {target} is unreachable: '
+                               f'{result.detail}; use fewer points')
         seed = result.solutions[0]
         data.ctrl[:4] = seed
         for _ in range(steps):
@@ -140,9 +145,13 @@ def _data_and_classification_slices(sweeps: int) -> int:
         dataset = convert([Path(folder)], window=128, hop=64, progress=lambda line: None)
     print(f'{len(dataset.X)} windows from {len(set(dataset.trial.tolist()))} recordings, '
           f'{dataset.info["sampling_rate_hz"]:.0f} Hz')
-    print('\ntactex demo, slice 4/5: classification (statistics + ExtraTrees, 3-fold CV '
+    print('\ntactex demo, slice 4/5: classification (statistics + ExtraTrees, '
+          f'{DEMO_FOLDS}-fold CV '
           'grouped by recording: no recording on both sides).')
-    result = cross_validate(dataset, lambda: StatsExtraTrees(seed=0), 'grouped', folds=3)
+    result = cross_validate(dataset, lambda: StatsExtraTrees(seed=0), 'grouped',
+                            folds=DEMO_FOLDS)
+    for note in result.notes:
+        print(f'note: {note}')
     matrix = confusion(dataset.y, result.proba.argmax(axis=1), len(dataset.classes))
     print(f'accuracy {100 * metrics(matrix, dataset.classes)["accuracy"]:.1f} % over '
           f'{len(dataset.X)} windows; confusion (rows true, columns predicted):')

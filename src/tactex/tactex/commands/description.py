@@ -6,7 +6,9 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
-import sys
+
+from tactex.errors import CommandError
+from tactex.options import check_input_file, check_output_file
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -25,24 +27,30 @@ def run(args: argparse.Namespace) -> int:
     from tactex_description.mjcf import build_mjcf
     from tactex_description.urdf import build_urdf
 
+    targets = [(args.write_urdf, '--write-urdf'), (args.write_mjcf, '--write-mjcf')]
+    for path, option in targets:
+        if path is not None:
+            check_output_file(path, option)
+    if args.check_urdf is not None:
+        check_input_file(args.check_urdf, '--check-urdf')
+        try:
+            current = args.check_urdf.read_text(encoding='utf-8')
+        except UnicodeDecodeError:
+            raise CommandError(f'--check-urdf {args.check_urdf} is not a text file; give the '
+                               'URDF (XML)') from None
     print(f'{"joint":<16}{"type":<11}{"role":<11}{"lower":>9}{"upper":>9}{"velocity":>10}')
     for joint in OPEN_MANIPULATOR_X.joints:
         if joint.kind is not JointKind.FIXED:
             print(f'{joint.name:<16}{joint.kind.value:<11}{joint.role.value:<11}'
                   f'{joint.lower:>9.4f}{joint.upper:>9.4f}{joint.velocity:>10.3f}')
-    if args.write_urdf:
-        args.write_urdf.write_text(build_urdf(), encoding='utf-8')
-        print(f'wrote {args.write_urdf}')
-    if args.write_mjcf:
-        args.write_mjcf.write_text(build_mjcf(), encoding='utf-8')
-        print(f'wrote {args.write_mjcf}')
-    if args.check_urdf:
-        if not args.check_urdf.is_file():
-            print(f'error: no URDF at {args.check_urdf}', file=sys.stderr)
-            return 1
-        if args.check_urdf.read_text(encoding='utf-8') != build_urdf():
-            print(f'error: {args.check_urdf} is stale; regenerate it with `make urdf`',
-                  file=sys.stderr)
-            return 1
+    for (path, _), build in zip(targets, (build_urdf, build_mjcf), strict=True):
+        if path is not None:
+            path.parent.mkdir(parents=True, exist_ok=True)
+            path.write_text(build(), encoding='utf-8')
+            print(f'wrote {path}')
+    if args.check_urdf is not None:
+        if current != build_urdf():
+            raise CommandError(f'--check-urdf {args.check_urdf} is stale; regenerate it with '
+                               '`make urdf`')
         print(f'{args.check_urdf} matches the geometry module')
     return 0

@@ -12,11 +12,15 @@ import signal
 import sys
 import tempfile
 
+from tactex.errors import CommandError
+from tactex.options import check_input_file, integer, number
+
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Register the options of this subcommand."""
     parser.add_argument('device', choices=['teensy', 'dynamixel'], help='what to emulate')
-    parser.add_argument('--rate', type=float, default=120.0, help='teensy: frames per second')
+    parser.add_argument('--rate', type=number(at_most=2000.0), default=120.0,
+                        help='teensy: frames per second (0 < rate <= 2000)')
     parser.add_argument('--link', type=Path,
                         help='stable path linked to the pty (default /tmp/tactex-teensy or '
                              '/tmp/tactex-dynamixel)')
@@ -25,40 +29,55 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('--replay', type=Path, metavar='CSV',
                         help='replay a recording instead: CSV with t,ax,ay,az,gx,gy,gz,mx,my,mz,'
                              'baro[,temp] in SI units (overrides --motion)')
-    parser.add_argument('--roll', type=float, default=0.0, help='static roll (deg)')
-    parser.add_argument('--pitch', type=float, default=0.0, help='static pitch (deg)')
+    parser.add_argument('--roll', type=number(above=None, at_least=-180.0, at_most=180.0),
+                        default=0.0, help='static roll (deg)')
+    parser.add_argument('--pitch', type=number(above=None, at_least=-90.0, at_most=90.0),
+                        default=0.0, help='static pitch (deg)')
     parser.add_argument('--fault', action='append', default=[], metavar='KIND@S[:ARG]',
                         help='teensy: garbage@S:BYTES, crc@S:FRAMES, drop@S:FRAMES, '
                              'stall@S:SECONDS, disconnect@S:SECONDS; dynamixel: silence@S:ID, '
                              'answer@S:ID, corrupt@S:ID, overload@S:ID (repeatable)')
-    parser.add_argument('--duration', type=float, default=math.inf,
-                        help='stop after this many seconds (default: run until Ctrl-C)')
-    parser.add_argument('--seed', type=int, default=0, help='noise seed')
-    parser.add_argument('--start-time-us', type=int, default=0,
+    parser.add_argument('--duration', type=number(), default=math.inf,
+                        help='stop after this many seconds, stalls and disconnects included '
+                             '(default: run until Ctrl-C)')
+    parser.add_argument('--seed', type=integer(0), default=0, help='noise seed')
+    parser.add_argument('--start-time-us', type=integer(0, 2**32 - 1), default=0,
                         help='device clock at start (e.g. 4294000000 to cross the wrap)')
 
 
 def run(args: argparse.Namespace) -> int:
     """Open the pty, print its path, serve until done."""
+    from tactex_common.errors import LinkError
+    from tactex_common.pty_link import check_link_path
+
+    default = 'tactex-dynamixel' if args.device == 'dynamixel' else 'tactex-teensy'
+    args.link = args.link or Path(tempfile.gettempdir()) / default
+    try:
+        check_link_path(args.link)
+    except LinkError as err:
+        raise CommandError(f'--link {err}') from None
+    if args.replay is not None:
+        check_input_file(args.replay, '--replay')
     # SIGTERM (a launcher, a test harness) unwinds like Ctrl-C, so the link is removed.
     signal.signal(signal.SIGTERM, lambda *_: sys.exit(0))
     if args.device == 'dynamixel':
         return _run_dynamixel(args)
-    args.link = args.link or Path(tempfile.gettempdir()) / 'tactex-teensy'
     from tactex_sensor.emulator import Fault, Motion, ReplaySource, SignalSource, TeensyEmulator
 
     try:
         faults = tuple(Fault.parse(spec) for spec in args.fault)
+    except ValueError as err:
+        raise CommandError(f'--fault: {err}') from None
+    try:
         if args.replay:
             source = ReplaySource(args.replay)
         else:
             source = SignalSource(Motion(args.motion), roll_rad=math.radians(args.roll),
                                   pitch_rad=math.radians(args.pitch), seed=args.seed)
-        emulator = TeensyEmulator(args.link, args.rate, source, faults=faults,
-                                  start_time_us=args.start_time_us)
-    except (ValueError, OSError) as err:
-        print(f'error: {err}', file=sys.stderr)
-        return 1
+    except ValueError as err:
+        raise CommandError(f'--replay: {err}') from None
+    emulator = TeensyEmulator(args.link, args.rate, source, faults=faults,
+                              start_time_us=args.start_time_us)
     with emulator:
         print(f'teensy emulator on {args.link} -> {os.path.realpath(args.link)} at '
               f'{args.rate:g} Hz; faults: {", ".join(args.fault) or "none"}', flush=True)
@@ -75,29 +94,29 @@ def _run_dynamixel(args: argparse.Namespace) -> int:
     """Serve a chain of five XM430-W350 (IDs 11-15) and apply faults on schedule."""
     import time
 
+    from tactex_common.constants import SERVO_IDS
     from tactex_driver.servo_emulator import ServoChainEmulator
 
-    link = args.link or Path(tempfile.gettempdir()) / 'tactex-dynamixel'
     schedule = []
     for spec in args.fault:
         kind, _, rest = spec.partition('@')
         at, _, servo = rest.partition(':')
         try:
-            if kind not in DYNAMIXEL_FAULTS:
-                raise ValueError
             schedule.append((float(at), kind, int(servo)))
         except ValueError:
-            print(f'error: bad fault {spec!r}: expected KIND@SECONDS:ID with KIND one of '
-                  f'{", ".join(DYNAMIXEL_FAULTS)}', file=sys.stderr)
-            return 1
+            schedule.append((math.nan, kind, -1))
+        if kind not in DYNAMIXEL_FAULTS or not math.isfinite(schedule[-1][0]) \
+                or schedule[-1][0] < 0:
+            raise CommandError(f'--fault {spec!r}: expected KIND@SECONDS:ID with KIND one of '
+                               f'{", ".join(DYNAMIXEL_FAULTS)} and SECONDS finite and >= 0')
     schedule.sort()
-    with ServoChainEmulator(link) as emulator:
-        if any(servo not in emulator.servos for _, _, servo in schedule):
-            print(f'error: fault names a servo not on the chain {sorted(emulator.servos)}',
-                  file=sys.stderr)
-            return 1
-        print(f'dynamixel chain (XM430-W350, IDs {sorted(emulator.servos)}) on {link} -> '
-              f'{os.path.realpath(link)}; faults: {", ".join(args.fault) or "none"}',
+    unknown = sorted({servo for _, _, servo in schedule} - set(SERVO_IDS))
+    if unknown:
+        raise CommandError(f'--fault names servo(s) {unknown}, not on the chain '
+                           f'{list(SERVO_IDS)}')
+    with ServoChainEmulator(args.link) as emulator:
+        print(f'dynamixel chain (XM430-W350, IDs {sorted(emulator.servos)}) on {args.link} -> '
+              f'{os.path.realpath(args.link)}; faults: {", ".join(args.fault) or "none"}',
               flush=True)
         start = time.monotonic()
         actions = {'silence': lambda s: emulator.silence(s, True),

@@ -6,7 +6,11 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
-import sys
+
+from tactex.errors import CommandError
+from tactex.options import check_input_folder, check_output_file, integer, number, text
+
+DELIMITER_NAMES = {'tab': '\t', '\\t': '\t', 'comma': ',', 'semicolon': ';', 'pipe': '|'}
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -15,31 +19,58 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help='mun: the public MUN tactile texture pickles; csv: CLASS/*.csv')
     parser.add_argument('root', type=Path, help='folder holding the data')
     parser.add_argument('--out', type=Path, required=True, help='dataset path (.npz)')
-    parser.add_argument('--window', type=int, default=1050,
+    parser.add_argument('--window', type=integer(2), default=1050,
                         help='samples per window (1050: 3 s at 350 Hz)')
-    parser.add_argument('--hop', type=int, help='samples between window starts (window/2)')
-    parser.add_argument('--rate', type=float, help='csv: sampling rate (Hz)')
-    parser.add_argument('--columns', default='',
-                        help='csv: CHANNEL=COLUMN pairs, e.g. ax=acc_x,baro=pressure')
+    parser.add_argument('--hop', type=integer(1), help='samples between window starts '
+                        '(window/2)')
+    parser.add_argument('--rate', type=number(), help='csv: sampling rate (Hz), unless --time '
+                        'gives it')
+    parser.add_argument('--time', type=text, metavar='COLUMN',
+                        help='csv: column of timestamps; gives the rate and the gaps')
+    parser.add_argument('--time-unit', choices=['s', 'ms', 'us', 'ns'], default='s',
+                        help='csv: unit of a numeric --time column (s)')
+    parser.add_argument('--columns', type=text, metavar='NAME[=COLUMN],...',
+                        help="csv: the dataset's channels in order; NAME alone reads the "
+                             'column NAME, NAME=COLUMN renames (e.g. ax=acc_x,ay=acc_y,'
+                             'az=acc_z, or pdc,pac1,ele3). Default: ax,ay,az,gx,gy,gz,mx,my,'
+                             'mz,baro')
+    parser.add_argument('--delimiter', metavar='CHAR',
+                        help='csv: the delimiter (one character, or tab, comma, semicolon, '
+                             'pipe); sniffed from the header by default')
 
 
 def run(args: argparse.Namespace) -> int:
     """Import and save."""
-    from tactex_classify.errors import DatasetError
-    from tactex_classify.importers import import_csv, import_mun, parse_column_mapping
+    from tactex_classify.importers import import_csv, import_mun, parse_channel_specs
 
-    hop = args.hop or args.window // 2
-    try:
-        if args.kind == 'mun':
-            dataset = import_mun(args.root, window=args.window, hop=hop)
-        else:
-            if args.rate is None:
-                raise DatasetError('csv needs --rate (the sampling rate in Hz)')
-            dataset = import_csv(args.root, rate_hz=args.rate, window=args.window, hop=hop,
-                                 columns=parse_column_mapping(args.columns))
-    except DatasetError as err:
-        print(f'error: {err}', file=sys.stderr)
-        return 1
-    path = dataset.save(args.out)
-    print(f'wrote {path}: {len(dataset.X)} windows, {len(dataset.classes)} classes')
+    out = check_output_file(args.out, suffix='.npz', companions=('.json',))
+    check_input_folder(args.root, 'ROOT')
+    hop = args.hop or max(1, args.window // 2)
+    if hop > args.window:
+        raise CommandError(f'--hop {hop} is longer than --window {args.window}; use a hop '
+                           '<= the window')
+    if args.kind == 'mun':
+        csv_only = [f'--{n}' for n in ('rate', 'time', 'columns', 'delimiter')
+                    if getattr(args, n) is not None]
+        if csv_only:
+            raise CommandError(f'{", ".join(csv_only)} apply to csv only; leave them out for mun')
+        dataset = import_mun(args.root, window=args.window, hop=hop)
+    else:
+        if args.rate is None and args.time is None:
+            raise CommandError('csv needs --rate HZ (the sampling rate) or --time COLUMN (a '
+                               'timestamp column)')
+        delimiter = args.delimiter
+        if delimiter is not None:
+            delimiter = DELIMITER_NAMES.get(delimiter.lower(), delimiter)
+            if len(delimiter) != 1:
+                raise CommandError(f'--delimiter {args.delimiter!r}: give one character or '
+                                   f'one of {", ".join(DELIMITER_NAMES)}')
+        columns = parse_channel_specs(args.columns) if args.columns else None
+        dataset = import_csv(args.root, window=args.window, hop=hop, columns=columns,
+                             rate_hz=args.rate, time_column=args.time,
+                             time_unit=args.time_unit, delimiter=delimiter)
+    path = dataset.save(out)
+    print(f'wrote {path}: {len(dataset.X)} windows of {args.window} samples, '
+          f'{len(dataset.classes)} classes, channels {",".join(dataset.channels)}, '
+          f'{dataset.info["sampling_rate_hz"]:.1f} Hz')
     return 0

@@ -7,10 +7,11 @@ from __future__ import annotations
 import argparse
 from dataclasses import asdict
 from pathlib import Path
-import sys
 import time
 
-from tactex_classify.catalog import ALL_MODELS, BASELINES
+from tactex.errors import CommandError
+from tactex.options import check_output_folder, integer, staged_folder
+from tactex_classify.catalog import ALL_MODELS, BASELINES, SCHEMES
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -18,17 +19,18 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('data', type=Path, help='dataset (.npz with its .json sidecar)')
     parser.add_argument('--model', default='cnn_1', choices=ALL_MODELS,
                         help='one of the eight models of the original, or a baseline')
-    parser.add_argument('--cv', default='both', choices=['grouped', 'stratified', 'both'],
+    parser.add_argument('--cv', default='both', choices=[*SCHEMES, 'both'],
                         help='grouped by recording (honest), stratified windows (the '
                              "original's, leaky), or both side by side (default)")
-    parser.add_argument('--folds', type=int, default=5)
-    parser.add_argument('--epochs', type=int, default=250)
-    parser.add_argument('--early-stopping', type=int, default=0, metavar='PATIENCE',
+    parser.add_argument('--folds', type=integer(2), default=5, help='folds per scheme (5)')
+    parser.add_argument('--epochs', type=integer(1), default=250, help='epochs (250)')
+    parser.add_argument('--early-stopping', type=integer(0), default=0, metavar='PATIENCE',
                         help='stop when the validation loss has not improved for PATIENCE '
                              'epochs (validation: recordings held out of the training fold)')
     parser.add_argument('--scaling', default='minmax', choices=['minmax', 'standard'])
-    parser.add_argument('--seed', type=int, default=0)
-    parser.add_argument('--threads', type=int, default=1, help='torch threads (1)')
+    parser.add_argument('--seed', type=integer(0), default=0)
+    parser.add_argument('--threads', type=integer(1, 256), default=1,
+                        help='torch threads (1)')
     parser.add_argument('--out', type=Path, required=True, help='run folder')
     parser.add_argument('--no-final', action='store_true',
                         help='skip training the deployable model on all windows')
@@ -36,11 +38,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Cross-validate, report, and save the final model."""
+    from tactex_classify.dataset import Dataset
+
+    check_output_folder(args.out)
+    dataset = Dataset.load(args.data)
+    schemes = SCHEMES if args.cv == 'both' else (args.cv,)
+    check_folds(dataset, schemes, args.folds)
+
     from tactex_classify.baselines import MiniRocketRidge, StatsExtraTrees
     from tactex_classify.classifier import DeepClassifier, TrainingConfig
-    from tactex_classify.dataset import Dataset
     from tactex_classify.errors import ClassifyError
-    from tactex_classify.evaluate import cross_validate, SCHEMES
+    from tactex_classify.evaluate import cross_validate
     from tactex_classify.report import write_report
 
     config = TrainingConfig(model=args.model, epochs=args.epochs,
@@ -66,22 +74,43 @@ def run(args: argparse.Namespace) -> int:
         return DeepClassifier(config, progress=epoch_progress)
 
     try:
-        dataset = Dataset.load(args.data)
-        schemes = SCHEMES if args.cv == 'both' else (args.cv,)
-        results = [cross_validate(dataset, make, scheme, folds=args.folds, seed=args.seed,
-                                  progress=log) for scheme in schemes]
-        settings = asdict(config) if args.model not in BASELINES else {
-            'model': args.model, 'seed': args.seed}
-        settings['folds'] = args.folds
-        report = write_report(args.out, dataset, results,
-                              title=f'{args.model} on {args.data.stem}', settings=settings,
-                              data_name=str(args.data))
-        if not args.no_final and args.model not in BASELINES:
-            log('training the deployable model on every window')
-            make().fit(dataset.X, dataset.y, dataset.classes,
-                       groups=dataset.trial).save(args.out / 'model')
-    except (ClassifyError, ValueError) as err:
-        print(f'error: {err}', file=sys.stderr)
-        return 1
-    log(f'report: {report}')
+        with staged_folder(args.out) as folder:
+            results = [cross_validate(dataset, make, scheme, folds=args.folds, seed=args.seed,
+                                      progress=log) for scheme in schemes]
+            for note in (n for result in results for n in result.notes):
+                log(f'note: {note}')
+            settings = asdict(config) if args.model not in BASELINES else {
+                'model': args.model, 'seed': args.seed}
+            settings['folds'] = args.folds
+            write_report(folder, dataset, results, title=f'{args.model} on {args.data.stem}',
+                         settings=settings, data_name=str(args.data))
+            if not args.no_final and args.model not in BASELINES:
+                log('training the deployable model on every window')
+                make().fit(dataset.X, dataset.y, dataset.classes, groups=dataset.trial,
+                           channels=dataset.channels).save(folder / 'model')
+    except ValueError as err:
+        raise ClassifyError(str(err)) from None
+    log(f'report: {args.out / "report.md"}')
     return 0
+
+
+def check_folds(dataset, schemes, folds: int) -> None:
+    """Refuse a dataset that cannot give honest folds, before any training.
+
+    Raises:
+        CommandError: fewer than two classes, or fewer recordings / windows than folds.
+    """
+    from collections import Counter
+
+    import numpy as np
+    counts = Counter(dataset.classes[i] for i in dataset.y.tolist())
+    if len(counts) < 2:
+        raise CommandError(f'DATA has {len(counts)} class(es) ({", ".join(counts)}): a '
+                           'classifier needs at least two; convert recordings of more textures')
+    recordings = len(np.unique(dataset.trial))
+    if 'grouped' in schemes and recordings < folds:
+        raise CommandError(f'--folds {folds} needs at least {folds} recordings for grouped '
+                           f'cross-validation; DATA has {recordings}: lower --folds')
+    if len(dataset.y) < folds:
+        raise CommandError(f'--folds {folds} needs at least {folds} windows; DATA has '
+                           f'{len(dataset.y)}')

@@ -4,12 +4,14 @@
 
 import json
 from pathlib import Path
+import sqlite3
 
 import numpy as np
 from rosbags.rosbag2 import StoragePlugin, Writer
-from rosbags.typesys import get_typestore, Stores
 
-TS = get_typestore(Stores.ROS2_KILTED)
+from tactex_common.interfaces import typestore
+
+TS = typestore()  # ROS 2 Kilted's standard types and tactex_msgs
 T = TS.types
 
 
@@ -24,35 +26,50 @@ def vector(x, y, z):
 
 
 def write_bag(path: Path, stamps_ns, values, *, mag_stamps_ns=None, pressure_stamps_ns=None,
-              active=None, metadata=None, joint_speed=None):
+              active=None, metadata=None, joint_speed=None, namespace='/', names=None,
+              truth=None, estimates=None, storage=StoragePlugin.MCAP):
     """Write a recording of `values` (n, 10), channel order, at header `stamps_ns`.
 
-    Mag and pressure may use their own stamps; `active` lists (start_ns, end_ns) spans
-    for sweep/active; `metadata` goes to recording/metadata as JSON.
+    Mag and pressure may use their own stamps (an empty list: no such topic); `active`
+    lists (start_ns, end_ns) spans for sweep/active; `metadata` goes to
+    recording/metadata as JSON. Topics live under `namespace` ('/left_arm/', or '' for
+    names without the leading slash), or take the names of `names` (role -> topic).
+    `truth` (contact: bool per sample, edge_m: (n, 3), texture: name per sample) writes
+    the simulator's ground-truth topics; `estimates` lists tactex_msgs/TextureEstimate
+    messages for texture/estimate.
     """
     values = np.asarray(values, dtype=float)
     mag_stamps_ns = stamps_ns if mag_stamps_ns is None else mag_stamps_ns
     pressure_stamps_ns = stamps_ns if pressure_stamps_ns is None else pressure_stamps_ns
-    writer = Writer(path, version=9, storage_plugin=StoragePlugin.MCAP)
+    names = names or {}
+    writer = Writer(path, version=9, storage_plugin=storage)
     with writer:
-        def connect(topic, kind):
-            return writer.add_connection(topic, kind, typestore=TS)
+        def connect(topic, kind, role=None):
+            return writer.add_connection(names.get(role, namespace + topic), kind, typestore=TS)
 
-        imu = connect('/tactile/imu/data_raw', 'sensor_msgs/msg/Imu')
-        mag = connect('/tactile/imu/mag', 'sensor_msgs/msg/MagneticField')
-        pressure = connect('/tactile/pressure', 'sensor_msgs/msg/FluidPressure')
+        imu = connect('tactile/imu/data_raw', 'sensor_msgs/msg/Imu', 'imu')
+        if len(mag_stamps_ns):
+            mag = connect('tactile/imu/mag', 'sensor_msgs/msg/MagneticField', 'mag')
+        pressure = connect('tactile/pressure', 'sensor_msgs/msg/FluidPressure', 'pressure')
+        if truth is not None:
+            write_truth(writer, connect, stamps_ns, truth)
         if metadata is not None:
-            meta = connect('/recording/metadata', 'std_msgs/msg/String')
+            meta = connect('recording/metadata', 'std_msgs/msg/String')
             writer.write(meta, int(stamps_ns[0]), TS.serialize_cdr(
                 T['std_msgs/msg/String'](data=json.dumps(metadata)), 'std_msgs/msg/String'))
         if active is not None:
-            segment = connect('/sweep/active', 'std_msgs/msg/Bool')
+            segment = connect('sweep/active', 'std_msgs/msg/Bool')
             for start, end in active:
                 for stamp, state in ((start, True), (end, False)):
                     writer.write(segment, int(stamp), TS.serialize_cdr(
                         T['std_msgs/msg/Bool'](data=state), 'std_msgs/msg/Bool'))
         if joint_speed is not None:
-            joints = connect('/joint_states', 'sensor_msgs/msg/JointState')
+            joints = connect('joint_states', 'sensor_msgs/msg/JointState')
+        if estimates is not None:
+            estimate = connect('texture/estimate', 'tactex_msgs/msg/TextureEstimate')
+            for message in estimates:
+                writer.write(estimate, _ns(message.header.stamp), TS.serialize_cdr(
+                    message, 'tactex_msgs/msg/TextureEstimate'))
         for i, stamp in enumerate(stamps_ns):
             row = values[i]
             message = T['sensor_msgs/msg/Imu'](
@@ -79,6 +96,38 @@ def write_bag(path: Path, stamps_ns, values, *, mag_stamps_ns=None, pressure_sta
                 header=header(stamp), fluid_pressure=float(values[i, 9]), variance=0.0),
                 'sensor_msgs/msg/FluidPressure'))
     return path
+
+
+def strip_type_definitions(path: Path):
+    """Remove the type definitions from a sqlite3 bag, as ROS 2 Humble writes it."""
+    (database,) = path.glob('*.db3')
+    with sqlite3.connect(database) as connection:
+        connection.execute('DELETE FROM message_definitions')
+    connection.close()
+    return path
+
+
+def _ns(stamp):
+    return int(stamp.sec) * 10**9 + int(stamp.nanosec)
+
+
+def write_truth(writer, connect, stamps_ns, truth):
+    """The simulator's ground truth at each sample stamp."""
+    contact = connect('sim/ground_truth/contact', 'geometry_msgs/msg/PoseStamped')
+    edge = connect('sim/ground_truth/sensor_pose', 'geometry_msgs/msg/PoseStamped')
+    texture = connect('sim/ground_truth/texture', 'std_msgs/msg/String')
+    for i, stamp in enumerate(stamps_ns):
+        x, y, z = (float(v) for v in truth['edge_m'][i])
+        pose = T['geometry_msgs/msg/PoseStamped'](header=header(stamp), pose=T[
+            'geometry_msgs/msg/Pose'](position=T['geometry_msgs/msg/Point'](x=x, y=y, z=z),
+                                      orientation=T['geometry_msgs/msg/Quaternion'](
+                                          x=0.0, y=0.0, z=0.0, w=1.0)))
+        data = TS.serialize_cdr(pose, 'geometry_msgs/msg/PoseStamped')
+        if truth['contact'][i]:
+            writer.write(contact, int(stamp), data)
+        writer.write(edge, int(stamp), data)
+        writer.write(texture, int(stamp), TS.serialize_cdr(
+            T['std_msgs/msg/String'](data=truth['texture'][i]), 'std_msgs/msg/String'))
 
 
 def ramp(count, start_ns=10**12, period_ns=8_333_333):

@@ -1,0 +1,168 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""Checks of command-line values and paths, run before any long work starts.
+
+Value types for argparse (`integer`, `number`) refuse by value with the rule in the
+message; path checks (`check_output_file`, `check_output_folder`, `check_input_file`,
+`check_input_folder`) raise `CommandError` naming the option and the fix, without
+creating anything. `staged_folder` builds an output folder beside its final path and
+moves it into place only when the work succeeded, so a failure leaves nothing behind.
+"""
+
+from __future__ import annotations
+
+import argparse
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+import math
+import os
+from pathlib import Path
+import secrets
+import shutil
+
+from tactex.errors import CommandError
+
+
+def integer(minimum: int, maximum: int | None = None) -> Callable[[str], int]:
+    """An argparse type: a whole number in [minimum, maximum]."""
+    rule = f'>= {minimum}' if maximum is None else f'in {minimum}..{maximum}'
+
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f'must be a whole number {rule}, got {text!r}'
+                                             ) from None
+        if value < minimum or (maximum is not None and value > maximum):
+            raise argparse.ArgumentTypeError(f'must be a whole number {rule}, got {text!r}')
+        return value
+    parse.__name__ = 'integer'
+    return parse
+
+
+def number(*, above: float | None = 0.0, at_least: float | None = None,
+           at_most: float | None = None) -> Callable[[str], float]:
+    """An argparse type: a finite number > `above` (or >= `at_least`), <= `at_most`."""
+    rules = [f'> {above:g}' if above is not None and at_least is None else '',
+             f'>= {at_least:g}' if at_least is not None else '',
+             f'<= {at_most:g}' if at_most is not None else '']
+    rule = ' and '.join(r for r in rules if r) or 'finite'
+
+    def parse(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            value = math.nan
+        if not math.isfinite(value) or (at_least is None and above is not None
+                                        and value <= above) \
+                or (at_least is not None and value < at_least) \
+                or (at_most is not None and value > at_most):
+            raise argparse.ArgumentTypeError(f'must be a finite number {rule}, got {text!r}')
+        return value
+    parse.__name__ = 'number'
+    return parse
+
+
+def text(value: str) -> str:
+    """An argparse type: non-blank text."""
+    if not value.strip():
+        raise argparse.ArgumentTypeError('must not be empty')
+    return value
+
+
+def _writable_parent(path: Path, option: str) -> None:
+    """The nearest existing ancestor of `path` is a folder we may write into."""
+    ancestor = path.parent
+    while not ancestor.exists() and ancestor != ancestor.parent:
+        if ancestor.is_symlink():
+            raise CommandError(f'{option} {path}: {ancestor} is a broken link')
+        ancestor = ancestor.parent
+    if not ancestor.is_dir():
+        raise CommandError(f'{option} {path}: {ancestor} is a file, not a folder; choose a '
+                           'path inside a folder')
+    if not os.access(ancestor, os.W_OK | os.X_OK):
+        raise CommandError(f'{option} {path}: {ancestor} is not writable; choose a folder you '
+                           'can write to')
+
+
+def check_output_file(path: Path, option: str = '--out', *, suffix: str | None = None,
+                      companions: tuple[str, ...] = ()) -> Path:
+    """`path` can be written as a file (replacing a file there); nothing is created.
+
+    Args:
+        path: the output file.
+        option: the option's name, for messages.
+        suffix: the suffix the file must have (added when missing).
+        companions: suffixes of files written beside it (e.g. a sidecar's '.json').
+    """
+    path = given = Path(path)
+    if suffix is not None:
+        if path.suffix and path.suffix != suffix:
+            raise CommandError(f'{option} {path}: must end in {suffix}')
+        path = path.with_suffix(suffix)
+    for item in (given, path, *(path.with_suffix(s) for s in companions)):
+        if item.is_dir():
+            raise CommandError(f'{option} {item} is a folder; give a file path such as '
+                               f'{item / ("data" + (suffix or ""))}')
+    _writable_parent(path, option)
+    return path
+
+
+def check_output_folder(path: Path, option: str = '--out') -> Path:
+    """`path` is a folder to create (or an empty one); nothing is created.
+
+    Raises:
+        CommandError: a file is there, the folder holds files, or it cannot be written.
+    """
+    path = Path(path)
+    if path.exists() and not path.is_dir():
+        raise CommandError(f'{option} {path} is a file; give a folder path')
+    if path.is_dir() and any(path.iterdir()):
+        raise CommandError(f'{option} {path} already holds files; choose a new folder (or '
+                           'empty this one)')
+    if path.is_dir() and not os.access(path, os.W_OK | os.X_OK):
+        raise CommandError(f'{option} {path} is not writable; choose a folder you can write '
+                           'to')
+    _writable_parent(path, option)
+    return path
+
+
+def check_input_file(path: Path, option: str) -> Path:
+    """`path` is an existing, readable file."""
+    path = Path(path)
+    if not path.exists():
+        raise CommandError(f'{option} {path} does not exist')
+    if path.is_dir():
+        raise CommandError(f'{option} {path} is a folder; give a file')
+    if not os.access(path, os.R_OK):
+        raise CommandError(f'{option} {path} is not readable')
+    return path
+
+
+def check_input_folder(path: Path, option: str) -> Path:
+    """`path` is an existing folder."""
+    path = Path(path)
+    if not path.exists():
+        raise CommandError(f'{option} {path} does not exist')
+    if not path.is_dir():
+        raise CommandError(f'{option} {path} is a file; give a folder')
+    return path
+
+
+@contextmanager
+def staged_folder(path: Path) -> Iterator[Path]:
+    """A hidden folder beside `path`, moved to `path` when the block succeeds.
+
+    On an error the staged folder is removed and `path` is left as it was.
+    """
+    path = Path(path)
+    staging = path.with_name(f'.{path.name}.partial-{secrets.token_hex(4)}')
+    staging.mkdir(parents=True)
+    try:
+        yield staging
+        if path.is_dir():
+            path.rmdir()  # checked empty by check_output_folder
+        os.replace(staging, path)
+    finally:
+        if staging.exists():
+            shutil.rmtree(staging, ignore_errors=True)

@@ -1,0 +1,288 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""Bad inputs for every `tactex` subcommand, and the scratch folder they run against.
+
+A case is argv (with `{w}` for the scratch folder), a regex the single `error:` line
+must match (it names the argument and the fix) and the path given as output, the one
+place a failing command may leave something. `make_workspace` builds the folder: text,
+binary and empty files, datasets good and bad, bags, CSV and MUN trees, scenes.
+"""
+
+import json
+from pathlib import Path
+import pickle
+
+from bagfactory import ramp, write_bag
+import numpy as np
+
+from tactex_classify.dataset import Dataset
+
+
+class Case:
+    """One bad invocation and what its error line must say."""
+
+    def __init__(self, argv: str, match: str, out: str | None = None, *,
+                 needs_non_root: bool = False) -> None:
+        self.argv = argv.split()
+        self.match = match
+        self.out = out
+        self.needs_non_root = needs_non_root
+
+    def resolved(self, workspace: Path) -> list[str]:
+        """Argv with the scratch folder filled in."""
+        return [part.replace('{w}', str(workspace)) for part in self.argv]
+
+    def __repr__(self) -> str:
+        return ' '.join(self.argv)
+
+
+STANDING_SCENE = """name = "standing"
+seed = 1
+effects = ["contact", "compliance", "texture"]
+[surface]
+kind = "flat"
+[[patches]]
+texture = "wood"
+x_m = [0.07, 0.33]
+y_m = [-0.08, 0.08]
+[sweep]
+speed_m_s = 0.0
+"""
+
+
+def toy_dataset(classes: int, recordings: int = 2) -> Dataset:
+    rng = np.random.default_rng(0)
+    count = classes * recordings * 3
+    return Dataset(rng.normal(size=(count, 32, 10)).astype(np.float32),
+                   np.repeat(np.arange(classes), recordings * 3),
+                   np.repeat(np.arange(classes * recordings), 3), np.zeros(count),
+                   [f'class{i}' for i in range(classes)], {'sampling_rate_hz': 100.0, 'hop': 16})
+
+
+class Boom:
+    """Runs a shell command when unpickled."""
+
+    def __reduce__(self):
+        import os
+        return (os.system, ('echo pwned > /tmp/tactex_pwned',))
+
+
+def make_workspace(w: Path) -> Path:
+    """Build the scratch folder the cases refer to."""
+    (w / 'text.txt').write_text('hello\n')
+    (w / 'binary.bin').write_bytes(bytes(range(256)) * 4)
+    (w / 'folder').mkdir()
+    (w / 'full').mkdir()
+    (w / 'full' / 'keep.txt').write_text('keep')
+    toy_dataset(3).save(w / 'data.npz')
+    toy_dataset(1).save(w / 'one_class.npz')
+    (w / 'garbage.npz').write_bytes(b'PK\x03\x04' + bytes(200))
+    (w / 'garbage.json').write_text(json.dumps({'classes': ['a'], 'channels': ['x']}))
+    stamps, values = ramp(64)
+    write_bag(w / 'bags' / 'wood_0000', stamps, values, metadata={'label': 'wood', 'trial': 0})
+    write_bag(w / 'bags' / 'wood_0001', stamps, values, metadata={'label': 'wood', 'trial': 1})
+    write_bag(w / 'unlabelled' / 'rec', stamps, values)
+    write_bag(w / 'odd_meta' / 'rec', stamps, values, metadata={'label': 7})
+    for name, content in (('good', 'pdc,pac\n' + '1,2\n' * 40), ('ragged', 'pdc,pac\n1,2\n3\n'),
+                          ('bincsv', '\x00\x01\x02')):
+        (w / name / 'wood').mkdir(parents=True)
+        (w / name / 'wood' / 'a.csv').write_text(content)
+    mun = w / 'mun' / 'pickles_30' / 'texture_01'
+    for part in ('full_imu', 'full_baro'):
+        (mun / part).mkdir(parents=True)
+        (mun / part / 't.pkl').write_bytes(pickle.dumps(Boom()))
+    (w / 'scenes').mkdir()
+    (w / 'scenes' / 'standing.toml').write_text(STANDING_SCENE)
+    (w / 'scenes' / 'binary.toml').write_bytes(b'\xff\xfe\x00name')
+    (w / 'broken.launch.py').write_text('LAUNCH = (\n')
+    (w / 'readonly').mkdir()
+    (w / 'readonly').chmod(0o555)
+    return w
+
+
+OUT_NPZ = '{w}/o.npz'
+BAD_INPUTS = {
+    'tactex': [
+        Case('', 'the following arguments are required: COMMAND'),
+        Case('nope', "argument COMMAND: invalid choice: 'nope'"),
+    ],
+    'convert': [
+        Case('convert {w}/bags', 'the following arguments are required: --out'),
+        Case('convert {w}/nothing --out {w}/o.npz', 'BAG_OR_DIR .*nothing does not exist',
+             OUT_NPZ),
+        Case('convert {w}/text.txt --out {w}/o.npz', r'BAG_OR_DIR .*text.txt is a file', OUT_NPZ),
+        Case('convert {w}/folder --out {w}/o.npz', 'no recordings found', OUT_NPZ),
+        Case('convert {w}/bags --out {w}/folder', '--out .*folder is a folder; give a file path',
+             '{w}/folder'),
+        Case('convert {w}/bags --out {w}/text.txt/o.npz', '--out .*text.txt is a file, not a '
+             'folder', '{w}/text.txt/o.npz'),
+        Case('convert {w}/bags --out {w}/o.csv', '--out .*must end in .npz', '{w}/o.csv'),
+        Case('convert {w}/bags --out {w}/readonly/o.npz', '--out .*is not writable',
+             '{w}/readonly/o.npz', needs_non_root=True),
+        Case('convert {w}/bags --out {w}/o.npz --window 0', 'argument --window: must be a '
+             'whole number >= 2', OUT_NPZ),
+        Case('convert {w}/bags --out {w}/o.npz --window ten', 'argument --window: must be a '
+             "whole number >= 2, got 'ten'", OUT_NPZ),
+        Case('convert {w}/bags --out {w}/o.npz --hop 0', 'argument --hop', OUT_NPZ),
+        Case('convert {w}/bags --out {w}/o.npz --window 10 --hop 20', '--hop 20 is longer than '
+             '--window 10', OUT_NPZ),
+        Case('convert {w}/bags --out {w}/o.npz --trial -1', 'argument --trial', OUT_NPZ),
+        Case('convert {w}/bags --out {w}/o.npz --trial 3', '--trial names one recording',
+             OUT_NPZ),
+        Case('convert {w}/bags --out {w}/o.npz --channels ax,nope', r"--channels .*\['nope'\]",
+             OUT_NPZ),
+        Case('convert {w}/bags --out {w}/o.npz --topic imu', "--topic 'imu' is not ROLE=TOPIC",
+             OUT_NPZ),
+        Case('convert {w}/bags --out {w}/o.npz --topic wheel=/x', "unknown role 'wheel'",
+             OUT_NPZ),
+        Case('convert {w}/bags --out {w}/o.npz --label', 'argument --label: expected one '
+             'argument', OUT_NPZ),
+        Case('convert {w}/unlabelled --out {w}/o.npz', 'no windows: .*give --label NAME',
+             OUT_NPZ),
+        Case('convert {w}/odd_meta --out {w}/o.npz', 'no windows: .*metadata key "label" must '
+             'be non-empty text', OUT_NPZ),
+        Case('convert {w}/bags --out {w}/o.npz --window 1000', 'no windows: .*shorter than '
+             'one window', OUT_NPZ),
+    ],
+    'train': [
+        Case('train {w}/nothing.npz --out {w}/run', 'need .*nothing.npz and its sidecar',
+             '{w}/run'),
+        Case('train {w}/garbage.npz --out {w}/run', 'garbage.npz is not a tactex dataset',
+             '{w}/run'),
+        Case('train {w}/data.npz --out {w}/run --epochs 0', 'argument --epochs: must be a whole '
+             'number >= 1', '{w}/run'),
+        Case('train {w}/data.npz --out {w}/run --folds 1', 'argument --folds', '{w}/run'),
+        Case('train {w}/data.npz --out {w}/run --folds 50', '--folds 50 needs at least 50 '
+             'recordings.*lower --folds', '{w}/run'),
+        Case('train {w}/data.npz --out {w}/run --threads 0', 'argument --threads', '{w}/run'),
+        Case('train {w}/data.npz --out {w}/run --early-stopping -1', 'argument --early-stopping',
+             '{w}/run'),
+        Case('train {w}/data.npz --out {w}/run --model nope', 'argument --model: invalid choice',
+             '{w}/run'),
+        Case('train {w}/one_class.npz --out {w}/run', 'DATA has 1 class.*at least two',
+             '{w}/run'),
+        Case('train {w}/data.npz --out {w}/run --model cnn_3 --epochs 1 --folds 2',
+             'the window is too short for this model', '{w}/run'),  # fails mid-way
+        Case('train {w}/data.npz --out {w}/text.txt', '--out .*text.txt is a file; give a '
+             'folder', '{w}/text.txt'),
+        Case('train {w}/data.npz --out {w}/full', '--out .*full already holds files; choose a '
+             'new folder', '{w}/full'),
+    ],
+    'import': [
+        Case('import csv {w}/good --out {w}/o.npz', 'csv needs --rate HZ', OUT_NPZ),
+        Case('import csv {w}/good --out {w}/o.npz --rate 0', 'argument --rate: must be a finite '
+             'number > 0', OUT_NPZ),
+        Case('import csv {w}/good --out {w}/o.npz --rate nan', 'argument --rate', OUT_NPZ),
+        Case('import csv {w}/good --out {w}/o.npz --rate inf', 'argument --rate', OUT_NPZ),
+        Case('import mun {w}/mun --out {w}/o.npz --rate 350', '--rate apply to csv only',
+             OUT_NPZ),
+        Case('import csv {w}/nothing --out {w}/o.npz --rate 9', 'ROOT .*nothing does not exist',
+             OUT_NPZ),
+        Case('import csv {w}/text.txt --out {w}/o.npz --rate 9', 'ROOT .*text.txt is a file',
+             OUT_NPZ),
+        Case('import csv {w}/good --out {w}/o.npz --rate 9', r"no column\(s\) \['ax'.*--columns",
+             OUT_NPZ),
+        Case('import csv {w}/ragged --out {w}/o.npz --rate 9 --columns pdc,pac',
+             'a.csv, line 3: 1 fields, but the header has 2', OUT_NPZ),
+        Case('import csv {w}/bincsv --out {w}/o.npz --rate 9 --columns pdc', 'binary file',
+             OUT_NPZ),
+        Case('import csv {w}/good --out {w}/o.npz --rate 9 --columns ax=', 'bad --columns item',
+             OUT_NPZ),
+        Case('import csv {w}/good --out {w}/o.npz --rate 9 --columns pdc,pdc', 'repeat',
+             OUT_NPZ),
+        Case('import csv {w}/good --out {w}/o.npz --rate 9 --columns pdc --delimiter ::',
+             "--delimiter '::'", OUT_NPZ),
+        Case('import csv {w}/good --out {w}/o.npz --columns pdc --time nocol',
+             "no column 'nocol'", OUT_NPZ),
+        Case('import csv {w}/good --out {w}/o.npz --rate 9 --columns pdc --window 100',
+             'no windows', OUT_NPZ),
+        Case('import mun {w}/mun --out {w}/o.npz', 'refusing to load posix.system', OUT_NPZ),
+        Case('import mun {w}/folder --out {w}/o.npz', r'no pickles_\*/texture_', OUT_NPZ),
+        Case('import mun {w}/mun --out {w}/folder', '--out .*folder is a folder', '{w}/folder'),
+        Case('import xls {w}/good --out {w}/o.npz', 'argument kind: invalid choice', OUT_NPZ),
+    ],
+    'sim': [
+        Case('sim collect --out {w}/bagsout --sweeps 0', 'argument --sweeps', '{w}/bagsout'),
+        Case('sim collect --out {w}/bagsout --scene nope', 'no scene file .*nope.toml',
+             '{w}/bagsout'),
+        Case('sim collect --out {w}/bagsout --scene {w}/scenes/binary.toml', 'not valid TOML',
+             '{w}/bagsout'),
+        Case('sim collect --out {w}/bagsout --scene {w}/folder', 'is a folder; give a .toml',
+             '{w}/bagsout'),
+        Case('sim collect --out {w}/bagsout --scene {w}/scenes/standing.toml',
+             'speed_m_s and contact_s must be > 0', '{w}/bagsout'),
+        Case('sim collect --out {w}/bagsout --textures nope', '--textures: unknown texture',
+             '{w}/bagsout'),
+        Case('sim collect --out {w}/text.txt', '--out .*text.txt is a file', '{w}/text.txt'),
+        Case('sim collect --out {w}/full', '--out .*already holds files', '{w}/full'),
+        Case('sim', 'the following arguments are required: ACTION'),
+    ],
+    'record': [
+        Case('record --out {w}/full', '--out .*already holds files', '{w}/full'),
+        Case('record --out {w}/text.txt', '--out .*text.txt is a file', '{w}/text.txt'),
+        Case('record --out {w}/rec --split-s 0', 'argument --split-s', '{w}/rec'),
+        Case('record --out {w}/rec --split-s nan', 'argument --split-s', '{w}/rec'),
+        Case('record --out {w}/rec --trial -5', 'argument --trial', '{w}/rec'),
+        Case('record --out {w}/rec --meta novalue', "--meta 'novalue' is not KEY=VALUE",
+             '{w}/rec'),
+        Case('record --out {w}/rec --meta label=x', 'give label with --label', '{w}/rec'),
+        Case('record --out {w}/rec --meta a=1 --meta a=2', "--meta gives 'a' twice", '{w}/rec'),
+    ],
+    'emulate': [
+        Case('emulate teensy --link {w}/l --rate 0', 'argument --rate', '{w}/l'),
+        Case('emulate teensy --link {w}/l --rate nan', 'argument --rate', '{w}/l'),
+        Case('emulate teensy --link {w}/l --rate 5000', 'argument --rate: .*<= 2000', '{w}/l'),
+        Case('emulate teensy --link {w}/l --duration 0', 'argument --duration', '{w}/l'),
+        Case('emulate teensy --link {w}/l --duration -inf', 'argument --duration', '{w}/l'),
+        Case('emulate teensy --link {w}/l --roll nan', 'argument --roll', '{w}/l'),
+        Case('emulate teensy --link {w}/l --start-time-us -1', 'argument --start-time-us',
+             '{w}/l'),
+        Case('emulate teensy --link {w}/l --fault stall@nan:1', "--fault: bad fault "
+             "'stall@nan:1'", '{w}/l'),
+        Case('emulate teensy --link {w}/l --fault garbage@-1:5', '--fault: bad fault', '{w}/l'),
+        Case('emulate teensy --link {w}/text.txt', '--link .*text.txt is an existing file',
+             '{w}/text.txt'),
+        Case('emulate teensy --link {w}/folder', '--link .*folder is an existing folder',
+             '{w}/folder'),
+        Case('emulate teensy --link {w}/nothing/l', '--link .*nothing is not a folder',
+             '{w}/nothing/l'),
+        Case('emulate teensy --link {w}/l --replay {w}/binary.bin', '--replay: .*binary file',
+             '{w}/l'),
+        Case('emulate teensy --link {w}/l --replay {w}/folder', '--replay .*folder is a folder',
+             '{w}/l'),
+        Case('emulate teensy --link {w}/l --replay {w}/good/wood/a.csv', '--replay: .*missing '
+             'column', '{w}/l'),
+        Case('emulate dynamixel --link {w}/l --fault silence@1:99', r'servo\(s\) \[99\], not '
+             'on the chain', '{w}/l'),
+        Case('emulate dynamixel --link {w}/l --fault melt@1:11', "--fault 'melt@1:11'",
+             '{w}/l'),
+        Case('emulate dynamixel --link {w}/text.txt', '--link .*text.txt is an existing file',
+             '{w}/text.txt'),
+        Case('emulate arduino', 'argument device: invalid choice'),
+    ],
+    'description': [
+        Case('description --write-urdf {w}/folder', '--write-urdf .*folder is a folder',
+             '{w}/folder'),
+        Case('description --write-mjcf {w}/text.txt/arm.xml', '--write-mjcf .*text.txt is a '
+             'file, not a folder', '{w}/text.txt/arm.xml'),
+        Case('description --check-urdf {w}/nothing.urdf', '--check-urdf .*does not exist'),
+        Case('description --check-urdf {w}/binary.bin', '--check-urdf .*not a text file'),
+        Case('description --check-urdf {w}/folder', '--check-urdf .*folder is a folder'),
+        Case('description --check-urdf {w}/text.txt', 'is stale; regenerate it with `make '
+             'urdf`'),
+    ],
+    'launch': [
+        Case('launch', 'name a launch file'),
+        Case('launch nope', "no launch file 'nope'.*known: "),
+        Case('launch {w}/binary.bin', 'no launch file .*binary.bin'),
+        Case('launch {w}/broken.launch.py', 'broken.launch.py cannot be loaded: SyntaxError'),
+        Case('launch sim nope', "launch argument 'nope' is not NAME:=VALUE"),
+        Case('launch sim nope:=1 --print', r"unknown launch argument\(s\) \['nope'\]"),
+    ],
+    'demo': [
+        Case('demo --sweeps 1', 'argument --sweeps: must be a whole number in 3..50'),
+        Case('demo --points 0', 'argument --points'),
+        Case('demo --settle-s nan', 'argument --settle-s'),
+        Case('demo --settle-s 0', 'argument --settle-s'),
+    ],
+}
