@@ -18,7 +18,7 @@ MSGS_INPUTS := $(wildcard src/tactex_msgs/msg/*.msg src/tactex_msgs/srv/*.srv \
 	src/tactex_msgs/package.xml tools/build_interfaces.py
 PYTEST_ARGS ?=
 
-.PHONY: demo test bench urdf lint clean
+.PHONY: demo test bench results urdf lint clean
 
 demo: $(STAMP) $(MSGS_STAMP)
 	$(BIN)/tactex demo
@@ -28,6 +28,10 @@ test: $(STAMP) $(MSGS_STAMP)
 
 bench: $(STAMP) $(MSGS_STAMP)
 	$(BIN)/python bench/run_all.py
+
+# Rewrite the README's generated figures from the outputs kept in bench/results/.
+results: $(STAMP)
+	$(BIN)/python bench/render_results.py
 
 urdf: $(STAMP)
 	$(BIN)/tactex description --write-urdf src/tactex_description/urdf/open_manipulator_x_tactile.urdf

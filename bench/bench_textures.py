@@ -1,43 +1,76 @@
 # Copyright 2026 The tactex authors
 # SPDX-License-Identifier: Apache-2.0
-"""The texture results end to end: synthetic set -> dataset -> each classifier's report.
+"""The texture results end to end, from one dataset build: simulate, convert, train each.
 
-Runs `tactex sim collect` (12 textures x 25 sweeps of the uneven-texture scene),
-`tactex convert` (128-sample windows, 50 % overlap) and `tactex train` for the two
-baselines and the deep models given on the command line (default: cnn_3 for 80 epochs;
-the original's 250 epochs x 8 models take hours on one CPU), each with both CV schemes.
-Reports land in bench/results/textures/<model>/.
+Runs `tactex sim collect` (12 textures x 25 sweeps of the uneven-texture scene) once,
+`tactex convert` (128-sample windows, 50 % overlap) once, then `tactex train` for the
+two baselines and the deep models given on the command line (default: cnn_3 for 80
+epochs; the original's 250 epochs x 8 models take hours on one CPU), each with both CV
+schemes, all on that one dataset. Reports land in bench/results/textures/<model>/, and
+bench/results/textures/run.json records the dataset (its SHA-256, windows, recordings),
+the commands and how long each step took; `bench/render_results.py` builds the README's
+texture table from these files only.
 """
 
 import argparse
+import hashlib
+import json
 from pathlib import Path
 import shutil
 import subprocess
 import sys
 import tempfile
+import time
+
+import numpy as np
 
 RESULTS = Path(__file__).parent / 'results' / 'textures'
 TACTEX = str(Path(sys.executable).parent / 'tactex')
 
 
+def _timed(command: list[str], steps: list[dict]) -> None:
+    """Run a command (failing loudly) and note how long it took."""
+    start = time.monotonic()
+    subprocess.run(command, check=True)
+    steps.append({'command': ' '.join(['tactex', *command[1:]]),
+                  'seconds': round(time.monotonic() - start, 1)})
+
+
+def build_dataset(folder: Path, sweeps: int, steps: list[dict]) -> Path:
+    """Simulate the uneven-texture set into `folder` and convert it; return the .npz."""
+    bags, data = folder / 'bags', folder / 'sim128.npz'
+    _timed([TACTEX, 'sim', 'collect', '--scene', 'uneven_texture', '--sweeps', str(sweeps),
+            '--out', str(bags)], steps)
+    _timed([TACTEX, 'convert', str(bags), '--out', str(data), '--window', '128'], steps)
+    return data
+
+
 def main() -> int:
-    """Collect, convert, train, copy the reports."""
+    """Collect, convert, train every model on the same windows, keep the reports."""
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument('--models', nargs='+', default=['extratrees', 'minirocket', 'cnn_3'])
     parser.add_argument('--epochs', type=int, default=80)
     parser.add_argument('--sweeps', type=int, default=25)
+    parser.add_argument('--threads', type=int, default=2)
+    parser.add_argument('--keep-data', type=Path,
+                        help='also keep the dataset (.npz + .json) here, e.g. for bench_init')
     args = parser.parse_args()
+    steps: list[dict] = []
     with tempfile.TemporaryDirectory() as folder:
-        bags, data = Path(folder) / 'bags', Path(folder) / 'sim128.npz'
-        subprocess.run([TACTEX, 'sim', 'collect', '--scene', 'uneven_texture', '--sweeps',
-                        str(args.sweeps), '--out', str(bags)], check=True)
-        subprocess.run([TACTEX, 'convert', str(bags), '--out', str(data), '--window', '128'],
-                       check=True)
+        data = build_dataset(Path(folder), args.sweeps, steps)
+        digest = hashlib.sha256(data.read_bytes()).hexdigest()
+        sidecar = json.loads(data.with_suffix('.json').read_text(encoding='utf-8'))
+        with np.load(data) as arrays:
+            counts = {'windows': int(arrays['y'].size),
+                      'recordings': int(np.unique(arrays['trial']).size)}
+        if args.keep_data:
+            args.keep_data.parent.mkdir(parents=True, exist_ok=True)
+            for suffix in ('.npz', '.json'):
+                shutil.copy2(data.with_suffix(suffix), args.keep_data.with_suffix(suffix))
         for model in args.models:
             run = Path(folder) / model
-            subprocess.run([TACTEX, 'train', str(data), '--model', model, '--epochs',
-                            str(args.epochs), '--threads', '2', '--out', str(run),
-                            '--no-final'], check=True)
+            _timed([TACTEX, 'train', str(data), '--model', model, '--epochs', str(args.epochs),
+                    '--threads', str(args.threads), '--out', str(run), '--no-final'], steps)
             target = RESULTS / model
             shutil.rmtree(target, ignore_errors=True)
             target.mkdir(parents=True)
@@ -45,6 +78,11 @@ def main() -> int:
                 if item.is_file():
                     shutil.copy2(item, target / item.name)
             print((target / 'report.md').read_text(encoding='utf-8').split('## Per class')[0])
+    record = {'dataset': {'sha256': digest, 'window': 128, 'sweeps_per_texture': args.sweeps,
+                          'sampling_rate_hz': sidecar.get('sampling_rate_hz'), **counts},
+              'models': args.models, 'epochs': args.epochs, 'threads': args.threads,
+              'steps': steps}
+    (RESULTS / 'run.json').write_text(json.dumps(record, indent=2) + '\n', encoding='utf-8')
     return 0
 
 

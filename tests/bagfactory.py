@@ -131,8 +131,12 @@ def write_truth(writer, connect, stamps_ns, truth):
 
 
 def ramp(count, start_ns=10**12, period_ns=8_333_333):
-    """Stamps and values where every channel of sample i equals i (easy to trace)."""
+    """Stamps and values where channel c of sample i is i + 1000 c (baro + 101 kPa).
+
+    Every channel is distinct, so a swapped channel cannot round-trip, and every sample is
+    easy to trace.
+    """
     stamps = start_ns + np.arange(count, dtype=np.int64) * period_ns
-    values = np.repeat(np.arange(count, dtype=float)[:, None], 10, axis=1)
+    values = np.arange(count, dtype=float)[:, None] + 1000.0 * np.arange(10)
     values[:, 9] += 101_000.0
     return stamps, values

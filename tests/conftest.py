@@ -1,10 +1,11 @@
 # Copyright 2026 The tactex authors
 # SPDX-License-Identifier: Apache-2.0
-"""Test harness: ROS middleware settings, discovery kept on this host, quiet threads."""
+"""Test harness: ROS middleware settings, discovery on this host, quiet threads, hypothesis."""
 
 import os
 import random
 
+from hypothesis import settings
 import pytest
 
 from tactex.ros_env import ros_environment
@@ -17,6 +18,10 @@ os.environ['ROS_DOMAIN_ID'] = str(random.SystemRandom().randint(100, 199))
 # Torch and ROS nodes share two cores: OpenMP must not spin.
 os.environ.setdefault('OMP_WAIT_POLICY', 'PASSIVE')
 
+# Property tests on a shared, loaded machine: no per-example deadline (a first call may
+# load a numba cache); each test sets max_examples for its own cost.
+settings.register_profile('tactex', deadline=None)
+settings.load_profile('tactex')
 
 @pytest.fixture
 def ros_context():

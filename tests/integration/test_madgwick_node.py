@@ -3,11 +3,12 @@
 """madgwick_node: one output per raw IMU message, with MARG, even when mag stamps differ."""
 
 import math
+from pathlib import Path
 
 import pytest
+import yaml
 
 pytestmark = pytest.mark.ros
-
 
 
 def test_marg_output_never_waits_for_the_magnetometer(ros_context):
@@ -59,3 +60,17 @@ def test_marg_output_never_waits_for_the_magnetometer(ros_context):
     assert fused[-1].header.frame_id == 'sensor_link'
     node.destroy_node()
     probe.destroy_node()
+
+
+def test_node_library_and_parameter_file_share_one_default_gain(ros_context):
+    from tactex_sensor.madgwick import MadgwickConfig
+    from tactex_sensor.madgwick_node import MadgwickNode
+
+    node = MadgwickNode(context=ros_context)
+    config = yaml.safe_load((Path(__file__).parents[2] / 'config' / 'sensor.yaml').read_text())
+    in_file = config['/**/madgwick_node']['ros__parameters']
+    defaults = MadgwickConfig()
+    assert node.get_parameter('gain').value == in_file['gain'] == defaults.gain
+    assert node.get_parameter('max_rate_rad_s').value == defaults.max_rate_rad_s
+    assert in_file['max_rate_rad_s'] == pytest.approx(defaults.max_rate_rad_s, abs=1e-6)
+    node.destroy_node()

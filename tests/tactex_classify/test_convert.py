@@ -26,8 +26,7 @@ def test_roundtrip_bag_to_dataset_keeps_si_values_and_order(tmp_path):
     write_bag(tmp_path / 'a', stamps, values, metadata={'label': 'wood', 'trial': 7})
     data = convert([tmp_path / 'a'], window=16, hop=8, all_samples=True, **QUIET)
     assert data.X.shape == (7, 16, 10) and data.X.dtype == np.float32
-    np.testing.assert_array_equal(data.X[1, :, 0], np.arange(8, 24))
-    assert data.X[0, 0, 9] == 101_000.0
+    np.testing.assert_array_equal(data.X[1], values[8:24])  # every channel in its place
     assert data.classes == ['wood'] and set(data.trial) == {7}
     np.testing.assert_allclose(data.t0[1], stamps[8] * 1e-9)
 
@@ -76,7 +75,7 @@ def test_streams_with_offset_stamps_join_by_nearest(tmp_path):
     stamps, values = ramp(20)
     write_bag(tmp_path / 'a', stamps, values, mag_stamps_ns=stamps + 3_000_000)
     recording = read_recording(tmp_path / 'a')
-    np.testing.assert_array_equal(recording.values[:, 6], np.arange(20))
+    np.testing.assert_array_equal(recording.values[:, 6], values[:, 6])
 
 
 def test_stamps_across_the_device_clock_wrap_stay_continuous(tmp_path):

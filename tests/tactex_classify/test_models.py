@@ -2,6 +2,8 @@
 # SPDX-License-Identifier: Apache-2.0
 """The eight models: shapes at every window size, Keras semantics, numerically safe heads."""
 
+import math
+
 import numpy as np
 import pytest
 import torch
@@ -63,3 +65,45 @@ def test_softmax_and_log_softmax_of_huge_logits_stay_finite():
 
 def test_the_catalog_names_exactly_the_models_that_exist():
     assert tuple(MODELS) == DEEP_MODELS
+
+
+def _glorot_limit(weight: torch.Tensor) -> float:
+    receptive = weight[0, 0].numel() if weight.dim() > 2 else 1
+    return math.sqrt(6.0 / (weight.shape[0] * receptive + weight.shape[1] * receptive))
+
+
+@pytest.mark.parametrize('name', list(MODELS))
+def test_every_model_starts_from_keras_initial_weights(name):
+    torch.manual_seed(0)
+    model = build_model(name, 128, 10, 12)
+    checked = 0
+    for layer in model.modules():
+        if isinstance(layer, (torch.nn.Conv1d, torch.nn.Linear)):
+            limit = _glorot_limit(layer.weight)
+            assert layer.weight.abs().max() <= limit
+            if layer.weight.numel() >= 1000:  # uniform on +-limit: sd limit / sqrt(3)
+                assert float(layer.weight.std()) == pytest.approx(limit / math.sqrt(3), rel=0.1)
+            assert torch.count_nonzero(layer.bias) == 0
+            checked += 1
+        elif isinstance(layer, torch.nn.LSTM):
+            units = layer.hidden_size
+            for parameter_name, parameter in layer.named_parameters():
+                if parameter_name.startswith('weight_hh'):  # orthogonal columns
+                    gram = parameter.T @ parameter
+                    torch.testing.assert_close(gram, torch.eye(units), atol=1e-5, rtol=0)
+                elif parameter_name.startswith('weight_ih'):
+                    assert parameter.abs().max() <= _glorot_limit(parameter)
+                elif parameter_name.startswith('bias_ih'):
+                    expected = torch.zeros(4 * units)
+                    expected[units:2 * units] = 1.0  # unit forget-gate bias
+                    torch.testing.assert_close(parameter.detach(), expected)
+                else:
+                    assert torch.count_nonzero(parameter) == 0
+            checked += 1
+    assert checked >= 2
+
+
+def test_pytorch_initialisation_stays_available_for_comparison():
+    torch.manual_seed(0)
+    model = build_model('cnn_3', 128, 10, 12, keras_init=False)
+    assert torch.count_nonzero(model[0].conv.bias) > 0

@@ -7,11 +7,14 @@ import math
 import numpy as np
 import pytest
 from transforms3d.euler import euler2quat
+from transforms3d.quaternions import axangle2quat
 
+from tactex_common.constants import GYRO_FULL_SCALE_RAD_S
 from tactex_sensor.madgwick import (
     filter_batch,
     MadgwickConfig,
     MadgwickFilter,
+    REJECTED_GYRO,
     USED_ACCEL,
     USED_GYRO,
     USED_MAG,
@@ -105,7 +108,46 @@ def test_flags_say_what_was_used():
     filt.update((0, 0, 0), accel, 0.01, field)
     assert filt.last_flags == USED_GYRO | USED_ACCEL | USED_MAG
     filt.update((math.nan, 0, 0), accel, 0.01, (math.nan,) * 3)
-    assert filt.last_flags == USED_ACCEL
+    assert filt.last_flags == USED_ACCEL | REJECTED_GYRO
+
+
+@pytest.mark.parametrize('rate', [1e20, 3.4e38, -3.4e38, 2.0 * GYRO_FULL_SCALE_RAD_S])
+def test_a_gyro_rate_beyond_the_sensor_range_is_rejected_and_counted(rate):
+    q_true = euler2quat(0.3, -0.2, 0.0)
+    filt = MadgwickFilter()
+    run_static(filt, q_true, 1.0)
+    before = filt.quaternion
+    accel, _ = static_readings(q_true, mag=False)
+    filt.update((rate, 0.0, 0.0), accel, 1 / RATE_HZ)
+    assert filt.last_flags & REJECTED_GYRO and filt.rejected['gyro'] == 1
+    assert abs(np.linalg.norm(filt.quaternion) - 1.0) < 1e-12
+    assert math.degrees(angle_between(before, filt.quaternion)) < 0.01
+
+
+def test_a_rate_within_the_sensor_range_is_integrated():
+    filt = MadgwickFilter(MadgwickConfig(gain=0.0, bias_gain=0.0))
+    filt.update((0.0, 0.0, 0.0), (0.0, 0.0, G), 0.0)
+    filt.update((0.0, 0.0, 0.9 * GYRO_FULL_SCALE_RAD_S), (0.0, 0.0, G), 1e-3)
+    assert filt.rejected['gyro'] == 0
+    expected = axangle2quat((0.0, 0.0, 1.0), 0.9 * GYRO_FULL_SCALE_RAD_S * 1e-3)
+    assert angle_between(filt.quaternion, expected) < 1e-12
+
+
+@pytest.mark.parametrize('angle', [3.0, 1.0, 0.2, 1e-9])
+def test_the_prediction_is_an_exact_rotation_at_any_step_angle(angle):
+    # One step of `angle` rad about a tilted axis, no correction: the series of the
+    # old kernel turned a 3 rad step into 2.97 rad.
+    config = MadgwickConfig(gain=0.0, initial_gain=0.0, bias_gain=0.0, max_dt_s=2.0)
+    axis = np.array([1.0, -2.0, 0.5]) / np.linalg.norm([1.0, -2.0, 0.5])
+    gyro = np.array([[0.0, 0.0, 0.0], axis * angle])
+    accel = np.array([[0.0, 0.0, G], [math.nan, 0.0, 0.0]])  # no accel in the second
+    q = filter_batch(gyro, accel, np.array([0.0, 1.0]), config=config)
+    assert angle_between(q[1], axangle2quat(axis, angle)) < 1e-12
+    filt = MadgwickFilter(config)
+    for i in range(2):
+        filt.update(gyro[i].tolist(), accel[i].tolist(), float(i))
+    np.testing.assert_allclose(filt.quaternion, q[1], atol=1e-15)
+
 
 
 def test_quaternion_stays_unit_norm_over_ten_million_updates():

@@ -2,7 +2,9 @@
 # SPDX-License-Identifier: Apache-2.0
 """Texture classifiers with one interface: the deep models (torch) and the fast baselines.
 
-`fit(X, y, classes)` scales with state fitted on X only, trains, and keeps the scaler;
+`fit(X, y, classes)` scales with state fitted on the training windows only (with early
+stopping: on the recordings left after whole recordings are held out for validation),
+trains, and keeps the scaler;
 `predict_proba(X)` returns (n, n_classes) in `classes` order; checkpoints hold the
 weights (`state_dict`, loaded with `weights_only=True`) next to a JSON file with the
 classes, channels, window, scaler state and model configuration.
@@ -10,7 +12,7 @@ classes, channels, window, scaler state and model configuration.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass
 import json
 import math
@@ -24,6 +26,9 @@ from tactex_common.channels import CHANNELS
 
 os.environ.setdefault('OMP_WAIT_POLICY', 'PASSIVE')  # no spinning next to ROS nodes
 CHECKPOINT_VERSION = 1
+SCALINGS = ('minmax', 'standard')
+INITS = ('keras', 'pytorch')
+SCALED_LIMIT = 1e4
 
 
 @dataclass
@@ -35,26 +40,64 @@ class ChannelScaler:
     scale: list[float] | None = None
 
     def fit(self, X: np.ndarray) -> ChannelScaler:
-        """Fit on (n, window, channels); a constant channel gets scale 1."""
+        """Fit on (n, window, channels); a constant channel gets scale 1.
+
+        Raises:
+            ValueError: no windows, NaN or inf in them, or an unknown kind.
+        """
+        if not X.size:
+            raise ValueError(f'cannot fit a scaler on no data, got shape {X.shape!r}')
+        if not np.all(np.isfinite(X)):
+            raise ValueError('cannot fit a scaler on data with NaN or inf; drop them first')
         flat = X.reshape(-1, X.shape[-1]).astype(np.float64)
         if self.kind == 'minmax':
             offset, span = flat.min(axis=0), flat.max(axis=0) - flat.min(axis=0)
         elif self.kind == 'standard':
             offset, span = flat.mean(axis=0), flat.std(axis=0)
         else:
-            raise ValueError(f'scaling must be minmax or standard, got {self.kind!r}')
+            raise ValueError(f'scaling must be one of {SCALINGS}, got {self.kind!r}')
         span[~(span > 1e-12)] = 1.0
         self.offset, self.scale = offset.tolist(), span.tolist()
         return self
 
+    @classmethod
+    def from_state(cls, state, channels: int) -> ChannelScaler:
+        """A fitted scaler from its saved fields, checked against the channel count.
+
+        Raises:
+            TypeError, ValueError: not the saved form, another length, or a value that is
+                not finite (a scale must also be > 0).
+        """
+        if not isinstance(state, dict) or set(state) != {'kind', 'offset', 'scale'}:
+            raise TypeError(f'scaler must be an object with kind, offset, scale, got {state!r}')
+        if state['kind'] not in SCALINGS:
+            raise ValueError(f'scaler kind must be one of {SCALINGS}, got {state["kind"]!r}')
+        arrays = {}
+        for name in ('offset', 'scale'):
+            values = state[name]
+            if not isinstance(values, list) or len(values) != channels or not all(
+                    isinstance(v, (int, float)) and not isinstance(v, bool)
+                    and math.isfinite(v) for v in values):
+                raise ValueError(f'scaler {name} must be {channels} finite numbers (one per '
+                                 f'channel), got {values!r}')
+            arrays[name] = [float(v) for v in values]
+        if min(arrays['scale']) <= 0.0:
+            raise ValueError(f'scaler scale must be > 0, got {arrays["scale"]!r}')
+        return cls(state['kind'], arrays['offset'], arrays['scale'])
+
     def transform(self, X: np.ndarray) -> np.ndarray:
-        """Scaled copy of X (float32)."""
+        """Scaled copy of X (float32), clipped to +-SCALED_LIMIT so no layer can overflow.
+
+        The training windows scale into [0, 1] (Min-Max) or a few units (z-score); a value
+        10^4 training ranges away is corrupt, and a float32 inf would turn every logit NaN.
+        """
         if self.offset is None:
             raise NotFittedError('ChannelScaler is not fitted')
         if X.shape[-1] != len(self.offset):
             raise ValueError(f'X has {X.shape[-1]} channels, the scaler was fitted on '
                              f'{len(self.offset)}')
-        return ((X - np.array(self.offset)) / np.array(self.scale)).astype(np.float32)
+        scaled = (X - np.array(self.offset)) / np.array(self.scale)
+        return np.clip(scaled, -SCALED_LIMIT, SCALED_LIMIT).astype(np.float32)
 
 
 def check_windows(X, *, window: int | None = None, channels: int | None = None) -> np.ndarray:
@@ -93,8 +136,22 @@ def channel_names(channels, count: int) -> list[str]:
 
 
 def softmax(logits: np.ndarray) -> np.ndarray:
-    """Row-wise softmax, finite for any finite logits (even +-1e4)."""
-    shifted = logits - logits.max(axis=1, keepdims=True)
+    """Row-wise softmax of (n, classes) logits: a distribution for any finite logits.
+
+    Raises:
+        ValueError: not (n, classes >= 1), or a logit that is not finite.
+    """
+    logits = np.asarray(logits)
+    if logits.ndim != 2 or logits.shape[1] < 1:
+        raise ValueError(f'logits must be (n, classes >= 1), got shape {logits.shape!r}')
+    if not np.all(np.isfinite(logits)):
+        raise ValueError('logits must be finite; the model produced NaN or inf')
+    if not len(logits):
+        return np.zeros(logits.shape, dtype=logits.dtype)
+    # The largest logit maps to exp(0) = 1, so no row sums below 1; a difference that
+    # overflows to -inf just gives 0.
+    with np.errstate(over='ignore'):
+        shifted = logits - logits.max(axis=1, keepdims=True)
     exp = np.exp(shifted)
     return exp / exp.sum(axis=1, keepdims=True)
 
@@ -113,6 +170,34 @@ class TrainingConfig:
     validation_fraction: float = 0.1
     seed: int = 0
     threads: int = 1
+    init: str = 'keras'  # initial weights: 'keras' (as the original) or 'pytorch' defaults
+
+    def check(self) -> TrainingConfig:
+        """Return self if every setting is usable.
+
+        Raises:
+            ValueError: a setting out of its range (named, with the value).
+        """
+        from tactex_classify.models import MODELS
+        if self.model not in MODELS:
+            raise ValueError(f'unknown model {self.model!r}; known: {", ".join(MODELS)}')
+        for name, low in (('epochs', 1), ('batch_size', 2), ('early_stopping', 0),
+                          ('seed', 0), ('threads', 1)):
+            value = getattr(self, name)
+            if not isinstance(value, int) or isinstance(value, bool) or value < low:
+                raise ValueError(f'{name} must be an integer >= {low}, got {value!r}')
+        for name in ('learning_rate', 'clip_norm'):
+            value = getattr(self, name)
+            if not isinstance(value, (int, float)) or not (math.isfinite(value) and value > 0):
+                raise ValueError(f'{name} must be finite and > 0, got {value!r}')
+        if self.init not in INITS:
+            raise ValueError(f'init must be one of {INITS}, got {self.init!r}')
+        if self.scaling not in SCALINGS:
+            raise ValueError(f'scaling must be one of {SCALINGS}, got {self.scaling!r}')
+        fraction = self.validation_fraction
+        if not isinstance(fraction, (int, float)) or not 0.0 < fraction < 1.0:
+            raise ValueError(f'validation_fraction must be in (0, 1), got {fraction!r}')
+        return self
 
 
 class DeepClassifier:
@@ -124,32 +209,42 @@ class DeepClassifier:
         self.progress = progress
         self.model_ = None
 
-    def fit(self, X, y, classes: list[str], groups=None, channels=None) -> DeepClassifier:
+    def fit(self, X, y, classes: list[str], groups=None, *,
+            channels: Sequence[str] | None = None) -> DeepClassifier:
         """Train on windows X with class indices y (into `classes`).
 
         Args:
             X: (n, window, channels) windows, unscaled.
             y: (n,) class indices.
             classes: all class names (the output columns), even ones absent from y.
-            groups: recording of each window; the early-stopping split keeps them whole.
+            groups: recording of each window; required with early stopping, which holds
+                out whole recordings (GroupShuffleSplit) before the scaler is fitted.
             channels: names of X's channels (the dataset's); default this system's ten.
+                Kept in the checkpoint and checked by `predict_proba(..., channels=...)`.
+
+        Raises:
+            ValueError: bad windows, labels or settings; early stopping without groups,
+                with fewer than two recordings, or with nothing left to train on.
         """
         import torch
 
         from tactex_classify.models import build_model
-        config = self.config
+        config = self.config.check()
         X = check_windows(X)
         y = np.asarray(y, dtype=np.int64)
+        if y.shape != (len(X),) or (y.size and not 0 <= y.min() <= y.max() < len(classes)):
+            raise ValueError(f'y must hold {len(X)} class indices into the {len(classes)} '
+                             f'classes, got shape {y.shape!r}')
         torch.manual_seed(config.seed)
         torch.set_num_threads(config.threads)
         rng = np.random.default_rng(config.seed)
         self.classes_ = list(classes)
         self.window_, self.n_channels_ = X.shape[1], X.shape[2]
         self.channels_ = channel_names(channels, self.n_channels_)
-        self.scaler_ = ChannelScaler(config.scaling).fit(X)
-        train, validation = _validation_split(y, groups, config, rng)
+        train, validation = validation_split(y, groups, config)
+        self.scaler_ = ChannelScaler(config.scaling).fit(X[train])
         self.model_ = build_model(config.model, self.window_, self.n_channels_,
-                                  len(self.classes_))
+                                  len(self.classes_), keras_init=config.init == 'keras')
         optimizer = torch.optim.Adamax(self.model_.parameters(), lr=config.learning_rate)
         loss_fn = torch.nn.CrossEntropyLoss()
         data = torch.from_numpy(self.scaler_.transform(X))
@@ -198,21 +293,35 @@ class DeepClassifier:
     def _logits(self, data) -> np.ndarray:
         import torch
         self.model_.eval()
+        if not len(data):
+            return np.zeros((0, len(self.classes_)), dtype=np.float32)
         with torch.no_grad():
             return np.concatenate([self.model_(data[i:i + 256]).numpy()
                                    for i in range(0, len(data), 256)])
 
-    def predict_proba(self, X) -> np.ndarray:
-        """(n, n_classes) probabilities in `classes_` order."""
+    def predict_proba(self, X, *, channels: Sequence[str] | None = None) -> np.ndarray:
+        """(n, n_classes) probabilities in `classes_` order.
+
+        Args:
+            X: (n, window, channels) windows, unscaled, as at fit.
+            channels: the data's channel names; must be the model's, in its order.
+
+        Raises:
+            NotFittedError: before fit or load.
+            ValueError: other windows, channel count or channel names than at fit.
+        """
         import torch
         if self.model_ is None:
             raise NotFittedError('DeepClassifier is not fitted; call fit first')
+        if channels is not None and list(channels) != self.channels_:
+            raise ValueError(f'the data has channels {list(channels)}, the model was fitted '
+                             f'on {self.channels_}')
         X = check_windows(X, window=self.window_, channels=self.n_channels_)
         return softmax(self._logits(torch.from_numpy(self.scaler_.transform(X))))
 
-    def predict(self, X) -> np.ndarray:
-        """Class indices."""
-        return self.predict_proba(X).argmax(axis=1)
+    def predict(self, X, *, channels: Sequence[str] | None = None) -> np.ndarray:
+        """Class indices (see `predict_proba`)."""
+        return self.predict_proba(X, channels=channels).argmax(axis=1)
 
     def save(self, folder: Path) -> Path:
         """Write weights.pt (state_dict) and checkpoint.json into `folder`."""
@@ -230,10 +339,11 @@ class DeepClassifier:
 
     @classmethod
     def load(cls, folder: Path) -> DeepClassifier:
-        """A saved classifier; refuses anything but plain tensors in the weights file.
+        """A saved classifier; refuses anything but plain, finite tensors in the weights file.
 
         Raises:
-            CheckpointError: missing files, a foreign payload, or mismatching weights.
+            CheckpointError: missing or unreadable files, a malformed checkpoint.json (the
+                field is named), a foreign payload, or weights that do not fit the model.
         """
         import pickle
 
@@ -246,33 +356,95 @@ class DeepClassifier:
             state = torch.load(folder / 'weights.pt', weights_only=True, map_location='cpu')
         except FileNotFoundError as err:
             raise CheckpointError(f'{folder}: missing {Path(err.filename).name}') from None
-        except (pickle.UnpicklingError, RuntimeError, json.JSONDecodeError) as err:
-            raise CheckpointError(f'{folder}: refused: {str(err).splitlines()[0]}') from None
-        if meta.get('format_version') != CHECKPOINT_VERSION or meta.get('kind') != 'deep':
-            raise CheckpointError(f'{folder}: not a tactex deep-model checkpoint')
-        self = cls(TrainingConfig(**meta['config']))
-        self.classes_, self.window_ = meta['classes'], meta['window']
-        self.channels_ = list(meta['channels'])
-        self.n_channels_ = len(self.channels_)
-        self.scaler_ = ChannelScaler(**meta['scaler'])
+        except (pickle.UnpicklingError, RuntimeError, EOFError, OSError, UnicodeDecodeError,
+                ValueError) as err:
+            reason = (str(err).splitlines() or [type(err).__name__])[0]
+            raise CheckpointError(f'{folder}: refused: {reason}') from None
+        if not isinstance(meta, dict) or meta.get('format_version') != CHECKPOINT_VERSION \
+                or meta.get('kind') != 'deep':
+            raise CheckpointError(f'{folder}: not a tactex deep-model checkpoint (format '
+                                  f'version {CHECKPOINT_VERSION}, kind "deep")')
+        try:
+            self = cls._from_checkpoint(meta)
+        except (KeyError, TypeError, ValueError) as err:
+            reason = f'missing {err}' if isinstance(err, KeyError) else err
+            raise CheckpointError(f'{folder}: malformed checkpoint.json: {reason}') from None
+        if not isinstance(state, dict) or not all(
+                isinstance(v, torch.Tensor) and bool(torch.isfinite(v).all())
+                for v in state.values()):
+            raise CheckpointError(f'{folder}: weights.pt must hold a state_dict of finite '
+                                  f'tensors')
         self.model_ = build_model(self.config.model, self.window_, self.n_channels_,
                                   len(self.classes_))
         try:
             self.model_.load_state_dict(state)
-        except (RuntimeError, TypeError) as err:
+        except (RuntimeError, TypeError, KeyError) as err:
             raise CheckpointError(f'{folder}: weights do not fit {self.config.model}: '
                                   f'{str(err).splitlines()[0]}') from None
         return self
 
+    @classmethod
+    def _from_checkpoint(cls, meta: dict) -> DeepClassifier:
+        """Everything but the weights, every field checked.
 
-def _validation_split(y: np.ndarray, groups, config: TrainingConfig,
-                      rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
-    """Training and early-stopping indices; whole recordings go to one side."""
+        Raises:
+            KeyError: a missing field. TypeError, ValueError: a field of the wrong kind.
+        """
+        config = meta['config']
+        if not isinstance(config, dict):
+            raise TypeError(f'config must be an object, got {config!r}')
+        self = cls(TrainingConfig(**config).check())
+        self.classes_ = _names(meta['classes'], 'classes')
+        self.channels_ = _names(meta['channels'], 'channels')
+        self.n_channels_ = len(self.channels_)
+        window = meta['window']
+        if not isinstance(window, int) or isinstance(window, bool) or window < 1:
+            raise ValueError(f'window must be an integer >= 1, got {window!r}')
+        self.window_ = window
+        self.scaler_ = ChannelScaler.from_state(meta['scaler'], self.n_channels_)
+        return self
+
+
+def _names(value, field: str) -> list[str]:
+    """A non-empty list of distinct strings from a checkpoint field."""
+    if not isinstance(value, list) or not value or not all(isinstance(v, str) for v in value) \
+            or len(set(value)) != len(value):
+        raise ValueError(f'{field} must be a non-empty list of distinct names, got {value!r}')
+    return value
+
+
+def validation_split(y: np.ndarray, groups, config: TrainingConfig
+                     ) -> tuple[np.ndarray, np.ndarray]:
+    """Training and early-stopping indices; whole recordings go to one side.
+
+    Without early stopping every window trains. With it, `validation_fraction` of the
+    recordings (at least one) is held out by scikit-learn's GroupShuffleSplit.
+
+    Raises:
+        ValueError: early stopping without one group per window (window-level validation
+            would leak), with fewer than two recordings, or no window left to train on.
+    """
+    from sklearn.model_selection import GroupShuffleSplit
     indices = np.arange(y.size)
-    if not config.early_stopping or config.validation_fraction <= 0:
+    if not indices.size:
+        raise ValueError('no training windows')
+    if not config.early_stopping:
         return indices, np.zeros(0, dtype=np.int64)
-    keys = np.asarray(groups) if groups is not None else indices
-    unique = rng.permutation(np.unique(keys))
-    held = set(unique[:max(1, int(round(config.validation_fraction * unique.size)))].tolist())
-    mask = np.array([k in held for k in keys])
-    return indices[~mask], indices[mask]
+    if groups is None:
+        raise ValueError('early stopping holds out whole recordings: pass groups (the '
+                         'recording of each window); validating on windows of the training '
+                         'recordings would leak')
+    groups = np.asarray(groups)
+    if groups.shape != y.shape:
+        raise ValueError(f'groups must name the recording of each of the {y.size} windows, '
+                         f'got shape {groups.shape!r}')
+    recordings = np.unique(groups).size
+    if recordings < 2:
+        raise ValueError(f'early stopping needs at least 2 recordings (one to validate on), '
+                         f'got {recordings}')
+    if math.ceil(config.validation_fraction * recordings) >= recordings:
+        raise ValueError(f'validation_fraction {config.validation_fraction} of {recordings} '
+                         f'recordings leaves none to train on')
+    splitter = GroupShuffleSplit(n_splits=1, test_size=config.validation_fraction,
+                                 random_state=config.seed)
+    return next(splitter.split(indices, y, groups))

@@ -263,7 +263,12 @@ def window_starts(keep: np.ndarray, stamps_ns: np.ndarray, window: int, hop: int
     """Start indices of windows lying inside runs of kept, gap-free samples.
 
     A gap is what `tactex_common.stamps.gaps` says it is.
+
+    Raises:
+        ValueError: a window or hop below 1.
     """
+    if window < 1 or hop < 1:
+        raise ValueError(f'window and hop must be >= 1, got window {window!r}, hop {hop!r}')
     count = stamps_ns.size
     if count < 2:
         return []

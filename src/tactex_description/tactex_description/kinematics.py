@@ -61,6 +61,9 @@ def forward_kinematics(
             not given (compliant ones, the gripper) are at zero.
         frame: any link of the robot.
         robot: the geometry to use.
+
+    Raises:
+        ValueError: not four arm joints, or a position that is not finite.
     """
     if not isinstance(positions, Mapping):
         values = np.asarray(positions, dtype=float)
@@ -69,6 +72,8 @@ def forward_kinematics(
                 f'expected {len(ARM_JOINT_NAMES)} arm joint positions, got shape '
                 f'{values.shape!r}')
         positions = dict(zip(ARM_JOINT_NAMES, values, strict=True))
+    if not all(math.isfinite(float(v)) for v in positions.values()):
+        raise ValueError(f'joint positions must be finite, got {dict(positions)!r}')
     pose = np.eye(4)
     for joint in robot.chain_to(frame):
         source = joint.mimic_of or joint.name
@@ -151,8 +156,15 @@ class PlanarArm:
         return abs(upper_len - self.forearm), upper_len + self.forearm
 
     def tool_pose(self, joints: Sequence[float]) -> tuple[np.ndarray, float]:
-        """Return the tool point (m, root frame) and tool pitch (rad) of four arm joints."""
-        q1, q2, q3, q4 = (float(q) for q in joints)
+        """Return the tool point (m, root frame) and tool pitch (rad) of four arm joints.
+
+        Raises:
+            ValueError: a joint position that is not finite.
+        """
+        if not all(math.isfinite(float(q)) for q in joints):
+            raise ValueError(f'joint positions must be finite, got {joints!r}')
+        # Modulo 2 pi first, so sums of huge angles cannot overflow.
+        q1, q2, q3, q4 = (math.remainder(float(q), 2.0 * math.pi) for q in joints)
         pitch = q2 + q3 + q4
         radial = (self.upper[0] * math.cos(q2) + self.upper[1] * math.sin(q2)
                   + self.forearm * math.cos(q2 + q3)
@@ -169,9 +181,13 @@ class PlanarArm:
 
         Args:
             position: target in the root frame (m).
-            pitch: tool pitch (rad), see the module docstring.
+            pitch: tool pitch (rad, any finite value; taken modulo 2 pi), see the module
+                docstring.
             seed: joint vector to sort solutions by closeness to; its joint1 is also
                 used where joint1 is undefined (target on the joint1 axis).
+
+        Raises:
+            ValueError: a target or seed that is not finite, or a seed not of four joints.
         """
         px, py, pz = (float(v) for v in position)
         pitch = float(pitch)
@@ -179,6 +195,11 @@ class PlanarArm:
             raise ValueError(f'target must be finite, got position {position!r}, '
                              f'pitch {pitch!r}')
         seed_q = None if seed is None else np.asarray(seed, dtype=float)
+        if seed_q is not None and (seed_q.shape != (4,) or not np.all(np.isfinite(seed_q))):
+            raise ValueError(f'seed must be four finite joint positions, got {seed!r}')
+        # Taken modulo 2 pi first: q4 = pitch - q2 - q3 of a pitch of 1e15 rad would keep
+        # only 1/8 rad of resolution.
+        pitch = math.remainder(pitch, 2.0 * math.pi)
         dx = px - self.base_x
         radial_distance = math.hypot(dx, py)
         if radial_distance < 1e-12:

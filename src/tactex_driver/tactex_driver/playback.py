@@ -13,6 +13,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+import math
 
 import numpy as np
 from scipy.interpolate import CubicHermiteSpline, PchipInterpolator
@@ -74,7 +75,13 @@ class Trajectory:
     _limits: JointLimits
 
     def sample(self, t_s: float) -> np.ndarray:
-        """Positions at `t_s` seconds after the start (held at the ends), within limits."""
+        """Positions at `t_s` seconds after the start (held at the ends), within limits.
+
+        Raises:
+            ValueError: `t_s` is NaN (+-inf hold the ends).
+        """
+        if math.isnan(t_s):
+            raise ValueError('t_s must not be NaN')
         t = min(max(t_s, 0.0), self.duration_s)
         return self._limits.clamp(np.asarray(self._curve(t), dtype=float))
 
@@ -95,8 +102,16 @@ def plan(joint_names: Sequence[str], times_s: Sequence[float],
         start_tolerance: the first point may differ from the current state by this much.
 
     Raises:
-        TrajectoryRejected: any rule is broken; the message says which and where.
+        TrajectoryRejected: any rule is broken, or the current state is not finite (no
+            safe start); the message says which and where.
+        ValueError: a start tolerance that is not finite or negative.
     """
+    current = np.asarray(current, dtype=float)
+    if current.shape != limits.lower.shape or not np.all(np.isfinite(current)):
+        raise TrajectoryRejected(f'the current state is not {limits.lower.size} finite '
+                                 f'positions ({current!r}); no safe start')
+    if not (math.isfinite(start_tolerance) and start_tolerance >= 0):
+        raise ValueError(f'start_tolerance must be finite and >= 0, got {start_tolerance!r}')
     names = list(joint_names)
     if not names:
         raise TrajectoryRejected('trajectory names no joints')
@@ -115,7 +130,6 @@ def plan(joint_names: Sequence[str], times_s: Sequence[float],
     if not np.all(np.isfinite(times)) or times[0] < 0 or np.any(np.diff(times) <= 0):
         raise TrajectoryRejected(f'time_from_start must be finite, >= 0 and strictly '
                                  f'increasing, got {times.tolist()!r}')
-    current = np.asarray(current, dtype=float)
     full = np.tile(current, (len(times), 1))
     full[:, columns] = rows
     for index, row in enumerate(full):
@@ -172,6 +186,9 @@ def _check_profile(curve, knots_t: np.ndarray, limits: JointLimits) -> None:
                        + [knots_t[-1:]])
     q = curve(t)
     v = curve.derivative()(t)
+    if not (np.all(np.isfinite(q)) and np.all(np.isfinite(v))):
+        raise TrajectoryRejected('the interpolated path is not finite (points too close in '
+                                 'time for their positions); give the points more time')
     if np.any(q < limits.lower - 1e-6) or np.any(q > limits.upper + 1e-6):
         raise TrajectoryRejected('the interpolated path leaves the position limits between '
                                  'points; add points or lower the point velocities')
@@ -185,7 +202,13 @@ def _check_profile(curve, knots_t: np.ndarray, limits: JointLimits) -> None:
 
 
 def hold(positions: np.ndarray, limits: JointLimits) -> Trajectory:
-    """A trajectory that holds `positions` (clamped into the limits)."""
+    """A trajectory that holds `positions` (clamped into the limits).
+
+    Raises:
+        ValueError: a position that is not finite.
+    """
+    if not np.all(np.isfinite(positions)):
+        raise ValueError(f'cannot hold non-finite positions {positions!r}')
     point = limits.clamp(np.asarray(positions, dtype=float))
     return Trajectory(0.0, lambda _t: point, limits)
 

@@ -9,11 +9,21 @@ largest clock drift allowed, so it tracks crystals that run slow or fast without
 following the jitter of USB reads. Samples that arrive in one read are stamped
 together: the newest of them waited least in the buffers, so it alone updates the offset.
 Stamps never go back, across reconnects and device restarts too.
+
+Bad input and how long it lasts: a device time that jumps backwards or further than
+`max_gap_s` (a restart, a corrupted frame) starts the mapping over at the next read,
+whose stamps are then late by that read's transport delay only; a corrupted time ahead
+by less than one sample period, followed by good ones, pulls the estimate early by less
+than that period, and the creep takes it back. So from the first good read after bad
+device times stop, stamps are within the larger of one sample period and the longest
+transport delay (tests/hard_cases/test_clock_hard.py). Offsets are kept relative to the
+first observation, so stamps keep nanosecond resolution at any epoch.
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
+import math
 
 _WRAP_US = 1 << 32
 
@@ -28,13 +38,15 @@ class DeviceClock:
     """
 
     def __init__(self, *, max_drift_ppm: float = 200.0, max_gap_s: float = 5.0) -> None:
-        if max_drift_ppm < 0 or max_gap_s <= 0:
-            raise ValueError(f'need max_drift_ppm >= 0 and max_gap_s > 0, got '
-                             f'{max_drift_ppm!r}, {max_gap_s!r}')
+        if not (math.isfinite(max_drift_ppm) and max_drift_ppm >= 0):
+            raise ValueError(f'max_drift_ppm must be finite and >= 0, got {max_drift_ppm!r}')
+        if not (math.isfinite(max_gap_s) and max_gap_s > 0):
+            raise ValueError(f'max_gap_s must be finite and > 0, got {max_gap_s!r}')
         self._drift = max_drift_ppm * 1e-6
         self._max_gap_us = int(max_gap_s * 1e6)
         self._last_raw: int | None = None
         self._device_us = 0
+        self._base_ns = 0  # the first observed offset; the estimate is kept relative to it
         self._offset_ns: float | None = None
         self._last_stamp_ns: int | None = None
         self.restarts = 0
@@ -45,7 +57,8 @@ class DeviceClock:
         self._offset_ns = None
 
     def unwrap(self, raw_us: int) -> int:
-        """Return the monotonic device time (us) of a raw uint32 reading."""
+        """Return the monotonic device time (us) of a raw reading (taken modulo 2^32)."""
+        raw_us = int(raw_us) % _WRAP_US
         if self._last_raw is None:
             self._device_us = raw_us
         else:
@@ -78,15 +91,16 @@ class DeviceClock:
         if fresh or self._offset_ns is None:  # a restart inside unwrap also clears it
             previous_us = device_us[-1]
             self._offset_ns = None
-        observed = float(host_rx_ns - device_us[-1] * 1000)
+        observed = int(host_rx_ns) - device_us[-1] * 1000
         if self._offset_ns is None:
-            self._offset_ns = observed
+            self._base_ns, self._offset_ns = observed, 0.0
         else:
             creep = self._drift * max(0, device_us[-1] - previous_us) * 1000
-            self._offset_ns = min(self._offset_ns + creep, observed)
+            self._offset_ns = min(self._offset_ns + creep, float(observed - self._base_ns))
+        offset_ns = self._base_ns + math.floor(self._offset_ns)
         stamps = []
         for device in device_us:
-            stamp = device * 1000 + int(self._offset_ns)
+            stamp = device * 1000 + offset_ns
             if self._last_stamp_ns is not None and stamp <= self._last_stamp_ns:
                 stamp = self._last_stamp_ns + 1000
             stamps.append(stamp)

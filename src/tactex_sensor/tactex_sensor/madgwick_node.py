@@ -13,7 +13,7 @@ from sensor_msgs.msg import Imu, MagneticField
 
 from tactex_common import topics
 from tactex_common.ros import SENSOR_DATA, spin
-from tactex_sensor.madgwick import MadgwickConfig, MadgwickFilter
+from tactex_sensor.madgwick import MadgwickConfig, MadgwickFilter, REJECTED_GYRO
 
 
 def _stamp_s(msg) -> float:
@@ -29,9 +29,15 @@ class MadgwickNode(Node):
 
     def __init__(self, **kwargs) -> None:
         super().__init__('madgwick_node', **kwargs)
+        defaults = MadgwickConfig()
         gain_range = FloatingPointRange(from_value=0.0, to_value=10.0, step=0.0)
-        gain = self.declare_parameter('gain', 0.1, ParameterDescriptor(
+        gain = self.declare_parameter('gain', defaults.gain, ParameterDescriptor(
             description='filter gain beta (rad/s)', floating_point_range=[gain_range])).value
+        rate_range = FloatingPointRange(from_value=0.1, to_value=1000.0, step=0.0)
+        max_rate = self.declare_parameter(
+            'max_rate_rad_s', defaults.max_rate_rad_s, ParameterDescriptor(
+                description='a gyro axis beyond this (rad/s) is a corrupted sample: rejected, '
+                            'counted', read_only=True, floating_point_range=[rate_range])).value
         use_mag = self.declare_parameter('use_mag', False, ParameterDescriptor(
             description='fuse tactile/imu/mag (MARG)', read_only=True)).value
         world_frame = self.declare_parameter('world_frame', 'enu', ParameterDescriptor(
@@ -40,7 +46,8 @@ class MadgwickNode(Node):
             description='oldest magnetometer sample still fused (s)')).value
         if world_frame != 'enu':
             raise ValueError(f'world_frame must be "enu", got {world_frame!r}')
-        self._filter = MadgwickFilter(MadgwickConfig(gain=gain, use_mag=use_mag))
+        self._filter = MadgwickFilter(MadgwickConfig(gain=gain, use_mag=use_mag,
+                                                     max_rate_rad_s=max_rate))
         self._last_stamp: float | None = None
         self._mag: tuple[float, tuple[float, float, float]] | None = None
         self._publisher = self.create_publisher(Imu, topics.IMU_FILTERED, SENSOR_DATA)
@@ -77,6 +84,10 @@ class MadgwickNode(Node):
         w = msg.angular_velocity
         a = msg.linear_acceleration
         self._filter.update((w.x, w.y, w.z), (a.x, a.y, a.z), dt, mag)
+        if self._filter.last_flags & REJECTED_GYRO:
+            self.get_logger().warn(f'gyro samples rejected (an axis beyond max_rate_rad_s or '
+                                   f'not finite): {self._filter.rejected["gyro"]} so far',
+                                   throttle_duration_sec=5.0)
         if not self._filter.initialised:
             return
         out = Imu()

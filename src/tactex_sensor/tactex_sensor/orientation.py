@@ -11,9 +11,31 @@ normalised accel reading onto +z, composed with the arm's base rotation about z.
 from __future__ import annotations
 
 import math
+import sys
 
 import numba
 import numpy as np
+
+from tactex_sensor.errors import ReadingError
+
+
+@numba.njit(cache=True)
+def unit_direction(x: float, y: float, z: float, limit: float
+                   ) -> tuple[bool, float, float, float]:
+    """(valid, unit vector) of a reading; invalid when non-finite, zero or an axis > limit.
+
+    Divided by its largest axis before the norm is taken, so float32-max (or 1e300)
+    readings do not overflow and subnormal ones keep their direction. Compiled by numba
+    so the Madgwick kernels can call it.
+    """
+    if not (abs(x) <= limit and abs(y) <= limit and abs(z) <= limit):  # NaN fails too
+        return False, 0.0, 0.0, 0.0
+    largest = max(abs(x), abs(y), abs(z))
+    if largest == 0.0:
+        return False, 0.0, 0.0, 0.0
+    x, y, z = x / largest, y / largest, z / largest
+    norm = math.sqrt(x * x + y * y + z * z)
+    return True, x / norm, y / norm, z / norm
 
 
 @numba.njit(cache=True)
@@ -38,17 +60,22 @@ def orientation_from_gravity(accel, base_yaw_rad: float = 0.0) -> np.ndarray:
     """Return the attitude quaternion (w, x, y, z) R_z(base_yaw) * R_ag of a static sensor.
 
     Args:
-        accel: accelerometer reading (m/s^2, any non-zero length).
+        accel: accelerometer reading (m/s^2, any finite non-zero length, float64 max to
+            subnormal).
         base_yaw_rad: rotation of the arm's base about z (alpha in eq. 3.5).
 
     Raises:
-        ValueError: the reading is zero or not finite.
+        ReadingError: the reading is zero, not finite or not a 3-vector, or the yaw is
+            not finite (a ValueError).
     """
     a = np.asarray(accel, dtype=float)
-    norm = float(np.linalg.norm(a))
-    if a.shape != (3,) or not math.isfinite(norm) or norm == 0.0:
-        raise ValueError(f'accel must be a finite non-zero 3-vector, got {accel!r}')
-    align = gravity_alignment(*(a / norm))
+    valid, ux, uy, uz = unit_direction(*a, sys.float_info.max) if a.shape == (3,) else (
+        False, 0.0, 0.0, 0.0)
+    if not valid:
+        raise ReadingError(f'accel must be a finite non-zero 3-vector, got {accel!r}')
+    if not math.isfinite(base_yaw_rad):
+        raise ReadingError(f'base_yaw_rad must be finite, got {base_yaw_rad!r}')
+    align = gravity_alignment(ux, uy, uz)
     half = 0.5 * base_yaw_rad
     yaw = (math.cos(half), 0.0, 0.0, math.sin(half))
     return quaternion_multiply(yaw, align)

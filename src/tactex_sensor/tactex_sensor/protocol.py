@@ -15,6 +15,8 @@ from dataclasses import dataclass, fields
 import struct
 from typing import NamedTuple
 
+from tactex_sensor.errors import FrameError
+
 SYNC = b'\xa5\x5a'
 VERSION = 1
 PAYLOAD_LENGTH = 50
@@ -43,10 +45,20 @@ def crc16_ccitt_false(data: bytes) -> int:
 
 
 def encode(sample: Sample, *, version: int = VERSION) -> bytes:
-    """Return the 56-byte frame of `sample` (`version` other than 1 only for tests)."""
-    body = _FRAME.pack(SYNC, version, PAYLOAD_LENGTH, sample.sequence % _SEQUENCE_MODULUS,
-                       sample.device_time_us % (1 << 32), *sample.accel, *sample.gyro,
-                       *sample.mag, sample.pressure_pa, sample.temperature_c)
+    """Return the 56-byte frame of `sample` (`version` other than 1 only for tests).
+
+    Values are rounded to float32 (NaN and inf travel as they are); sequence and device
+    time wrap.
+
+    Raises:
+        FrameError: a finite value beyond float32's range, or a non-integer counter.
+    """
+    try:
+        body = _FRAME.pack(SYNC, version, PAYLOAD_LENGTH, sample.sequence % _SEQUENCE_MODULUS,
+                           sample.device_time_us % (1 << 32), *sample.accel, *sample.gyro,
+                           *sample.mag, sample.pressure_pa, sample.temperature_c)
+    except (struct.error, OverflowError, TypeError) as err:
+        raise FrameError(f'sample does not fit a protocol frame ({err}): {sample!r}') from None
     return body + _CRC.pack(crc16_ccitt_false(body[2:]))
 
 

@@ -2,15 +2,21 @@
 # SPDX-License-Identifier: Apache-2.0
 """Simulation effects: small units a scene switches on by name, each computed only then.
 
-An effect declares the inputs it reads (computed by the world only when asked for) and
-the channels it writes or perturbs. Hooks: `after_compile(model, data)` once, and
-`apply(reading, inputs)` at every sensor sample. Options come from the scene's
-`[effect.NAME]` table and are checked strictly. Effects run in registry order.
+An effect declares the inputs it reads and the channels or model parts it writes. The
+world computes an input only when an enabled effect that declares it asks for it, and
+refuses an undeclared one; it builds the collisions only if an enabled effect writes
+`contact` and the compliant joints only if one writes `sensor pose`; the channels no
+enabled effect writes stay NaN (a test holds every effect to its `writes`). Hooks:
+`after_compile(model, data)` once, and `apply(reading, inputs)` at every sensor sample.
+Options come from the scene's `[effect.NAME]` table and are checked by name and by value
+against each effect's `defaults` table of `Option`s (default and accepted range). Enabled
+effects run in registry order (`EFFECTS`), whatever order the scene lists them in.
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping
+from dataclasses import dataclass
 import math
 from typing import Any, ClassVar
 
@@ -39,13 +45,53 @@ class Reading:
         self.temperature = math.nan
 
 
+@dataclass(frozen=True)
+class Option:
+    """One effect option: its default and the values it accepts.
+
+    Numbers must be finite and within [low, high] (or (low, high] when `above_low`, for
+    divisors); a vector option (a tuple default) takes as many finite numbers, each in
+    the range.
+    """
+
+    default: float | tuple[float, ...]
+    low: float = -math.inf
+    high: float = math.inf
+    above_low: bool = False
+
+    def check(self, effect: str, name: str, value: Any) -> float | tuple[float, ...]:
+        """The value as float(s).
+
+        Raises:
+            SceneError: wrong type, length, not finite or out of range; names the option.
+        """
+        where = f'effect {effect!r}: option {name}'
+        vector = isinstance(self.default, tuple)
+        items = value if vector and isinstance(value, (list, tuple)) else [value]
+        if vector and (not isinstance(value, (list, tuple)) or len(value) != len(self.default)):
+            raise SceneError(f'{where} must be a list of {len(self.default)} numbers, got '
+                             f'{value!r}')
+        for item in items:
+            if not isinstance(item, (int, float)) or isinstance(item, bool) \
+                    or not math.isfinite(item):
+                raise SceneError(f'{where} must be a finite number, got {value!r}')
+            if not (self.low < item if self.above_low else self.low <= item) \
+                    or item > self.high:
+                raise SceneError(f'{where} must be in {self.describe()}, got {value!r}')
+        return tuple(float(v) for v in items) if vector else float(value)
+
+    def describe(self) -> str:
+        """The accepted range, as an interval."""
+        return f'{"(" if self.above_low else "["}{self.low:g}, {self.high:g}]'
+
+
 class Effect:
     """Base of all effects: options, declared inputs and outputs, no-op hooks."""
 
     name: ClassVar[str] = ''
     reads: ClassVar[frozenset[str]] = frozenset()
     writes: ClassVar[frozenset[str]] = frozenset()
-    defaults: ClassVar[Mapping[str, Any]] = {}
+    defaults: ClassVar[Mapping[str, Option]] = {}
 
     def __init__(self, rng: np.random.Generator, noise_scale: float = 1.0,
                  **options: Any) -> None:
@@ -53,7 +99,11 @@ class Effect:
         if unknown:
             raise SceneError(f'effect {self.name!r}: unknown option(s) {unknown}; known: '
                              f'{sorted(self.defaults)}')
-        self.options = {**self.defaults, **options}
+        if not (math.isfinite(noise_scale) and noise_scale >= 0.0):
+            raise SceneError(f'effect {self.name!r}: noise_scale must be finite and >= 0, '
+                             f'got {noise_scale!r}')
+        self.options = {name: option.check(self.name, name, options.get(name, option.default))
+                        for name, option in self.defaults.items()}
         self.rng = rng
         self.noise_scale = noise_scale
 
@@ -83,6 +133,9 @@ class Compliance(Effect):
 
 # Slower than this the edge creeps rather than slides: no texture signal.
 SLIDING_SPEED_M_S = 1e-4
+# The texture model holds up to this sliding speed; faster (a diverging or flung arm)
+# vibrates as at this speed, so the channels stay finite.
+MAX_SLIDING_SPEED_M_S = 2.0
 
 
 def transmissibility(frequency_hz, resonance_hz: float, damping_ratio: float):
@@ -108,11 +161,16 @@ class TextureVibration(Effect):
     """
 
     name = 'texture'
-    reads = frozenset({'contact', 'edge velocity', 'texture', 'sensor rotation'})
+    reads = frozenset({'contact', 'edge velocity', 'texture', 'sensor rotation', 'sample rate'})
     writes = frozenset({'accel', 'gyro'})
-    defaults = {'resonance_hz': 85.0, 'damping_ratio': 0.12, 'rocking_gain': 0.6,
-                'reference_force_n': 1.0, 'heading_rad': 0.0, 'gain': 20.0,
-                'slip_length_m': 0.0004, 'stick_slip_accel': 1.5}
+    defaults = {'resonance_hz': Option(85.0, 1.0, 1e4),
+                'damping_ratio': Option(0.12, 0.01, 10.0),
+                'rocking_gain': Option(0.6, 0.0, 1e3),
+                'reference_force_n': Option(1.0, 0.0, 1e3, above_low=True),
+                'heading_rad': Option(0.0),
+                'gain': Option(20.0, 0.0, 1e4),
+                'slip_length_m': Option(0.0004, 0.0, 1.0, above_low=True),
+                'stick_slip_accel': Option(1.5, 0.0, 1e3)}
 
     def __init__(self, rng, noise_scale=1.0, **options) -> None:
         super().__init__(rng, noise_scale, **options)
@@ -139,12 +197,16 @@ class TextureVibration(Effect):
         if surface is None:
             return
         velocity = inputs['edge velocity']
+        largest = float(np.max(np.abs(velocity)))
+        if largest > MAX_SLIDING_SPEED_M_S:  # flung: keep the direction, cap the speed
+            velocity = velocity * (MAX_SLIDING_SPEED_M_S / largest)
         normal = contact.normal
         tangential = velocity - np.dot(velocity, normal) * normal
         speed = float(np.linalg.norm(tangential))
         if speed < SLIDING_SPEED_M_S:
             return
         direction = tangential / speed
+        speed = min(speed, MAX_SLIDING_SPEED_M_S)
         self._travelled += speed / inputs['sample rate']
         cos_h, sin_h = math.cos(self.heading_rad), math.sin(self.heading_rad)
         uv = np.array([cos_h * contact.point[0] + sin_h * contact.point[1],
@@ -161,13 +223,14 @@ class TextureVibration(Effect):
                                                                      + phase)
         rough = self._roughness_curvature(surface)
         curvature += rough[int(self._travelled / 2e-5) % rough.size]
-        coupling = self.options['gain'] * surface.softness * min(
+        pressing = surface.softness * min(
             2.0, math.sqrt(max(contact.force, 0.0) / self.options['reference_force_n']))
+        coupling = self.options['gain'] * pressing
         normal_accel = coupling * speed * speed * curvature
         stickiness = max(0.0, surface.friction - 0.45) * min(1.5, speed / 0.015)
         slip_phase = (self._travelled / self.options['slip_length_m']) % 1.0
-        tangential_accel = surface.friction * 0.5 * normal_accel + coupling / self.options[
-            'gain'] * self.options['stick_slip_accel'] * stickiness * (slip_phase - 0.5)
+        tangential_accel = surface.friction * 0.5 * normal_accel + pressing * self.options[
+            'stick_slip_accel'] * stickiness * (slip_phase - 0.5)
         rocking = coupling * self.options['rocking_gain'] * speed * curvature
         rotation = inputs['sensor rotation']  # world <- sensor
         reading.accel += rotation.T @ (normal_accel * normal + tangential_accel * direction)
@@ -179,8 +242,9 @@ class ImuNoise(Effect):
 
     name = 'imu_noise'
     writes = frozenset({'accel', 'gyro'})
-    defaults = {'accel_sd': 0.02, 'gyro_sd': 0.002, 'accel_bias_sd': 0.05,
-                'gyro_bias_sd': 0.005}
+    defaults = {'accel_sd': Option(0.02, 0.0, 100.0), 'gyro_sd': Option(0.002, 0.0, 10.0),
+                'accel_bias_sd': Option(0.05, 0.0, 100.0),
+                'gyro_bias_sd': Option(0.005, 0.0, 10.0)}
 
     def __init__(self, rng, noise_scale=1.0, **options) -> None:
         super().__init__(rng, noise_scale, **options)
@@ -195,21 +259,38 @@ class ImuNoise(Effect):
             0.0, self.options['gyro_sd'] * self.noise_scale, 3)
 
 
+# Farther than this on some axis, a magnet's dipole is computed as at this distance
+# (1e-16 T or less per A m^2).
+FAR_FROM_MAGNET_M = 1e3
+
+
 class Magnetometer(Effect):
-    """Earth's field plus a nearby magnet's dipole field, in the sensor frame, with noise."""
+    """Earth's field plus a nearby magnet's dipole field, in the sensor frame, with noise.
+
+    Closer to the magnet's centre than `magnet_radius_m` (inside the magnet, where the
+    dipole law does not hold), the field is that at the radius, so it stays finite;
+    farther than FAR_FROM_MAGNET_M, that at FAR_FROM_MAGNET_M in the same direction.
+    """
 
     name = 'magnetometer'
     reads = frozenset({'sensor rotation', 'sensor position'})
     writes = frozenset({'mag'})
-    defaults = {'earth_field_t': list(EARTH_FIELD_T), 'magnet_position_m': [0.35, 0.25, 0.05],
-                'magnet_moment_am2': [0.0, 0.0, 0.5], 'noise_sd_t': 2.0e-7}
+    defaults = {'earth_field_t': Option(EARTH_FIELD_T, -1e-2, 1e-2),
+                'magnet_position_m': Option((0.35, 0.25, 0.05), -100.0, 100.0),
+                'magnet_moment_am2': Option((0.0, 0.0, 0.5), -1e4, 1e4),
+                'magnet_radius_m': Option(0.005, 0.0, 1.0, above_low=True),
+                'noise_sd_t': Option(2.0e-7, 0.0, 1e-2)}
 
     def apply(self, reading: Reading, inputs: Mapping[str, Any]) -> None:
         """Field at the sensor, rotated into its frame."""
         offset = inputs['sensor position'] - np.asarray(self.options['magnet_position_m'])
-        distance = float(np.linalg.norm(offset))
+        largest = float(np.max(np.abs(offset)))
+        if largest > FAR_FROM_MAGNET_M:  # same direction, no overflow
+            offset = offset * (FAR_FROM_MAGNET_M / largest)
+        norm = float(np.linalg.norm(offset))
         moment = np.asarray(self.options['magnet_moment_am2'], dtype=float)
-        unit = offset / distance
+        unit = offset / norm if norm > 0.0 else np.array([0.0, 0.0, 1.0])
+        distance = max(norm, self.options['magnet_radius_m'])
         dipole = 1e-7 * (3.0 * np.dot(moment, unit) * unit - moment) / distance ** 3
         field = np.asarray(self.options['earth_field_t'], dtype=float) + dipole
         reading.mag = inputs['sensor rotation'].T @ field + self.rng.normal(
@@ -222,8 +303,11 @@ class Barometer(Effect):
     name = 'barometer'
     reads = frozenset({'compression', 'time'})
     writes = frozenset({'pressure', 'temperature'})
-    defaults = {'sea_level_pa': SEA_LEVEL_PRESSURE_PA, 'pa_per_m_compression': 1.5e6,
-                'noise_sd_pa': 2.0, 'drift_pa_per_s': 0.0, 'temperature_c': 24.0}
+    defaults = {'sea_level_pa': Option(SEA_LEVEL_PRESSURE_PA, 0.0, 1e7, above_low=True),
+                'pa_per_m_compression': Option(1.5e6, 0.0, 1e9),
+                'noise_sd_pa': Option(2.0, 0.0, 1e5),
+                'drift_pa_per_s': Option(0.0, -1e4, 1e4),
+                'temperature_c': Option(24.0, -273.15, 1000.0)}
 
     def apply(self, reading: Reading, inputs: Mapping[str, Any]) -> None:
         """Compression raises the pressure inside the cast body."""

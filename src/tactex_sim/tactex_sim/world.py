@@ -3,10 +3,13 @@
 """The simulator core: arm + surface in MuJoCo, stepped from Python, sampled like the sensor.
 
 `World(scene)` builds only what the scene's effects call for (the compliant joints, the
-collision of sensor and surface), steps the physics at the scene's timestep, and every
-sensor period returns a reading (accel, gyro from MuJoCo's site sensors; the rest from
-the effects; NaN where no effect simulates a channel) with the ground truth: contact
-point, surface normal and force, the attitude of `sensor_link`, the texture under the
+collision of sensor and surface) and every sensor period returns a reading (accel, gyro
+from MuJoCo's site sensors; the rest from the effects; NaN where no effect simulates a
+channel) with the ground truth: contact point, surface normal and force, the attitude of
+`sensor_link`, the texture under the edge. The physics steps at the largest step no
+longer than the scene's `timestep_s` that divides the sensor period (2 ms asked at
+350 Hz: 1.43 ms, two steps per sample; at 120 Hz: 1.67 ms, five), so every sample falls
+on a physics instant and sample k is taken at exactly k / rate, as a sensor would.
 edge. Inputs of the effects are computed only when an enabled effect asks for them.
 """
 
@@ -14,6 +17,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass
+import math
 from typing import Any
 
 import mujoco
@@ -21,12 +25,18 @@ import numpy as np
 
 from tactex_description.geometry import JOINT_STATE_NAMES, OPEN_MANIPULATOR_X
 from tactex_description.mjcf import build_mjcf, IMU_SITE, SENSOR_EDGE_GEOM, SENSOR_GEOM
-from tactex_sim.effects import Effect, effect_class, Reading
+from tactex_sim.effects import Effect, effect_class, EFFECTS, Reading
+from tactex_sim.errors import SimError
 from tactex_sim.scene import Scene
 from tactex_sim.textures import texture as find_texture
 
 SURFACE_GEOM = 'surface'
 PRESS_STIFFNESS_N_M = OPEN_MANIPULATOR_X.joint('sensor_press').stiffness
+# The compliant body's travel: no body compresses further, welded or not.
+PRESS_TRAVEL_M = -OPEN_MANIPULATOR_X.joint('sensor_press').lower
+# MuJoCo's warnings that the state went non-finite or huge (it resets the state then).
+_DIVERGED = (mujoco.mjtWarning.mjWARN_BADQPOS, mujoco.mjtWarning.mjWARN_BADQVEL,
+             mujoco.mjtWarning.mjWARN_BADQACC)
 
 
 @dataclass(frozen=True)
@@ -66,23 +76,24 @@ class Sample:
     truth: GroundTruth
 
 
-class _Inputs(Mapping):
-    """Effect inputs, each computed on first use within one sample."""
+class _DeclaredInputs(Mapping):
+    """The inputs one effect declared: each computed by the world on first use per sample."""
 
-    def __init__(self, world: World) -> None:
+    def __init__(self, world: World, effect: Effect) -> None:
         self._world = world
-        self._cache: dict[str, Any] = {}
+        self._effect = effect
 
     def __getitem__(self, key: str) -> Any:
-        if key not in self._cache:
-            self._cache[key] = self._world._input(key)  # noqa: SLF001 - the world's helper
-        return self._cache[key]
+        if key not in self._effect.reads:
+            raise KeyError(f'effect {self._effect.name!r} reads {key!r} without declaring it; '
+                           f'it declares {sorted(self._effect.reads)}')
+        return self._world.input(key)
 
     def __iter__(self):
-        return iter(self._cache)
+        return iter(self._effect.reads)
 
     def __len__(self) -> int:
-        return len(self._cache)
+        return len(self._effect.reads)
 
 
 class World:
@@ -109,38 +120,43 @@ class World:
         for patch in self._patches:
             find_texture(patch.texture)
         self.effects: list[Effect] = []
-        for name in scene.effects:
-            options = dict(scene.effect_options.get(name, {}))
-            if name == 'texture':
+        # Registry order, whatever the scene's order (effect_class names unknown ones).
+        for cls in sorted(map(effect_class, scene.effects), key=list(EFFECTS.values()).index):
+            options = dict(scene.effect_options.get(cls.name, {}))
+            if cls.name == 'texture':
                 options.setdefault('heading_rad', texture_heading_rad)
-            if name == 'barometer':
+            if cls.name == 'barometer':
                 options.setdefault('drift_pa_per_s', drift_pa_per_s)
-            self.effects.append(effect_class(name)(self.rng, noise_scale, **options))
-        enabled = {e.name for e in self.effects}
+            self.effects.append(cls(self.rng, noise_scale, **options))
+        written = frozenset().union(*(e.writes for e in self.effects))
+        self.period_s = 1.0 / scene.sensor_rate_hz
+        # Steps per sample; the tolerance keeps a step that divides the period exactly.
+        self.substeps = max(1, math.ceil(self.period_s / scene.timestep_s - 1e-9))
         self.model = mujoco.MjModel.from_xml_string(build_mjcf(
-            timestep_s=scene.timestep_s, compliant='compliance' in enabled,
+            timestep_s=self.period_s / self.substeps, compliant='sensor pose' in written,
             assets_xml=self._surface_assets(), worldbody_xml=self._surface_geoms(),
             sensors_xml=f'<accelerometer name="accel" site="{IMU_SITE}"/>'
                         f'<gyro name="gyro" site="{IMU_SITE}"/>'))
         if scene.surface.kind == 'uneven':
             self._fill_heightfield()
-        if 'contact' not in enabled:
+        if 'contact' not in written:
             self.model.opt.disableflags |= mujoco.mjtDisableBit.mjDSBL_CONTACT
         self.data = mujoco.MjData(self.model)
         self._arm_qpos = [self.model.joint(n).qposadr[0] for n in JOINT_STATE_NAMES]
         self._press = (self.model.joint('sensor_press').qposadr[0]
-                       if 'compliance' in enabled else None)
+                       if 'sensor pose' in written else None)
         self._sensor_geoms = {self.model.geom(SENSOR_GEOM).id,
                               self.model.geom(SENSOR_EDGE_GEOM).id}
         self._surface_geom = self.model.geom(SURFACE_GEOM).id
         self._edge_body = self.model.body('sensor_edge').id
         self._sensor_body = self.model.body('sensor_link').id
         self._site = self.model.site(IMU_SITE).id
-        self.period_s = 1.0 / scene.sensor_rate_hz
-        self._next_sample_s = 0.0
+        self._samples_taken = 0
+        self._sample_time_s = 0.0
         self._force = np.zeros(6)
         self._edge_velocity = np.zeros(6)
-        self._inputs: _Inputs | None = None
+        self._cache: dict[str, Any] = {}
+        self._effect_inputs = [(effect, _DeclaredInputs(self, effect)) for effect in self.effects]
         self.controller = None  # callable(time_s) -> joint targets, before every step
         for effect in self.effects:
             effect.after_compile(self.model, self.data)
@@ -203,30 +219,57 @@ class World:
         return self.data.qvel[[self.model.joint(n).dofadr[0] for n in JOINT_STATE_NAMES]]
 
     def next_sample(self) -> Sample:
-        """Step to the next sensor instant and return what the sensor reads there."""
-        while self.data.time + 0.5 * self.model.opt.timestep < self._next_sample_s:
+        """Step to the next sensor instant and return what the sensor reads there.
+
+        The first sample is the initial state (time 0); sample k is taken at exactly
+        k / sensor_rate_hz, `substeps` physics steps after the previous one.
+
+        Raises:
+            SimError: the physics diverged (MuJoCo found a non-finite or huge state and
+                reset it) or the controller gave non-finite targets.
+        """
+        warnings = [self.data.warning[w].number for w in _DIVERGED]
+        for _ in range(self.substeps if self._samples_taken else 0):
             if self.controller is not None:
-                self.set_arm_targets(self.controller(self.data.time))
+                targets = np.asarray(self.controller(self.data.time), dtype=float)
+                if not np.all(np.isfinite(targets)):
+                    raise SimError(f'controller gave non-finite joint targets {targets!r} at '
+                                   f't={self.data.time:.4f} s')
+                self.set_arm_targets(targets)
             mujoco.mj_step(self.model, self.data)
-        self._next_sample_s += self.period_s
+        if [self.data.warning[w].number for w in _DIVERGED] != warnings:
+            raise SimError(f'the physics diverged before t={self.data.time:.4f} s (a '
+                           f'non-finite or huge state; MuJoCo reset it)')
+        self._sample_time_s = sample_time_s = self._samples_taken * self.period_s
+        self._samples_taken += 1
         sensordata = self.data.sensordata
         reading = Reading(sensordata[0:3].copy(), sensordata[3:6].copy())
-        self._inputs = _Inputs(self)
-        for effect in self.effects:
-            effect.apply(reading, self._inputs)
-        truth = GroundTruth(self.time_s, self._inputs['contact'],
+        self._cache.clear()
+        for effect, inputs in self._effect_inputs:
+            effect.apply(reading, inputs)
+        truth = GroundTruth(sample_time_s, self.input('contact'),
                             self.data.xquat[self._sensor_body].copy(),
                             self.data.xpos[self._edge_body].copy(),
                             self._texture_name_at(self.data.xpos[self._edge_body]))
-        return Sample(self.time_s, reading.accel, reading.gyro, reading.mag, reading.pressure,
-                      reading.temperature, truth)
+        return Sample(sample_time_s, reading.accel, reading.gyro, reading.mag,
+                      reading.pressure, reading.temperature, truth)
 
     # -- inputs -----------------------------------------------------------------------
     def _texture_name_at(self, position) -> str:
         patch = next((p for p in self._patches if p.contains(position[0], position[1])), None)
         return '' if patch is None else patch.texture
 
-    def _input(self, key: str) -> Any:
+    def input(self, key: str) -> Any:
+        """An effect input at the present sample, computed once per sample.
+
+        Raises:
+            KeyError: no such input.
+        """
+        if key not in self._cache:
+            self._cache[key] = self._compute(key)
+        return self._cache[key]
+
+    def _compute(self, key: str) -> Any:
         if key == 'contact':
             return self.contact()
         if key == 'edge velocity':
@@ -234,8 +277,8 @@ class World:
                                      self._edge_body, self._edge_velocity, 0)
             return self._edge_velocity[3:].copy()
         if key == 'texture':
-            name = self._texture_name_at(self._inputs['contact'].point) \
-                if self._inputs['contact'].touching else ''
+            name = self._texture_name_at(self.input('contact').point) \
+                if self.input('contact').touching else ''
             return find_texture(name) if name else None
         if key == 'sensor rotation':
             return self.data.site_xmat[self._site].reshape(3, 3).copy()
@@ -245,9 +288,9 @@ class World:
             if self._press is not None:
                 return max(0.0, -float(self.data.qpos[self._press]))
             # Welded body: what the compliant one would compress under this force.
-            return self._inputs['contact'].force / PRESS_STIFFNESS_N_M
+            return min(self.input('contact').force / PRESS_STIFFNESS_N_M, PRESS_TRAVEL_M)
         if key == 'time':
-            return self.time_s
+            return self._sample_time_s
         if key == 'sample rate':
             return self.scene.sensor_rate_hz
         raise KeyError(f'no input {key!r}')

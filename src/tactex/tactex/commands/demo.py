@@ -12,13 +12,19 @@ Slice 3, data: scripted sweeps over three textures in the MuJoCo texture scene a
 recorded as bags and converted into a windowed dataset. Slice 4, classification: the
 statistics + ExtraTrees baseline, cross-validated by recording. Probing and the online
 classifier are not in it yet.
+
+Each slice states a threshold and is measured against it (the worst tracking error, the
+filter's tilt error and how much of the stream it saw, the grouped accuracy); the demo
+ends with a table of every figure and exits 1, naming the slice, when one is missed.
 """
 
 from __future__ import annotations
 
 import argparse
+from dataclasses import dataclass
 import math
 from pathlib import Path
+import sys
 
 import numpy as np
 
@@ -27,6 +33,35 @@ from tactex.options import integer, number
 
 # Folds of the demo's grouped cross-validation.
 DEMO_FOLDS = 3
+# The thresholds each slice is held to.
+TRACKING_LIMIT_MM = 2.0  # worst steady-state error of the sensor edge at a waypoint
+ROLL_LIMIT_DEG = 1.0  # Madgwick estimate vs the emulated 20 deg roll
+MIN_DECODED_FRAMES = 350  # one second of the 3 s stream, so the filter really ran
+ACCURACY_FLOOR = 0.70  # grouped, 3 textures, two of them alike (chance 0.33; 0.86 seen)
+
+
+@dataclass(frozen=True)
+class Check:
+    """One figure of a slice against the threshold it is held to."""
+
+    slice_name: str
+    figure: str
+    value: float
+    limit: float
+    unit: str
+    at_least: bool = False  # True: the figure must reach the limit; False: stay within it
+
+    @property
+    def passed(self) -> bool:
+        """Whether the figure meets its threshold (NaN never does)."""
+        return self.value >= self.limit if self.at_least else self.value <= self.limit
+
+    def line(self) -> str:
+        """`slice: figure value (threshold): PASS|FAIL`."""
+        bound = '>=' if self.at_least else '<='
+        return (f'{self.slice_name}: {self.figure} {self.value:.4g} {self.unit} '
+                f'(threshold {bound} {self.limit:g} {self.unit}): '
+                f'{"PASS" if self.passed else "FAIL"}')
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -42,6 +77,20 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    """Run every slice, print each figure against its threshold; 1 if one is missed."""
+    checks = [*_description_slice(args.points, args.settle_s), *_sensor_slice(),
+              *_data_and_classification_slices(args.sweeps)]
+    print('\ntactex demo, summary:')
+    for check in checks:
+        print(f'  {check.line()}')
+    missed = [check for check in checks if not check.passed]
+    for check in missed:
+        print(f'error: {check.slice_name} missed its threshold: {check.line()}',
+              file=sys.stderr)
+    return 1 if missed else 0
+
+
+def _description_slice(points: int, settle_s: float) -> list[Check]:
     """Play the probe motion in MuJoCo and print the tracking error per waypoint."""
     import mujoco
 
@@ -56,16 +105,16 @@ def run(args: argparse.Namespace) -> int:
     joints = [model.joint(name).qposadr[0] for name in ARM_JOINT_NAMES]
     seed = np.array([0.0, -0.3, 0.3, 1.5])
     waypoints = []
-    for station in range(args.points):
+    for station in range(points):
         x = 0.10 + 0.01 * station
         waypoints += [(x, 0.0, 0.08), (x, 0.0, 0.03), (x, 0.0, 0.08)]
     print(f'{"target x,y,z (m)":<26}{"reached x,y,z (m)":<28}{"error (mm)":>10}')
     worst = 0.0
-    steps = int(round(args.settle_s / model.opt.timestep))
+    steps = int(round(settle_s / model.opt.timestep))
     for target in waypoints:
         result = inverse_kinematics(target, math.pi / 2, seed=seed)
         if not result.reachable:
-            raise CommandError(f'--points {args.points}: waypoint {target} is unreachable: '
+            raise CommandError(f'--points {points}: waypoint {target} is unreachable: '
                                f'{result.detail}; use fewer points')
         seed = result.solutions[0]
         data.ctrl[:4] = seed
@@ -77,10 +126,10 @@ def run(args: argparse.Namespace) -> int:
         print(f'{_xyz(target):<26}{_xyz(reached):<28}{error_mm:>10.2f}')
     print(f'\n{len(waypoints)} waypoints, worst steady-state error {worst:.2f} mm '
           '(position servos under gravity).')
-    return _sensor_slice() or _data_and_classification_slices(args.sweeps)
+    return [Check('slice 1', 'worst tracking error', worst, TRACKING_LIMIT_MM, 'mm')]
 
 
-def _sensor_slice() -> int:
+def _sensor_slice() -> list[Check]:
     """Emulated Teensy -> pty -> decoder -> Madgwick; print what arrived and the tilt."""
     import tempfile
     import threading
@@ -116,7 +165,9 @@ def _sensor_slice() -> int:
     print(f'frames decoded {stats.frames}, CRC errors {stats.crc_errors}, '
           f'lost {stats.lost_frames}, garbage bytes discarded {stats.discarded_bytes}')
     print(f'estimated roll {roll:.2f} deg (emulated {roll_deg:.1f} deg)')
-    return 0 if stats.frames > 900 and abs(roll - roll_deg) < 1.0 else 1
+    return [Check('slice 2', 'frames decoded', stats.frames, MIN_DECODED_FRAMES, 'frames',
+                  at_least=True),
+            Check('slice 2', 'roll error', abs(roll - roll_deg), ROLL_LIMIT_DEG, 'deg')]
 
 
 def _xyz(values) -> str:
@@ -126,7 +177,7 @@ def _xyz(values) -> str:
 DEMO_TEXTURES = ('ridged polymer', 'open weave cotton', 'tight weave cotton')
 
 
-def _data_and_classification_slices(sweeps: int) -> int:
+def _data_and_classification_slices(sweeps: int) -> list[Check]:
     """Simulated sweeps -> bags -> dataset -> grouped cross-validation of a baseline."""
     import tempfile
 
@@ -153,9 +204,11 @@ def _data_and_classification_slices(sweeps: int) -> int:
     for note in result.notes:
         print(f'note: {note}')
     matrix = confusion(dataset.y, result.proba.argmax(axis=1), len(dataset.classes))
-    print(f'accuracy {100 * metrics(matrix, dataset.classes)["accuracy"]:.1f} % over '
-          f'{len(dataset.X)} windows; confusion (rows true, columns predicted):')
+    accuracy = metrics(matrix, dataset.classes)['accuracy']
+    print(f'accuracy {100 * accuracy:.1f} % over {len(dataset.X)} windows; confusion '
+          f'(rows true, columns predicted):')
     for name, row in zip(dataset.classes, matrix, strict=True):
         print(f'  {name:<20}' + ''.join(f'{count:>6}' for count in row))
     print('The two cotton weaves are meant to be confused: alike in reality, alike here.')
-    return 0
+    return [Check('slice 4', 'grouped accuracy', 100 * accuracy, 100 * ACCURACY_FLOOR, '%',
+                  at_least=True)]

@@ -1,0 +1,36 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""The README's benchmark figures are what bench/render_results.py makes of bench/results/."""
+
+import importlib.util
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _renderer():
+    spec = importlib.util.spec_from_file_location('render_results',
+                                                  ROOT / 'bench' / 'render_results.py')
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_every_generated_readme_section_equals_its_rendering_of_the_kept_outputs():
+    renderer = _renderer()
+    readme = (ROOT / 'README.md').read_text(encoding='utf-8')
+    sections = renderer.render()
+    assert renderer.rewrite(readme, sections) == readme
+    assert renderer.stale(readme, sections) == []
+
+
+def test_a_changed_figure_or_a_missing_marker_is_caught():
+    renderer = _renderer()
+    readme = (ROOT / 'README.md').read_text(encoding='utf-8')
+    sections = renderer.render()
+    assert renderer.stale(readme.replace(sections['driver'], 'a full cycle takes 0.1 ms\n'),
+                          sections) == ['driver']
+    with pytest.raises(ValueError, match=r"missing \['driver'\]"):
+        renderer.rewrite(readme.replace('<!-- results:driver -->', ''), sections)
