@@ -15,11 +15,13 @@ contact (ground truth), worst 0.25 s window of the sliding speed (in brackets: o
 edge where the arm's joints hold it, before the compliant body), press depth error
 (rms; in brackets the share of the plan itself, before the arm's tracking), and the
 planning time (best of 5 plans, one BLAS thread; the median over the pathways). Table
-on stdout, curves in bench/results/sweep_accuracy.png.
+on stdout, the numbers in bench/results/sweep.json, curves in
+bench/results/sweep_accuracy.png.
 """
 
 from __future__ import annotations
 
+import json
 import os
 
 os.environ.setdefault('OPENBLAS_NUM_THREADS', '1')  # planning time on one core
@@ -160,6 +162,12 @@ def main() -> None:
           f'{default["depth"]:.2f} mm rms ({default["depth"] / reference["depth"]:.2f}x the '
           f'scripted sweep on the true surface), planned in {default["plan_ms"]:.0f} ms.')
     plot(by_samples, by_step, reference)
+    (RESULTS / 'sweep.json').write_text(json.dumps(
+        {'speed_m_s': SPEED, 'edge_offset_rad': OFFSET, 'press_depth_m': DEPTH,
+         'pathways': len(SEEDS), 'reference': reference,
+         'by_samples': {str(k): v for k, v in by_samples.items()},
+         'by_step_mm': {f'{k * 1e3:g}': v for k, v in by_step.items()}}, indent=1) + '\n',
+        encoding='utf-8')
     print(f'({time.monotonic() - started:.0f} s)', file=sys.stderr)
 
 
