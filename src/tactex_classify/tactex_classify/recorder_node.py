@@ -12,9 +12,7 @@ import rclpy
 from rclpy.node import Node
 
 from tactex_classify.recorder import RECORDED_TOPICS, SplitRecorder
-from tactex_common.ros import COMMAND, LATCHED, message_class, SENSOR_DATA, spin
-
-QOS = {'sensor': SENSOR_DATA, 'command': COMMAND, 'latched': LATCHED}
+from tactex_common.ros import message_class, RECORDING, spin
 
 
 class RecorderNode(Node):
@@ -51,7 +49,7 @@ class RecorderNode(Node):
         for topic, type_name, qos in RECORDED_TOPICS:
             self._recorder.add_topic(topic, type_name)
             self.create_subscription(message_class(type_name), topic, self._writer_for(topic),
-                                     QOS[qos], raw=True)
+                                     RECORDING[qos], raw=True)
         self.get_logger().info(f'recording to {out} ({metadata})')
 
     def _writer_for(self, topic: str):

@@ -30,7 +30,6 @@ from rclpy.action import ActionServer, CancelResponse, GoalResponse
 from rclpy.callback_groups import MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
 from rclpy.executors import MultiThreadedExecutor
 from rclpy.node import Node
-from rclpy.qos import QoSProfile
 from sensor_msgs.msg import FluidPressure, JointState
 from std_msgs.msg import Bool, ColorRGBA, String
 from std_srvs.srv import Trigger
@@ -39,7 +38,7 @@ from visualization_msgs.msg import Marker, MarkerArray
 
 from tactex_classify.recorder import RECORDED_TOPICS, SplitRecorder
 from tactex_common import topics
-from tactex_common.ros import COMMAND, LATCHED, message_class, SENSOR_DATA, spin
+from tactex_common.ros import COMMAND, LATCHED, message_class, RECORDING, SENSOR_DATA, spin
 from tactex_common.stamps import stamp_ns
 from tactex_description.geometry import ARM_JOINT_NAMES
 from tactex_msgs.action import Sweep
@@ -51,13 +50,6 @@ from tactex_trajectory.planner import plan_sweep, retract, SweepPlan, SweepSetti
 from tactex_trajectory.poses import ARM, PoseSettings
 from tactex_trajectory.timing import TimedJoints
 
-RECORD_QUEUE_DEPTH = 500
-# Recording subscriptions: the recorder's QoS, with a deep queue for the sensor streams
-# (a busy moment must not drop samples a recording keeps).
-QOS = {'sensor': QoSProfile(history=SENSOR_DATA.history, depth=RECORD_QUEUE_DEPTH,
-                            reliability=SENSOR_DATA.reliability,
-                            durability=SENSOR_DATA.durability),
-       'command': COMMAND, 'latched': LATCHED}
 # Period of the watch loop and of the feedback (s, node clock).
 WATCH_PERIOD_S = 0.01
 FEEDBACK_PERIOD_S = 0.1
@@ -482,7 +474,8 @@ class SweepNode(Node):
             self._recorder = recorder
         self._recording_subscriptions = [
             self.create_subscription(message_class(type_name), topic, self._writer_for(topic),
-                                     QOS[qos], raw=True, callback_group=self._record_group)
+                                     RECORDING[qos], raw=True,
+                                     callback_group=self._record_group)
             for topic, type_name, qos in RECORDED_TOPICS
             if topic != topics.RECORDING_METADATA]
         self.get_logger().info(f'recording to {root}')
