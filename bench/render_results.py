@@ -293,11 +293,41 @@ def compare() -> str:
             '![accuracy](bench/results/compare/accuracy.png)\n')
 
 
+def sweep() -> str:
+    data = _json('sweep.json')
+
+    def row(label: str, numbers: dict) -> str:
+        return (f'| {label} | {numbers["contact"]:.1f} | {numbers["speed"]:.1f} '
+                f'({numbers["arm_speed"]:.1f}) | {numbers["depth"]:.2f} '
+                f'({numbers["planned"]:.2f}) | {numbers["bias"]:+.2f} | '
+                f'{numbers["plan_ms"]:.0f} |')
+
+    reference, default = data['reference'], data['by_step_mm']['10']
+    lines = ["| sweep | contact % (worst pathway) | worst speed window % (arm's edge) | "
+             "press depth error rms mm (the plan's share) | mean mm | planning ms |",
+             '|---|---|---|---|---|---|',
+             row('scripted, on the true surface (reference)', reference)]
+    lines += [row(f'{count} trajectory points, probed every 10 mm', numbers)
+              for count, numbers in data['by_samples'].items()]
+    lines += [row(f'probed every {step} mm, a point every 2 mm', numbers)
+              for step, numbers in data['by_step_mm'].items()]
+    return ('\n'.join(lines) + '\n\n' +
+            f'With the defaults (probing every 10 mm, a point every 2 mm), over '
+            f'{data["pathways"]} pathways: {default["contact"]:.1f} % of the contact segment '
+            f'in contact at worst (threshold 95 %, goal 99 %); the worst 0.25 s window '
+            f'{default["speed"]:.1f} % off {data["speed_m_s"] * 1e3:g} mm/s (threshold 10 %, '
+            f'goal 5 %; the edge where the arm holds it {default["arm_speed"]:.1f} %); the '
+            f'press depth {default["depth"]:.2f} mm rms off the asked '
+            f'{data["press_depth_m"] * 1e3:g} mm ({default["depth"] / reference["depth"]:.2f}x '
+            f'the scripted sweep that knows the surface), of which the plan '
+            f'{default["planned"]:.2f} mm; planned in {default["plan_ms"]:.0f} ms.\n')
+
+
 SECTIONS: dict[str, Callable[[], str]] = {
     'sensor_decoder': sensor_decoder, 'sensor_node': sensor_node, 'madgwick': madgwick,
     'driver': driver, 'sim': sim, 'convert': convert, 'synthetic_set': synthetic_set,
-    'textures': textures, 'init': init, 'kinematics': kinematics, 'sim_collect': sim_collect,
-    'training': training, 'compare': compare}
+    'textures': textures, 'init': init, 'kinematics': kinematics, 'sweep': sweep,
+    'sim_collect': sim_collect, 'training': training, 'compare': compare}
 
 
 def _wrapped(text: str) -> str:

@@ -33,6 +33,7 @@ ROS_FACING = frozenset({
     'tactex_sensor.madgwick_node',
     'tactex_sensor.teensy_node',
     'tactex_sim.mujoco_bridge_node',
+    'tactex_trajectory.sweep_node',
 })
 # Layers, bottom first: a package imports only packages of a lower layer (and itself).
 LAYERS = {'tactex_common': 0, 'tactex_msgs': 0, 'tactex_description': 1, 'tactex_sensor': 2,

@@ -21,6 +21,8 @@ setup(
     description='Pathway to edge-offset sweep poses, timing and the trajectory executor.',
     license='Apache-2.0',
     entry_points={
-        'console_scripts': [],
+        'console_scripts': [
+            'sweep_node = tactex_trajectory.sweep_node:main',
+        ],
     },
 )

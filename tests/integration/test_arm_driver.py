@@ -115,15 +115,18 @@ ARM = ['joint1', 'joint2', 'joint3', 'joint4']
 def test_joint_states_at_100_hz_with_all_joints(rig):
     harness, _ = rig
     count = len(harness.states)
-    harness.spin(1.0)
-    assert 80 <= len(harness.states) - count <= 110
+    assert harness.spin(until=lambda: len(harness.states) > count + 100, timeout=20)
+    stamps = np.array([m.header.stamp.sec + 1e-9 * m.header.stamp.nanosec
+                       for m in harness.states[count:]])
+    # The median period is the loop's rate whatever else the machine is doing.
+    assert 0.008 <= float(np.median(np.diff(stamps))) <= 0.0125
     assert harness.states[-1].name == ['joint1', 'joint2', 'joint3', 'joint4', 'gripper']
 
 
 def test_executes_a_trajectory(rig):
     harness, chain = rig
     harness.send(ARM, [(0.0, [0.0, 0.0, 0.0, 0.0]), (1.0, [0.4, -0.2, 0.3, 0.1])])
-    assert harness.spin(until=lambda: abs(harness.position('joint1') - 0.4) < 0.01, timeout=5)
+    assert harness.spin(until=lambda: abs(harness.position('joint1') - 0.4) < 0.01, timeout=15)
     assert abs(harness.position('joint3') - 0.3) < 0.01
     assert harness.driver.mode.value == 'holding'
 
@@ -155,7 +158,7 @@ def test_stop_service_holds_midway(rig):
     from std_srvs.srv import Trigger
     harness, _ = rig
     harness.send(ARM, [(0.0, [0, 0, 0, 0]), (2.0, [1.0, 0, 0, 0])])
-    harness.spin(0.6)
+    assert harness.spin(until=lambda: harness.position('joint1') > 0.1, timeout=15)
     assert harness.call(harness.stop_client, Trigger.Request()).success
     harness.spin(0.5)
     held = harness.position('joint1')

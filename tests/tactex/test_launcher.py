@@ -13,7 +13,13 @@ import time
 
 import pytest
 
-from tactex.launch_spec import launch_directory, LaunchError, load_launch_file, NodeSpec
+from tactex.launch_spec import (
+    launch_directory,
+    LaunchError,
+    load_launch_file,
+    NodeSpec,
+    visualisation_nodes,
+)
 from tactex.launcher import Launcher, node_command
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -177,3 +183,22 @@ def test_a_respawning_node_is_restarted(tmp_path):
     launcher.start()
     assert launcher.supervise(until=lambda: launcher.restarts('bridge') >= 2) == 0
     assert sum('respawning' in line for line in lines) >= 2
+
+
+@pytest.mark.ros
+def test_a_urdf_parameter_reaches_the_node_as_the_same_text():
+    import rclpy
+    publisher, viewer = visualisation_nodes()
+    urdf = publisher.parameters[0]['robot_description']
+    spec = NodeSpec('tactex_sensor', 'madgwick_node', 'x', parameters=(publisher.parameters[0],))
+    arguments = node_command(spec)[node_command(spec).index('--ros-args'):]
+    context = rclpy.context.Context()
+    rclpy.init(args=arguments, context=context)
+    try:
+        node = rclpy.create_node('x', context=context,
+                                 automatically_declare_parameters_from_overrides=True)
+        assert node.get_parameter('robot_description').value == urdf
+        node.destroy_node()
+    finally:
+        rclpy.shutdown(context=context)
+    assert viewer.arguments[0] == '-d' and viewer.arguments[1].endswith('tactex.rviz')

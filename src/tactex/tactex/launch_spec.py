@@ -47,6 +47,7 @@ class NodeSpec:
         parameters: YAML parameter files (paths) and dicts of parameter values, in order.
         remappings: (from, to) topic remappings.
         respawn: restart the node when it exits (the launcher waits `respawn_delay_s`).
+        arguments: command-line arguments before the ROS arguments (e.g. rviz2's -d).
     """
 
     package: str
@@ -56,6 +57,7 @@ class NodeSpec:
     remappings: tuple[tuple[str, str], ...] = ()
     respawn: bool = False
     respawn_delay_s: float = 1.0
+    arguments: tuple[str, ...] = ()
 
 
 # Every launch file takes these; both launch paths apply them to every node.
@@ -114,6 +116,17 @@ class LaunchFile:
 def config_path(name: str) -> str:
     """Path of a parameter file of the tactex package's config/ folder."""
     return str(share_directory('tactex') / 'config' / name)
+
+
+def visualisation_nodes() -> list[NodeSpec]:
+    """robot_state_publisher on the generated URDF and RViz with config/tactex.rviz.
+
+    For full ROS 2 installs (neither is on PyPI); launch files start them with rviz:=true.
+    """
+    urdf = share_directory('tactex_description') / 'urdf' / 'open_manipulator_x_tactile.urdf'
+    return [NodeSpec('robot_state_publisher', 'robot_state_publisher', 'robot_state_publisher',
+                     parameters=({'robot_description': urdf.read_text(encoding='utf-8')},)),
+            NodeSpec('rviz2', 'rviz2', 'rviz2', arguments=('-d', config_path('tactex.rviz')))]
 
 
 def is_true(value: str) -> bool:

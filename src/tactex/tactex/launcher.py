@@ -15,6 +15,7 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping, Sequence
 import ctypes
 from dataclasses import dataclass
+import json
 import os
 from pathlib import Path
 import shutil
@@ -52,7 +53,13 @@ def find_executable(package: str, executable: str) -> str:
 
 
 def _yaml_value(value: Any) -> str:
-    """A parameter value as `-p name:=value` spells it (YAML)."""
+    """A parameter value as `-p name:=value` spells it (YAML).
+
+    Text of several lines (a URDF) is quoted (a JSON string is a YAML string), so it stays
+    text; a one-line string is YAML-typed, as ros2 launch types it.
+    """
+    if isinstance(value, str) and '\n' in value:
+        return json.dumps(value)
     if isinstance(value, bool):
         return 'true' if value else 'false'
     if isinstance(value, (list, tuple)):
@@ -62,7 +69,7 @@ def _yaml_value(value: Any) -> str:
 
 def node_command(spec: NodeSpec, namespace: str = '') -> list[str]:
     """The command line that starts `spec` (name, namespace, parameters, remappings)."""
-    command = [find_executable(spec.package, spec.executable), '--ros-args',
+    command = [find_executable(spec.package, spec.executable), *spec.arguments, '--ros-args',
                '-r', f'__node:={spec.name}']
     if namespace:
         command += ['-r', f'__ns:=/{namespace.strip("/")}']

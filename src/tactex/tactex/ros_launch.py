@@ -17,6 +17,7 @@ from launch.actions import (
 )
 from launch.substitutions import LaunchConfiguration
 from launch_ros.actions import Node, PushRosNamespace
+from launch_ros.parameter_descriptions import ParameterValue
 
 from tactex.launch_spec import DISCOVERY_RANGE, LaunchFile
 
@@ -29,11 +30,21 @@ def launch_description(launch: LaunchFile) -> LaunchDescription:
     return LaunchDescription([*declared, OpaqueFunction(function=_nodes, args=[launch])])
 
 
+def _typed(parameters):
+    """Text of several lines (a URDF) stays text; one-line strings are YAML-typed."""
+    if isinstance(parameters, str):
+        return parameters
+    return {name: ParameterValue(value, value_type=str)
+            if isinstance(value, str) and '\n' in value else value
+            for name, value in parameters.items()}
+
+
 def _nodes(context: LaunchContext, launch: LaunchFile) -> list:
     values = {a.name: LaunchConfiguration(a.name).perform(context)
               for a in launch.all_arguments}
     nodes = [Node(package=spec.package, executable=spec.executable, name=spec.name,
-                  parameters=list(spec.parameters), remappings=list(spec.remappings),
+                  parameters=[_typed(p) for p in spec.parameters],
+                  remappings=list(spec.remappings), arguments=list(spec.arguments),
                   respawn=spec.respawn, respawn_delay=spec.respawn_delay_s, output='screen')
              for spec in launch.node_specs(values)]
     actions = [SetEnvironmentVariable('ROS_AUTOMATIC_DISCOVERY_RANGE',

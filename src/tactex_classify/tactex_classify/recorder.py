@@ -24,6 +24,19 @@ from tactex_common import topics
 from tactex_common.interfaces import typestore
 
 TYPESTORE = typestore()  # the Kilted types and tactex_msgs
+# What a recording holds: (topic, message type, QoS: 'sensor', 'command' or 'latched').
+# The metadata topic carries what a sweep node publishes (label, trial, parameters); it
+# updates the recorder's own metadata when a recording is converted.
+RECORDED_TOPICS = (
+    (topics.IMU_RAW, 'sensor_msgs/msg/Imu', 'sensor'),
+    (topics.MAG, 'sensor_msgs/msg/MagneticField', 'sensor'),
+    (topics.PRESSURE, 'sensor_msgs/msg/FluidPressure', 'sensor'),
+    (topics.TEMPERATURE, 'sensor_msgs/msg/Temperature', 'sensor'),
+    (topics.JOINT_STATES, 'sensor_msgs/msg/JointState', 'command'),
+    (topics.PROBE_CONTACTS, 'geometry_msgs/msg/PoseArray', 'command'),
+    (topics.SWEEP_ACTIVE, 'std_msgs/msg/Bool', 'command'),
+    (topics.RECORDING_METADATA, 'std_msgs/msg/String', 'latched'),
+)
 
 
 class SplitRecorder:

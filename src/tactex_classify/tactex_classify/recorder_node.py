@@ -1,32 +1,18 @@
 # Copyright 2026 The tactex authors
 # SPDX-License-Identifier: Apache-2.0
-"""ROS 2 node recording the tactile topics, joint_states, contacts and sweep segments."""
+"""ROS 2 node recording the tactile topics, joint_states, contacts, sweep segments, metadata."""
 
 from __future__ import annotations
 
 import json
 from pathlib import Path
 
-from geometry_msgs.msg import PoseArray
 from rcl_interfaces.msg import ParameterDescriptor
 import rclpy
 from rclpy.node import Node
-from sensor_msgs.msg import FluidPressure, Imu, JointState, MagneticField, Temperature
-from std_msgs.msg import Bool
 
-from tactex_classify.recorder import SplitRecorder
-from tactex_common import topics
-from tactex_common.ros import COMMAND, SENSOR_DATA, spin
-
-RECORDED = (
-    (topics.IMU_RAW, Imu, 'sensor_msgs/msg/Imu', True),
-    (topics.MAG, MagneticField, 'sensor_msgs/msg/MagneticField', True),
-    (topics.PRESSURE, FluidPressure, 'sensor_msgs/msg/FluidPressure', True),
-    (topics.TEMPERATURE, Temperature, 'sensor_msgs/msg/Temperature', True),
-    (topics.JOINT_STATES, JointState, 'sensor_msgs/msg/JointState', False),
-    (topics.PROBE_CONTACTS, PoseArray, 'geometry_msgs/msg/PoseArray', False),
-    (topics.SWEEP_ACTIVE, Bool, 'std_msgs/msg/Bool', False),
-)
+from tactex_classify.recorder import RECORDED_TOPICS, SplitRecorder
+from tactex_common.ros import message_class, RECORDING, spin
 
 
 class RecorderNode(Node):
@@ -60,11 +46,10 @@ class RecorderNode(Node):
             metadata['trial'] = trial
         self._recorder = SplitRecorder(Path(out), metadata, split_s=split_s,
                                        compress=compress).__enter__()
-        for topic, message_type, type_name, sensor in RECORDED:
+        for topic, type_name, qos in RECORDED_TOPICS:
             self._recorder.add_topic(topic, type_name)
-            self.create_subscription(
-                message_type, topic, self._writer_for(topic),
-                SENSOR_DATA if sensor else COMMAND, raw=True)
+            self.create_subscription(message_class(type_name), topic, self._writer_for(topic),
+                                     RECORDING[qos], raw=True)
         self.get_logger().info(f'recording to {out} ({metadata})')
 
     def _writer_for(self, topic: str):

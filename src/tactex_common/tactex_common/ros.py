@@ -8,6 +8,7 @@ This module imports rclpy; only nodes (and the launcher) import it.
 from __future__ import annotations
 
 from collections.abc import Callable
+import importlib
 
 import rclpy
 from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
@@ -29,6 +30,13 @@ COMMAND = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE,
 LATCHED = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
                      durability=DurabilityPolicy.TRANSIENT_LOCAL,
                      history=HistoryPolicy.KEEP_LAST)
+# Recording subscriptions by the kind of their topic (tactex_classify.recorder's
+# RECORDED_TOPICS): sensor streams best effort with a deep queue, so a busy moment of the
+# recorder drops nothing a recording keeps.
+RECORDING = {'sensor': QoSProfile(depth=500, reliability=ReliabilityPolicy.BEST_EFFORT,
+                                  durability=DurabilityPolicy.VOLATILE,
+                                  history=HistoryPolicy.KEEP_LAST),
+             'command': COMMAND, 'latched': LATCHED}
 
 
 def spin(make_node: Callable[[], Node], args: list[str] | None = None, *,
@@ -55,3 +63,16 @@ def spin(make_node: Callable[[], Node], args: list[str] | None = None, *,
         if node is not None:
             node.destroy_node()
         rclpy.try_shutdown()
+
+
+def message_class(type_name: str) -> type:
+    """The rclpy class of a message type named like 'sensor_msgs/msg/Imu'.
+
+    Raises:
+        ValueError: the name is not PACKAGE/msg/NAME.
+        ImportError, AttributeError: no such package or message.
+    """
+    parts = type_name.split('/')
+    if len(parts) != 3 or parts[1] != 'msg':
+        raise ValueError(f'expected a message type like sensor_msgs/msg/Imu, got {type_name!r}')
+    return getattr(importlib.import_module(f'{parts[0]}.msg'), parts[2])

@@ -16,6 +16,7 @@ PROBE_CONTACTS = 'probe/contacts'  # geometry_msgs/PoseArray, z axis = outward n
 PROBE_PATHWAY = 'probe/pathway'  # tactex_msgs/Pathway, transient-local
 PROBE_MARKERS = 'probe/markers'  # visualization_msgs/MarkerArray
 SWEEP_ACTIVE = 'sweep/active'  # std_msgs/Bool: true while the edge slides in contact
+SWEEP_MARKERS = 'sweep/markers'  # visualization_msgs/MarkerArray: the planned sweep
 RECORDING_METADATA = 'recording/metadata'  # std_msgs/String, JSON: label, trial, surface, ...
 TEXTURE_ESTIMATE = 'texture/estimate'  # tactex_msgs/TextureEstimate
 TEXTURE_MARKERS = 'texture/markers'  # visualization_msgs/MarkerArray

@@ -9,7 +9,9 @@ Arm values are ROBOTIS's OpenMANIPULATOR-X (RM-X52-TNM) description. Position li
 are ROBOTIS's (joint1 +-0.9 pi, joint2 -0.57..0.5 pi, joint3 -0.3..0.44 pi, joint4
 -0.57..0.65 pi). The velocity limit of the arm joints is 2.0 rad/s: the XM430-W350
 turns 4.8 rad/s unloaded at 12 V, and tactile exploration never needs more than a
-fraction of that, so the limit keeps a margin for the compliant sensor.
+fraction of that, so the limit keeps a margin for the compliant sensor. Planned
+trajectories also keep the arm joints within 4.0 rad/s^2 (URDF has no acceleration
+limit; the value is ours): full speed in half a second, gentle on the compliant body.
 
 The tactile module sits on a 3D-printed mount held by the gripper. Its compliant
 polyurethane body is modelled as revolute joints about x, y, z followed by a
@@ -69,6 +71,7 @@ class Joint:
     lower: float = 0.0
     upper: float = 0.0
     velocity: float = 0.0
+    acceleration: float = 0.0
     effort: float = 0.0
     stiffness: float = 0.0
     damping: float = 0.0
@@ -129,6 +132,7 @@ JOINT_STATE_NAMES = ARM_JOINT_NAMES + (GRIPPER_JOINT_NAME,)
 COMPLIANT_JOINT_NAMES = ('sensor_roll', 'sensor_pitch', 'sensor_yaw', 'sensor_press')
 
 ARM_VELOCITY_LIMIT = 2.0  # rad/s, see module docstring
+ARM_ACCELERATION_LIMIT = 4.0  # rad/s^2, see module docstring
 ARM_EFFORT_LIMIT = 4.1  # N m, XM430-W350 stall torque at 12 V
 
 _PI = math.pi
@@ -139,7 +143,7 @@ def _arm_joint(name: str, parent: str, child: str, origin_xyz: Vector3, axis: Ve
     """A servo joint of the arm, its position limits given in multiples of pi."""
     return Joint(name, parent, child, JointKind.REVOLUTE, JointRole.ARM, origin_xyz, axis=axis,
                  lower=lower_pi * _PI, upper=upper_pi * _PI, velocity=ARM_VELOCITY_LIMIT,
-                 effort=ARM_EFFORT_LIMIT)
+                 acceleration=ARM_ACCELERATION_LIMIT, effort=ARM_EFFORT_LIMIT)
 
 OPEN_MANIPULATOR_X = RobotGeometry(
     name='open_manipulator_x_tactile',

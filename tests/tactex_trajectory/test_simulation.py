@@ -1,0 +1,48 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""Accuracy in the simulator: sweeps of the uneven scene along a probed pathway.
+
+Thresholds of the issue: the edge in contact over >= 95 % of the planned contact segment
+and sliding within +-10 % of the set speed there (the goals, 99 % and +-5 %, are what
+bench/bench_sweep.py reports); the press depth the arm holds within 1 mm rms of the one
+asked (the edge stays pressed in). The pathways carry a probe's noise (1 mm, 2 deg) and
+its mistakes: a failed probe, a flipped normal and a contact 6 mm off the surface.
+"""
+
+from conftest import SCENE, START_JOINTS, wave_pathway
+import numpy as np
+import pytest
+
+from tactex_sim.world import World
+from tactex_trajectory.planner import plan_sweep
+from tactex_trajectory.simulation import execute, measure
+
+CONTACT_FRACTION_MIN = 0.95
+SPEED_ERROR_MAX = 0.10
+PRESS_DEPTH_ERROR_RMS_MAX_M = 0.001
+
+
+def probed_with_mistakes(seed):
+    points, normals = wave_pathway(seed)
+    ok = np.ones(len(points), dtype=bool)
+    ok[2] = False
+    normals[6] = -normals[6]
+    points[10, 2] += 0.006
+    return points, normals, ok
+
+
+@pytest.mark.parametrize('seed', [0, 1])
+def test_a_sweep_of_the_uneven_scene_meets_the_accuracy_thresholds(seed):
+    points, normals, ok = probed_with_mistakes(seed)
+    sweep = plan_sweep(points, normals, ok, START_JOINTS)
+    assert sorted(d.index for d in sweep.path.dropped) == [2, 6, 10]
+    record = execute(World(SCENE, seed=seed), sweep, start_joints=START_JOINTS)
+    result = measure(record, sweep, SCENE.surface)
+    assert result.contact_fraction >= CONTACT_FRACTION_MIN, result.summary()
+    assert result.speed_error_max <= SPEED_ERROR_MAX, result.summary()
+    assert result.press_depth_error_rms_m <= PRESS_DEPTH_ERROR_RMS_MAX_M, result.summary()
+    assert abs(result.speed_mean_m_s / 0.015 - 1.0) < 0.02
+    # Outside the segment the edge is lifted: no contact before the descent or after.
+    before = record.times_s < sweep.phase('descend').start_s
+    assert not np.any(record.touching[before])
+    assert not record.touching[-1]
