@@ -26,6 +26,8 @@ from tactex_description.geometry import (
 SENSOR_GEOM = 'sensor_body'
 SENSOR_EDGE_GEOM = 'sensor_edge_tip'
 IMU_SITE = 'sensor_imu'
+# Radius of the sphere at sensor_edge: the rim point that slides stands this far proud.
+EDGE_TIP_RADIUS_M = 0.002
 
 
 @dataclass(frozen=True)
@@ -73,7 +75,8 @@ def _link_geom(body: ET.Element, link: str, robot: RobotGeometry) -> None:
                       size=_fmt((rim_radius, face / 2)), pos=_fmt((0.0, 0.0, face / 2)),
                       rgba='0.95 0.8 0.2 1', friction='0.6 0.005 0.0001', condim='3')
     elif link == 'sensor_edge':
-        ET.SubElement(body, 'geom', name=SENSOR_EDGE_GEOM, type='sphere', size='0.002',
+        ET.SubElement(body, 'geom', name=SENSOR_EDGE_GEOM, type='sphere',
+                      size=repr(EDGE_TIP_RADIUS_M),
                       rgba='1 0.3 0.1 1', friction='0.6 0.005 0.0001', condim='3')
 
 
