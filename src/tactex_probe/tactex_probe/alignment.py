@@ -77,7 +77,7 @@ def next_tilt(touches: Sequence[TouchResult]) -> float:
         other = min(opposite, key=lambda t: abs(t.tilt - last.tilt))
         span = other.turn_rad - last.turn_rad
         fraction = last.turn_rad / span if abs(span) > 1e-12 else 0.5
-        step = fraction * (other.tilt - last.tilt)
+        step = -fraction * (other.tilt - last.tilt)
     elif len(touches) >= 2 and abs(last.tilt - touches[-2].tilt) > 1e-9:
         previous = touches[-2]
         slope = (last.turn_rad - previous.turn_rad) / (last.tilt - previous.tilt)

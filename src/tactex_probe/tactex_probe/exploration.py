@@ -781,8 +781,8 @@ class Explorer:
             where = 'face bearing point'
         detail = (f'{where}; {len(self._touches)} touch(es), {"flat" if flat else "NOT flat"}: '
                   f'face turned {math.degrees(estimate.turn_rad):+.2f} deg at tilt '
-                  f'{math.degrees(chosen.tilt):+.1f} deg; gravity cross-check '
-                  f'{math.degrees(estimate.agreement_rad):.2f} deg apart')
+                  f'{math.degrees(chosen.tilt):+.1f} deg; Madgwick and gravity '
+                  f'{math.degrees(estimate.agreement_rad):.2f} deg apart, {estimate.source} used')
         self._add(ProbeRecord(
             index=self._index, status=ContactStatus.OK, stamp_ns=event.onset_ns,
             position=tuple(float(v) for v in position),
@@ -826,9 +826,12 @@ def _confidence(estimate: NormalEstimate, flat: bool, channel: Channel) -> float
     """0..1: the two normals agree (Gaussian, 3 deg scale), the face lay flat, pressure saw it.
 
     A face that never lay flat gives a normal biased towards the tool's axis: it counts
-    a quarter. A contact seen only by the accelerometer counts half.
+    a quarter. A contact seen only by the accelerometer counts half; so does a normal
+    from gravity alone (the filter was overruled), which cannot see a turn about the
+    vertical.
     """
-    agreement = math.exp(-(math.degrees(estimate.agreement_rad) / 3.0) ** 2)
+    agreement = 0.5 if estimate.source == 'gravity' else \
+        math.exp(-(math.degrees(estimate.agreement_rad) / 3.0) ** 2)
     flatness = 1.0 if flat else 0.25
     channel_weight = 1.0 if channel is Channel.PRESSURE else 0.5
     return float(np.clip(agreement * flatness * channel_weight, 0.0, 1.0))

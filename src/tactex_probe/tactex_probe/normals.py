@@ -18,7 +18,9 @@ measured two ways from two windows of samples, one in free air just before the t
   pressed, E = R_ag(M a_d -> g_d) with g_d the gravity an undeformed sensor would feel
   there. Eq. 3.6's R_z(alpha) R_ag becomes R_d = R_FK E: the FK rotation holds the base
   rotation alpha (joint1) and the tool pitch. Gravity cannot see a turn about the
-  vertical, which is why it is only the cross-check.
+  vertical, which is why it is only the cross-check. When the two disagree by more than
+  `MAX_DISAGREEMENT_RAD` the filter was fooled (vibration aliased into the gyro while
+  pressing, say), and the gravity estimate is used instead (`source` says which).
 
 The outward normal is minus the deformed face axis, n = -R_d a (`motion.FACE_AXIS`). The
 deformed face follows from the FK of the arm joints plus the body's joints: E split into
@@ -56,6 +58,8 @@ HINGE_STIFFNESS = np.array([OPEN_MANIPULATOR_X.joint(name).stiffness
 PRESS_STIFFNESS_N_M = OPEN_MANIPULATOR_X.joint(COMPLIANT_JOINT_NAMES[3]).stiffness
 # sensor_link's origin above the hinges' common origin, along z, at rest (m).
 _PRESS_ORIGIN_M = OPEN_MANIPULATOR_X.joint(COMPLIANT_JOINT_NAMES[3]).origin_xyz[2]
+# Beyond this disagreement with gravity the Madgwick deformation is not trusted.
+MAX_DISAGREEMENT_RAD = math.radians(2.0)
 # Direction within the bearing plane, in the arm plane (sensor_link coordinates).
 _ALONG_FACE = np.cross([0.0, 1.0, 0.0], FACE_AXIS)
 RIM_LIMIT_M = OPEN_MANIPULATOR_X.joint('sensor_edge_fixed').origin_xyz[0]
@@ -156,6 +160,7 @@ class NormalEstimate:
         face_centre: centre of the deformed face (m).
         face_rotation: rotation base_link <- deformed sensor_link.
         compression_m: the body's compression.
+        source: 'madgwick', or 'gravity' when the filter disagreed with gravity.
     """
 
     normal: np.ndarray
@@ -167,6 +172,7 @@ class NormalEstimate:
     face_centre: np.ndarray
     face_rotation: np.ndarray
     compression_m: float
+    source: str = 'madgwick'
 
 
 def angle_between(u, v) -> float:
@@ -191,12 +197,16 @@ def estimate_normal(free: SensorWindow, pressed: SensorWindow) -> NormalEstimate
     undeformed = pressed_pose[:3, :3]
     filter_world = quat2mat(free.quaternion) @ undeformed_free.T
     deformed = filter_world.T @ quat2mat(pressed.quaternion)
-    deformation = undeformed.T @ deformed
     up = np.array([0.0, 0.0, 1.0])
     mismatch = align(free.accel, undeformed_free.T @ up)
-    gravity_deformation = align(mismatch @ pressed.accel, undeformed.T @ up)
+    gravity_deformed = undeformed @ align(mismatch @ pressed.accel, undeformed.T @ up)
     normal = -deformed @ FACE_AXIS
-    gravity_normal = -undeformed @ gravity_deformation @ FACE_AXIS
+    gravity_normal = -gravity_deformed @ FACE_AXIS
+    agreement = angle_between(normal, gravity_normal)
+    source = 'madgwick'
+    if agreement > MAX_DISAGREEMENT_RAD:
+        deformed, normal, source = gravity_deformed, gravity_normal, 'gravity'
+    deformation = undeformed.T @ deformed
     pose = sensor_pose(pressed.joints, deformation, pressed.compression_m)
     centre = pose[:3, :3] @ FACE_CENTRE + pose[:3, 3]
     heading = ToolPose(centre, 0.0).heading
@@ -206,9 +216,8 @@ def estimate_normal(free: SensorWindow, pressed: SensorWindow) -> NormalEstimate
         deformation=deformation,
         deflection_rad=angle_between(deformation @ FACE_AXIS, FACE_AXIS),
         turn_rad=face_tilt(deformed, heading) - face_tilt(undeformed, heading),
-        agreement_rad=angle_between(normal, gravity_normal),
-        face_centre=centre, face_rotation=pose[:3, :3],
-        compression_m=pressed.compression_m)
+        agreement_rad=agreement, face_centre=centre, face_rotation=pose[:3, :3],
+        compression_m=pressed.compression_m, source=source)
 
 
 def bearing_point(estimate: NormalEstimate) -> np.ndarray:
