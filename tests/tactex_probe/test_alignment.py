@@ -43,8 +43,12 @@ def test_bracketed_root_is_interpolated():
     assert next_tilt([touch(0, 2), touch(8, -2)]) == pytest.approx(4 * DEG)
 
 
-def test_steps_are_bounded():
-    assert next_tilt([touch(0, 40)]) == pytest.approx(12 * DEG)
+def test_steps_on_a_bearing_rim_grow_until_bounded():
+    touches = [touch(0, 1.0), touch(1, 0.9)]
+    assert next_tilt(touches) == pytest.approx(1 * DEG + RIM_STEP_RAD)
+    touches.append(touch(9, 0.8))
+    assert next_tilt(touches) == pytest.approx(25 * DEG)
+    assert next_tilt([touch(0, 40)]) == pytest.approx(20 * DEG)
 
 
 def test_best_prefers_the_last_flat_touch_else_the_smallest_turn():

@@ -18,7 +18,7 @@ turn(tilt) = 0. Within the capture range turn = (surface tilt - tool tilt), a sl
 -1, so the first step assumes the face lay flat and turns the tool by the measured turn.
 If the next touch turns the face about as much again (a slope above -`FLAT_SLOPE`), only
 the rim bore: the turn then only tells the side, and the tool steps `RIM_STEP_RAD` that
-way. Once two touches turned opposite ways the root is bracketed and the next tilt is
+way, twice as far each time the rim bears again. Once two touches turned opposite ways the root is bracketed and the next tilt is
 interpolated between them. The turn's sign stays right well past the capture range (a
 19 degree misalignment still turns the face the right way by 0.4-1.8 degrees in the
 simulator), which is all the search needs.
@@ -39,7 +39,7 @@ RIM_STEP_RAD = math.radians(8.0)
 # turn(tilt) falls at least this steeply where the face lies flat (-1 ideally).
 FLAT_SLOPE = 0.5
 # The largest tilt change between two touches.
-MAX_TILT_STEP_RAD = math.radians(12.0)
+MAX_TILT_STEP_RAD = math.radians(20.0)
 
 
 @dataclass(frozen=True)
@@ -83,8 +83,8 @@ def next_tilt(touches: Sequence[TouchResult]) -> float:
         slope = (last.turn_rad - previous.turn_rad) / (last.tilt - previous.tilt)
         if slope < -FLAT_SLOPE:
             step = -last.turn_rad / max(slope, -2.0)
-        else:
-            step = side * RIM_STEP_RAD
+        else:  # a rim again: twice the last step, at least RIM_STEP_RAD
+            step = side * max(RIM_STEP_RAD, 2.0 * abs(last.tilt - previous.tilt))
     else:
         step = last.turn_rad
     return last.tilt + float(np.clip(step, -MAX_TILT_STEP_RAD, MAX_TILT_STEP_RAD))

@@ -3,11 +3,12 @@
 """Contact detection from the barometer and accelerometer stream.
 
 Pressing the compliant body compresses the air cast inside it, so the barometer is the
-contact channel: a baseline (mean and spread) is learnt in free air before each
-approach, and contact is declared when the pressure stays above the baseline by
-`max(min_rise_pa, sigmas * spread)` for `debounce` consecutive valid samples; it ends
-when it stays below `release_fraction` of that rise for as many samples (hysteresis).
-An acceleration bump cannot trigger it, and a NaN sample neither counts nor resets a run.
+contact channel: a baseline (median and robust spread) is learnt in free air before each
+approach, and contact is declared when the median of the last three valid readings stays
+above the baseline by `max(min_rise_pa, sigmas * spread)` for `debounce` consecutive
+samples; it ends when it stays below `release_fraction` of that rise for as many
+samples (hysteresis). The median drops single spikes and most of a burst whose signs
+flip; an acceleration bump cannot trigger it, and a NaN neither counts nor resets a run.
 Where the barometer gives no valid samples at all (a missing chip sends NaN), the
 accelerometer stands in: a persistent turn of the measured gravity direction away from
 its free-air baseline (the body bending on contact) over `accel_debounce` samples, which
@@ -35,6 +36,8 @@ from tactex_description.geometry import OPEN_MANIPULATOR_X
 DEFAULT_PA_PER_NEWTON = 1.5e6 / OPEN_MANIPULATOR_X.joint('sensor_press').stiffness
 # The onset is never put further back than this before the first sample above threshold.
 MAX_ONSET_BACKTRACK_S = 0.5
+# Contact is judged on the median of this many of the latest valid pressure readings.
+MEDIAN_OF = 3
 
 
 @dataclass(frozen=True)
@@ -115,6 +118,7 @@ class ContactDetector:
         self.spread_pa = math.nan
         self._gravity: np.ndarray | None = None
         self.in_contact = False
+        self._recent: deque[float] = deque(maxlen=MEDIAN_OF)
         self._run: deque[tuple[int, float]] = deque()
         self._accel_run = 0
         self._accel_start = 0
@@ -179,7 +183,8 @@ class ContactDetector:
     def _update_pressure(self, stamp_ns: int, pressure_pa: float) -> ContactEvent | None:
         if not math.isfinite(pressure_pa):
             return None
-        rise = pressure_pa - self.baseline_pa
+        self._recent.append(pressure_pa)
+        rise = float(np.median(self._recent)) - self.baseline_pa
         config = self.config
         if self.in_contact:
             below = rise < config.release_fraction * self.threshold_pa
@@ -192,7 +197,7 @@ class ContactDetector:
         if rise < self.threshold_pa:
             self._run.clear()
             return None
-        self._run.append((stamp_ns, rise))
+        self._run.append((stamp_ns, pressure_pa - self.baseline_pa))
         if len(self._run) < config.debounce:
             return None
         self.in_contact = True

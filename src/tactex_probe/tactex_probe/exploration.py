@@ -10,7 +10,7 @@ The same core drives the simulator (`tactex_probe.simulation`) and the real arm
 (`probe_node`).
 
 Every touch goes the same way: move to an approach pose above the point; hold still to
-learn the free-air baseline (and the undeformed attitude); descend along -z at the
+learn the free-air baseline and average the undeformed attitude; descend along -z at the
 descent speed until the barometer reports contact. Two passes use it:
 
 1. Locate (`Method.TIP_THEN_FACE`, the default): the tool leans `tip_margin_rad` past
@@ -70,8 +70,13 @@ from tactex_probe.profile import coordinate, normal_from_slope, slope_at
 MIN_TILT_STEP_RAD = math.radians(0.2)
 # Each measuring touch presses to these shares of the measuring force, measuring at each.
 PRESS_LEVELS = (0.5, 1.0)
-# The free-air window ends this long before the contact's onset (ns).
-FREE_GUARD_NS = 30_000_000
+# A face that never lay flat and turned more than this gives no normal at all.
+MAX_UNFLAT_TURN_RAD = math.radians(3.0)
+# After the arm stopped on a located contact, the contact must still hold this long (s).
+CONFIRM_S = 0.1
+# The tip touched first only if the tool leaned at least this far past the surface's tilt;
+# a point located with less lead (the measured normal tells) is located again.
+MIN_TIP_LEAD_RAD = math.radians(5.0)
 
 
 class Phase(enum.IntEnum):
@@ -202,8 +207,10 @@ class _Stage(enum.Enum):
 
     START = enum.auto()
     MOVING = enum.auto()
+    BLOCKED = enum.auto()
     BASELINE = enum.auto()
     DESCENDING = enum.auto()
+    CONFIRMING = enum.auto()
     PRESSING = enum.auto()
     SETTLING = enum.auto()
     MEASURING = enum.auto()
@@ -214,8 +221,9 @@ class _Stage(enum.Enum):
 
 
 _PHASES = {
-    _Stage.START: Phase.MOVING, _Stage.MOVING: Phase.MOVING,
+    _Stage.START: Phase.MOVING, _Stage.MOVING: Phase.MOVING, _Stage.BLOCKED: Phase.MOVING,
     _Stage.BASELINE: Phase.DESCENDING, _Stage.DESCENDING: Phase.DESCENDING,
+    _Stage.CONFIRMING: Phase.DESCENDING,
     _Stage.PRESSING: Phase.MEASURING, _Stage.SETTLING: Phase.MEASURING,
     _Stage.MEASURING: Phase.MEASURING, _Stage.LIFTING: Phase.MEASURING,
     _Stage.RETRACTING: Phase.RETRACTING, _Stage.CANCELING: Phase.RETRACTING,
@@ -230,10 +238,11 @@ class _Pass(enum.Enum):
 
 @dataclass(frozen=True)
 class _Located:
-    """Where the tip touched a probe point."""
+    """Where the tip touched a probe point, and the tool's tilt then."""
 
     tip_centre: np.ndarray  # centre of the tip sphere at the onset (m, base_link)
     event: ContactEvent
+    tilt: float
 
 
 @dataclass
@@ -241,6 +250,7 @@ class _Touch:
     """What one touch of the current probe has seen so far."""
 
     free_from_ns: int
+    free_until_ns: int
     tilt: float
     event: ContactEvent | None = None
     peak_force_n: float = 0.0
@@ -281,6 +291,8 @@ class Explorer:
         self._touch: _Touch | None = None
         self._touches: list[TouchResult] = []
         self._touch_events: list[ContactEvent] = []
+        self._relocate_normal: np.ndarray | None = None
+        self._moving_contact: ContactEvent | None = None
         self._cancel_requested = False
         self._last_force_n = 0.0
         self._events: list = []
@@ -307,7 +319,11 @@ class Explorer:
                 self._touch.peak_force_n = max(self._touch.peak_force_n, self._last_force_n)
 
     def _detect(self, event: ContactEvent | None) -> None:
-        if event is not None and self._touch is not None and self._touch.event is None:
+        if event is None:
+            return
+        if self._stage in (_Stage.MOVING, _Stage.BLOCKED):
+            self._moving_contact = event
+        elif self._touch is not None and self._touch.event is None:
             self._touch.event = event
 
     def cancel(self) -> None:
@@ -380,15 +396,32 @@ class Explorer:
         self._next_probe(now_ns)
 
     def _on_moving(self, now_ns: int) -> None:
-        if self.detector.in_contact:
-            self._record_failure(now_ns, ContactStatus.UNREACHABLE,
-                                 'contact while moving sideways to the approach pose: the '
-                                 'surface is higher than the approach height')
-            self._lift_to(now_ns, float(self._commanded_pose(now_ns).point[2])
-                          + self.parameters.approach_height, _Stage.RETRACTING)
+        if self._moving_contact is not None:
+            self._hold(now_ns)
+            self._set_stage(_Stage.BLOCKED, now_ns)
         elif self._motion_done(now_ns):
             self._hold(now_ns)
             self._set_stage(_Stage.BASELINE, now_ns)
+
+    def _on_blocked(self, now_ns: int) -> None:
+        """A contact while moving: if it outlasts the stop, the way is blocked; else go on."""
+        if (now_ns - self._stage_ns) * 1e-9 < CONFIRM_S:
+            return
+        if not self.detector.in_contact:
+            try:
+                self._command(now_ns, self._transfer(self._commanded_pose(now_ns),
+                                                     self._approach_pose()))
+            except PathUnreachable as err:
+                self._record_failure(now_ns, ContactStatus.UNREACHABLE, str(err))
+                self._retract(now_ns)
+                return
+            self._set_stage(_Stage.MOVING, now_ns)
+            return
+        self._record_failure(now_ns, ContactStatus.UNREACHABLE,
+                             'contact while moving sideways to the approach pose: the '
+                             'surface is higher than the approach height')
+        self._lift_to(now_ns, float(self._commanded_pose(now_ns).point[2])
+                      + self.parameters.approach_height, _Stage.RETRACTING)
 
     def _on_baseline(self, now_ns: int) -> None:
         if (now_ns - self._stage_ns) * 1e-9 < self.config.baseline_s:
@@ -399,14 +432,14 @@ class Explorer:
                                  'no valid barometer or IMU sample in free air')
             self._retract(now_ns)
             return
-        self._touch = _Touch(self._stage_ns, self._commanded_pose(now_ns).tilt)
+        self._touch = _Touch(self._stage_ns, now_ns, self._commanded_pose(now_ns).tilt)
         self._descend(now_ns)
 
     def _on_descending(self, now_ns: int) -> None:
         touch = self._touch
-        if touch.event is not None and self._pass is _Pass.LOCATE:
+        if touch.event is not None and self._locating:
             self._hold(now_ns)
-            self._locate(now_ns)
+            self._set_stage(_Stage.CONFIRMING, now_ns)
         elif touch.event is not None:
             self._press(now_ns)
         elif self._motion_done(now_ns):
@@ -421,6 +454,16 @@ class Explorer:
                                      f'no contact within {depth * 1e3:.1f} mm below the probe '
                                      'point', self._face_point())
             self._retract(now_ns)
+
+    def _on_confirming(self, now_ns: int) -> None:
+        """A located contact must outlast the stop: a burst of noise does not."""
+        if (now_ns - self._stage_ns) * 1e-9 < CONFIRM_S:
+            return
+        if self.detector.in_contact:
+            self._locate(now_ns)
+        else:
+            self._touch.event = None
+            self._descend(now_ns)
 
     def _on_pressing(self, now_ns: int) -> None:
         target = self.press_force_n * PRESS_LEVELS[self._touch.level]
@@ -457,9 +500,37 @@ class Explorer:
                 and len(self._touches) <= self.config.refinements
                 and abs(target - touch.tilt) > MIN_TILT_STEP_RAD):
             self._lift_and_turn(now_ns, estimate, target)
+        elif self._tip_led_too_little():
+            self._relocate(now_ns)
         else:
             self._record_contact(now_ns)
             self._retract(now_ns)
+
+    def _tip_led_too_little(self) -> bool:
+        """True when the located point was touched with too little lead for the tip."""
+        located = self._located.get(self._index)
+        if located is None or self._relocate_normal is not None:
+            return False
+        normal = best(self._touches, self.config.refine_tolerance_rad).full.normal
+        return located.tilt - self._surface_tilt(normal) < MIN_TIP_LEAD_RAD
+
+    def _relocate(self, now_ns: int) -> None:
+        """Locate the point again, leaning past the measured normal, then record it."""
+        chosen = best(self._touches, self.config.refine_tolerance_rad)
+        self._relocate_normal = chosen.full.normal
+        try:
+            self._command(now_ns, self._transfer(self._commanded_pose(now_ns),
+                                                 self._approach_pose()))
+        except PathUnreachable as err:
+            self._record_contact(now_ns, f'could not locate it again: {err}')
+            self._retract(now_ns)
+            return
+        self._set_stage(_Stage.MOVING, now_ns)
+
+    @property
+    def _locating(self) -> bool:
+        """True while a touch is to locate a point with the tip."""
+        return self._pass is _Pass.LOCATE or self._relocate_normal is not None
 
     def _on_lifting(self, now_ns: int) -> None:
         if self._motion_done(now_ns):
@@ -490,6 +561,7 @@ class Explorer:
                 return
             self._index = self._queue.pop(0)
             self._touch, self._touches, self._touch_events = None, [], []
+            self._relocate_normal = None
             try:
                 self._command(now_ns, self._transfer(self._commanded_pose(now_ns),
                                                      self._approach_pose()))
@@ -503,9 +575,13 @@ class Explorer:
     def _approach_pose(self) -> ToolPose:
         """The pose above the current point where its descent starts."""
         lift = np.array([0.0, 0.0, self.parameters.approach_height])
-        if self._pass is _Pass.LOCATE:
-            point = self.parameters.probe_point(self._index)
-            tilt = self._surface_tilt(self._profile_normal(point)) + self.config.tip_margin_rad
+        if self._locating:
+            if self._relocate_normal is None:
+                point = self.parameters.probe_point(self._index)
+                normal = self._profile_normal(point)
+            else:
+                point, normal = self._surface_point(self._index), self._relocate_normal
+            tilt = self._surface_tilt(normal) + self.config.tip_margin_rad
             tilt = self._reachable_tilt(point, tilt, point + lift, tip=True)
             return pose_with_tip_at(point + lift, tilt)
         if self._index in self._located:
@@ -584,7 +660,7 @@ class Explorer:
         if not self._touches:
             bottom = self.parameters.probe_point(self._index)[2] - \
                 self.parameters.max_descent_depth
-            if self._pass is _Pass.LOCATE:
+            if self._locating:
                 bottom += start.point[2] - tip_position(start)[2]
             end = ToolPose([*start.point[:2], bottom], start.tilt)
             speed = self.parameters.descent_speed
@@ -711,6 +787,7 @@ class Explorer:
 
     def _set_stage(self, stage: _Stage, now_ns: int) -> None:
         changed = _PHASES[stage] is not _PHASES[self._stage]
+        self._moving_contact = None
         self._stage, self._stage_ns = stage, now_ns
         if changed:
             self._emit_feedback()
@@ -727,6 +804,7 @@ class Explorer:
     def _locate(self, now_ns: int) -> None:
         """The tip touched: its centre at the onset, by the joints at that instant."""
         touch = self._touch
+        tilt = self._commanded_pose(now_ns).tilt
         if touch.peak_force_n >= self.parameters.force_limit:
             self._record_failure(now_ns, ContactStatus.OVER_FORCE,
                                  f'force proxy {touch.peak_force_n:.2f} N reached the limit '
@@ -734,7 +812,10 @@ class Explorer:
                                  self._face_point())
         else:
             joints = self.history.joints_at([touch.event.onset_ns])[0]
-            self._located[self._index] = _Located(tip_position(pose_of(joints)), touch.event)
+            self._located[self._index] = _Located(tip_position(pose_of(joints)), touch.event,
+                                                  tilt)
+            if self._relocate_normal is not None:
+                self._record_contact(now_ns, 'located again leaning past the measured normal')
         self._retract(now_ns)
 
     def _face_point(self) -> np.ndarray:
@@ -747,7 +828,7 @@ class Explorer:
         force = float(np.mean([self.detector.force_proxy(p) for p in pressures])) \
             if pressures.size else math.nan
         compression = max(force / PRESS_STIFFNESS_N_M, 0.0) if math.isfinite(force) else 0.0
-        free = self.history.window(touch.free_from_ns, touch.event.onset_ns - FREE_GUARD_NS)
+        free = self.history.window(touch.free_from_ns, touch.free_until_ns)
         pressed = self.history.window(self._stage_ns, now_ns, compression)
         if free is None or pressed is None:
             self._record_failure(now_ns, ContactStatus.ESTIMATION_FAILED,
@@ -766,10 +847,21 @@ class Explorer:
 
     # -- records ----------------------------------------------------------------------------
     def _record_contact(self, now_ns: int, note: str = '') -> None:
-        """Record the probe from the flat touch (or the one whose face turned least)."""
+        """Record the probe from the flat touch (or the one whose face turned least).
+
+        A face that never lay flat and still turned by more than `MAX_UNFLAT_TURN_RAD` was
+        far from the surface's tilt: no normal is claimed (ESTIMATION_FAILED).
+        """
         chosen = best(self._touches, self.config.refine_tolerance_rad)
         estimate = chosen.full
         flat = chosen.flat(self.config.refine_tolerance_rad)
+        if not flat and abs(estimate.turn_rad) > MAX_UNFLAT_TURN_RAD:
+            self._record_failure(
+                now_ns, ContactStatus.ESTIMATION_FAILED,
+                f'the face never lay flat in {len(self._touches)} touch(es): it still turned '
+                f'{math.degrees(estimate.turn_rad):+.1f} deg at tilt '
+                f'{math.degrees(chosen.tilt):+.1f} deg{"; " + note if note else ""}')
+            return
         if self._index in self._located:
             located = self._located[self._index]
             event = located.event

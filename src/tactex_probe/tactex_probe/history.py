@@ -93,6 +93,7 @@ class SampleHistory:
                ) -> SensorWindow | None:
         """Average of the IMU samples in [start_ns, end_ns] with the joints at their stamps.
 
+        The accel is the per-axis median, so a burst of a few wild samples cannot drag it.
         Returns None when the window holds no valid IMU sample.
         """
         inside = [(s, a, q) for s, a, q in self._imu if start_ns <= s <= end_ns]
@@ -101,6 +102,6 @@ class SampleHistory:
         stamps = np.array([s for s, _, _ in inside], dtype=np.int64)
         return SensorWindow(
             quaternion=mean_quaternion([q for _, _, q in inside]),
-            accel=np.mean([a for _, a, _ in inside], axis=0),
+            accel=np.median([a for _, a, _ in inside], axis=0),
             joints=np.mean(self.joints_at(stamps), axis=0),
             compression_m=compression_m)

@@ -28,8 +28,9 @@ from tactex_probe.exploration import (
     ExplorerConfig,
     Feedback,
     Finished,
+    Phase,
 )
-from tactex_probe.motion import solve, ToolPose
+from tactex_probe.motion import PathUnreachable, solve, ToolPose
 from tactex_probe.normals import angle_between
 from tactex_probe.pathway import Pathway, ProbeParameters, ProbeRecord
 from tactex_sensor.madgwick import MadgwickConfig, MadgwickFilter
@@ -48,12 +49,15 @@ class Faults:
         perturb: changes each sample before the explorer sees it (NaN, noise bursts).
         servo_dropout_s: from this simulated time on, no joint state arrives and the
             servos stop taking goals (they hold their last one).
-        cancel_at_s: the goal is canceled at this simulated time.
+        cancel_in_phase: the goal is canceled once the explorer has been in this phase
+            for `cancel_delay_s` (None: never).
+        cancel_delay_s: see `cancel_in_phase`.
     """
 
     perturb: Callable[[Sample], Sample] | None = None
     servo_dropout_s: float = math.inf
-    cancel_at_s: float = math.inf
+    cancel_in_phase: Phase | None = None
+    cancel_delay_s: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -66,6 +70,7 @@ class ProbeRun:
         feedback: every feedback event, in order.
         surface: the true surface, for scoring.
         rejected: trajectories the arm refused (when and why); none in a sound run.
+        final_joints: the arm's joints (joint1..joint4) when the goal ended.
         trace: (time s, face centre x, y, z, pressure Pa) per sample while probing.
     """
 
@@ -74,6 +79,7 @@ class ProbeRun:
     feedback: tuple[Feedback, ...]
     surface: Surface
     rejected: tuple[str, ...]
+    final_joints: np.ndarray
     trace: np.ndarray = field(repr=False)
 
     @property
@@ -83,9 +89,18 @@ class ProbeRun:
 
 
 def start_joints(parameters: ProbeParameters) -> np.ndarray:
-    """Arm joints with the tool vertical 3 cm above the first approach pose."""
-    first = parameters.probe_point(0) + [0.0, 0.0, parameters.approach_height + 0.03]
-    return solve(ToolPose(first, 0.0), [0.0, 0.0, 0.0, 1.5])
+    """Arm joints with the tool vertical up to 3 cm above the first approach pose.
+
+    Raises:
+        PathUnreachable: not even the approach pose itself is reachable.
+    """
+    approach = parameters.probe_point(0) + [0.0, 0.0, parameters.approach_height]
+    for extra in (0.03, 0.015, 0.0):
+        try:
+            return solve(ToolPose(approach + [0.0, 0.0, extra], 0.0), [0.0, 0.0, 0.0, 1.5])
+        except PathUnreachable as err:
+            failure = err
+    raise failure
 
 
 def run_probe(scene: Scene, parameters: ProbeParameters,
@@ -121,6 +136,7 @@ def run_probe(scene: Scene, parameters: ProbeParameters,
     rejected: list[str] = []
     previous_s = None
     canceled = False
+    phase_since_s = 0.0
     while explorer.finished is None:
         sample = world.next_sample()
         now_s = sample.time_s
@@ -138,7 +154,9 @@ def run_probe(scene: Scene, parameters: ProbeParameters,
         if attitude.initialised:
             explorer.imu(now_ns, sample.accel, attitude.quaternion)
         explorer.pressure(now_ns, sample.pressure)
-        if now_s >= faults.cancel_at_s and not canceled:
+        if explorer.phase is not faults.cancel_in_phase:
+            phase_since_s = now_s
+        elif now_s - phase_since_s >= faults.cancel_delay_s and not canceled:
             explorer.cancel()
             canceled = True
         for event in explorer.step(now_ns):
@@ -157,7 +175,8 @@ def run_probe(scene: Scene, parameters: ProbeParameters,
             max_time_s = math.inf
     start_s = trace[0][0] if trace else 0.0
     return ProbeRun(explorer.finished, world.time_s - start_s, tuple(feedback), scene.surface,
-                    tuple(rejected), np.asarray(trace))
+                    tuple(rejected), world.joint_positions()[:len(ARM_JOINT_NAMES)],
+                    np.asarray(trace))
 
 
 @dataclass(frozen=True)
