@@ -2,22 +2,20 @@
 # SPDX-License-Identifier: Apache-2.0
 """Launch the arm driver with config/driver.yaml; `port:=...` overrides the serial device."""
 
-from pathlib import Path
-
-from ament_index_python.packages import get_package_share_directory
-from launch import LaunchDescription
-from launch.actions import DeclareLaunchArgument
-from launch.substitutions import LaunchConfiguration
-from launch_ros.actions import Node
+from tactex.launch_spec import Argument, config_path, LaunchFile, NodeSpec
 
 
-def generate_launch_description() -> LaunchDescription:
-    """The arm_driver node."""
-    parameters = Path(get_package_share_directory('tactex')) / 'config' / 'driver.yaml'
-    return LaunchDescription([
-        DeclareLaunchArgument('port', default_value='/dev/ttyUSB0',
-                              description='serial device of the U2D2 / OpenCR'),
-        Node(package='tactex_driver', executable='arm_driver', name='arm_driver',
-             parameters=[str(parameters), {'port': LaunchConfiguration('port')}],
-             output='screen'),
-    ])
+def _nodes(args):
+    return [NodeSpec('tactex_driver', 'arm_driver', 'arm_driver',
+                     parameters=(config_path('driver.yaml'), {'port': args['port']}))]
+
+
+LAUNCH = LaunchFile(
+    'the arm driver on a Dynamixel bus',
+    (Argument('port', '/dev/ttyUSB0', 'serial device of the U2D2 / OpenCR'),), _nodes)
+
+
+def generate_launch_description():
+    """ROS 2 launch entry point (`ros2 launch tactex arm.launch.py port:=...`)."""
+    from tactex.ros_launch import launch_description
+    return launch_description(LAUNCH)

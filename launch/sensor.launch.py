@@ -2,24 +2,22 @@
 # SPDX-License-Identifier: Apache-2.0
 """Launch the tactile module: teensy_node (serial -> raw topics) and madgwick_node."""
 
-from pathlib import Path
-
-from ament_index_python.packages import get_package_share_directory
-from launch import LaunchDescription
-from launch.actions import DeclareLaunchArgument
-from launch.substitutions import LaunchConfiguration
-from launch_ros.actions import Node
+from tactex.launch_spec import Argument, config_path, LaunchFile, NodeSpec
 
 
-def generate_launch_description() -> LaunchDescription:
-    """Both sensor nodes with config/sensor.yaml; `port:=...` overrides the serial device."""
-    parameters = Path(get_package_share_directory('tactex')) / 'config' / 'sensor.yaml'
-    port = LaunchConfiguration('port')
-    return LaunchDescription([
-        DeclareLaunchArgument('port', default_value='/dev/ttyACM0',
-                              description='serial device of the Teensy'),
-        Node(package='tactex_sensor', executable='teensy_node', name='teensy_node',
-             parameters=[str(parameters), {'port': port}], output='screen'),
-        Node(package='tactex_sensor', executable='madgwick_node', name='madgwick_node',
-             parameters=[str(parameters)], output='screen'),
-    ])
+def _nodes(args):
+    parameters = config_path('sensor.yaml')
+    return [NodeSpec('tactex_sensor', 'teensy_node', 'teensy_node',
+                     parameters=(parameters, {'port': args['port']})),
+            NodeSpec('tactex_sensor', 'madgwick_node', 'madgwick_node', parameters=(parameters,))]
+
+
+LAUNCH = LaunchFile(
+    'the tactile module on a serial port, and the Madgwick filter',
+    (Argument('port', '/dev/ttyACM0', 'serial device of the Teensy'),), _nodes)
+
+
+def generate_launch_description():
+    """ROS 2 launch entry point (`ros2 launch tactex sensor.launch.py port:=...`)."""
+    from tactex.ros_launch import launch_description
+    return launch_description(LAUNCH)

@@ -2,27 +2,24 @@
 # SPDX-License-Identifier: Apache-2.0
 """Launch the MuJoCo bridge in place of the arm and the sensor, plus the Madgwick filter."""
 
-from pathlib import Path
-
-from ament_index_python.packages import get_package_share_directory
-from launch import LaunchDescription
-from launch.actions import DeclareLaunchArgument
-from launch.substitutions import LaunchConfiguration
-from launch_ros.actions import Node
+from tactex.launch_spec import Argument, config_path, LaunchFile, NodeSpec
 
 
-def generate_launch_description() -> LaunchDescription:
-    """mujoco_bridge (scene:=..., rate_factor:=...) and madgwick_node on simulated time."""
-    sensor_parameters = Path(get_package_share_directory('tactex')) / 'config' / 'sensor.yaml'
-    return LaunchDescription([
-        DeclareLaunchArgument('scene', default_value='probe',
-                              description='scene under config/scenes/'),
-        DeclareLaunchArgument('rate_factor', default_value='1.0',
-                              description='simulated seconds per wall second (0: max)'),
-        Node(package='tactex_sim', executable='mujoco_bridge', name='mujoco_bridge',
-             parameters=[{'scene': LaunchConfiguration('scene'),
-                          'rate_factor': LaunchConfiguration('rate_factor')}],
-             output='screen'),
-        Node(package='tactex_sensor', executable='madgwick_node', name='madgwick_node',
-             parameters=[str(sensor_parameters), {'use_sim_time': True}], output='screen'),
-    ])
+def _nodes(args):
+    return [NodeSpec('tactex_sim', 'mujoco_bridge', 'mujoco_bridge',
+                     parameters=({'scene': args['scene'], 'rate_factor': args['rate_factor']},)),
+            NodeSpec('tactex_sensor', 'madgwick_node', 'madgwick_node',
+                     parameters=(config_path('sensor.yaml'), {'use_sim_time': True}))]
+
+
+LAUNCH = LaunchFile(
+    'MuJoCo in place of the arm and the tactile module, and the Madgwick filter',
+    (Argument('scene', 'probe', 'scene under config/scenes/ or a .toml path'),
+     Argument('rate_factor', '1.0', 'simulated seconds per wall second (0: as fast as possible)')),
+    _nodes)
+
+
+def generate_launch_description():
+    """ROS 2 launch entry point (`ros2 launch tactex sim.launch.py scene:=...`)."""
+    from tactex.ros_launch import launch_description
+    return launch_description(LAUNCH)

@@ -5,6 +5,8 @@
 import os
 import random
 
+import pytest
+
 from tactex.ros_env import ros_environment
 
 os.environ.update(ros_environment())
@@ -14,3 +16,14 @@ os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'
 os.environ['ROS_DOMAIN_ID'] = str(random.SystemRandom().randint(100, 199))
 # Torch and ROS nodes share two cores: OpenMP must not spin.
 os.environ.setdefault('OMP_WAIT_POLICY', 'PASSIVE')
+
+
+@pytest.fixture
+def ros_context():
+    """A ROS context of the test's own, shut down after it."""
+    import rclpy
+    from rclpy.context import Context
+    context = Context()
+    rclpy.init(context=context)
+    yield context
+    rclpy.shutdown(context=context)

@@ -24,6 +24,7 @@ LAUNCH_FILES = sorted((ROOT / 'launch').glob('*.launch.py'))
 # Modules that may import rclpy and ROS message packages: the nodes and the ROS helpers.
 # Everything else under src/ is a pure module (no ROS install needed to import it).
 ROS_FACING = frozenset({
+    'tactex.ros_launch',
     'tactex_common.ros',
     'tactex_classify.recorder_node',
     'tactex_driver.arm_driver_node',

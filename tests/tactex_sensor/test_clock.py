@@ -44,3 +44,33 @@ def test_stamps_track_the_true_sample_time_despite_drift_and_jitter(drift_ppm):
 def test_invalid_settings_are_rejected():
     with pytest.raises(ValueError, match='max_gap_s'):
         DeviceClock(max_gap_s=0)
+
+
+def test_a_buffered_burst_is_stamped_at_the_sample_period_not_at_its_arrival():
+    clock = DeviceClock()
+    period_us = 2857
+    raw = [1_000_000 + i * period_us for i in range(40)]  # 40 frames waited in the buffer
+    arrival_ns = 5_000_000_000 + raw[-1] * 1000
+    stamps = np.array(clock.stamp_batch(raw, arrival_ns))
+    assert np.all(np.diff(stamps) == period_us * 1000)
+    assert stamps[-1] == arrival_ns  # the smallest delay seen so far counts as none
+
+
+def test_stamps_never_go_back_across_a_reconnect_with_a_late_first_read():
+    clock = DeviceClock()
+    period_us, true_offset_ns = 5000, 7 * 10**9
+    stamps = []
+    device = 1_000_000
+    for _ in range(200):  # steady stream, 0.3 ms transport delay
+        device += period_us
+        stamps += clock.stamp_batch([device], device * 1000 + true_offset_ns + 300_000)
+    clock.reset()  # unplugged for 1 s
+    device += 1_000_000
+    burst = [device + i * period_us for i in range(30)]  # the first read after it comes late
+    stamps += clock.stamp_batch(burst, burst[-1] * 1000 + true_offset_ns + 80_000_000)
+    device = burst[-1]
+    for _ in range(200):  # then the normal delay again: the offset estimate drops 80 ms
+        device += period_us
+        stamps += clock.stamp_batch([device], device * 1000 + true_offset_ns + 300_000)
+    assert np.all(np.diff(stamps) > 0)
+    assert stamps[-1] == device * 1000 + true_offset_ns + 300_000

@@ -44,11 +44,11 @@ class TeensyReader:
         if not data:
             return []
         received_ns = self._now_ns()
-        stamped = []
-        for sample in self.decoder.feed(data):
+        samples = self.decoder.feed(data)
+        for sample in samples:
             self._count_nan(sample)
-            stamped.append((self.clock.stamp_ns(sample.device_time_us, received_ns), sample))
-        return stamped
+        stamps = self.clock.stamp_batch([s.device_time_us for s in samples], received_ns)
+        return list(zip(stamps, samples, strict=True))
 
     def _count_nan(self, sample: Sample) -> None:
         for group, values in (('accel', sample.accel), ('gyro', sample.gyro),

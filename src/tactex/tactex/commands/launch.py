@@ -1,0 +1,66 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""`tactex launch NAME [arg:=value ...]`: run a launch file's nodes without ROS 2 launch."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """Register the options of this subcommand."""
+    parser.add_argument('name', nargs='?',
+                        help='launch file under launch/ without .launch.py (e.g. sim), or a path')
+    parser.add_argument('arguments', nargs=argparse.REMAINDER, metavar='ARG:=VALUE',
+                        help='launch arguments, as ros2 launch takes them')
+    parser.add_argument('--list', action='store_true',
+                        help='list the launch files, or the arguments of NAME')
+    parser.add_argument('--print', action='store_true', dest='print_only',
+                        help='print the command line of every node and exit')
+
+
+def _overrides(items: list[str], args: argparse.Namespace) -> dict[str, str]:
+    """NAME:=VALUE pairs; --list and --print may also follow the launch file's name."""
+    overrides = {}
+    for item in items:
+        if item in ('--list', '--print'):
+            setattr(args, 'list' if item == '--list' else 'print_only', True)
+            continue
+        name, sep, value = item.partition(':=')
+        if not sep or not name:
+            raise ValueError(f'launch argument {item!r} is not NAME:=VALUE')
+        overrides[name] = value
+    return overrides
+
+
+def run(args: argparse.Namespace) -> int:
+    """List, print or run."""
+    from tactex.launch_spec import launch_directory, LaunchError, load_launch_file
+    from tactex.launcher import node_command, run_launch
+
+    try:
+        if args.name is None:
+            if not args.list:
+                raise LaunchError('name a launch file (tactex launch --list shows them)')
+            for path in sorted(launch_directory().glob('*.launch.py')):
+                name = path.name.removesuffix('.launch.py')
+                print(f'{name:10} {load_launch_file(name).description}')
+            return 0
+        launch = load_launch_file(args.name)
+        overrides = _overrides(args.arguments, args)
+        if args.list:
+            for argument in launch.all_arguments:
+                choices = f' ({"|".join(argument.choices)})' if argument.choices else ''
+                print(f'{argument.name}:={argument.default!r}{choices}  {argument.description}')
+            return 0
+        values = launch.resolve(overrides)
+        nodes = launch.node_specs(values)
+        if args.print_only:
+            for spec in nodes:
+                print(' '.join(node_command(spec, values['namespace'])))
+            return 0
+    except (LaunchError, ValueError) as err:
+        print(f'error: {err}', file=sys.stderr)
+        return 1
+    return run_launch(nodes, values)

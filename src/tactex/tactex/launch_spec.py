@@ -1,0 +1,156 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""Launch files as plain data: the arguments and the node set both launch paths read.
+
+Each `launch/<name>.launch.py` defines `LAUNCH = LaunchFile(...)`, a description of its
+arguments and a function from the resolved arguments to its nodes. ROS 2 launch builds
+its `LaunchDescription` from it (`tactex.ros_launch`), and `tactex launch` runs the same
+nodes as supervised processes (`tactex.launcher`), so the two cannot drift.
+
+Parameter values given as strings are YAML-typed by both paths (`'1.0'` is a float,
+`'true'` a bool), exactly as `ros2 launch` and `--ros-args -p` do.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+import importlib.util
+from pathlib import Path
+from typing import Any
+
+from tactex_common.share import share_directory
+
+
+class LaunchError(Exception):
+    """A launch file or its arguments are wrong; the message says how to fix it."""
+
+
+@dataclass(frozen=True)
+class Argument:
+    """A launch argument (`name:=value`)."""
+
+    name: str
+    default: str
+    description: str
+    choices: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True)
+class NodeSpec:
+    """One node to start.
+
+    Args:
+        package: the ament package of the executable.
+        executable: its console-script name.
+        name: the node name.
+        parameters: YAML parameter files (paths) and dicts of parameter values, in order.
+        remappings: (from, to) topic remappings.
+        respawn: restart the node when it exits (the launcher waits `respawn_delay_s`).
+    """
+
+    package: str
+    executable: str
+    name: str
+    parameters: tuple[str | Mapping[str, Any], ...] = ()
+    remappings: tuple[tuple[str, str], ...] = ()
+    respawn: bool = False
+    respawn_delay_s: float = 1.0
+
+
+# Every launch file takes these; both launch paths apply them to every node.
+COMMON_ARGUMENTS = (
+    Argument('namespace', '', 'ROS namespace for every node (e.g. left_arm)'),
+    Argument('discovery', 'localhost',
+             'who may discover these nodes: this host only, or the whole subnet',
+             ('localhost', 'subnet')),
+)
+DISCOVERY_RANGE = {'localhost': 'LOCALHOST', 'subnet': 'SUBNET'}
+
+
+@dataclass(frozen=True)
+class LaunchFile:
+    """What a launch file starts, as data.
+
+    Args:
+        description: one line for `tactex launch --list`.
+        arguments: its own arguments (the common ones are added).
+        nodes: resolved arguments -> the nodes to start.
+    """
+
+    description: str
+    arguments: tuple[Argument, ...]
+    nodes: Callable[[Mapping[str, str]], Sequence[NodeSpec]]
+    all_arguments: tuple[Argument, ...] = field(init=False)
+
+    def __post_init__(self) -> None:
+        """Append the common arguments."""
+        object.__setattr__(self, 'all_arguments', self.arguments + COMMON_ARGUMENTS)
+
+    def resolve(self, overrides: Mapping[str, str]) -> dict[str, str]:
+        """Defaults updated by `overrides`.
+
+        Raises:
+            LaunchError: an unknown argument or a value outside its choices.
+        """
+        known = {argument.name: argument for argument in self.all_arguments}
+        unknown = sorted(set(overrides) - set(known))
+        if unknown:
+            raise LaunchError(f'unknown launch argument(s) {unknown}; this launch file takes: '
+                              f'{", ".join(sorted(known))}')
+        values = {name: argument.default for name, argument in known.items()}
+        values.update(overrides)
+        for name, value in values.items():
+            choices = known[name].choices
+            if choices and value not in choices:
+                raise LaunchError(f'{name}:={value!r} is not one of {", ".join(choices)}')
+        return values
+
+    def node_specs(self, overrides: Mapping[str, str]) -> list[NodeSpec]:
+        """The nodes to start for these argument values."""
+        return list(self.nodes(self.resolve(overrides)))
+
+
+def config_path(name: str) -> str:
+    """Path of a parameter file of the tactex package's config/ folder."""
+    return str(share_directory('tactex') / 'config' / name)
+
+
+def is_true(value: str) -> bool:
+    """A boolean launch argument ('true'/'false', as ros2 launch spells them).
+
+    Raises:
+        LaunchError: neither.
+    """
+    if value.lower() in ('true', '1', 'yes'):
+        return True
+    if value.lower() in ('false', '0', 'no'):
+        return False
+    raise LaunchError(f'expected true or false, got {value!r}')
+
+
+def launch_directory() -> Path:
+    """The installed (or checked-out) launch/ folder of the tactex package."""
+    return share_directory('tactex') / 'launch'
+
+
+def load_launch_file(name_or_path: str) -> LaunchFile:
+    """The `LAUNCH` of `launch/NAME.launch.py` (or of a path to a launch file).
+
+    Raises:
+        LaunchError: no such file, or it defines no LaunchFile called LAUNCH.
+    """
+    path = Path(name_or_path)
+    if not path.suffix:
+        path = launch_directory() / f'{name_or_path}.launch.py'
+    if not path.is_file():
+        known = sorted(p.name.removesuffix('.launch.py')
+                       for p in launch_directory().glob('*.launch.py'))
+        raise LaunchError(f'no launch file {name_or_path!r}; known: {", ".join(known)}')
+    spec = importlib.util.spec_from_file_location(f'tactex_launch_{path.stem}', path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    launch = getattr(module, 'LAUNCH', None)
+    if not isinstance(launch, LaunchFile):
+        raise LaunchError(f'{path} defines no LAUNCH = LaunchFile(...)')
+    return launch

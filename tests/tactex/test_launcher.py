@@ -1,0 +1,179 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""Launch files as data, and `tactex launch`: the node sets, supervision and clean shutdown."""
+
+import importlib.util
+import os
+from pathlib import Path
+import re
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+
+from tactex.launch_spec import launch_directory, LaunchError, load_launch_file, NodeSpec
+from tactex.launcher import Launcher, node_command
+
+ROOT = Path(__file__).resolve().parents[2]
+LAUNCH_NAMES = sorted(p.name.removesuffix('.launch.py') for p in launch_directory().glob(
+    '*.launch.py'))
+TACTEX = [str(Path(sys.executable).parent / 'tactex')]
+
+
+def _console_scripts(package: str) -> set[str]:
+    setup = (ROOT / 'src' / package / 'setup.py').read_text(encoding='utf-8')
+    return set(re.findall(r"'(\w+) = ", setup))
+
+
+@pytest.mark.parametrize('name', LAUNCH_NAMES)
+def test_every_launch_file_declares_nodes_that_exist(name):
+    launch = load_launch_file(name)
+    nodes = launch.node_specs({})
+    assert nodes
+    for spec in nodes:
+        assert spec.executable in _console_scripts(spec.package), spec
+        node_command(spec)  # the executable is installed
+
+
+@pytest.mark.parametrize('name', LAUNCH_NAMES)
+def test_ros2_launch_starts_the_same_node_set(name):
+    if importlib.util.find_spec('launch_ros') is None:
+        pytest.skip('ROS 2 launch (launch_ros) is not installed here; the data path is tested')
+    from launch import LaunchContext
+    from launch.actions import DeclareLaunchArgument, GroupAction, OpaqueFunction
+    from launch_ros.actions import Node
+
+    spec = importlib.util.spec_from_file_location('checked', launch_directory() /
+                                                  f'{name}.launch.py')
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    context = LaunchContext()
+    started = []
+    for entity in module.generate_launch_description().entities:
+        if isinstance(entity, DeclareLaunchArgument):
+            entity.execute(context)
+        elif isinstance(entity, OpaqueFunction):
+            for group in entity.execute(context):
+                assert isinstance(group, GroupAction)
+                started += [(n.node_package, n.node_executable)
+                            for n in group.get_sub_entities() if isinstance(n, Node)]
+    assert started == [(n.package, n.executable) for n in module.LAUNCH.node_specs({})]
+
+
+def test_unknown_arguments_and_bad_choices_are_refused_with_the_known_ones():
+    launch = load_launch_file('sim')
+    with pytest.raises(LaunchError, match='takes: discovery, namespace, rate_factor, scene'):
+        launch.resolve({'scen': 'probe'})
+    with pytest.raises(LaunchError, match='localhost, subnet'):
+        launch.resolve({'discovery': 'internet'})
+    with pytest.raises(LaunchError, match='known: arm'):
+        load_launch_file('nonexistent')
+
+
+def test_node_command_applies_name_namespace_parameters_and_remappings():
+    spec = NodeSpec('tactex_sensor', 'madgwick_node', 'filter',
+                    parameters=('/x/sensor.yaml', {'gain': 0.2, 'use_mag': True,
+                                                   'ids': [1, 2]}),
+                    remappings=(('tactile/imu/data', 'imu'),))
+    command = node_command(spec, namespace='/left_arm/')
+    assert command[1:] == ['--ros-args', '-r', '__node:=filter', '-r', '__ns:=/left_arm',
+                           '--params-file', '/x/sensor.yaml', '-p', 'gain:=0.2',
+                           '-p', 'use_mag:=true', '-p', 'ids:=[1, 2]',
+                           '-r', 'tactile/imu/data:=imu']
+
+
+def _pids(output: str) -> dict[str, int]:
+    return {name: int(pid) for name, pid in
+            re.findall(r'\[launch\] started (\S+) \(pid (\d+)\)', output)}
+
+
+def _alive(pid: int) -> bool:
+    try:
+        with open(f'/proc/{pid}/stat', encoding='ascii') as stat:
+            return stat.read().split(') ')[1][0] != 'Z'
+    except FileNotFoundError:
+        return False
+
+
+def _wait(condition, timeout_s: float) -> bool:
+    deadline = time.monotonic() + timeout_s
+    while time.monotonic() < deadline:
+        if condition():
+            return True
+        time.sleep(0.05)
+    return condition()
+
+
+def _start_launch(*arguments: str, log: Path) -> subprocess.Popen:
+    return subprocess.Popen(TACTEX + ['launch', *arguments], stdout=log.open('w'),
+                            stderr=subprocess.STDOUT, env=dict(os.environ, PYTHONUNBUFFERED='1'))
+
+
+@pytest.mark.ros
+def test_sim_launch_runs_in_its_namespace_and_stops_cleanly_on_sigterm(ros_context, tmp_path):
+    import rclpy
+    from rclpy.qos import qos_profile_sensor_data
+    from sensor_msgs.msg import Imu
+
+    log = tmp_path / 'launch.log'
+    launcher = _start_launch('sim', 'rate_factor:=2.0', 'namespace:=left_arm', log=log)
+    node = rclpy.create_node('launch_probe', context=ros_context)
+    filtered = []
+    node.create_subscription(Imu, '/left_arm/tactile/imu/data', filtered.append,
+                             qos_profile_sensor_data)
+    executor = rclpy.executors.SingleThreadedExecutor(context=ros_context)
+    executor.add_node(node)
+    deadline = time.monotonic() + 30
+    while len(filtered) < 20 and time.monotonic() < deadline:
+        executor.spin_once(timeout_sec=0.05)
+    node.destroy_node()
+    assert len(filtered) >= 20, log.read_text()
+    assert filtered[-1].orientation_covariance[0] != -1.0  # the filter's output, namespaced
+    pids = _pids(log.read_text())
+    assert set(pids) == {'mujoco_bridge', 'madgwick_node'}
+    launcher.send_signal(signal.SIGTERM)
+    assert launcher.wait(timeout=10) == 0
+    assert not [name for name, pid in pids.items() if _alive(pid)]
+
+
+@pytest.mark.ros
+def test_killing_the_launcher_leaves_no_orphaned_node(tmp_path):
+    log = tmp_path / 'launch.log'
+    launcher = _start_launch('sim', 'rate_factor:=1.0', log=log)
+    assert _wait(lambda: len(_pids(log.read_text())) == 2, 20), log.read_text()
+    pids = _pids(log.read_text())
+    launcher.kill()
+    launcher.wait()
+    assert _wait(lambda: not any(_alive(pid) for pid in pids.values()), 10)
+
+
+@pytest.mark.ros
+def test_a_node_that_dies_stops_the_launch_with_its_name(tmp_path):
+    log = tmp_path / 'launch.log'
+    launcher = _start_launch('sim', 'scene:=no_such_scene', log=log)
+    assert launcher.wait(timeout=30) == 1
+    output = log.read_text()
+    assert 'error: node mujoco_bridge exited with code' in output
+    assert not [name for name, pid in _pids(output).items() if _alive(pid)]
+
+
+@pytest.mark.ros
+def test_a_respawning_node_is_restarted(tmp_path):
+    lines = []
+
+    class Lines:
+        def write(self, text):
+            lines.append(text)
+
+        def flush(self):
+            pass
+
+    dying = NodeSpec('tactex_sim', 'mujoco_bridge', 'bridge',
+                     parameters=({'scene': 'no_such_scene'},), respawn=True,
+                     respawn_delay_s=0.1)
+    launcher = Launcher([dying], out=Lines())
+    launcher.start()
+    assert launcher.supervise(until=lambda: launcher.restarts('bridge') >= 2) == 0
+    assert sum('respawning' in line for line in lines) >= 2
