@@ -13,15 +13,15 @@ normal is biased towards the tool's own axis by most of the misalignment.
 Rather than modelling that bias (it depends on friction, which nobody knows), the
 explorer removes it: each touch is measured at two forces, and the face counts as flat
 only when it turned by less than `tolerance` and pressing twice as hard did not turn it
-further. Otherwise the tool touches again at a new tilt, a root search on
-turn(tilt) = 0. Within the capture range turn = (surface tilt - tool tilt), a slope of
--1, so the first step assumes the face lay flat and turns the tool by the measured turn.
-If the next touch turns the face about as much again (a slope above -`FLAT_SLOPE`), only
-the rim bore: the turn then only tells the side, and the tool steps `RIM_STEP_RAD` that
-way, twice as far each time the rim bears again. Once two touches turned opposite ways
-the root is bracketed and the next tilt is interpolated between them. The turn's sign stays right well past the capture range (a
-19 degree misalignment still turns the face the right way by 0.4-1.8 degrees in the
-simulator), which is all the search needs.
+further. Otherwise the tool touches again at a new tilt, a root search on turn(tilt) =
+0. Within the capture range turn = (surface tilt - tool tilt), a slope of -1, so the
+first step assumes the face lay flat and turns the tool by the measured turn. If the
+next touch turns the face about as much again (a slope above -`FLAT_SLOPE`), only the
+rim bore: the turn then only tells the side, and the tool steps `RIM_STEP_RAD` that way,
+twice as far each time the rim bears again. Once two touches turned opposite ways the
+root is bracketed and the next tilt is interpolated between them. The turn's sign stays
+right well past the capture range (a 19 degree misalignment still turns the face the
+right way by 0.4-1.8 degrees in the simulator), which is all the search needs.
 """
 
 from __future__ import annotations
