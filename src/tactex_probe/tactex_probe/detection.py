@@ -55,7 +55,7 @@ class DetectorConfig:
         accel_debounce: accelerometer fallback: consecutive samples beyond it.
     """
 
-    baseline_samples: int = 24
+    baseline_samples: int = 12
     sigmas: float = 8.0
     min_rise_pa: float = 25.0
     release_fraction: float = 0.5

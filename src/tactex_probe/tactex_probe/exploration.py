@@ -47,7 +47,9 @@ from tactex_probe.detection import Channel, ContactDetector, ContactEvent, Detec
 from tactex_probe.history import SampleHistory
 from tactex_probe.motion import (
     concatenate,
+    hold_path,
     JointPath,
+    joints_at,
     PathUnreachable,
     pose_of,
     pose_with_tip_at,
@@ -68,10 +70,20 @@ from tactex_probe.profile import coordinate, normal_from_slope, slope_at
 
 # A tilt change below this is not worth another touch.
 MIN_TILT_STEP_RAD = math.radians(0.2)
+# A press goes this much further than the press spring needs for its force level (m).
+PRESS_MARGIN_M = 0.002
 # Each measuring touch presses to these shares of the measuring force, measuring at each.
 PRESS_LEVELS = (0.5, 1.0)
+# The free-air hold waits up to this many times its length for enough samples.
+BASELINE_PATIENCE = 5
+# How long a measuring window waits for samples stamped inside it to arrive (ns).
+LATE_DATA_NS = 500_000_000
 # A face that never lay flat and turned more than this gives no normal at all.
 MAX_UNFLAT_TURN_RAD = math.radians(3.0)
+# While moving in free air a force proxy above this is a contact: turning the tool shifts
+# the barometer by up to ~0.15 N (the body's weight on the press spring), so the light
+# touch threshold of a descent would fire.
+MOVING_CONTACT_N = 0.3
 # After the arm stopped on a located contact, the contact must still hold this long (s).
 CONFIRM_S = 0.1
 # The tip touched first only if the tool leaned at least this far past the surface's tilt;
@@ -126,8 +138,10 @@ class ExplorerConfig:
             previous contacts (else it stays vertical, as in the original).
         max_tilt_rad: largest tilt of the tool from vertical.
         joint_timeout_s: abort when no joint state came for this long.
-        tracking_tolerance_rad: largest joint error once a motion should have ended.
-        motion_timeout_s: how long after its end a motion may still be catching up.
+        tracking_tolerance_rad: a motion has ended once every joint is this close to its
+            last goal (the next one starts from there).
+        motion_timeout_s: how long after its end a motion may still be arriving; then the
+            goal aborts (the arm does not follow).
         detector: the contact detector's tuning.
     """
 
@@ -146,7 +160,7 @@ class ExplorerConfig:
     align_tool: bool = True
     max_tilt_rad: float = math.radians(40.0)
     joint_timeout_s: float = 0.5
-    tracking_tolerance_rad: float = 0.05
+    tracking_tolerance_rad: float = 0.01
     motion_timeout_s: float = 2.0
     detector: DetectorConfig = field(default_factory=DetectorConfig)
 
@@ -285,6 +299,7 @@ class Explorer:
         self._stage = _Stage.START
         self._index = 0
         self._started_ns: int | None = None
+        self._now_ns = 0
         self._stage_ns = 0
         self._path: JointPath | None = None
         self._path_ns = 0
@@ -292,7 +307,6 @@ class Explorer:
         self._touches: list[TouchResult] = []
         self._touch_events: list[ContactEvent] = []
         self._relocate_normal: np.ndarray | None = None
-        self._moving_contact: ContactEvent | None = None
         self._cancel_requested = False
         self._last_force_n = 0.0
         self._events: list = []
@@ -319,11 +333,7 @@ class Explorer:
                 self._touch.peak_force_n = max(self._touch.peak_force_n, self._last_force_n)
 
     def _detect(self, event: ContactEvent | None) -> None:
-        if event is None:
-            return
-        if self._stage in (_Stage.MOVING, _Stage.BLOCKED):
-            self._moving_contact = event
-        elif self._touch is not None and self._touch.event is None:
+        if event is not None and self._touch is not None and self._touch.event is None:
             self._touch.event = event
 
     def cancel(self) -> None:
@@ -352,6 +362,7 @@ class Explorer:
             return []
         if self._started_ns is None:
             self._started_ns = self._stage_ns = now_ns
+        self._now_ns = now_ns
         self._events = []
         if not self._healthy(now_ns):
             return self._events
@@ -360,7 +371,10 @@ class Explorer:
         elif self._cancel_requested and self._stage is _Stage.START:
             self._finish(now_ns, Outcome.CANCELED, 'canceled before the arm moved')
             return self._events
-        getattr(self, f'_on_{self._stage.name.lower()}')(now_ns)
+        try:
+            getattr(self, f'_on_{self._stage.name.lower()}')(now_ns)
+        except PathUnreachable as err:
+            self._finish(now_ns, Outcome.ABORTED, f'no way to move on: {err}')
         return self._events
 
     def _healthy(self, now_ns: int) -> bool:
@@ -375,7 +389,7 @@ class Explorer:
             late_s = (now_ns - self._path_ns) * 1e-9 - self._path.duration_s
             error = np.abs(latest[1] - self._path.joints[-1])
             if late_s > self.config.motion_timeout_s and \
-                    np.max(error) > self.config.tracking_tolerance_rad:
+                    np.max(error) >= self.config.tracking_tolerance_rad:
                 joint = int(np.argmax(error))
                 self._finish(now_ns, Outcome.ABORTED,
                              f'the arm does not follow: joint{joint + 1} is {error[joint]:.3f} '
@@ -396,7 +410,7 @@ class Explorer:
         self._next_probe(now_ns)
 
     def _on_moving(self, now_ns: int) -> None:
-        if self._moving_contact is not None:
+        if self._last_force_n >= MOVING_CONTACT_N:
             self._hold(now_ns)
             self._set_stage(_Stage.BLOCKED, now_ns)
         elif self._motion_done(now_ns):
@@ -407,7 +421,7 @@ class Explorer:
         """A contact while moving: if it outlasts the stop, the way is blocked; else go on."""
         if (now_ns - self._stage_ns) * 1e-9 < CONFIRM_S:
             return
-        if not self.detector.in_contact:
+        if self._last_force_n < MOVING_CONTACT_N:
             try:
                 self._command(now_ns, self._transfer(self._commanded_pose(now_ns),
                                                      self._approach_pose()))
@@ -424,12 +438,16 @@ class Explorer:
                       + self.parameters.approach_height, _Stage.RETRACTING)
 
     def _on_baseline(self, now_ns: int) -> None:
-        if (now_ns - self._stage_ns) * 1e-9 < self.config.baseline_s:
+        held_s = (now_ns - self._stage_ns) * 1e-9
+        if held_s < self.config.baseline_s:
             return
         self._learn_baseline(now_ns)
         if not self.detector.armed:
+            if held_s < BASELINE_PATIENCE * self.config.baseline_s:
+                return  # samples are coming in slowly: hold a little longer
             self._record_failure(now_ns, ContactStatus.ESTIMATION_FAILED,
-                                 'no valid barometer or IMU sample in free air')
+                                 f'too few valid barometer or IMU samples in free air in '
+                                 f'{held_s:.1f} s')
             self._retract(now_ns)
             return
         self._touch = _Touch(self._stage_ns, now_ns, self._commanded_pose(now_ns).tilt)
@@ -482,9 +500,12 @@ class Explorer:
             self._set_stage(_Stage.MEASURING, now_ns)
 
     def _on_measuring(self, now_ns: int) -> None:
-        if (now_ns - self._stage_ns) * 1e-9 < self.config.measure_s:
+        end_ns = self._stage_ns + int(self.config.measure_s * 1e9)
+        if now_ns < end_ns:
             return
-        estimate = self._estimate_now(now_ns)
+        if not self.history.caught_up(end_ns) and now_ns - end_ns < LATE_DATA_NS:
+            return  # the window's last samples are still on their way
+        estimate = self._estimate_now(end_ns)
         if estimate is None:
             self._retract(now_ns)
             return
@@ -595,7 +616,7 @@ class Explorer:
         for share in (1.0, 0.5, 0.25):
             above = point + share * lift
             try:
-                solve(ToolPose(above, tilt), self.history.latest_joints[1])
+                solve(ToolPose(above, tilt), self._seed())
             except PathUnreachable:
                 continue
             return ToolPose(above, self._reachable_tilt(point, tilt, above))
@@ -636,7 +657,7 @@ class Explorer:
     def _reachable_tilt(self, point, tilt: float, *also, tip: bool = False) -> float:
         """`tilt` within max_tilt_rad, then towards 0 until the arm reaches every pose."""
         tilt = float(np.clip(tilt, -self.config.max_tilt_rad, self.config.max_tilt_rad))
-        seed = self.history.latest_joints[1]
+        seed = self._seed()
         for candidate in np.linspace(tilt, 0.0, 9):
             try:
                 for where in (point, *also):
@@ -678,7 +699,7 @@ class Explorer:
 
     def _reachable_part(self, start: ToolPose, end: ToolPose, speed: float) -> JointPath:
         """The straight path towards `end`, cut where the arm stops reaching (1 mm steps)."""
-        seed = self.history.latest_joints[1]
+        seed = self._seed()
         offset = end.point - start.point
         steps = max(1, int(float(np.linalg.norm(offset)) / 0.001))
         reach = 0
@@ -694,10 +715,19 @@ class Explorer:
         return straight_path(start, start.moved(offset * reach / steps), speed, seed)
 
     def _press(self, now_ns: int) -> None:
+        """Press on along the tool axis, no further than the next force level needs.
+
+        The travel is what the press spring needs for the missing force plus
+        `PRESS_MARGIN_M`, so however late the force readings come, the force cannot
+        overshoot the level by much more than the margin's worth.
+        """
         start = self._commanded_pose(now_ns)
+        level = self.press_force_n * PRESS_LEVELS[self._touch.level]
+        travel = min(self.config.max_press_m, PRESS_MARGIN_M + max(
+            0.0, level - self._last_force_n) / PRESS_STIFFNESS_N_M)
         try:
-            path = straight_path(start, start.moved(start.axis * self.config.max_press_m),
-                                 self.config.press_speed_m_s, self.history.latest_joints[1])
+            path = straight_path(start, start.moved(start.axis * travel),
+                                 self.config.press_speed_m_s, self._seed())
         except PathUnreachable as err:
             self._record_failure(now_ns, ContactStatus.UNREACHABLE, str(err))
             self._retract(now_ns)
@@ -706,8 +736,8 @@ class Explorer:
         self._set_stage(_Stage.PRESSING, now_ns)
 
     def _hold(self, now_ns: int) -> None:
-        pose = self._commanded_pose(now_ns)
-        self._command(now_ns, straight_path(pose, pose, 1.0, self.history.latest_joints[1]))
+        """Stay where the arm is commanded to be now."""
+        self._command(now_ns, hold_path(self._commanded_pose(now_ns), self._seed()))
 
     def _lift_and_turn(self, now_ns: int, estimate: NormalEstimate, tilt: float) -> None:
         """Back off along the tool axis, turn to `tilt` about the contact, touch again."""
@@ -766,7 +796,7 @@ class Explorer:
         raise first_error
 
     def _chain(self, *poses: ToolPose) -> JointPath:
-        seed = self.history.latest_joints[1]
+        seed = self._seed()
         paths = []
         for start, end in zip(poses[:-1], poses[1:], strict=True):
             paths.append(straight_path(start, end, self.config.move_speed_m_s, seed))
@@ -777,17 +807,31 @@ class Explorer:
         self._path, self._path_ns = path, now_ns
         self._events.append(Command(path))
 
+    def _seed(self) -> np.ndarray:
+        """The joints the arm is commanded to hold now: where every new path starts."""
+        if self._path is None:
+            return self.history.latest_joints[1]
+        return joints_at(self._path, (self._now_ns - self._path_ns) * 1e-9)
+
     def _commanded_pose(self, now_ns: int) -> ToolPose:
         if self._path is None:
             return pose_of(self.history.latest_joints[1])
         return self._path.pose_at((now_ns - self._path_ns) * 1e-9)
 
     def _motion_done(self, now_ns: int) -> bool:
-        return (now_ns - self._path_ns) * 1e-9 >= self._path.duration_s
+        """The path's time is up and the arm arrived (its joints near the path's end).
+
+        Commands reach the arm late on a loaded machine; waiting for the arrival keeps
+        the next path starting where the arm really is.
+        """
+        if (now_ns - self._path_ns) * 1e-9 < self._path.duration_s:
+            return False
+        latest = self.history.latest_joints
+        return latest is not None and latest[0] >= self._path_ns and float(np.max(np.abs(
+            latest[1] - self._path.joints[-1]))) < self.config.tracking_tolerance_rad
 
     def _set_stage(self, stage: _Stage, now_ns: int) -> None:
         changed = _PHASES[stage] is not _PHASES[self._stage]
-        self._moving_contact = None
         self._stage, self._stage_ns = stage, now_ns
         if changed:
             self._emit_feedback()

@@ -46,7 +46,7 @@ BASE_X_M = PlanarArm.from_geometry(OPEN_MANIPULATOR_X, TOOL_FRAME).base_x
 MAX_JOINT_STEP_RAD = 0.2
 # Paths are slowed down where a joint would turn faster than this share of its limit
 # (the driver's interpolation between points may overshoot the straight line's speed).
-JOINT_SPEED_SHARE = 0.6
+JOINT_SPEED_SHARE = 0.4
 
 
 class PathUnreachable(Exception):
@@ -176,6 +176,19 @@ class JointPath:
         start, end = self.knots[segment], self.knots[segment + 1]
         return ToolPose(start.point + fraction * (end.point - start.point),
                         start.tilt + fraction * (end.tilt - start.tilt))
+
+
+def hold_path(pose: ToolPose, joints: Sequence[float], hold_s: float = 0.05) -> JointPath:
+    """A path that stays at `joints` (the arm's commanded joints at `pose`)."""
+    joints = np.asarray(joints, dtype=float)
+    return JointPath(np.array([hold_s]), joints[None, :].copy(), (pose, pose), (0.0, hold_s))
+
+
+def joints_at(path: JointPath, elapsed_s: float) -> np.ndarray:
+    """The path's joints `elapsed_s` after its start, linearly between its points."""
+    times = np.concatenate([[0.0], path.times_s])
+    joints = np.vstack([path.joints[:1], path.joints])
+    return np.array([np.interp(elapsed_s, times, joints[:, j]) for j in range(joints.shape[1])])
 
 
 def concatenate(paths: Sequence[JointPath]) -> JointPath:

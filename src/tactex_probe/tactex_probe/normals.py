@@ -42,7 +42,7 @@ import math
 
 import numpy as np
 from transforms3d.euler import mat2euler
-from transforms3d.quaternions import quat2mat
+from transforms3d.quaternions import mat2quat, quat2mat
 
 from tactex_description.geometry import (
     ARM_JOINT_NAMES,
@@ -100,6 +100,11 @@ def align(measured, target) -> np.ndarray:
         cross = np.cross(a, helper)
         sine = float(np.linalg.norm(cross))
     return axis_angle_matrix(cross / sine, angle)
+
+
+def quaternion_z_to(normal) -> np.ndarray:
+    """Quaternion (w, x, y, z) of the shortest rotation turning +z onto `normal`."""
+    return mat2quat(align([0.0, 0.0, 1.0], normal))
 
 
 def mean_quaternion(quaternions) -> np.ndarray:
