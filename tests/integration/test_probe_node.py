@@ -66,11 +66,14 @@ def test_probe_goal_in_simulation_broadcasts_the_pathway(ros_context, tmp_path):
     # would start them.
     env = ros_environment()
     sim_time = ['-p', 'use_sim_time:=true']
+    logs = {name: open(tmp_path / f'{name}.log', 'w') for name in ('bridge', 'madgwick', 'probe')}
     nodes = [subprocess.Popen([BIN / 'mujoco_bridge', '--ros-args', '-p', 'scene:=probe',
-                               '-p', 'rate_factor:=1.0'], env=env),
-             subprocess.Popen([BIN / 'madgwick_node', '--ros-args', *sim_time], env=env),
+                               '-p', 'rate_factor:=0.5'], env=env, stderr=logs['bridge']),
+             subprocess.Popen([BIN / 'madgwick_node', '--ros-args', *sim_time], env=env,
+                              stderr=logs['madgwick']),
              subprocess.Popen([BIN / 'probe_node', '--ros-args', *sim_time, '-p',
-                               f'pathway_file:={tmp_path / "pathway.json"}'], env=env)]
+                               f'pathway_file:={tmp_path / "pathway.json"}'], env=env,
+                              stderr=logs['probe'])]
     client_node = rclpy.create_node('probe_client', context=ros_context)
     poses, late = [], []
     client_node.create_subscription(PoseArray, 'probe/contacts', poses.append, LATCHED)
@@ -92,7 +95,7 @@ def test_probe_goal_in_simulation_broadcasts_the_pathway(ros_context, tmp_path):
         assert wait_for(result_future.done, 240), 'the probe goal did not finish'
         result = result_future.result().result
         saved = Pathway.load(tmp_path / 'pathway.json')
-        assert result.message == '', result.message
+        assert result.message == '', (result.message, (tmp_path / 'bridge.log').read_text())
         assert list(result.outcomes) == [p.status for p in saved.probes]
         assert list(result.outcomes) == [ContactStatus.OK] * 2, [p.detail for p in saved.probes]
         # Sensible normals: the accuracy thresholds are the closed-loop library test's
@@ -123,6 +126,8 @@ def test_probe_goal_in_simulation_broadcasts_the_pathway(ros_context, tmp_path):
                 node.wait(timeout=10)
             except subprocess.TimeoutExpired:
                 node.kill()
+        for log in logs.values():
+            log.close()
 
 
 def test_servo_dropout_aborts_the_goal_with_the_reason(ros_context, tmp_path):

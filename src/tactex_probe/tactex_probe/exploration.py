@@ -76,8 +76,10 @@ PRESS_MARGIN_M = 0.002
 PRESS_LEVELS = (0.5, 1.0)
 # The free-air hold waits up to this many times its length for enough samples.
 BASELINE_PATIENCE = 5
+# The free-air window ends this long before the contact's onset (ns).
+FREE_GUARD_NS = 30_000_000
 # How long a measuring window waits for samples stamped inside it to arrive (ns).
-LATE_DATA_NS = 500_000_000
+LATE_DATA_NS = 1_000_000_000
 # A face that never lay flat and turned more than this gives no normal at all.
 MAX_UNFLAT_TURN_RAD = math.radians(3.0)
 # While moving in free air a force proxy above this is a contact: turning the tool shifts
@@ -309,6 +311,7 @@ class Explorer:
         self._relocate_normal: np.ndarray | None = None
         self._cancel_requested = False
         self._last_force_n = 0.0
+        self._last_force_ns = 0
         self._events: list = []
         self._finished: Finished | None = None
 
@@ -329,6 +332,7 @@ class Explorer:
         self._detect(self.detector.update(stamp_ns, pressure_pa))
         if self.detector.armed and self.detector.uses_pressure:
             self._last_force_n = self.detector.force_proxy(pressure_pa)
+            self._last_force_ns = int(stamp_ns)
             if self._touch is not None:
                 self._touch.peak_force_n = max(self._touch.peak_force_n, self._last_force_n)
 
@@ -409,8 +413,12 @@ class Explorer:
         self._emit_feedback()
         self._next_probe(now_ns)
 
+    def _force_since(self, stamp_ns: int) -> float:
+        """The latest force proxy if it was read after `stamp_ns`, else 0 (not known yet)."""
+        return self._last_force_n if self._last_force_ns > stamp_ns else 0.0
+
     def _on_moving(self, now_ns: int) -> None:
-        if self._last_force_n >= MOVING_CONTACT_N:
+        if self._force_since(self._stage_ns) >= MOVING_CONTACT_N:
             self._hold(now_ns)
             self._set_stage(_Stage.BLOCKED, now_ns)
         elif self._motion_done(now_ns):
@@ -419,9 +427,11 @@ class Explorer:
 
     def _on_blocked(self, now_ns: int) -> None:
         """A contact while moving: if it outlasts the stop, the way is blocked; else go on."""
-        if (now_ns - self._stage_ns) * 1e-9 < CONFIRM_S:
+        confirm_ns = self._stage_ns + int(CONFIRM_S * 1e9)
+        if now_ns < confirm_ns or (self._last_force_ns < confirm_ns
+                                   and now_ns - confirm_ns < LATE_DATA_NS):
             return
-        if self._last_force_n < MOVING_CONTACT_N:
+        if self._force_since(confirm_ns) < MOVING_CONTACT_N:
             try:
                 self._command(now_ns, self._transfer(self._commanded_pose(now_ns),
                                                      self._approach_pose()))
@@ -872,7 +882,9 @@ class Explorer:
         force = float(np.mean([self.detector.force_proxy(p) for p in pressures])) \
             if pressures.size else math.nan
         compression = max(force / PRESS_STIFFNESS_N_M, 0.0) if math.isfinite(force) else 0.0
-        free = self.history.window(touch.free_from_ns, touch.free_until_ns)
+        # Free air: the hold before the descent and the descent itself (same tilt).
+        free = self.history.window(touch.free_from_ns,
+                                   max(touch.free_until_ns, touch.event.onset_ns - FREE_GUARD_NS))
         pressed = self.history.window(self._stage_ns, now_ns, compression)
         if free is None or pressed is None:
             self._record_failure(now_ns, ContactStatus.ESTIMATION_FAILED,
