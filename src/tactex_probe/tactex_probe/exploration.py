@@ -218,6 +218,21 @@ class Finished:
     message: str
 
 
+@dataclass(frozen=True)
+class Measurement:
+    """How a successful probe was measured (for diagnostics and error budgets).
+
+    Attributes:
+        onset_ns: the contact's onset behind the recorded position.
+        window_ns: start and end of the measuring window behind the recorded normal.
+        estimate: that window's estimate.
+    """
+
+    onset_ns: int
+    window_ns: tuple[int, int]
+    estimate: NormalEstimate
+
+
 class _Stage(enum.Enum):
     """Internal steps, each shown to the user as a feedback phase (`_PHASES`)."""
 
@@ -308,6 +323,8 @@ class Explorer:
         self._touch: _Touch | None = None
         self._touches: list[TouchResult] = []
         self._touch_events: list[ContactEvent] = []
+        self._touch_windows: list[tuple[int, int]] = []
+        self.measurements: dict[int, Measurement] = {}
         self._relocate_normal: np.ndarray | None = None
         self._cancel_requested = False
         self._last_force_n = 0.0
@@ -526,6 +543,7 @@ class Explorer:
             return
         self._touches.append(TouchResult(touch.tilt, *touch.estimates))
         self._touch_events.append(touch.event)
+        self._touch_windows.append((self._stage_ns, end_ns))
         target = self._reachable_tilt(estimate.face_centre, next_tilt(self._touches))
         if (not self._touches[-1].flat(self.config.refine_tolerance_rad)
                 and len(self._touches) <= self.config.refinements
@@ -592,6 +610,7 @@ class Explorer:
                 return
             self._index = self._queue.pop(0)
             self._touch, self._touches, self._touch_events = None, [], []
+            self._touch_windows = []
             self._relocate_normal = None
             try:
                 self._command(now_ns, self._transfer(self._commanded_pose(now_ns),
@@ -931,6 +950,8 @@ class Explorer:
                   f'face turned {math.degrees(estimate.turn_rad):+.2f} deg at tilt '
                   f'{math.degrees(chosen.tilt):+.1f} deg; Madgwick and gravity '
                   f'{math.degrees(estimate.agreement_rad):.2f} deg apart, {estimate.source} used')
+        self.measurements[self._index] = Measurement(
+            event.onset_ns, self._touch_windows[self._touches.index(chosen)], estimate)
         self._add(ProbeRecord(
             index=self._index, status=ContactStatus.OK, stamp_ns=event.onset_ns,
             position=tuple(float(v) for v in position),

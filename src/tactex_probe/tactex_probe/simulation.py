@@ -71,7 +71,9 @@ class ProbeRun:
         surface: the true surface, for scoring.
         rejected: trajectories the arm refused (when and why); none in a sound run.
         final_joints: the arm's joints (joint1..joint4) when the goal ended.
-        trace: (time s, face centre x, y, z, pressure Pa) per sample while probing.
+        measurements: how each successful probe was measured (`Explorer.measurements`).
+        trace: per sample: time s, tip (sensor_edge) x, y, z, pressure Pa, the true
+            attitude of sensor_link (w, x, y, z) and 1 while the sensor touches.
     """
 
     finished: Finished
@@ -80,6 +82,7 @@ class ProbeRun:
     surface: Surface
     rejected: tuple[str, ...]
     final_joints: np.ndarray
+    measurements: dict
     trace: np.ndarray = field(repr=False)
 
     @property
@@ -169,14 +172,16 @@ def run_probe(scene: Scene, parameters: ProbeParameters,
                     rejected.append(f'{now_s:.3f} s: {err}')
             elif isinstance(event, Feedback):
                 feedback.append(event)
-        trace.append((now_s, *sample.truth.edge_position, sample.pressure))
+        truth = sample.truth
+        trace.append((now_s, *truth.edge_position, sample.pressure, *truth.sensor_quaternion,
+                      float(truth.contact.touching)))
         if now_s > max_time_s and explorer.finished is None:
             explorer.cancel()
             max_time_s = math.inf
     start_s = trace[0][0] if trace else 0.0
     return ProbeRun(explorer.finished, world.time_s - start_s, tuple(feedback), scene.surface,
                     tuple(rejected), world.joint_positions()[:len(ARM_JOINT_NAMES)],
-                    np.asarray(trace))
+                    dict(explorer.measurements), np.asarray(trace))
 
 
 @dataclass(frozen=True)
