@@ -86,6 +86,8 @@ MAX_UNFLAT_TURN_RAD = math.radians(3.0)
 # the barometer by up to ~0.15 N (the body's weight on the press spring), so the light
 # touch threshold of a descent would fire.
 MOVING_CONTACT_N = 0.3
+# A move stopped by a contact that then vanished is tried again at most this often.
+MAX_BLOCKED_RETRIES = 2
 # After the arm stopped on a located contact, the contact must still hold this long (s).
 CONFIRM_S = 0.1
 # The tip touched first only if the tool leaned at least this far past the surface's tilt;
@@ -312,7 +314,10 @@ class Explorer:
         self._located: dict[int, _Located] = {}
         two_pass = self.config.method is Method.TIP_THEN_FACE
         self._pass = _Pass.LOCATE if two_pass else _Pass.MEASURE
-        self._queue = list(range(parameters.probe_count))
+        count = parameters.probe_count
+        # Locating also touches one step beyond each end (not probe points: nothing is
+        # recorded for them), so every probe point's profile slope is a central one.
+        self._queue = [-1, *range(count), count] if two_pass else list(range(count))
         self._stage = _Stage.START
         self._index = 0
         self._started_ns: int | None = None
@@ -324,6 +329,7 @@ class Explorer:
         self._touches: list[TouchResult] = []
         self._touch_events: list[ContactEvent] = []
         self._touch_windows: list[tuple[int, int]] = []
+        self._blocked_retries = 0
         self.measurements: dict[int, Measurement] = {}
         self._relocate_normal: np.ndarray | None = None
         self._cancel_requested = False
@@ -448,7 +454,9 @@ class Explorer:
         if now_ns < confirm_ns or (self._last_force_ns < confirm_ns
                                    and now_ns - confirm_ns < LATE_DATA_NS):
             return
-        if self._force_since(confirm_ns) < MOVING_CONTACT_N:
+        if self._force_since(confirm_ns) < MOVING_CONTACT_N and \
+                self._blocked_retries < MAX_BLOCKED_RETRIES:
+            self._blocked_retries += 1
             try:
                 self._command(now_ns, self._transfer(self._commanded_pose(now_ns),
                                                      self._approach_pose()))
@@ -604,20 +612,22 @@ class Explorer:
         while True:
             if not self._queue and self._pass is _Pass.LOCATE:
                 self._pass = _Pass.MEASURE
-                self._queue = sorted(self._located)
+                self._queue = sorted(i for i in self._located
+                                     if 0 <= i < self.parameters.probe_count)
             if not self._queue:
                 self._finish(now_ns, Outcome.SUCCEEDED, '')
                 return
             self._index = self._queue.pop(0)
             self._touch, self._touches, self._touch_events = None, [], []
             self._touch_windows = []
+            self._blocked_retries = 0
             self._relocate_normal = None
             try:
                 self._command(now_ns, self._transfer(self._commanded_pose(now_ns),
                                                      self._approach_pose()))
             except PathUnreachable as err:
                 self._record_failure(now_ns, ContactStatus.UNREACHABLE, str(err),
-                                     self.parameters.probe_point(self._index))
+                                     self._point(self._index))
                 continue
             self._set_stage(_Stage.MOVING, now_ns)
             return
@@ -627,7 +637,7 @@ class Explorer:
         lift = np.array([0.0, 0.0, self.parameters.approach_height])
         if self._locating:
             if self._relocate_normal is None:
-                point = self.parameters.probe_point(self._index)
+                point = self._point(self._index)
                 normal = self._profile_normal(point)
             else:
                 point, normal = self._surface_point(self._index), self._relocate_normal
@@ -638,7 +648,7 @@ class Explorer:
             point = self._surface_point(self._index)
             tilt = self._surface_tilt(self._profile_normal(point))
         else:
-            point = self.parameters.probe_point(self._index)
+            point = self._point(self._index)
             tilt = self._surface_tilt(self._extrapolated_normal(point)) \
                 if self.config.align_tool else 0.0
         # Near the edge of the workspace a lower approach may still be reachable.
@@ -697,18 +707,26 @@ class Explorer:
             return float(candidate)
         return 0.0
 
+    def _point(self, index: int) -> np.ndarray:
+        """Probe point `index`, or for -1 and the count the points one step beyond the ends."""
+        p = self.parameters
+        return np.asarray(p.start) + index * p.step * np.asarray(p.direction)
+
+    def _is_probe_point(self, index: int) -> bool:
+        return 0 <= index < self.parameters.probe_count
+
     def _approach_height(self) -> float:
-        return float(self.parameters.probe_point(self._index)[2]
+        return float(self._point(self._index)[2]
                      + self.parameters.approach_height)
 
     def _heading(self) -> float:
-        return ToolPose(self.parameters.probe_point(self._index), 0.0).heading
+        return ToolPose(self._point(self._index), 0.0).heading
 
     # -- motions --------------------------------------------------------------------------
     def _descend(self, now_ns: int) -> None:
         start = self._commanded_pose(now_ns)
         if not self._touches:
-            bottom = self.parameters.probe_point(self._index)[2] - \
+            bottom = self._point(self._index)[2] - \
                 self.parameters.max_descent_depth
             if self._locating:
                 bottom += start.point[2] - tip_position(start)[2]
@@ -963,7 +981,9 @@ class Explorer:
     def _record_failure(self, now_ns: int, status: ContactStatus, detail: str,
                         position=None) -> None:
         if position is None:
-            position = self.parameters.probe_point(self._index)
+            position = self._point(self._index)
+        if not self._is_probe_point(self._index):
+            return  # a point beyond the ends, only located for the profile
         force = self._touch.peak_force_n if self._touch is not None else 0.0
         self._add(ProbeRecord(index=self._index, status=status, stamp_ns=int(now_ns),
                               position=tuple(float(v) for v in position), normal=(0.0, 0.0, 0.0),
@@ -980,8 +1000,9 @@ class Explorer:
     def _emit_feedback(self) -> None:
         records = self._records.values()
         last = max(records, key=lambda r: r.stamp_ns) if records else None
-        self._events.append(Feedback(_PHASES[self._stage], self._index,
-                                     self.parameters.probe_count, sum(r.ok for r in records),
+        count = self.parameters.probe_count
+        self._events.append(Feedback(_PHASES[self._stage], min(max(self._index, 0), count - 1),
+                                     count, sum(r.ok for r in records),
                                      last))
 
     def _finish(self, now_ns: int, outcome: Outcome, message: str) -> None:
