@@ -30,6 +30,7 @@ ROS_FACING = frozenset({
     'tactex_common.ros',
     'tactex_classify.recorder_node',
     'tactex_driver.arm_driver_node',
+    'tactex_probe.probe_node',
     'tactex_sensor.madgwick_node',
     'tactex_sensor.teensy_node',
     'tactex_sim.mujoco_bridge_node',
