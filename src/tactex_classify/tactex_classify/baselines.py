@@ -255,7 +255,7 @@ class StatsExtraTrees(Deployable):
             untrusted = set(skops.io.get_untrusted_types(file=info.model_file))
             if untrusted - set(TRUSTED_FOREST_TYPES):
                 raise CheckpointError(f'{info.folder}: refused {cls.MODEL_FILE}: it holds '
-                                      f'types outside the forest\'s own: '
+                                      f"types outside the forest's own: "
                                       f'{sorted(untrusted - set(TRUSTED_FOREST_TYPES))}')
             forest = skops.io.load(info.model_file, trusted=list(TRUSTED_FOREST_TYPES))
         except CheckpointError:

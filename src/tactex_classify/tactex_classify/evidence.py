@@ -30,7 +30,7 @@ KEPT_AFTER_DECISION = 256  # windows kept for change detection once a decision s
 
 
 def log_probabilities(proba: np.ndarray) -> np.ndarray:
-    """log of probabilities clipped to [LOG_FLOOR, 1] (a zero does not veto a class)."""
+    """Log of probabilities clipped to [LOG_FLOOR, 1] (a zero does not veto a class)."""
     return np.log(np.clip(proba, LOG_FLOOR, 1.0))
 
 

@@ -9,8 +9,8 @@ streams joined on the IMU stamps by `alignment.align`, runs of kept samples spli
 gaps (`tactex_common.stamps.gaps`), a window every hop from each run's start. A sample
 is final once every stream has reached its stamp (minus `reorder_s`); a stream silent
 while the IMU delivered `max_lag_s` worth of samples is not waited for (its missing
-samples drop the IMU samples as unaligned, as the converter drops them). A sample arriving after later ones
-were final is late: dropped and counted.
+samples drop the IMU samples as unaligned, as the converter drops them). A sample
+arriving after later ones were final is late: dropped and counted.
 
 Kept samples are those in contact: inside `sweep/active` (the converter's segment rule,
 on the receive stamps of its messages, as the recorder logs them), or, by the pressure
@@ -382,11 +382,12 @@ class OnlineClassifier:
 
     def __init__(self, predict: Callable[[np.ndarray], np.ndarray], stream: StreamSpec,
                  classes: int, *, live: LiveSettings = LiveSettings(),
-                 evidence: EvidenceSettings = EvidenceSettings(),
+                 evidence: EvidenceSettings | None = None,
                  newest_only: bool = True) -> None:
         self.predict = predict
         self.windows = LiveWindows(stream, live)
-        self.evidence = Evidence(classes, int(round(1e9 / stream.sampling_rate_hz)), evidence)
+        self.evidence = Evidence(classes, int(round(1e9 / stream.sampling_rate_hz)),
+                                 evidence or EvidenceSettings())
         self.newest_only = newest_only
         self.skipped = 0
         self.resets: dict[str, int] = {}

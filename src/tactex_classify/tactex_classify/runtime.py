@@ -116,7 +116,7 @@ def _onnx_predictor(info: CheckpointInfo, threads: int, path: Path | None = None
         raise CheckpointError(f'{path}: refused: {str(err).splitlines()[0]}') from None
     metadata = session.get_modelmeta().custom_metadata_map
     if metadata.get(SOURCE_KEY) != next(iter(info.files.values())):
-        raise CheckpointError(f'{path} was not exported from this checkpoint\'s '
+        raise CheckpointError(f"{path} was not exported from this checkpoint's "
                               f'{info.model_file.name}; export it again with `tactex export '
                               f'{info.folder} --onnx`')
     classes = len(info.classes)
@@ -184,8 +184,8 @@ def export_onnx(folder: Path, out: Path | None = None) -> Path:
         exported = _onnx_predictor(info, 1, staged).predict_proba(windows)
         difference = float(np.max(np.abs(exported - estimator.predict_proba(windows))))
         if not difference <= EXPORT_TOLERANCE:
-            raise ExportError(f'{folder}: the ONNX model\'s probabilities differ from the '
-                              f'native model\'s by {difference:.3g} on random windows')
+            raise ExportError(f"{folder}: the ONNX model's probabilities differ from the "
+                              f"native model's by {difference:.3g} on random windows")
         os.replace(staged, out)
     finally:
         staged.unlink(missing_ok=True)

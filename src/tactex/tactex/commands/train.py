@@ -109,7 +109,7 @@ def deployable_stream(dataset) -> dict:
     hop, rate = dataset.info.get('hop'), dataset.info.get('sampling_rate_hz')
     if not isinstance(hop, int) or isinstance(hop, bool) or not 1 <= hop <= dataset.X.shape[1] \
             or not isinstance(rate, (int, float)) or not math.isfinite(rate) or rate <= 0:
-        raise CommandError(f'DATA\'s sidecar gives hop {hop!r} and sampling_rate_hz {rate!r}; '
+        raise CommandError(f"DATA's sidecar gives hop {hop!r} and sampling_rate_hz {rate!r}; "
                            'a deployable model needs both (convert the recordings again), or '
                            'pass --no-final')
     return {'hop': hop, 'sampling_rate_hz': float(rate)}
