@@ -28,6 +28,7 @@ LAUNCH_FILES = sorted((ROOT / 'launch').glob('*.launch.py'))
 ROS_FACING = frozenset({
     'tactex.ros_launch',
     'tactex_common.ros',
+    'tactex_classify.classifier_node',
     'tactex_classify.recorder_node',
     'tactex_driver.arm_driver_node',
     'tactex_sensor.madgwick_node',
