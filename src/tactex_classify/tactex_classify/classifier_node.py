@@ -43,6 +43,9 @@ from tactex_msgs.msg import TextureEstimate
 ROLE_TOPICS = {'imu': (Imu, topics.IMU_RAW), 'mag': (MagneticField, topics.MAG),
                'pressure': (FluidPressure, topics.PRESSURE)}
 LATENCIES_KEPT = 2000  # the p50/p99 of diagnostics are over the newest this many windows
+# The worker and the executor share the GIL: a woken worker would wait up to Python's
+# default 5 ms switch interval while callbacks run; 0.5 ms bounds that wait.
+GIL_SWITCH_INTERVAL_S = 0.0005
 
 
 class StartError(Exception):
@@ -116,6 +119,7 @@ class ClassifierNode(Node):
         self.create_timer(p['wait_warn_period_s'], self._warn_while_waiting)
         self.add_on_set_parameters_callback(self._on_set_parameters)
         self._running = True
+        sys.setswitchinterval(GIL_SWITCH_INTERVAL_S)
         self._worker = threading.Thread(target=self._work, name='classifier', daemon=True)
         self._worker.start()
         self.get_logger().info(
@@ -223,6 +227,8 @@ class ClassifierNode(Node):
             self._wake.clear()
             while self._queue:
                 role, stamp, values, arrival = self._queue.popleft()
+                if self._refusal:
+                    continue
                 if role == 'active':
                     windows.set_active(values, stamp)
                 else:
@@ -292,8 +298,9 @@ class ClassifierNode(Node):
             estimate, classified = self._last_estimate, self._classified
         p50, p99 = (np.percentile(latencies, [50, 99]) if latencies.size
                     else (math.nan, math.nan))
-        if rate and samples > 2 * rate:  # a second of signal or more: check the rate
-            self._check_rate(rate, 'measured')
+        stream_rate = self._classifier.windows.stream_rate_hz()
+        if stream_rate is not None:
+            self._check_rate(stream_rate, 'median step of the header stamps')
         silent = self._silent_roles()
         evidence = self._classifier.evidence
         if estimate is None or not evidence.windows:

@@ -42,6 +42,7 @@ CONTACT_SOURCES = ('auto', 'sweep_active', 'pressure', 'always')
 REFERENCE = 'imu'  # the stream every other is joined onto, as in the converter
 LOOKBACK = 64  # finalised reference samples re-aligned each poll (medians, duplicates)
 RECENT_STAMPS = 256  # aligned stamps behind the gap rule's median
+RATE_STAMPS = 64  # aligned stamps before the stream's rate is judged
 WARMUP = 8  # IMU samples before the first is made final (periods need a few steps)
 
 
@@ -222,6 +223,12 @@ class LiveWindows:
     def needed_roles(self) -> list[str]:
         """The streams this model (and the contact rule) read."""
         return list(self.roles)
+
+    def stream_rate_hz(self) -> float | None:
+        """The stream's rate from the median step of recent stamps (None: too few yet)."""
+        if self._recent.size < RATE_STAMPS:
+            return None
+        return 1e9 / float(np.median(np.diff(self._recent)))
 
     def latest_ns(self, role: str) -> int | None:
         """Newest stamp seen on a stream (None before its first sample)."""
