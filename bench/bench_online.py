@@ -26,6 +26,7 @@ import argparse
 import json
 import os
 from pathlib import Path
+import random
 import subprocess
 import sys
 import tempfile
@@ -114,7 +115,7 @@ class Listener:
 
         def on_diagnostics(message) -> None:
             for status in message.status:
-                if status.name == 'tactex_classify: classifier':
+                if status.name.startswith('tactex_classify: '):
                     self.diagnostics = {kv.key: kv.value for kv in status.values}
 
         self.node.create_subscription(Imu, 'tactile/imu/data_raw', on_imu,
@@ -193,6 +194,8 @@ def main(argv: list[str] | None = None) -> int:
     from rclpy.context import Context
 
     env = ros_environment()
+    # A ROS domain of this run's own: no other run on this machine can cross-talk with it.
+    env['ROS_DOMAIN_ID'] = str(random.SystemRandom().randint(200, 232))
     os.environ.update(env)
     os.sched_setaffinity(0, {int(SENSOR_CORE)})
     if args.realtime:  # the listener's arrival times should not wait behind other work
