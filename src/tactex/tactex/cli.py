@@ -28,6 +28,7 @@ COMMANDS = {
     'convert': 'Turn recordings (rosbag2) into a windowed dataset (.npz + JSON).',
     'import': 'Import datasets recorded elsewhere (MUN pickles, CSV folders).',
     'train': 'Cross-validate a texture model (honest and leaky CV side by side), report.',
+    'export': "Write a checkpoint's model as ONNX (for classifier_node without torch).",
     'launch': "Run a launch file's nodes as supervised processes (no ROS 2 launch needed).",
 }
 
