@@ -9,7 +9,8 @@ epochs; the original's 250 epochs x 8 models take hours on one CPU), each with b
 schemes, all on that one dataset. Reports land in bench/results/textures/<model>/, and
 bench/results/textures/run.json records the dataset (its SHA-256, windows, recordings),
 the commands and how long each step took; `bench/render_results.py` builds the README's
-texture table from these files only.
+texture table from these files only. `--data` retrains some models on a dataset an
+earlier run kept (`--keep-data`), refused unless it is the very build run.json names.
 """
 
 import argparse
@@ -45,6 +46,20 @@ def build_dataset(folder: Path, sweeps: int, steps: list[dict]) -> Path:
     return data
 
 
+def _sha256(path: Path) -> str:
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+def _describe(data: Path, sweeps: int) -> dict:
+    """The dataset as run.json records it."""
+    sidecar = json.loads(data.with_suffix('.json').read_text(encoding='utf-8'))
+    with np.load(data) as arrays:
+        return {'sha256': _sha256(data), 'window': 128, 'sweeps_per_texture': sweeps,
+                'sampling_rate_hz': sidecar.get('sampling_rate_hz'),
+                'windows': int(arrays['y'].size),
+                'recordings': int(np.unique(arrays['trial']).size)}
+
+
 def main() -> int:
     """Collect, convert, train every model on the same windows, keep the reports."""
     parser = argparse.ArgumentParser(description=__doc__)
@@ -54,15 +69,25 @@ def main() -> int:
     parser.add_argument('--threads', type=int, default=2)
     parser.add_argument('--keep-data', type=Path,
                         help='also keep the dataset (.npz + .json) here, e.g. for bench_init')
+    parser.add_argument('--data', type=Path,
+                        help='retrain --models on a dataset kept by an earlier run; it must be '
+                             'the build bench/results/textures/run.json names (same SHA-256)')
     args = parser.parse_args()
-    steps: list[dict] = []
+    previous = json.loads((RESULTS / 'run.json').read_text(encoding='utf-8')) \
+        if args.data else None
     with tempfile.TemporaryDirectory() as folder:
-        data = build_dataset(Path(folder), args.sweeps, steps)
-        digest = hashlib.sha256(data.read_bytes()).hexdigest()
-        sidecar = json.loads(data.with_suffix('.json').read_text(encoding='utf-8'))
-        with np.load(data) as arrays:
-            counts = {'windows': int(arrays['y'].size),
-                      'recordings': int(np.unique(arrays['trial']).size)}
+        if args.data:
+            data = args.data.with_suffix('.npz')
+            if _sha256(data) != previous['dataset']['sha256']:
+                print(f'error: --data {data} is not the build run.json names; run without '
+                      f'--data to rebuild every result', file=sys.stderr)
+                return 1
+            steps = [step for step in previous['steps'] if not any(
+                f' --model {model} ' in step['command'] for model in args.models)]
+        else:
+            steps = []
+            data = build_dataset(Path(folder), args.sweeps, steps)
+        dataset = _describe(data, args.sweeps)
         if args.keep_data:
             args.keep_data.parent.mkdir(parents=True, exist_ok=True)
             for suffix in ('.npz', '.json'):
@@ -78,10 +103,9 @@ def main() -> int:
                 if item.is_file():
                     shutil.copy2(item, target / item.name)
             print((target / 'report.md').read_text(encoding='utf-8').split('## Per class')[0])
-    record = {'dataset': {'sha256': digest, 'window': 128, 'sweeps_per_texture': args.sweeps,
-                          'sampling_rate_hz': sidecar.get('sampling_rate_hz'), **counts},
-              'models': args.models, 'epochs': args.epochs, 'threads': args.threads,
-              'steps': steps}
+    models = list(dict.fromkeys([*(previous['models'] if previous else []), *args.models]))
+    record = {'dataset': dataset, 'models': models, 'epochs': args.epochs,
+              'threads': args.threads, 'steps': steps}
     (RESULTS / 'run.json').write_text(json.dumps(record, indent=2) + '\n', encoding='utf-8')
     return 0
 

@@ -170,13 +170,23 @@ def textures() -> str:
         metrics = _json(f'textures/{model}/metrics.json')
         grouped, stratified = (metrics['schemes'][s] for s in ('grouped', 'stratified'))
         eight = next(row for row in grouped['sequence'] if row['windows'] == 8)
-        label = TEXTURE_MODELS.get(model, f'{model}, {metrics["settings"]["epochs"]} epochs')
+        label = TEXTURE_MODELS[model] if model in TEXTURE_MODELS else (
+            f'{model}, {metrics["settings"]["epochs"]} epochs, {metrics["settings"]["init"]} '
+            f'initialisation')
         lines.append(f'| {label} | {100 * grouped["accuracy"]:.1f} % | '
                      f'{100 * stratified["accuracy"]:.1f} % | {100 * eight["accuracy"]:.1f} % '
                      f'({eight["touch_s"]:.1f} s of touch) |')
     leak = [100 * (_json(f'textures/{m}/metrics.json')['schemes']['stratified']['accuracy']
                    - _json(f'textures/{m}/metrics.json')['schemes']['grouped']['accuracy'])
             for m in run['models']]
+    confused = []
+    for model in run['models']:
+        grouped = _json(f'textures/{model}/metrics.json')['schemes']['grouped']
+        matrix, names = np.array(grouped['confusion']), list(grouped['per_class'])
+        np.fill_diagonal(matrix, 0)
+        pairs = np.dstack(np.unravel_index(np.argsort(-matrix, axis=None)[:2], matrix.shape))[0]
+        confused.append(f'{TEXTURE_MODELS.get(model, model)}: ' + ', '.join(
+            f'{names[i]} as {names[j]} ({matrix[i, j]})' for i, j in pairs))
     minutes = sum(step['seconds'] for step in run['steps']) / 60
     return (f'Results on one build of the synthetic set (12 textures x '
             f'{dataset["sweeps_per_texture"]} sweeps of the uneven-texture scene, '
@@ -186,7 +196,8 @@ def textures() -> str:
             '| classifier | grouped by recording (honest) | stratified windows (leaky) | '
             'honest, 8 windows |\n|---|---|---|---|\n' + '\n'.join(lines) + '\n\n'
             f'The leak of window-level cross-validation is {min(leak):.1f}-{max(leak):.1f} '
-            f'points here.\n')
+            f'points here. The windows most often confused (grouped, true as predicted): '
+            + '; '.join(confused) + '.\n')
 
 
 def init() -> str:

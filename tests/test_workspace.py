@@ -28,8 +28,10 @@ LAUNCH_FILES = sorted((ROOT / 'launch').glob('*.launch.py'))
 ROS_FACING = frozenset({
     'tactex.ros_launch',
     'tactex_common.ros',
+    'tactex_classify.classifier_node',
     'tactex_classify.recorder_node',
     'tactex_driver.arm_driver_node',
+    'tactex_probe.probe_node',
     'tactex_sensor.madgwick_node',
     'tactex_sensor.teensy_node',
     'tactex_sim.mujoco_bridge_node',
@@ -202,7 +204,8 @@ ROSDEP_KEYS = {'numpy': 'python3-numpy', 'scipy': 'python3-scipy', 'sklearn': 'p
                'serial': 'python3-serial', 'transforms3d': 'python3-transforms3d',
                'numba': 'python3-numba', 'rosbags': 'python3-rosbags-pip',
                'mujoco': 'python3-mujoco-pip', 'torch': 'python3-pytorch-pip',
-               'ray': 'python3-ray-pip'}
+               'ray': 'python3-ray-pip', 'skops': 'python3-skops-pip', 'onnx': 'python3-onnx-pip',
+               'onnxruntime': 'python3-onnxruntime-pip', 'skl2onnx': 'python3-skl2onnx-pip'}
 STANDARD_LIBRARY = sys.stdlib_module_names | {'__future__'}
 
 

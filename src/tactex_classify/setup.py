@@ -23,6 +23,7 @@ setup(
     entry_points={
         'console_scripts': [
             'recorder_node = tactex_classify.recorder_node:main',
+            'classifier_node = tactex_classify.classifier_node:main',
         ],
     },
 )

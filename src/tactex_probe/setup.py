@@ -21,6 +21,8 @@ setup(
     description='Contact detection, surface normals and the probe-and-broadcast node.',
     license='Apache-2.0',
     entry_points={
-        'console_scripts': [],
+        'console_scripts': [
+            'probe_node = tactex_probe.probe_node:main',
+        ],
     },
 )

@@ -15,6 +15,7 @@ import pickle
 from bagfactory import ramp, write_bag
 import numpy as np
 
+from tactex_classify.baselines import MiniRocketRidge
 from tactex_classify.compare import GridSettings, GridStore
 from tactex_classify.dataset import Dataset
 
@@ -100,6 +101,11 @@ def make_workspace(w: Path) -> Path:
     GridStore(w / 'grid').open(GridSettings(folds=2, epochs=3), {32: dataset}, {32: 'data'})
     (w / 'readonly').mkdir()
     (w / 'readonly').chmod(0o555)
+    data = toy_dataset(3)
+    MiniRocketRidge(dilations=2).fit(data.X, data.y, data.classes).save(
+        w / 'minirocket', hop=16, sampling_rate_hz=100.0)
+    (w / 'corrupt_checkpoint').mkdir()
+    (w / 'corrupt_checkpoint' / 'checkpoint.json').write_bytes(b'\xff\xfe\x00garbage')
     return w
 
 
@@ -221,6 +227,21 @@ BAD_INPUTS = {
              '{w}/full'),
         Case('compare {w}/data.npz --out {w}/readonly/g', '--out .*is not writable',
              '{w}/readonly/g', needs_non_root=True),
+    ],
+    'export': [
+        Case('export {w}/minirocket', 'nothing to export: give --onnx'),
+        Case('export {w}/nothing --onnx', 'CHECKPOINT .*nothing does not exist'),
+        Case('export {w}/text.txt --onnx', 'CHECKPOINT .*text.txt is a file; give a folder'),
+        Case('export {w}/folder --onnx', 'folder: missing checkpoint.json',
+             '{w}/folder/model.onnx'),
+        Case('export {w}/corrupt_checkpoint --onnx', 'refused checkpoint.json',
+             '{w}/corrupt_checkpoint/model.onnx'),
+        Case('export {w}/minirocket --onnx', 'minirocket has no ONNX form; it runs in numpy',
+             '{w}/minirocket/model.onnx'),
+        Case('export {w}/minirocket --onnx --out {w}/folder', '--out .*folder is a folder',
+             '{w}/folder'),
+        Case('export {w}/minirocket --onnx --out {w}/m.txt', '--out .*must end in .onnx',
+             '{w}/m.txt'),
     ],
     'import': [
         Case('import csv {w}/good --out {w}/o.npz', 'csv needs --rate HZ', OUT_NPZ),

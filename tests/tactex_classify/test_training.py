@@ -11,6 +11,7 @@ import pytest
 import torch
 
 from tactex_classify.baselines import MiniRocketRidge, StatsExtraTrees
+from tactex_classify.checkpoint import sha256
 from tactex_classify.classifier import (
     ChannelScaler,
     DeepClassifier,
@@ -45,6 +46,7 @@ def toy(recordings_per_class=4, windows=6, window=96, seed=0):
 
 
 FAST = TrainingConfig(model='cnn_3', epochs=3, seed=1)
+STREAM = {'hop': 48, 'sampling_rate_hz': 100.0}  # what a checkpoint keeps of the toy set
 
 
 def test_training_is_deterministic_for_a_seed():
@@ -58,7 +60,7 @@ def test_training_is_deterministic_for_a_seed():
 def test_resume_from_checkpoint_gives_identical_predictions(tmp_path):
     data = toy()
     model = DeepClassifier(FAST).fit(data.X, data.y, CLASSES)
-    loaded = DeepClassifier.load(model.save(tmp_path / 'ckpt'))
+    loaded = DeepClassifier.load(model.save(tmp_path / 'ckpt', **STREAM))
     np.testing.assert_array_equal(model.predict_proba(data.X[:5]),
                                   loaded.predict_proba(data.X[:5]))
     assert loaded.classes_ == CLASSES and loaded.scaler_.offset == model.scaler_.offset
@@ -66,20 +68,31 @@ def test_resume_from_checkpoint_gives_identical_predictions(tmp_path):
 
 def test_a_checkpoint_with_a_foreign_pickle_payload_is_refused(tmp_path):
     data = toy()
-    folder = DeepClassifier(FAST).fit(data.X, data.y, CLASSES).save(tmp_path / 'ckpt')
+    folder = DeepClassifier(FAST).fit(data.X, data.y, CLASSES).save(tmp_path / 'ckpt', **STREAM)
 
     class Payload:
         def __reduce__(self):
             return (print, ('this ran',))
     torch.save({'weights': Payload()}, folder / 'weights.pt')
+    with pytest.raises(CheckpointError, match='does not match its SHA-256'):
+        DeepClassifier.load(folder)
+    rehash(folder)  # as an attacker would
     with pytest.raises(CheckpointError, match='refused'):
         DeepClassifier.load(folder)
     (folder / 'weights.pt').write_bytes(pickle.dumps([1, 2, 3]))
+    rehash(folder)
     with pytest.raises(CheckpointError):
         DeepClassifier.load(folder)
     (folder / 'weights.pt').unlink()
     with pytest.raises(CheckpointError, match='missing weights.pt'):
         DeepClassifier.load(folder)
+
+
+def rehash(folder):
+    """Update checkpoint.json's checksum to the model file as it is now."""
+    meta = json.loads((folder / 'checkpoint.json').read_text())
+    meta['files'] = {name: sha256(folder / name) for name in meta['files']}
+    (folder / 'checkpoint.json').write_text(json.dumps(meta))
 
 
 def test_nan_input_is_rejected_with_a_clear_error():
@@ -230,8 +243,14 @@ def test_early_stopping_on_one_recording_is_refused():
 
 
 @pytest.mark.parametrize('change, field', [
-    (lambda meta: [], 'not a tactex deep-model checkpoint'),
-    (lambda meta: {**meta, 'format_version': 99}, 'not a tactex'),
+    (lambda meta: [], 'not a tactex checkpoint'),
+    (lambda meta: {**meta, 'format_version': 99}, 'not a tactex checkpoint of format version'),
+    (lambda meta: {**meta, 'format_version': 1}, 'retrain with `tactex train`'),
+    (lambda meta: {**meta, 'hop': 0}, 'hop must be'),
+    (lambda meta: {**meta, 'hop': 97}, 'hop must be <= window'),
+    (lambda meta: {**meta, 'sampling_rate_hz': float('nan')}, 'sampling_rate_hz must be'),
+    (lambda meta: {**meta, 'files': {'../../etc/passwd': 'ab'}}, 'files must be'),
+    (lambda meta: {**meta, 'model': 'cnn_1'}, 'disagrees with its configuration'),
     (lambda meta: {k: v for k, v in meta.items() if k != 'classes'}, "missing 'classes'"),
     (lambda meta: {**meta, 'classes': 'low mid high'}, 'classes must be'),
     (lambda meta: {**meta, 'channels': ['ax'] * 10}, 'channels must be'),
@@ -248,7 +267,7 @@ def test_early_stopping_on_one_recording_is_refused():
 ])
 def test_a_malformed_checkpoint_json_is_a_checkpoint_error(tmp_path, change, field):
     data = toy()
-    folder = DeepClassifier(FAST).fit(data.X, data.y, CLASSES).save(tmp_path / 'ckpt')
+    folder = DeepClassifier(FAST).fit(data.X, data.y, CLASSES).save(tmp_path / 'ckpt', **STREAM)
     meta = json.loads((folder / 'checkpoint.json').read_text())
     (folder / 'checkpoint.json').write_text(json.dumps(change(meta)))
     with pytest.raises(CheckpointError, match=field):
@@ -259,7 +278,7 @@ def test_a_malformed_checkpoint_json_is_a_checkpoint_error(tmp_path, change, fie
                                     'tensor list', 'empty weights'])
 def test_a_damaged_checkpoint_file_is_a_checkpoint_error(tmp_path, damage):
     data = toy()
-    folder = DeepClassifier(FAST).fit(data.X, data.y, CLASSES).save(tmp_path / 'ckpt')
+    folder = DeepClassifier(FAST).fit(data.X, data.y, CLASSES).save(tmp_path / 'ckpt', **STREAM)
     weights = folder / 'weights.pt'
     if damage == 'binary json':
         (folder / 'checkpoint.json').write_bytes(b'\xff\xfe\x00garbage')
@@ -273,6 +292,8 @@ def test_a_damaged_checkpoint_file_is_a_checkpoint_error(tmp_path, damage):
         torch.save([torch.zeros(3)], weights)
     else:
         weights.write_bytes(b'')
+    if damage != 'binary json':
+        rehash(folder)  # past the checksum: the loader itself must refuse it
     with pytest.raises(CheckpointError):
         DeepClassifier.load(folder)
 
@@ -281,7 +302,7 @@ def test_channel_names_are_kept_and_checked_against_the_data(tmp_path):
     data = toy()
     names = [f'c{i}' for i in range(10)]
     model = DeepClassifier(FAST).fit(data.X, data.y, CLASSES, channels=names)
-    loaded = DeepClassifier.load(model.save(tmp_path / 'ckpt'))
+    loaded = DeepClassifier.load(model.save(tmp_path / 'ckpt', **STREAM))
     assert loaded.channels_ == names
     loaded.predict(data.X[:2], channels=names)
     with pytest.raises(ValueError, match="the data has channels \\['c1', 'c0'"):
@@ -306,7 +327,7 @@ def test_every_model_trains_on_any_channel_set_and_its_checkpoint_names_them(tmp
     model = DeepClassifier(TrainingConfig(model=name, epochs=1)).fit(
         data.X, data.y, data.classes, channels=data.channels)
     assert model.channels_ == THREE_AXES
-    loaded = DeepClassifier.load(model.save(tmp_path / 'ckpt'))
+    loaded = DeepClassifier.load(model.save(tmp_path / 'ckpt', **STREAM))
     assert loaded.channels_ == THREE_AXES and loaded.n_channels_ == 3
     np.testing.assert_allclose(loaded.predict_proba(data.X[:2]), model.predict_proba(data.X[:2]),
                                rtol=1e-5, atol=1e-6)

@@ -200,3 +200,15 @@ def test_start_from_identity_converges_within_one_second():
     batch = filter_batch(np.zeros((120, 3)), np.tile(accel, (120, 1)), 1 / RATE_HZ,
                          config=config)
     np.testing.assert_allclose(batch[-1], filt.quaternion, atol=1e-12)
+
+
+def test_a_lasting_disagreement_with_the_accel_restarts_the_gain_ramp():
+    q_true = euler2quat(0.2, 0.1, 0.0)
+    filt = MadgwickFilter()
+    run_static(filt, q_true, 1.0)
+    accel, _ = static_readings(q_true, mag=False)
+    filt.update((30.0, 0.0, 0.0), accel, 0.087)  # in range, yet turns it 150 degrees
+    assert math.degrees(tilt_between(filt.quaternion, q_true)) > 100
+    run_static(filt, q_true, 2.5)  # the gain of 0.04 alone would take 30 s
+    assert filt.restarts >= 1
+    assert math.degrees(tilt_between(filt.quaternion, q_true)) < 1.0

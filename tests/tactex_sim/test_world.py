@@ -43,8 +43,9 @@ def run(world, seconds):
 
 
 def test_resting_sensor_reads_gravity_and_nan_where_unsimulated():
-    world = World(SCENE['probe'])
-    world.place_arm(pose_at(SCENE['probe'], 0.15, -0.03))
+    scene = dataclasses.replace(SCENE['probe'], effects=('contact', 'compliance'))
+    world = World(scene)
+    world.place_arm(pose_at(scene, 0.15, -0.03))
     sample = run(world, 0.5)[-1]
     assert abs(np.linalg.norm(sample.accel) - 9.81) < 0.05
     assert np.all(np.isnan(sample.mag)) and math.isnan(sample.pressure)

@@ -29,6 +29,7 @@ COMMANDS = {
     'import': 'Import datasets recorded elsewhere (MUN pickles, CSV folders).',
     'train': 'Cross-validate a texture model (honest and leaky CV side by side), report.',
     'compare': 'Compare models x windows x seeds x folds on Ray (resumable), with the table.',
+    'export': "Write a checkpoint's model as ONNX (for classifier_node without torch).",
     'launch': "Run a launch file's nodes as supervised processes (no ROS 2 launch needed).",
 }
 

@@ -359,7 +359,7 @@ def read_recording(path: Path, *, remaps: Mapping[str, str] | None = None,
     return Recording(
         path, aligned.stamps_ns, aligned.values[:, order], check_metadata(
             collected.metadata, path),
-        _intervals(sorted(collected.active)) if 'active' in roles else None,
+        segments(sorted(collected.active)) if 'active' in roles else None,
         joint_array[joint_order, 0].astype(np.int64), joint_array[joint_order, 1],
         tuple(aligned.channels[i] for i in order), _truth(collected, roles), dropped, notes,
         collected.messages)
@@ -399,6 +399,14 @@ def _truth(collected: _Collected, roles: Mapping[str, str]) -> GroundTruth | Non
     return GroundTruth(contact_ns, edge_ns, edge_m, texture_ns, texture)
 
 
+def inside(stamps_ns: np.ndarray, spans: Sequence[tuple[int, int]]) -> np.ndarray:
+    """True for the stamps within a span (both ends included): the converter's segment rule."""
+    keep = np.zeros(np.shape(stamps_ns), dtype=bool)
+    for start, end in spans:
+        keep |= (stamps_ns >= start) & (stamps_ns <= end)
+    return keep
+
+
 def _why(err: Exception, part: Path) -> str:
     if not (part / 'metadata.yaml').is_file():
         return 'truncated or corrupt bag (no metadata.yaml)'
@@ -416,8 +424,11 @@ def _parse_metadata(text: str, path: Path) -> dict:
     return value
 
 
-def _intervals(transitions: list[tuple[int, bool]]) -> list[tuple[int, int]]:
-    """[(start, end)] of the true spans of a sorted on/off message sequence."""
+def segments(transitions: Sequence[tuple[int, bool]]) -> list[tuple[int, int]]:
+    """[(start, end)] of the true spans of a sorted on/off message sequence (sweep/active).
+
+    A span still open at the end runs to the largest int64.
+    """
     spans, start = [], None
     for stamp, state in transitions:
         if state and start is None:

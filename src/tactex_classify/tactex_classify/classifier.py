@@ -5,22 +5,24 @@
 `fit(X, y, classes)` scales with state fitted on the training windows only (with early
 stopping: on the recordings left after whole recordings are held out for validation),
 trains, and keeps the scaler;
-`predict_proba(X)` returns (n, n_classes) in `classes` order; checkpoints hold the
-weights (`state_dict`, loaded with `weights_only=True`) next to a JSON file with the
-classes, channels, window, scaler state and model configuration.
+`predict_proba(X)` returns (n, n_classes) in `classes` order; checkpoints
+(`tactex_classify.checkpoint`) hold the weights (`state_dict`, loaded with
+`weights_only=True`) next to a JSON file with the classes, channels, window, hop, rate,
+scaler state and model configuration.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass
-import json
 import math
 import os
 from pathlib import Path
 
 import numpy as np
 
+from tactex_classify.catalog import DEEP_MODELS
+from tactex_classify.checkpoint import Deployable, restore_fitted
 from tactex_classify.errors import CheckpointError, NotFittedError
 from tactex_common.channels import CHANNELS
 
@@ -178,9 +180,8 @@ class TrainingConfig:
         Raises:
             ValueError: a setting out of its range (named, with the value).
         """
-        from tactex_classify.models import MODELS
-        if self.model not in MODELS:
-            raise ValueError(f'unknown model {self.model!r}; known: {", ".join(MODELS)}')
+        if self.model not in DEEP_MODELS:
+            raise ValueError(f'unknown model {self.model!r}; known: {", ".join(DEEP_MODELS)}')
         for name, low in (('epochs', 1), ('batch_size', 2), ('early_stopping', 0),
                           ('seed', 0), ('threads', 1)):
             value = getattr(self, name)
@@ -200,8 +201,11 @@ class TrainingConfig:
         return self
 
 
-class DeepClassifier:
+class DeepClassifier(Deployable):
     """One of the eight models, trained as the original trained them."""
+
+    CHECKPOINT_KIND = 'deep'
+    MODEL_FILE = 'weights.pt'
 
     def __init__(self, config: TrainingConfig | None = None, *,
                  progress: Callable[[dict], None] | None = None, device: str = 'cpu') -> None:
@@ -337,94 +341,65 @@ class DeepClassifier:
         """Class indices (see `predict_proba`)."""
         return self.predict_proba(X, channels=channels).argmax(axis=1)
 
-    def save(self, folder: Path) -> Path:
-        """Write weights.pt (state_dict) and checkpoint.json into `folder`."""
-        import torch
+    @property
+    def model_name(self) -> str:
+        """The model's name (one of the eight)."""
+        return self.config.model
+
+    def checkpoint_fields(self) -> dict:
+        """The checkpoint fields of this kind: the fitted scaler and the training settings.
+
+        Raises:
+            NotFittedError: before fit or load.
+        """
         if self.model_ is None:
             raise NotFittedError('DeepClassifier is not fitted; nothing to save')
-        folder = Path(folder)
-        folder.mkdir(parents=True, exist_ok=True)
-        torch.save(self.model_.state_dict(), folder / 'weights.pt')
-        meta = {'format_version': CHECKPOINT_VERSION, 'kind': 'deep', 'classes': self.classes_,
-                'channels': self.channels_, 'window': self.window_,
-                'scaler': asdict(self.scaler_), 'config': asdict(self.config)}
-        (folder / 'checkpoint.json').write_text(json.dumps(meta, indent=2), encoding='utf-8')
-        return folder
+        return {'scaler': asdict(self.scaler_), 'config': asdict(self.config)}
+
+    def write_model(self, path: Path) -> None:
+        """Write the weights (a state_dict of tensors) to `path`."""
+        import torch
+        torch.save(self.model_.state_dict(), path)
 
     @classmethod
-    def load(cls, folder: Path) -> DeepClassifier:
+    def from_checkpoint(cls, info) -> DeepClassifier:
         """A saved classifier; refuses anything but plain, finite tensors in the weights file.
 
         Raises:
-            CheckpointError: missing or unreadable files, a malformed checkpoint.json (the
-                field is named), a foreign payload, or weights that do not fit the model.
+            KeyError, TypeError, ValueError: a missing or malformed field.
+            CheckpointError: the weights file is refused or does not fit the model.
         """
         import pickle
 
         import torch
 
         from tactex_classify.models import build_model
-        folder = Path(folder)
+        config = info.fields['config']
+        if not isinstance(config, dict):
+            raise TypeError(f'config must be an object, got {config!r}')
+        self = cls(TrainingConfig(**config).check())
+        restore_fitted(self, info)
+        self.scaler_ = ChannelScaler.from_state(info.fields['scaler'], self.n_channels_)
         try:
-            meta = json.loads((folder / 'checkpoint.json').read_text(encoding='utf-8'))
-            state = torch.load(folder / 'weights.pt', weights_only=True, map_location='cpu')
-        except FileNotFoundError as err:
-            raise CheckpointError(f'{folder}: missing {Path(err.filename).name}') from None
-        except (pickle.UnpicklingError, RuntimeError, EOFError, OSError, UnicodeDecodeError,
-                ValueError) as err:
+            state = torch.load(info.model_file, weights_only=True, map_location='cpu')
+        except (pickle.UnpicklingError, RuntimeError, EOFError, OSError, ValueError) as err:
             reason = (str(err).splitlines() or [type(err).__name__])[0]
-            raise CheckpointError(f'{folder}: refused: {reason}') from None
-        if not isinstance(meta, dict) or meta.get('format_version') != CHECKPOINT_VERSION \
-                or meta.get('kind') != 'deep':
-            raise CheckpointError(f'{folder}: not a tactex deep-model checkpoint (format '
-                                  f'version {CHECKPOINT_VERSION}, kind "deep")')
-        try:
-            self = cls._from_checkpoint(meta)
-        except (KeyError, TypeError, ValueError) as err:
-            reason = f'missing {err}' if isinstance(err, KeyError) else err
-            raise CheckpointError(f'{folder}: malformed checkpoint.json: {reason}') from None
+            raise CheckpointError(f'{info.folder}: refused {info.model_file.name}: {reason}'
+                                  ) from None
         if not isinstance(state, dict) or not all(
                 isinstance(v, torch.Tensor) and bool(torch.isfinite(v).all())
                 for v in state.values()):
-            raise CheckpointError(f'{folder}: weights.pt must hold a state_dict of finite '
+            raise CheckpointError(f'{info.folder}: weights.pt must hold a state_dict of finite '
                                   f'tensors')
         self.model_ = build_model(self.config.model, self.window_, self.n_channels_,
                                   len(self.classes_))
         try:
             self.model_.load_state_dict(state)
         except (RuntimeError, TypeError, KeyError) as err:
-            raise CheckpointError(f'{folder}: weights do not fit {self.config.model}: '
+            raise CheckpointError(f'{info.folder}: weights do not fit {self.config.model}: '
                                   f'{str(err).splitlines()[0]}') from None
+        self.model_.eval()
         return self
-
-    @classmethod
-    def _from_checkpoint(cls, meta: dict) -> DeepClassifier:
-        """Everything but the weights, every field checked.
-
-        Raises:
-            KeyError: a missing field. TypeError, ValueError: a field of the wrong kind.
-        """
-        config = meta['config']
-        if not isinstance(config, dict):
-            raise TypeError(f'config must be an object, got {config!r}')
-        self = cls(TrainingConfig(**config).check())
-        self.classes_ = _names(meta['classes'], 'classes')
-        self.channels_ = _names(meta['channels'], 'channels')
-        self.n_channels_ = len(self.channels_)
-        window = meta['window']
-        if not isinstance(window, int) or isinstance(window, bool) or window < 1:
-            raise ValueError(f'window must be an integer >= 1, got {window!r}')
-        self.window_ = window
-        self.scaler_ = ChannelScaler.from_state(meta['scaler'], self.n_channels_)
-        return self
-
-
-def _names(value, field: str) -> list[str]:
-    """A non-empty list of distinct strings from a checkpoint field."""
-    if not isinstance(value, list) or not value or not all(isinstance(v, str) for v in value) \
-            or len(set(value)) != len(value):
-        raise ValueError(f'{field} must be a non-empty list of distinct names, got {value!r}')
-    return value
 
 
 def validation_split(y: np.ndarray, groups, config: TrainingConfig

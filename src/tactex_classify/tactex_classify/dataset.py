@@ -23,6 +23,7 @@ import numpy as np
 
 from tactex_classify.alignment import nearest
 from tactex_classify.bags import (
+    inside,
     is_recording,
     read_recording,
     Recording,
@@ -223,9 +224,7 @@ def keep_mask(recording: Recording, rule: FilterRule, all_samples: bool,
         return np.ones(stamps.size, dtype=bool)
     keep = np.ones(stamps.size, dtype=bool)
     if recording.active_ns is not None:
-        keep[:] = False
-        for start, end in recording.active_ns:
-            keep |= (stamps >= start) & (stamps <= end)
+        keep = inside(stamps, recording.active_ns)
     if recording.truth is not None:
         return keep & _truly_sliding(recording, rule, label)
     if recording.active_ns is not None:

@@ -21,3 +21,7 @@ class NotFittedError(ClassifyError):
 
 class CheckpointError(ClassifyError):
     """A checkpoint is missing, malformed, or holds something other than weights."""
+
+
+class ExportError(ClassifyError):
+    """A model cannot be exported, or its export does not reproduce it."""

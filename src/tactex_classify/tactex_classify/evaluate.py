@@ -19,6 +19,7 @@ from sklearn.model_selection import StratifiedGroupKFold, StratifiedKFold
 
 from tactex_classify.catalog import SCHEMES
 from tactex_classify.dataset import Dataset
+from tactex_classify.evidence import log_probabilities
 
 
 @dataclass
@@ -107,7 +108,7 @@ def sequence_accuracy(dataset: Dataset, proba: np.ndarray) -> dict[int, float]:
     For k = 1, 2, 4, ... up to the longest recording, every run of k consecutive
     windows of every recording is one decision.
     """
-    log_proba = np.log(np.clip(proba, 1e-12, 1.0))
+    log_proba = log_probabilities(proba)
     per_recording = []
     for trial in np.unique(dataset.trial):
         members = np.flatnonzero(dataset.trial == trial)

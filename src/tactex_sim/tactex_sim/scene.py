@@ -21,7 +21,11 @@ from tactex_sim.errors import SceneError
 
 @dataclass(frozen=True)
 class Surface:
-    """The plate under the arm: flat, or the concave-convex wave of the original."""
+    """The plate under the arm: flat, or the concave-convex wave of the original.
+
+    A flat plate may be tilted: its top face rises along +x at `slope_rad`, turned about
+    the y axis through the top face's centre (probing steep slopes).
+    """
 
     kind: str = 'flat'
     size_m: tuple[float, float] = (0.30, 0.20)
@@ -30,19 +34,20 @@ class Surface:
     wavelength_m: float = 0.12
     thickness_m: float = 0.01
     cells: tuple[int, int] = (601, 81)
+    slope_rad: float = 0.0
 
     def height(self, x_world):
         """Surface height (m, world z) at world x (the top face for a flat plate)."""
-        if self.kind == 'flat':
-            return np.full_like(np.asarray(x_world, dtype=float), self.top_z)
         local = np.asarray(x_world, dtype=float) - self.origin_m[0]
+        if self.kind == 'flat':
+            return self.top_z + math.tan(self.slope_rad) * local
         wave = np.cos(2.0 * math.pi * local / self.wavelength_m)
         return self.top_z + self.amplitude_m * wave
 
     def slope(self, x_world):
         """Slope d(height)/dx at world x."""
         if self.kind == 'flat':
-            return np.zeros_like(np.asarray(x_world, dtype=float))
+            return np.full_like(np.asarray(x_world, dtype=float), math.tan(self.slope_rad))
         local = np.asarray(x_world, dtype=float) - self.origin_m[0]
         k = 2.0 * math.pi / self.wavelength_m
         return -self.amplitude_m * k * np.sin(k * local)
@@ -170,6 +175,9 @@ def parse_scene(raw: dict[str, Any], source: str = '<scene>') -> Scene:
             or surface.amplitude_m < 0 or min(surface.cells) < 2:
         raise SceneError(f'{source}: [surface] sizes, wavelength and thickness must be > 0, '
                          f'amplitude >= 0 and cells >= 2')
+    if surface.slope_rad and (surface.kind != 'flat' or abs(surface.slope_rad) >= 1.4):
+        raise SceneError(f'{source}: [surface] slope_rad tilts a flat plate only, by less than '
+                         f'1.4 rad, got {surface.slope_rad!r} on a {surface.kind!r} surface')
     patches = tuple(_section(Patch, p, source, f'patches[{i}]')
                     for i, p in enumerate(raw.get('patches', [])))
     for patch in patches:

@@ -178,9 +178,13 @@ class World:
         common = f'name="{SURFACE_GEOM}" rgba="0.55 0.45 0.35 1" friction="0.5 0.005 0.0001"'
         floor = '<light pos="0 0 1.5" dir="0 0 -1"/>'
         if surface.kind == 'flat':
+            # Tilted about y through the top face's centre (slope_rad 0: level).
             half = f'{surface.size_m[0] / 2} {surface.size_m[1] / 2} {surface.thickness_m / 2}'
-            return floor + (f'<geom {common} type="box" size="{half}" '
-                            f'pos="{x} {y} {z + surface.thickness_m / 2}"/>')
+            slope = surface.slope_rad
+            cx = x + math.sin(slope) * surface.thickness_m / 2
+            cz = surface.top_z - math.cos(slope) * surface.thickness_m / 2
+            return floor + (f'<geom {common} type="box" size="{half}" pos="{cx} {y} {cz}" '
+                            f'quat="{math.cos(slope / 2)} 0 {-math.sin(slope / 2)} 0"/>')
         return floor + (f'<geom {common} type="hfield" hfield="surface" '
                         f'pos="{x} {y} {z + surface.thickness_m}"/>')
 

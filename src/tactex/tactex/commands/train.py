@@ -1,6 +1,10 @@
 # Copyright 2026 The tactex authors
 # SPDX-License-Identifier: Apache-2.0
-"""`tactex train`: cross-validate a model on a dataset, write the report, keep a checkpoint."""
+"""`tactex train`: cross-validate a model on a dataset, write the report, keep a checkpoint.
+
+Every model, the baselines included, leaves a deployable checkpoint in RUN/model/
+(`tactex_classify.checkpoint`): what `classifier_node` loads and `tactex export` reads.
+"""
 
 from __future__ import annotations
 
@@ -33,7 +37,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help='torch threads (1)')
     parser.add_argument('--out', type=Path, required=True, help='run folder')
     parser.add_argument('--no-final', action='store_true',
-                        help='skip training the deployable model on all windows')
+                        help='skip training the deployable model (RUN/model/) on all windows')
 
 
 def run(args: argparse.Namespace) -> int:
@@ -44,6 +48,7 @@ def run(args: argparse.Namespace) -> int:
     dataset = Dataset.load(args.data)
     schemes = SCHEMES if args.cv == 'both' else (args.cv,)
     check_folds(dataset, schemes, args.folds)
+    stream = None if args.no_final else deployable_stream(dataset)
 
     from tactex_classify.classifier import TrainingConfig
     from tactex_classify.errors import ClassifyError
@@ -80,14 +85,30 @@ def run(args: argparse.Namespace) -> int:
             settings['folds'] = args.folds
             write_report(folder, dataset, results, title=f'{args.model} on {args.data.stem}',
                          settings=settings, data_name=str(args.data))
-            if not args.no_final and args.model not in BASELINES:
+            if stream is not None:
                 log('training the deployable model on every window')
                 make().fit(dataset.X, dataset.y, dataset.classes, groups=dataset.trial,
-                           channels=dataset.channels).save(folder / 'model')
+                           channels=dataset.channels).save(folder / 'model', **stream)
     except ValueError as err:
         raise ClassifyError(str(err)) from None
     log(f'report: {args.out / "report.md"}')
     return 0
+
+
+def deployable_stream(dataset) -> dict:
+    """The hop and sampling rate a checkpoint keeps, from the dataset's sidecar.
+
+    Raises:
+        CommandError: the sidecar lacks them (or they are not usable).
+    """
+    import math
+    hop, rate = dataset.info.get('hop'), dataset.info.get('sampling_rate_hz')
+    if not isinstance(hop, int) or isinstance(hop, bool) or not 1 <= hop <= dataset.X.shape[1] \
+            or not isinstance(rate, (int, float)) or not math.isfinite(rate) or rate <= 0:
+        raise CommandError(f"DATA's sidecar gives hop {hop!r} and sampling_rate_hz {rate!r}; "
+                           'a deployable model needs both (convert the recordings again), or '
+                           'pass --no-final')
+    return {'hop': hop, 'sampling_rate_hz': float(rate)}
 
 
 def check_folds(dataset, schemes, folds: int) -> None:

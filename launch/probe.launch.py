@@ -1,0 +1,46 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""Launch probing: the sensor and the arm (or the simulator), Madgwick, and the probe node."""
+
+from tactex.launch_spec import (
+    Argument,
+    config_path,
+    is_true,
+    LaunchFile,
+    load_launch_file,
+    NodeSpec,
+)
+
+
+def _nodes(args):
+    sim = is_true(args['sim'])
+    if sim:
+        robot = load_launch_file('sim').node_specs(
+            {'scene': args['scene'], 'rate_factor': args['rate_factor']})
+    else:
+        robot = [*load_launch_file('sensor').node_specs({'port': args['sensor_port']}),
+                 *load_launch_file('arm').node_specs({'port': args['arm_port']})]
+    probe = NodeSpec('tactex_probe', 'probe_node', 'probe_node',
+                     parameters=(config_path('probe.yaml'),
+                                 {'probe_on_start': is_true(args['probe_on_start']),
+                                  'use_sim_time': sim}))
+    return [*robot, probe]
+
+
+LAUNCH = LaunchFile(
+    'probe an unknown surface for a pathway: sensor + arm (or MuJoCo), Madgwick, probe node',
+    (Argument('sim', 'false', 'MuJoCo in place of the arm and the tactile module',
+              ('true', 'false')),
+     Argument('probe_on_start', 'false', 'start probing with the goal of config/probe.yaml',
+              ('true', 'false')),
+     Argument('scene', 'probe', 'sim:=true: scene under config/scenes/ or a .toml path'),
+     Argument('rate_factor', '1.0', 'sim:=true: simulated seconds per wall second'),
+     Argument('sensor_port', '/dev/ttyACM0', 'sim:=false: serial device of the Teensy'),
+     Argument('arm_port', '/dev/ttyUSB0', 'sim:=false: serial device of the U2D2 / OpenCR')),
+    _nodes)
+
+
+def generate_launch_description():
+    """ROS 2 launch entry point (`ros2 launch tactex probe.launch.py sim:=true`)."""
+    from tactex.ros_launch import launch_description
+    return launch_description(LAUNCH)

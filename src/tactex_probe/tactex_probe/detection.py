@@ -1,0 +1,245 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""Contact detection from the barometer and accelerometer stream.
+
+Pressing the compliant body compresses the air cast inside it, so the barometer is the
+contact channel: a baseline (median and robust spread) is learnt in free air before each
+approach, and contact is declared when the median of the last three valid readings stays
+above the baseline by `max(min_rise_pa, sigmas * spread)` for `debounce` consecutive
+samples; it ends when it stays below `release_fraction` of that rise for as many
+samples (hysteresis). The median drops single spikes and most of a burst whose signs
+flip; an acceleration bump cannot trigger it, and a NaN neither counts nor resets a run.
+Where the barometer gives no valid samples at all (a missing chip sends NaN), the
+accelerometer stands in: a persistent turn of the measured gravity direction away from
+its free-air baseline (the body bending on contact) over `accel_debounce` samples, which
+a short bump does not sustain. Such a contact carries a lower confidence.
+
+The contact instant is not the detection instant: the pressure ramps up linearly while the
+arm presses on, so the instant is the ramp (fitted over the samples above threshold)
+extrapolated back to the baseline, which takes out the debounce latency.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from dataclasses import dataclass
+import enum
+import math
+
+import numpy as np
+
+from tactex_description.geometry import OPEN_MANIPULATOR_X
+
+# Pressure per newton of contact force: the barometer model's 1.5e6 Pa per metre of
+# compression over the body's press stiffness (calibrate a real module by pressing it
+# on a scale).
+DEFAULT_PA_PER_NEWTON = 1.5e6 / OPEN_MANIPULATOR_X.joint('sensor_press').stiffness
+# The onset is never put further back than this before the first sample above threshold.
+MAX_ONSET_BACKTRACK_S = 0.5
+# Contact is judged on the median of this many of the latest valid pressure readings.
+MEDIAN_OF = 3
+
+
+@dataclass(frozen=True)
+class DetectorConfig:
+    """Tuning of the contact detector.
+
+    Attributes:
+        baseline_samples: valid free-air samples needed before detection is armed.
+        sigmas: contact threshold in baseline standard deviations of the pressure.
+        min_rise_pa: smallest contact threshold (Pa), whatever the spread.
+        release_fraction: contact ends below this fraction of the threshold.
+        debounce: consecutive samples beyond a threshold to change state.
+        pa_per_newton: barometer rise per newton of contact force (force proxy).
+        accel_threshold_rad: accelerometer fallback: gravity direction turn for contact.
+        accel_debounce: accelerometer fallback: consecutive samples beyond it.
+    """
+
+    baseline_samples: int = 12
+    sigmas: float = 8.0
+    min_rise_pa: float = 25.0
+    release_fraction: float = 0.5
+    debounce: int = 3
+    pa_per_newton: float = DEFAULT_PA_PER_NEWTON
+    accel_threshold_rad: float = math.radians(1.5)
+    accel_debounce: int = 12
+
+    def __post_init__(self) -> None:
+        """Reject settings the detector cannot use."""
+        for name in ('baseline_samples', 'debounce', 'accel_debounce'):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, int) or value < 1:
+                raise ValueError(f'{name} must be an integer >= 1, got {value!r}')
+        for name in ('sigmas', 'min_rise_pa', 'pa_per_newton', 'accel_threshold_rad'):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value > 0):
+                raise ValueError(f'{name} must be finite and > 0, got {value!r}')
+        if not 0.0 < self.release_fraction < 1.0:
+            raise ValueError(f'release_fraction must be in (0, 1), got '
+                             f'{self.release_fraction!r}')
+
+
+class Channel(enum.Enum):
+    """Which sensor declared a contact."""
+
+    PRESSURE = 'pressure'
+    ACCEL = 'accel'
+
+
+@dataclass(frozen=True)
+class ContactEvent:
+    """A detected contact.
+
+    Attributes:
+        onset_ns: estimated instant of first touch (ns).
+        detected_ns: stamp of the sample that confirmed it (ns).
+        channel: the sensor that saw it.
+        snr: rise over the baseline spread at detection (signal-to-noise ratio).
+    """
+
+    onset_ns: int
+    detected_ns: int
+    channel: Channel
+    snr: float
+
+
+class ContactDetector:
+    """Streaming detector: `learn` free-air samples, then `update` through the approach."""
+
+    def __init__(self, config: DetectorConfig = DetectorConfig()) -> None:
+        self.config = config
+        self.reset()
+
+    def reset(self) -> None:
+        """Forget the baseline (call before each approach) and leave contact."""
+        self._pressures: list[float] = []
+        self._accels: list[np.ndarray] = []
+        self.baseline_pa = math.nan
+        self.spread_pa = math.nan
+        self._gravity: np.ndarray | None = None
+        self.in_contact = False
+        self._recent: deque[float] = deque(maxlen=MEDIAN_OF)
+        self._run: deque[tuple[int, float]] = deque()
+        self._accel_run = 0
+        self._accel_start = 0
+        self._release_run = 0
+        self._armed = False
+
+    # -- baseline ---------------------------------------------------------------------
+    def learn(self, pressure_pa: float, accel=None) -> None:
+        """Add one free-air sample to the baseline (NaN values are ignored)."""
+        if math.isfinite(pressure_pa):
+            self._pressures.append(float(pressure_pa))
+        if accel is not None:
+            a = np.asarray(accel, dtype=float)
+            if np.all(np.isfinite(a)) and np.linalg.norm(a) > 0:
+                self._accels.append(a)
+        self._refresh_baseline()
+
+    def _refresh_baseline(self) -> None:
+        if self._pressures:
+            values = np.asarray(self._pressures)
+            self.baseline_pa = float(np.median(values))
+            # Robust spread: 1.4826 * median absolute deviation (a burst cannot inflate it).
+            self.spread_pa = float(1.4826 * np.median(np.abs(values - self.baseline_pa)))
+        if self._accels:
+            mean = np.mean(self._accels, axis=0)
+            self._gravity = mean / np.linalg.norm(mean)
+        self._armed = (len(self._pressures) >= self.config.baseline_samples
+                       or (not self._pressures
+                           and len(self._accels) >= self.config.baseline_samples))
+
+    @property
+    def armed(self) -> bool:
+        """True once enough free-air samples were learnt."""
+        return self._armed
+
+    @property
+    def uses_pressure(self) -> bool:
+        """True when the barometer gave a baseline (else the accelerometer stands in)."""
+        return bool(self._pressures)
+
+    @property
+    def threshold_pa(self) -> float:
+        """Pressure rise above the baseline that counts as contact (Pa)."""
+        return max(self.config.min_rise_pa, self.config.sigmas * self.spread_pa)
+
+    def force_proxy(self, pressure_pa: float) -> float:
+        """Contact force proxy (N) of a pressure reading; NaN without a baseline."""
+        return (pressure_pa - self.baseline_pa) / self.config.pa_per_newton
+
+    # -- detection --------------------------------------------------------------------
+    def update(self, stamp_ns: int, pressure_pa: float, accel=None) -> ContactEvent | None:
+        """Feed one sample; return the contact event when this sample confirms one.
+
+        Before the baseline is learnt nothing is detected. NaN readings are skipped.
+        """
+        if not self._armed:
+            return None
+        if self.uses_pressure:
+            return self._update_pressure(int(stamp_ns), float(pressure_pa))
+        return self._update_accel(int(stamp_ns), accel)
+
+    def _update_pressure(self, stamp_ns: int, pressure_pa: float) -> ContactEvent | None:
+        if not math.isfinite(pressure_pa):
+            return None
+        self._recent.append(pressure_pa)
+        rise = float(np.median(self._recent)) - self.baseline_pa
+        config = self.config
+        if self.in_contact:
+            below = rise < config.release_fraction * self.threshold_pa
+            self._release_run = self._release_run + 1 if below else 0
+            if self._release_run >= config.debounce:
+                self.in_contact = False
+                self._release_run = 0
+                self._run.clear()
+            return None
+        if rise < self.threshold_pa:
+            self._run.clear()
+            return None
+        self._run.append((stamp_ns, pressure_pa - self.baseline_pa))
+        if len(self._run) < config.debounce:
+            return None
+        self.in_contact = True
+        spread = max(self.spread_pa, 1e-9)
+        return ContactEvent(self._onset(), stamp_ns, Channel.PRESSURE, rise / spread)
+
+    def _onset(self) -> int:
+        """The rise's line through the run's samples, extrapolated back to zero rise."""
+        stamps = np.array([s for s, _ in self._run], dtype=np.int64)
+        rises = np.array([r for _, r in self._run])
+        t = (stamps - stamps[0]) * 1e-9
+        slope, _ = np.polyfit(t, rises, 1)
+        if not (math.isfinite(slope) and slope > 0):
+            return int(stamps[0])
+        # At the fitted rate the first sample's rise took rises[0] / slope to build up.
+        back_s = min(rises[0] / slope, MAX_ONSET_BACKTRACK_S)
+        return int(stamps[0] - round(back_s * 1e9))
+
+    def _update_accel(self, stamp_ns: int, accel) -> ContactEvent | None:
+        if accel is None or self._gravity is None:
+            return None
+        a = np.asarray(accel, dtype=float)
+        norm = float(np.linalg.norm(a))
+        if not (math.isfinite(norm) and norm > 0):
+            return None
+        turn = math.acos(min(1.0, float(np.dot(a / norm, self._gravity))))
+        beyond = turn > self.config.accel_threshold_rad
+        if self.in_contact:
+            self._release_run = 0 if beyond else self._release_run + 1
+            if self._release_run >= self.config.accel_debounce:
+                self.in_contact = False
+                self._release_run = 0
+            return None
+        if not beyond:
+            self._accel_run = 0
+            return None
+        self._accel_run += 1
+        if self._accel_run == 1:
+            self._accel_start = stamp_ns
+        if self._accel_run < self.config.accel_debounce:
+            return None
+        self.in_contact = True
+        self._accel_run = 0
+        return ContactEvent(self._accel_start, stamp_ns, Channel.ACCEL,
+                            turn / self.config.accel_threshold_rad)
