@@ -3,11 +3,12 @@
 """The kept model comparison: the synthetic set, eight models and two baselines, 3 windows.
 
 Collects the synthetic set once (`tactex sim collect`, 12 textures x 25 sweeps, on
-`--cpus` Ray workers; or takes `--bags`), converts it at 128, 256 and 512 samples (50 %
-overlap) into `--work`, then runs `tactex compare` on the three datasets into
-bench/results/compare/. The grid resumes: run this again (same settings) and only the
-cells not yet finished are trained, so the kept run can be built in chunks on a busy
-machine. Each call appends its steps and their durations to
+`--cpus` Ray workers; or takes `--bags`), keeps the first `--recordings` sweeps of each
+texture when asked (whole recordings, hard-linked into their own folder), converts them
+at 128, 256 and 512 samples (50 % overlap) into `--work`, then runs `tactex compare`
+on the three datasets into bench/results/compare/. The grid resumes: run this again
+(same settings) and only the cells not yet finished are trained, so the kept run can be
+built in chunks on a busy machine. Each call appends its steps and their durations to
 bench/results/compare/run.json; `bench/render_results.py` builds the README's
 comparison from summary.json and run.json only.
 """
@@ -17,6 +18,7 @@ import hashlib
 import json
 import os
 from pathlib import Path
+import shutil
 import subprocess
 import sys
 import time
@@ -35,6 +37,30 @@ def _timed(command: list[str], steps: list[dict]) -> None:
                   'load_average': [round(load, 1), round(os.getloadavg()[0], 1)]})
 
 
+def first_recordings(bags: Path, per_texture: int, work: Path) -> Path:
+    """The first `per_texture` recordings of each texture (by name), in a folder of their own.
+
+    Recordings are named `<texture>_<sweep>`; the folder holds hard links to their files
+    and is built whole (a partial folder renamed at the end).
+    """
+    subset = work / f'bags_first{per_texture}'
+    if subset.is_dir():
+        return subset
+    textures: dict[str, list[Path]] = {}
+    for recording in sorted(path for path in bags.iterdir() if path.is_dir()):
+        textures.setdefault(recording.name.rsplit('_', 1)[0], []).append(recording)
+    short = {name: len(found) for name, found in textures.items() if len(found) < per_texture}
+    if short:
+        raise SystemExit(f'error: --recordings {per_texture}: {bags} has fewer for {short}')
+    partial = work / f'.bags_first{per_texture}.partial'
+    shutil.rmtree(partial, ignore_errors=True)
+    for found in textures.values():
+        for recording in found[:per_texture]:
+            shutil.copytree(recording, partial / recording.name, copy_function=os.link)
+    partial.rename(subset)
+    return subset
+
+
 def main() -> int:
     """Build the data if needed, run (or resume) the grid, note what was done."""
     parser = argparse.ArgumentParser(description=__doc__)
@@ -44,6 +70,8 @@ def main() -> int:
     parser.add_argument('--epochs', type=int, default=1)
     parser.add_argument('--folds', type=int, default=5)
     parser.add_argument('--seeds', type=int, default=1)
+    parser.add_argument('--recordings', type=int,
+                        help='keep the first N recordings of each texture (default: all)')
     parser.add_argument('--cpus', type=int, default=2)
     parser.add_argument('--models', help='comma-separated (default: every model)')
     parser.add_argument('--windows', default=','.join(map(str, WINDOWS)),
@@ -55,9 +83,13 @@ def main() -> int:
     if not bags.is_dir():
         _timed([TACTEX, 'sim', 'collect', '--scene', 'uneven_texture', '--sweeps', '25',
                 '--workers', str(args.cpus), '--out', str(bags)], steps)
+    suffix = ''
+    if args.recordings:
+        bags = first_recordings(bags, args.recordings, args.work)
+        suffix = f'_first{args.recordings}'
     datasets = []
     for window in (int(w) for w in args.windows.split(',')):
-        data = args.work / f'sim{window}.npz'
+        data = args.work / f'sim{window}{suffix}.npz'
         if not data.is_file():
             _timed([TACTEX, 'convert', str(bags), '--out', str(data), '--window',
                     str(window)], steps)
@@ -76,7 +108,8 @@ def main() -> int:
         for data in datasets:
             record['datasets'][data.name] = hashlib.sha256(data.read_bytes()).hexdigest()
         record['calls'].append({'started': time.strftime('%Y-%m-%dT%H:%M:%S%z'),
-                                'cpus': args.cpus, 'steps': steps})
+                                'cpus': args.cpus, 'recordings_per_texture': args.recordings,
+                                'steps': steps})
         RESULTS.mkdir(parents=True, exist_ok=True)
         path.write_text(json.dumps(record, indent=2) + '\n', encoding='utf-8')
     return 0
