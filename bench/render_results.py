@@ -276,31 +276,78 @@ def training() -> str:
             'epoch.\n')
 
 
+def _option(command: str, name: str) -> str:
+    """The value given to option `name` in a recorded command line."""
+    words = command.split()
+    return words[words.index(name) + 1]
+
+
+def _grid_gaps(rows: list[dict], expected: int) -> list[str]:
+    """What the kept comparison lacks of every model at 128, 256 and 512 samples."""
+    from tactex_classify.catalog import ALL_MODELS
+    done = {(row['window'], row['model']): sum(scheme['cells'] for scheme
+                                               in row['schemes'].values()) for row in rows}
+    gaps = []
+    for window in (128, 256, 512):
+        missing = [model for model in ALL_MODELS if (window, model) not in done]
+        partial = [f'{model} ({done[window, model]} of {expected} cells)' for model in ALL_MODELS
+                   if done.get((window, model), expected) < expected]
+        if len(missing) == len(ALL_MODELS):
+            gaps.append(f'window {window} did not run')
+        elif missing or partial:
+            gaps.append(f'window {window} lacks ' + ', '.join(missing + partial))
+    return gaps
+
+
 def compare() -> str:
     summary = _json('compare/summary.json')
     run = _json('compare/run.json')
     from tactex_classify.compare_report import table
     settings = summary['settings']
+    grid = [step for call in run['calls'] for step in call['steps']
+            if step['command'].startswith('tactex compare ')]
+    seeds = {int(_option(step['command'], '--seeds')) for step in grid}
+    per_texture = {call['recordings_per_texture'] for call in run['calls']}
+    if len(seeds) != 1 or len(per_texture) != 1:
+        raise ValueError(f'the kept comparison mixes runs: seeds {seeds}, recordings per '
+                         f'texture {per_texture}')
+    seeds, per_texture = seeds.pop(), per_texture.pop()
+    expected = seeds * settings['folds'] * 2
     cells = sum(scheme['cells'] for row in summary['rows'] for scheme in row['schemes'].values())
-    hours = sum(step['seconds'] for call in run['calls'] for step in call['steps']
-                if ' compare ' in step['command']) / 3600
-    data = ', '.join(f'{window}: {d["windows"]} windows' for window, d in
-                     sorted(summary['data'].items(), key=lambda item: int(item[0])))
+    minutes = sum(step['seconds'] for step in grid) / 60
+    loads = [load for step in grid for load in step['load_average']]
+    data = sorted(summary['data'].items(), key=lambda item: int(item[0]))
+    recordings = data[0][1]['recordings']
+    windows = ', '.join(f'{d["windows"]} windows of {window} samples' for window, d in data)
+    gaps = _grid_gaps(summary['rows'], expected)
     best = {}
     for row in summary['rows']:
-        grouped = row['schemes'].get('grouped', {}).get('accuracy')
-        if grouped and grouped['mean'] > best.get(row['window'], (0, ''))[0]:
-            best[row['window']] = (grouped['mean'], row['model'])
-    headline = '; '.join(f'at {window}, {model} with {100 * accuracy:.1f} %'
+        accuracy = row['schemes']['grouped']['accuracy']['mean']
+        complete = sum(s['cells'] for s in row['schemes'].values()) == expected
+        if complete and accuracy > best.get(row['window'], (0, ''))[0]:
+            best[row['window']] = (accuracy, row['model'])
+    headline = '; '.join(f'at {window} samples, {model} with {100 * accuracy:.1f} %'
                          for window, (accuracy, model) in sorted(best.items()))
-    return (f'The kept comparison (`python bench/bench_compare.py`, reports in '
-            f'`bench/results/compare/`): the synthetic set (12 textures x 25 sweeps; {data}), '
-            f'{settings["folds"]} folds per scheme, one seed, every deep model trained for '
-            f'**{settings["epochs"]} epochs** only (the original trained 250: on this '
-            f"machine's two shared cores the {cells} cells took {hours:.1f} h of the grid "
-            f'as it is), so the deep models are far from converged and the baselines are the '
-            f'figures to trust here. Best honest accuracy per window: {headline}.\n\n'
-            + table(summary['rows'], settings['folds'] * 2) + '\n'
+    headline = headline or 'no row is complete'
+    status = ('**Incomplete**: ' + '; '.join(gaps) + '; the table holds only the cells that '
+              'finished (last column).' if gaps else
+              'Complete: every model at every window.')
+    return (f'The kept comparison (`python bench/bench_compare.py --recordings {per_texture} '
+            f'--folds {settings["folds"]} --epochs {settings["epochs"]} --seeds {seeds} '
+            f'--windows W`, W = 128, 256, 512 one after the other; outputs in '
+            f'`bench/results/compare/`): the first {per_texture} sweeps of each texture of the '
+            f'synthetic set ({recordings} whole recordings, the same at every window: '
+            f'{windows}), {settings["folds"]}-fold cross-validation per scheme, {seeds} '
+            f'seed(s), every deep model trained for **{settings["epochs"]} epochs** where the '
+            f"original trained 250, one thread per cell and two cells at a time on this "
+            f"machine's two shared cores: {cells} cells in {minutes:.0f} min of wall time at "
+            f'load average {min(loads):.1f}-{max(loads):.1f}. {status} With so few epochs the '
+            f'deep models are far from converged: their rows measure what '
+            f'{settings["epochs"]} epochs buy, not what the architectures can do, and the '
+            'baselines are the figures to trust here. Training time and latency were measured '
+            'with another cell and other jobs on the same cores. Best honest accuracy per '
+            f'window (complete rows): {headline}.\n\n'
+            + table(summary['rows'], expected) + '\n'
             '![accuracy](bench/results/compare/accuracy.png)\n')
 
 

@@ -3,6 +3,7 @@
 """The README's benchmark figures are what bench/render_results.py makes of bench/results/."""
 
 import importlib.util
+import json
 from pathlib import Path
 
 import pytest
@@ -34,3 +35,20 @@ def test_a_changed_figure_or_a_missing_marker_is_caught():
                           sections) == ['driver']
     with pytest.raises(ValueError, match=r"missing \['driver'\]"):
         renderer.rewrite(readme.replace('<!-- results:driver -->', ''), sections)
+
+
+def test_a_comparison_missing_cells_is_rendered_as_incomplete(tmp_path, monkeypatch):
+    renderer = _renderer()
+    (tmp_path / 'compare').mkdir()
+    summary = json.loads((renderer.RESULTS / 'compare' / 'summary.json').read_text())
+    (tmp_path / 'compare' / 'run.json').write_bytes(
+        (renderer.RESULTS / 'compare' / 'run.json').read_bytes())
+    dropped = summary['rows'].pop()
+    halved = summary['rows'][0]
+    del halved['schemes']['stratified']
+    (tmp_path / 'compare' / 'summary.json').write_text(json.dumps(summary))
+    monkeypatch.setattr(renderer, 'RESULTS', tmp_path)
+    text = renderer.compare()
+    assert '**Incomplete**' in text and 'Complete:' not in text
+    assert f'window {dropped["window"]} lacks {dropped["model"]}' in text
+    assert f'{halved["model"]} (' in text
