@@ -29,12 +29,21 @@ WINDOWS = (128, 256, 512)
 
 
 def _timed(command: list[str], steps: list[dict]) -> None:
-    """Run a command (failing loudly) and note how long it took and the load around it."""
+    """Run a command (failing loudly); note its time, the load around it and its exit status.
+
+    A grid interrupted by Ctrl-C keeps its finished cells, so its time is noted too.
+    """
     start, load = time.monotonic(), os.getloadavg()[0]
-    subprocess.run(command, check=True)
-    steps.append({'command': ' '.join(['tactex', *command[1:]]),
-                  'seconds': round(time.monotonic() - start, 1),
-                  'load_average': [round(load, 1), round(os.getloadavg()[0], 1)]})
+    returncode = None
+    try:
+        returncode = subprocess.run(command).returncode
+    finally:
+        steps.append({'command': ' '.join(['tactex', *command[1:]]),
+                      'seconds': round(time.monotonic() - start, 1),
+                      'load_average': [round(load, 1), round(os.getloadavg()[0], 1)],
+                      'returncode': returncode})
+    if returncode:
+        raise subprocess.CalledProcessError(returncode, command)
 
 
 def first_recordings(bags: Path, per_texture: int, work: Path) -> Path:

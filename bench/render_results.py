@@ -317,8 +317,8 @@ def compare() -> str:
     minutes = sum(step['seconds'] for step in grid) / 60
     loads = [load for step in grid for load in step['load_average']]
     data = sorted(summary['data'].items(), key=lambda item: int(item[0]))
-    recordings = data[0][1]['recordings']
-    windows = ', '.join(f'{d["windows"]} windows of {window} samples' for window, d in data)
+    windows = ', '.join(f'{d["windows"]} windows of {window} samples from {d["recordings"]} '
+                        'recordings' for window, d in data)
     gaps = _grid_gaps(summary['rows'], expected)
     best = {}
     for row in summary['rows']:
@@ -329,24 +329,34 @@ def compare() -> str:
     headline = '; '.join(f'at {window} samples, {model} with {100 * accuracy:.1f} %'
                          for window, (accuracy, model) in sorted(best.items()))
     headline = headline or 'no row is complete'
+    trained = [row['schemes']['grouped']['train_accuracy']['mean'] for row in summary['rows']
+               if row['schemes']['grouped'].get('train_accuracy')]
+    fitted = f'{100 * min(trained):.0f}-{100 * max(trained):.0f}'
+    held_out = [row['schemes']['grouped']['accuracy']['mean'] for row in summary['rows']
+                if row['schemes']['grouped'].get('train_accuracy')]
+    chance = 100 / len(data[0][1]['classes'])
     status = ('**Incomplete**: ' + '; '.join(gaps) + '; the table holds only the cells that '
               'finished (last column).' if gaps else
               'Complete: every model at every window.')
     return (f'The kept comparison (`python bench/bench_compare.py --recordings {per_texture} '
             f'--folds {settings["folds"]} --epochs {settings["epochs"]} --seeds {seeds} '
             f'--windows W`, W = 128, 256, 512 one after the other; outputs in '
-            f'`bench/results/compare/`): the first {per_texture} sweeps of each texture of the '
-            f'synthetic set ({recordings} whole recordings, the same at every window: '
-            f'{windows}), {settings["folds"]}-fold cross-validation per scheme, {seeds} '
-            f'seed(s), every deep model trained for **{settings["epochs"]} epochs** where the '
-            f"original trained 250, one thread per cell and two cells at a time on this "
-            f"machine's two shared cores: {cells} cells in {minutes:.0f} min of wall time at "
-            f'load average {min(loads):.1f}-{max(loads):.1f}. {status} With so few epochs the '
-            f'deep models are far from converged: their rows measure what '
-            f'{settings["epochs"]} epochs buy, not what the architectures can do, and the '
-            'baselines are the figures to trust here. Training time and latency were measured '
-            'with another cell and other jobs on the same cores. Best honest accuracy per '
-            f'window (complete rows): {headline}.\n\n'
+            f'`bench/results/compare/`): the first {per_texture} sweeps of each texture of '
+            f'the synthetic set, whole recordings ({windows}), {settings["folds"]}-fold '
+            f'cross-validation per scheme, {seeds} seed(s), every deep model trained for '
+            f'**{settings["epochs"]} epochs** where the original trained 250, one thread per '
+            "cell and two cells at a time on this machine's two shared cores: "
+            f'{cells} cells in {minutes:.0f} min of wall time at load average '
+            f'{min(loads):.1f}-{max(loads):.1f}. {status} With so few epochs the deep models '
+            f'are far from converged: they reach {fitted} % training accuracy (measured with '
+            'batch statistics while training) but, evaluated with the BatchNorm running '
+            "averages that Keras's momentum of 0.99 has barely moved in so few batches, they "
+            f'score {100 * min(held_out):.0f}-{100 * max(held_out):.0f} % on held-out '
+            f'recordings, where chance is {chance:.1f} %. Their rows measure what '
+            f'{settings["epochs"]} epochs buy, not what the architectures can do; the '
+            'baselines are the figures to trust here. Training time and latency were '
+            'measured with another cell and other jobs on the same cores. Best honest '
+            f'accuracy per window (complete rows): {headline}.\n\n'
             + table(summary['rows'], expected) + '\n'
             '![accuracy](bench/results/compare/accuracy.png)\n')
 
