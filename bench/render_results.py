@@ -346,9 +346,10 @@ def compare() -> str:
             f'cross-validation per scheme, {seeds} seed(s), every deep model trained for '
             f'**{settings["epochs"]} epochs** where the original trained 250, one thread per '
             "cell and two cells at a time on this machine's two shared cores: "
-            f'{cells} cells in {minutes:.0f} min of wall time at load average '
-            f'{min(loads):.1f}-{max(loads):.1f}. {status} With so few epochs the deep models '
-            f'are far from converged: they reach {fitted} % training accuracy (measured with '
+            f'{cells} cells in {minutes:.0f} min of wall time (the 1-minute load average '
+            f'{min(loads):.1f}-{max(loads):.1f} as each window began and ended). {status} '
+            'With so few epochs the deep models are far from converged: they reach '
+            f'{fitted} % training accuracy (measured with '
             'batch statistics while training) but, evaluated with the BatchNorm running '
             "averages that Keras's momentum of 0.99 has barely moved in so few batches, they "
             f'score {100 * min(held_out):.0f}-{100 * max(held_out):.0f} % on held-out '
