@@ -23,8 +23,7 @@ def option_values(option: Option):
     """Any value the option accepts, its bounds included."""
     low = max(option.low, -1e6)
     high = min(option.high, 1e6)
-    number = st.one_of(st.sampled_from([low, high]), st.floats(low, high)).filter(
-        lambda v: v > option.low or not option.above_low)
+    number = st.one_of(st.sampled_from([low, high]), st.floats(low, high))
     return st.tuples(*[number] * len(option.default)) if isinstance(
         option.default, tuple) else number
 

@@ -183,7 +183,12 @@ def stamp(msg):
 
 def test_a_sweep_without_pressure_is_aborted_and_lifted(ros_context, tmp_path):
     from action_msgs.msg import GoalStatus
-    harness = Harness(ros_context, tmp_path, scene='probe')  # no barometer: pressure is NaN
+    # The probe scene without its barometer: pressure is NaN.
+    probe = resolve_scene('probe').read_text(encoding='utf-8')
+    no_barometer = tmp_path / 'no_barometer.toml'
+    no_barometer.write_text(probe.split('[effect.barometer]')[0].replace(
+        ', "barometer"]', ']'), encoding='utf-8')
+    harness = Harness(ros_context, tmp_path, scene=str(no_barometer))
     try:
         handle = harness.send(pathway=pathway_message(0.10, 0.17), sliding_speed=0.015,
                               edge_offset_angle=0.5, press_depth=0.0015)

@@ -33,10 +33,14 @@ def _console_scripts(package: str) -> set[str]:
     return set(re.findall(r"'(\w+) = ", setup))
 
 
+# Arguments a launch file cannot start without.
+REQUIRED_ARGUMENTS = {'classify': {'checkpoint': '/data/run/cnn_3'}}
+
+
 @pytest.mark.parametrize('name', LAUNCH_NAMES)
 def test_every_launch_file_declares_nodes_that_exist(name):
     launch = load_launch_file(name)
-    nodes = launch.node_specs({})
+    nodes = launch.node_specs(REQUIRED_ARGUMENTS.get(name, {}))
     assert nodes
     for spec in nodes:
         assert spec.executable in _console_scripts(spec.package), spec

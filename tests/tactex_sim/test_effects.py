@@ -31,6 +31,7 @@ def applied(instance, inputs=SLIDING):
 
 @pytest.mark.parametrize('name, option, value', [
     ('texture', 'slip_length_m', 0.0), ('texture', 'reference_force_n', 0.0),
+    ('texture', 'slip_length_m', 5e-324), ('magnetometer', 'magnet_radius_m', 1e-310),
     ('texture', 'resonance_hz', 0.5), ('texture', 'gain', -1.0),
     ('texture', 'damping_ratio', math.nan), ('texture', 'heading_rad', math.inf),
     ('texture', 'gain', '20'), ('texture', 'gain', True),
@@ -43,7 +44,7 @@ def test_an_option_outside_its_range_is_refused_by_name(name, option, value):
 
 
 def test_the_range_is_stated_in_the_message():
-    with pytest.raises(SceneError, match=r'slip_length_m must be in \(0, 1\], got 0'):
+    with pytest.raises(SceneError, match=r'slip_length_m must be in \[1e-06, 1\], got 0'):
         effect('texture', slip_length_m=0)
 
 

@@ -49,15 +49,14 @@ class Reading:
 class Option:
     """One effect option: its default and the values it accepts.
 
-    Numbers must be finite and within [low, high] (or (low, high] when `above_low`, for
-    divisors); a vector option (a tuple default) takes as many finite numbers, each in
-    the range.
+    Numbers must be finite and within [low, high]; a divisor's `low` is a physical
+    minimum above 0 (a subnormal divisor overflows); a vector option (a tuple default)
+    takes as many finite numbers, each in the range.
     """
 
     default: float | tuple[float, ...]
     low: float = -math.inf
     high: float = math.inf
-    above_low: bool = False
 
     def check(self, effect: str, name: str, value: Any) -> float | tuple[float, ...]:
         """The value as float(s).
@@ -75,14 +74,13 @@ class Option:
             if not isinstance(item, (int, float)) or isinstance(item, bool) \
                     or not math.isfinite(item):
                 raise SceneError(f'{where} must be a finite number, got {value!r}')
-            if not (self.low < item if self.above_low else self.low <= item) \
-                    or item > self.high:
+            if not self.low <= item <= self.high:
                 raise SceneError(f'{where} must be in {self.describe()}, got {value!r}')
         return tuple(float(v) for v in items) if vector else float(value)
 
     def describe(self) -> str:
         """The accepted range, as an interval."""
-        return f'{"(" if self.above_low else "["}{self.low:g}, {self.high:g}]'
+        return f'[{self.low:g}, {self.high:g}]'
 
 
 class Effect:
@@ -166,10 +164,10 @@ class TextureVibration(Effect):
     defaults = {'resonance_hz': Option(85.0, 1.0, 1e4),
                 'damping_ratio': Option(0.12, 0.01, 10.0),
                 'rocking_gain': Option(0.6, 0.0, 1e3),
-                'reference_force_n': Option(1.0, 0.0, 1e3, above_low=True),
+                'reference_force_n': Option(1.0, 1e-3, 1e3),
                 'heading_rad': Option(0.0),
                 'gain': Option(20.0, 0.0, 1e4),
-                'slip_length_m': Option(0.0004, 0.0, 1.0, above_low=True),
+                'slip_length_m': Option(0.0004, 1e-6, 1.0),
                 'stick_slip_accel': Option(1.5, 0.0, 1e3)}
 
     def __init__(self, rng, noise_scale=1.0, **options) -> None:
@@ -278,7 +276,7 @@ class Magnetometer(Effect):
     defaults = {'earth_field_t': Option(EARTH_FIELD_T, -1e-2, 1e-2),
                 'magnet_position_m': Option((0.35, 0.25, 0.05), -100.0, 100.0),
                 'magnet_moment_am2': Option((0.0, 0.0, 0.5), -1e4, 1e4),
-                'magnet_radius_m': Option(0.005, 0.0, 1.0, above_low=True),
+                'magnet_radius_m': Option(0.005, 1e-4, 1.0),
                 'noise_sd_t': Option(2.0e-7, 0.0, 1e-2)}
 
     def apply(self, reading: Reading, inputs: Mapping[str, Any]) -> None:
@@ -303,7 +301,7 @@ class Barometer(Effect):
     name = 'barometer'
     reads = frozenset({'compression', 'time'})
     writes = frozenset({'pressure', 'temperature'})
-    defaults = {'sea_level_pa': Option(SEA_LEVEL_PRESSURE_PA, 0.0, 1e7, above_low=True),
+    defaults = {'sea_level_pa': Option(SEA_LEVEL_PRESSURE_PA, 1.0, 1e7),
                 'pa_per_m_compression': Option(1.5e6, 0.0, 1e9),
                 'noise_sd_pa': Option(2.0, 0.0, 1e5),
                 'drift_pa_per_s': Option(0.0, -1e4, 1e4),
