@@ -35,9 +35,9 @@ def log_probabilities(proba: np.ndarray) -> np.ndarray:
 
 
 def union_seconds(spans_ns: Sequence[tuple[int, int]]) -> float:
-    """Seconds covered by [start, end) spans, overlaps counted once."""
+    """Seconds covered by [start, end) spans, overlaps counted once (an inverted span: none)."""
     total, reach = 0, None
-    for start, end in sorted(spans_ns):
+    for start, end in sorted((start, max(start, end)) for start, end in spans_ns):
         if reach is None or start > reach:
             total += end - start
             reach = end
@@ -135,8 +135,17 @@ class Evidence:
         return self._decided is not None
 
     def add(self, proba: np.ndarray, start_ns: int, end_ns: int) -> Estimate:
-        """Add one window's probabilities (classes,) and return the estimate after it."""
-        log = log_probabilities(np.asarray(proba, dtype=np.float64))
+        """Add one window's probabilities (classes,) and return the estimate after it.
+
+        Raises:
+            ValueError: `proba` is not `classes` finite, non-negative values (nothing is
+                added: the evidence stays as it was).
+        """
+        proba = np.asarray(proba, dtype=np.float64)
+        if proba.shape != (self.classes,) or not np.all(np.isfinite(proba) & (proba >= 0)):
+            raise ValueError(f'a window needs {self.classes} finite, non-negative '
+                             f'probabilities, got {proba!r}')
+        log = log_probabilities(proba)
         restarted = ''
         if self._logs:
             lead = self._decided.class_id if self._decided else int(np.argmax(

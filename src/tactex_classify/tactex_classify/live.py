@@ -24,6 +24,7 @@ skipping (and counting) all but the newest windows when they queue up.
 
 from __future__ import annotations
 
+from collections import deque
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 import math
@@ -44,6 +45,7 @@ LOOKBACK = 64  # finalised reference samples re-aligned each poll (medians, dupl
 RECENT_STAMPS = 256  # aligned stamps behind the gap rule's median
 RATE_STAMPS = 64  # aligned stamps before the stream's rate is judged
 WARMUP = 8  # IMU samples before the first is made final (periods need a few steps)
+MEDIAN_OF = 3  # the pressure rule reads the median of this many latest readings
 
 
 @dataclass(frozen=True)
@@ -145,7 +147,14 @@ class RingBuffer:
 
 @dataclass
 class PressureContact:
-    """Contact by the pressure rule: transitions (stamp, touching) from barometer samples."""
+    """Contact by the pressure rule: transitions (stamp, touching) from barometer samples.
+
+    Each reading is judged against the baseline, as the converter judges each sample. The
+    baseline follows the median of the last MEDIAN_OF finite readings (the first is their
+    median), so a single wild reading cannot move it; out of contact, a fall of that
+    median more than half of `contact_pa` below the baseline is taken as the baseline at
+    once (a fall is never contact).
+    """
 
     contact_pa: float
     tau_s: float
@@ -153,18 +162,27 @@ class PressureContact:
     touching: bool = False
     last_ns: int | None = None
     transitions: list[tuple[int, bool]] = field(default_factory=list)
+    recent: deque[float] = field(default_factory=lambda: deque(maxlen=MEDIAN_OF))
 
     def update(self, stamps_ns: np.ndarray, pressure: np.ndarray) -> None:
         """Feed finite samples in stamp order (older than the last one are ignored)."""
-        for stamp, value in zip(stamps_ns.tolist(), pressure.tolist(), strict=True):
-            if (self.last_ns is not None and stamp <= self.last_ns) or not math.isfinite(value):
+        for stamp, reading in zip(stamps_ns.tolist(), pressure.tolist(), strict=True):
+            if (self.last_ns is not None and stamp <= self.last_ns) or not math.isfinite(
+                    reading):
                 continue
-            if self.baseline is None:
-                self.baseline = value
+            self.recent.append(reading)
+            typical = sorted(self.recent)[len(self.recent) // 2]  # a reading: no overflow
+            if self.baseline is None and len(self.recent) < MEDIAN_OF:
+                self.last_ns = stamp
+                continue
+            if self.baseline is None or (not self.touching
+                                         and typical < self.baseline - self.contact_pa / 2):
+                self.baseline = typical
             elif not self.touching:
-                dt_s = (stamp - self.last_ns) * 1e-9
-                self.baseline += (value - self.baseline) * min(1.0, dt_s / self.tau_s)
-            rise = value - self.baseline
+                weight = min(1.0, (stamp - self.last_ns) * 1e-9 / self.tau_s)
+                # A weighted mean of two finite values: never overflows.
+                self.baseline = self.baseline * (1.0 - weight) + typical * weight
+            rise = reading - self.baseline
             touching = rise > self.contact_pa if not self.touching else rise > self.contact_pa / 2
             if touching != self.touching:
                 self.touching = touching

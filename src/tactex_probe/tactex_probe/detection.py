@@ -25,10 +25,12 @@ from collections import deque
 from dataclasses import dataclass
 import enum
 import math
+import sys
 
 import numpy as np
 
 from tactex_description.geometry import OPEN_MANIPULATOR_X
+from tactex_sensor.orientation import unit_direction
 
 # Pressure per newton of contact force: the barometer model's 1.5e6 Pa per metre of
 # compression over the body's press stiffness (calibrate a real module by pressing it
@@ -130,10 +132,9 @@ class ContactDetector:
         """Add one free-air sample to the baseline (NaN values are ignored)."""
         if math.isfinite(pressure_pa):
             self._pressures.append(float(pressure_pa))
-        if accel is not None:
-            a = np.asarray(accel, dtype=float)
-            if np.all(np.isfinite(a)) and np.linalg.norm(a) > 0:
-                self._accels.append(a)
+        direction = _direction(accel)
+        if direction is not None:
+            self._accels.append(direction)
         self._refresh_baseline()
 
     def _refresh_baseline(self) -> None:
@@ -143,8 +144,10 @@ class ContactDetector:
             # Robust spread: 1.4826 * median absolute deviation (a burst cannot inflate it).
             self.spread_pa = float(1.4826 * np.median(np.abs(values - self.baseline_pa)))
         if self._accels:
-            mean = np.mean(self._accels, axis=0)
-            self._gravity = mean / np.linalg.norm(mean)
+            # Per-axis median of the directions: a few wild readings cannot turn it.
+            median = np.median(self._accels, axis=0)
+            length = float(np.linalg.norm(median))
+            self._gravity = median / length if length > 0 else None
         self._armed = (len(self._pressures) >= self.config.baseline_samples
                        or (not self._pressures
                            and len(self._accels) >= self.config.baseline_samples))
@@ -209,7 +212,12 @@ class ContactDetector:
         stamps = np.array([s for s, _ in self._run], dtype=np.int64)
         rises = np.array([r for _, r in self._run])
         t = (stamps - stamps[0]) * 1e-9
-        slope, _ = np.polyfit(t, rises, 1)
+        t -= t.mean()
+        spread = float(t @ t)
+        if not spread > 0:  # every sample at one stamp: no rate to fit
+            return int(stamps[0])
+        with np.errstate(over='ignore', invalid='ignore'):  # wild rises: no slope
+            slope = float(t @ (rises - rises.mean())) / spread  # least squares
         if not (math.isfinite(slope) and slope > 0):
             return int(stamps[0])
         # At the fitted rate the first sample's rise took rises[0] / slope to build up.
@@ -217,13 +225,10 @@ class ContactDetector:
         return int(stamps[0] - round(back_s * 1e9))
 
     def _update_accel(self, stamp_ns: int, accel) -> ContactEvent | None:
-        if accel is None or self._gravity is None:
+        direction = _direction(accel)
+        if direction is None or self._gravity is None:
             return None
-        a = np.asarray(accel, dtype=float)
-        norm = float(np.linalg.norm(a))
-        if not (math.isfinite(norm) and norm > 0):
-            return None
-        turn = math.acos(min(1.0, float(np.dot(a / norm, self._gravity))))
+        turn = math.acos(min(1.0, max(-1.0, float(np.dot(direction, self._gravity)))))
         beyond = turn > self.config.accel_threshold_rad
         if self.in_contact:
             self._release_run = 0 if beyond else self._release_run + 1
@@ -243,3 +248,11 @@ class ContactDetector:
         self._accel_run = 0
         return ContactEvent(self._accel_start, stamp_ns, Channel.ACCEL,
                             turn / self.config.accel_threshold_rad)
+
+
+def _direction(accel) -> np.ndarray | None:
+    """Unit direction of an accel reading (any finite size); None if absent, zero or not finite."""
+    if accel is None:
+        return None
+    valid, *direction = unit_direction(*(float(a) for a in accel), sys.float_info.max)
+    return np.array(direction) if valid else None

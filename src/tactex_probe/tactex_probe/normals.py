@@ -39,6 +39,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 import math
+import sys
 
 import numpy as np
 from transforms3d.euler import mat2euler
@@ -50,7 +51,9 @@ from tactex_description.geometry import (
     OPEN_MANIPULATOR_X,
 )
 from tactex_description.kinematics import forward_kinematics
+from tactex_probe.errors import ParameterError
 from tactex_probe.motion import FACE_AXIS, FACE_CENTRE, face_tilt, TOOL_FRAME, ToolPose
+from tactex_sensor.orientation import unit_direction
 
 # Stiffness of the roll, pitch and yaw hinges (N m/rad) and the press (N/m).
 HINGE_STIFFNESS = np.array([OPEN_MANIPULATOR_X.joint(name).stiffness
@@ -81,14 +84,12 @@ def align(measured, target) -> np.ndarray:
     """R_ag of eq. 3.3: the shortest rotation turning the direction `measured` onto `target`.
 
     Raises:
-        ValueError: either vector is zero or not finite.
+        ParameterError: either vector is zero or not finite.
     """
-    a, g = (np.asarray(v, dtype=float) for v in (measured, target))
-    norms = float(np.linalg.norm(a)), float(np.linalg.norm(g))
-    if not all(math.isfinite(n) and n > 0 for n in norms):
-        raise ValueError(f'cannot align {measured!r} with {target!r}: need finite, non-zero '
-                         'vectors')
-    a, g = a / norms[0], g / norms[1]
+    a, g = (_direction(v) for v in (measured, target))
+    if a is None or g is None:
+        raise ParameterError(f'cannot align {measured!r} with {target!r}: need finite, '
+                             'non-zero vectors')
     cross = np.cross(a, g)
     sine = float(np.linalg.norm(cross))
     angle = math.atan2(sine, float(np.dot(a, g)))
@@ -102,6 +103,12 @@ def align(measured, target) -> np.ndarray:
     return axis_angle_matrix(cross / sine, angle)
 
 
+def _direction(vector) -> np.ndarray | None:
+    """Unit direction of a 3-vector (extremes and subnormals too); None if zero or not finite."""
+    valid, *direction = unit_direction(*(float(v) for v in vector), sys.float_info.max)
+    return np.array(direction) if valid else None
+
+
 def quaternion_z_to(normal) -> np.ndarray:
     """Quaternion (w, x, y, z) of the shortest rotation turning +z onto `normal`."""
     return mat2quat(align([0.0, 0.0, 1.0], normal))
@@ -113,6 +120,10 @@ def mean_quaternion(quaternions) -> np.ndarray:
     q and -q are the same attitude; the eigenvector of sum q q^T ignores the sign.
     """
     q = np.asarray(quaternions, dtype=float)
+    # Each row scaled to its largest value first: extreme ones neither overflow nor weigh more.
+    largest = np.max(np.abs(q), axis=1, keepdims=True)
+    q = q / np.where(largest > 0, largest, 1.0)
+    q /= np.maximum(np.linalg.norm(q, axis=1, keepdims=True), 1.0)
     _, vectors = np.linalg.eigh(q.T @ q)
     mean = vectors[:, -1]
     return mean if mean[0] >= 0 else -mean
@@ -190,13 +201,13 @@ def estimate_normal(free: SensorWindow, pressed: SensorWindow) -> NormalEstimate
     """Normal and deformed face from a free-air window and a pressed, settled window.
 
     Raises:
-        ValueError: a window holds non-finite values or a zero accel.
+        ParameterError: a window holds non-finite values or a zero accel.
     """
     for name, window in (('free', free), ('pressed', pressed)):
         values = np.concatenate([window.quaternion, window.accel, window.joints,
                                  [window.compression_m]])
         if not np.all(np.isfinite(values)) or not np.linalg.norm(window.accel) > 0:
-            raise ValueError(f'the {name} window holds non-finite or zero readings')
+            raise ParameterError(f'the {name} window holds non-finite or zero readings')
     undeformed_free = sensor_pose(free.joints)[:3, :3]
     pressed_pose = sensor_pose(pressed.joints)
     undeformed = pressed_pose[:3, :3]

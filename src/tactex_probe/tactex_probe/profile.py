@@ -15,12 +15,24 @@ import math
 
 import numpy as np
 
+from tactex_probe.errors import ParameterError
+
 
 def horizontal(direction) -> np.ndarray:
-    """Unit horizontal part of the probing direction (x when it has none)."""
-    d = np.array([float(direction[0]), float(direction[1]), 0.0])
-    length = float(np.linalg.norm(d))
-    return d / length if length > 1e-9 else np.array([1.0, 0.0, 0.0])
+    """Unit horizontal part of the probing direction (x when it has none).
+
+    Raises:
+        ParameterError: the direction is not finite.
+    """
+    x, y = float(direction[0]), float(direction[1])
+    if not (math.isfinite(x) and math.isfinite(y)):
+        raise ParameterError(f'the probing direction must be finite, got {direction!r}')
+    if math.hypot(x, y) <= 1e-9:
+        return np.array([1.0, 0.0, 0.0])
+    largest = max(abs(x), abs(y))  # scaled first: no overflow at float64's max
+    x, y = x / largest, y / largest
+    length = math.hypot(x, y)
+    return np.array([x / length, y / length, 0.0])
 
 
 def slope_at(points: Sequence[np.ndarray], s: float, direction) -> float:
@@ -54,10 +66,16 @@ def slope_at(points: Sequence[np.ndarray], s: float, direction) -> float:
 
 
 def normal_from_slope(slope: float, direction) -> np.ndarray:
-    """Outward unit normal of a profile rising by `slope` along the direction."""
+    """Outward unit normal of a profile rising by `slope` along the direction.
+
+    Raises:
+        ParameterError: the slope or the direction is not finite.
+    """
+    if not math.isfinite(slope):
+        raise ParameterError(f'the profile slope must be finite, got {slope!r}')
     along = horizontal(direction)
     normal = np.array([0.0, 0.0, 1.0]) - slope * along
-    return normal / math.sqrt(1.0 + slope * slope)
+    return normal / math.hypot(1.0, slope)  # no overflow for steep slopes
 
 
 def coordinate(point, direction) -> float:

@@ -26,6 +26,13 @@ from scipy.linalg import eigh
 from tactex_trajectory.errors import PathError
 
 DEGREE = 3
+# No path and no approach may span more than this (m): far beyond any arm's reach, and
+# refused before arrays that size are allocated.
+MAX_EXTENT_M = 100.0
+# Most samples of a path (a finer spacing is refused rather than allocated).
+MAX_SAMPLES = 100_000
+# The noise levels a fit can weigh by (1/sigma stays far from overflow).
+NOISE_RANGE = (1e-9, 1.0)
 # Most B-spline intervals of a fit: enough for any probed pathway, small enough to solve.
 MAX_INTERVALS = 48
 # Curve samples per metre used for arc lengths (0.1 mm apart).
@@ -67,9 +74,15 @@ class PathSettings:
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
                 raise ValueError(f'{name} must be a finite number > 0, got {value!r}')
+        for name in ('position_noise_m', 'normal_noise_rad'):
+            value = getattr(self, name)
+            if not NOISE_RANGE[0] <= value <= NOISE_RANGE[1]:
+                raise ValueError(f'{name} must be in [{NOISE_RANGE[0]:g}, {NOISE_RANGE[1]:g}], '
+                                 f'got {value!r}')
         if self.samples is not None and (not isinstance(self.samples, int)
-                                         or self.samples < 2):
-            raise ValueError(f'samples must be an integer >= 2 or None, got {self.samples!r}')
+                                         or not 2 <= self.samples <= MAX_SAMPLES):
+            raise ValueError(f'samples must be an integer in [2, {MAX_SAMPLES}] or None, got '
+                             f'{self.samples!r}')
 
 
 @dataclass(frozen=True)
@@ -505,11 +518,17 @@ def _log_map(units: np.ndarray, base: np.ndarray) -> np.ndarray:
 
 def _resample(curve: _Curve, kept: np.ndarray, settings: PathSettings,
               dropped: tuple[DroppedContact, ...]) -> SweepPath:
+    if not curve.end_u <= MAX_EXTENT_M:
+        raise PathError(f'the contacts span {curve.end_u:.3g} m, more than a path may '
+                        f'({MAX_EXTENT_M:g} m): check their positions')
     dense_u = np.linspace(0.0, curve.end_u, max(200, int(curve.end_u * DENSE_PER_M) + 2))
     speed = np.linalg.norm(curve.velocity(dense_u), axis=1)
     dense_s = np.concatenate([[0.0], np.cumsum(0.5 * (speed[1:] + speed[:-1])
                                                 * np.diff(dense_u))])
     length = float(dense_s[-1])
+    if not settings.samples and not length / settings.spacing_m < MAX_SAMPLES:
+        raise PathError(f'a {length:.3g} m path at a spacing of {settings.spacing_m:.3g} m '
+                        f'needs more than {MAX_SAMPLES} samples: widen spacing_m')
     count = settings.samples or max(2, int(math.ceil(length / settings.spacing_m)) + 1)
     arclength = np.linspace(0.0, length, count)
     u = np.interp(arclength, dense_s, dense_u)

@@ -21,9 +21,9 @@ import numpy as np
 
 from tactex_description.mjcf import EDGE_TIP_RADIUS_M
 from tactex_driver.errors import TrajectoryRejected
-from tactex_driver.playback import JointLimits, plan
+from tactex_driver.playback import JointLimits, LIMIT_TOLERANCE, plan
 from tactex_trajectory.errors import SweepRefused
-from tactex_trajectory.path import path_from_contacts, PathSettings, SweepPath
+from tactex_trajectory.path import MAX_EXTENT_M, path_from_contacts, PathSettings, SweepPath
 from tactex_trajectory.poses import (
     ARM,
     edge_positions,
@@ -34,6 +34,7 @@ from tactex_trajectory.poses import (
     SweepPoses,
 )
 from tactex_trajectory.timing import (
+    check_duration,
     concatenate,
     JointPath,
     move_duration,
@@ -165,6 +166,13 @@ def plan_sweep(points, normals, ok, start_joints, settings: SweepSettings = Swee
     if start.shape not in ((4,), (5,)) or not np.all(np.isfinite(start)):
         raise ValueError(f'start_joints must be 4 or 5 finite values, got {start_joints!r}')
     current = np.concatenate([start, [0.0]]) if start.size == 4 else start
+    outside = ((current < LIMITS.lower - LIMIT_TOLERANCE)
+               | (current > LIMITS.upper + LIMIT_TOLERANCE))
+    if np.any(outside[:4]):  # the driver refuses a trajectory from there anyway
+        joint = int(np.argmax(outside[:4]))
+        raise SweepRefused(f'{LIMITS.names[joint]} = {current[joint]:.4g} is outside its '
+                           f'limits [{LIMITS.lower[joint]:.4f}, {LIMITS.upper[joint]:.4f}]; '
+                           'move the arm inside them first')
     path = path_from_contacts(points, normals, ok, settings.path)
     poses = sweep_poses(path, settings.pose, current[:4])
     slide_path = JointPath(path.arclength_m, poses.joints)
@@ -176,6 +184,8 @@ def plan_sweep(points, normals, ok, start_joints, settings: SweepSettings = Swee
                            f'{settings.sliding_speed_m_s * 1e3:g} mm/s and back takes '
                            f'{2e3 * ramp_m:.1f} mm: probe a longer pathway or slide slower')
     law = ramped_law(path.length_m, settings.sliding_speed_m_s, ramp_s)
+    check_duration(law.duration_s, f'sliding {path.length_m * 1e3:.1f} mm at '
+                                   f'{settings.sliding_speed_m_s:.3g} m/s')
     dense_t = np.linspace(0.0, law.duration_s, 20 * len(path.arclength_m) + 200)
     slide_t = np.interp(path.arclength_m, law.position(dense_t), dense_t)
     slide_t[0], slide_t[-1] = 0.0, law.duration_s
@@ -238,6 +248,8 @@ def _line(path: SweepPath, poses: SweepPoses, index: int, settings: SweepSetting
           down: bool) -> TimedJoints:
     """Straight along the normal of a path end: down onto it or up from it."""
     height = settings.approach_height_m
+    if height > MAX_EXTENT_M:  # refused before its poses are allocated
+        raise SweepRefused(f"an approach height of {height:.3g} m is beyond the arm's reach")
     count = max(2, int(math.ceil(height / LINE_STEP_M)) + 1)
     lifts = np.linspace(height, 0.0, count) if down else np.linspace(0.0, height, count)
     point, normal = path.points[index], path.normals[index]

@@ -35,6 +35,20 @@ MOVE_POINTS_PER_S = 10.0
 MIN_MOVE_POINTS = 8
 # Samples per metre (and per unit fraction) used to check a geometric path's derivatives.
 CHECK_SAMPLES = 400
+# No part of a sweep (a move, the descent, the slide, the lift) may last longer (s): slower
+# settings are refused rather than planned into an endless (and memory-hungry) trajectory.
+MAX_PART_S = 3600.0
+
+
+def check_duration(duration_s: float, part: str) -> None:
+    """Refuse a part of a sweep that would last longer than MAX_PART_S (or not finitely).
+
+    Raises:
+        SweepRefused: naming the part and what to change.
+    """
+    if not duration_s <= MAX_PART_S:
+        raise SweepRefused(f'{part} would take {duration_s:.3g} s, more than {MAX_PART_S:g} s: '
+                           'raise its speed')
 
 
 @dataclass(frozen=True)
@@ -192,7 +206,12 @@ def move_duration(path: JointPath, *, peak_speed: float = math.inf, minimum_s: f
 
 
 def timed_move(path: JointPath, duration_s: float) -> TimedJoints:
-    """The path as a minimum-jerk move over `duration_s`, from rest to rest."""
+    """The path as a minimum-jerk move over `duration_s`, from rest to rest.
+
+    Raises:
+        SweepRefused: the move would last longer than MAX_PART_S.
+    """
+    check_duration(duration_s, 'a move')
     count = max(MIN_MOVE_POINTS, int(math.ceil(duration_s * MOVE_POINTS_PER_S)) + 1)
     law = min_jerk_law(path.length, duration_s)
     return path.timed(law, np.linspace(0.0, duration_s, count))
@@ -208,9 +227,11 @@ def ramp_duration(path: JointPath, speed_m_s: float, ramp_acceleration_m_s2: flo
     velocity = VELOCITY_LIMITS * LIMIT_MARGIN
     acceleration = ACCELERATION_LIMITS * LIMIT_MARGIN
     ratio = first * speed_m_s / velocity
-    spare = acceleration - second * speed_m_s ** 2
+    with np.errstate(over='ignore'):  # a huge speed squares to inf: refused below
+        squared = np.float64(speed_m_s) ** 2
+    spare = acceleration - second * squared
     if np.any(ratio > 1.0) or np.any(spare <= 0.0):
-        joint = int(np.argmax(np.maximum(ratio, second * speed_m_s ** 2 / acceleration)))
+        joint = int(np.argmax(np.maximum(ratio, second * squared / acceleration)))
         fastest = float(min(np.min(velocity / np.maximum(first, 1e-12)),
                             np.min(np.sqrt(acceleration / np.maximum(second, 1e-12)))))
         raise SweepRefused(f'{ARM_JOINT_NAMES[joint]} cannot follow the path at '
