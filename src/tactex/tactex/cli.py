@@ -30,6 +30,7 @@ COMMANDS = {
     'train': 'Cross-validate a texture model (honest and leaky CV side by side), report.',
     'export': "Write a checkpoint's model as ONNX (for classifier_node without torch).",
     'launch': "Run a launch file's nodes as supervised processes (no ROS 2 launch needed).",
+    'report': 'Reports across the system: accuracy-time (what accuracy costs in time).',
 }
 
 

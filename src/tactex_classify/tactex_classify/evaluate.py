@@ -129,3 +129,56 @@ def sequence_accuracy(dataset: Dataset, proba: np.ndarray) -> dict[int, float]:
         result[k] = correct / total
         k *= 2
     return result
+
+
+def decision_measures(decisions: list[tuple[bool, float, float]]) -> dict:
+    """Accuracy, median contact seconds, earliness and TEASER's harmonic mean of decisions.
+
+    Args:
+        decisions: one (correct, contact seconds at the decision, earliness) per sweep;
+            earliness is the share of the sweep's windowed contact used (0..1).
+
+    Returns:
+        accuracy, median_contact_s, earliness (mean), harmonic_mean of accuracy and
+        1 - earliness (Schafer & Leser 2020), and the number of sweeps.
+    """
+    correct = np.array([d[0] for d in decisions], float)
+    contact = np.array([d[1] for d in decisions])
+    earliness = np.array([d[2] for d in decisions])
+    accuracy, early = float(correct.mean()), float(earliness.mean())
+    harmonic = 2 * accuracy * (1 - early) / (accuracy + 1 - early) if accuracy + 1 - early \
+        else 0.0
+    return {'accuracy': accuracy, 'median_contact_s': float(np.median(contact)),
+            'earliness': early, 'harmonic_mean': harmonic, 'sweeps': len(decisions)}
+
+
+def threshold_decisions(dataset: Dataset, proba: np.ndarray, threshold: float,
+                        rate_hz: float) -> dict:
+    """The live node's decisions at `threshold`, replayed on out-of-fold probabilities.
+
+    Each recording's windows are fed in time order to the same `Evidence` the live node
+    uses; the decision is the first estimate that meets the threshold, else the last one
+    (decided at the end of contact, as TEASER forces a decision).
+
+    Returns:
+        `decision_measures` of the recordings' decisions.
+    """
+    from tactex_classify.evidence import Evidence, EvidenceSettings, union_seconds
+    period_ns = int(round(1e9 / rate_hz))
+    span_ns = (dataset.X.shape[1] - 1) * period_ns
+    settings = EvidenceSettings(threshold=threshold)
+    decisions = []
+    starts_ns = np.round(dataset.t0 * 1e9).astype(np.int64)
+    for trial in np.unique(dataset.trial):
+        members = np.flatnonzero(dataset.trial == trial)
+        members = members[np.argsort(starts_ns[members], kind='stable')]
+        evidence = Evidence(len(dataset.classes), period_ns, settings)
+        for index in members:
+            estimate = evidence.add(proba[index], starts_ns[index], starts_ns[index] + span_ns)
+            if estimate.decided:
+                break
+        total = union_seconds([(starts_ns[i], starts_ns[i] + span_ns + period_ns)
+                               for i in members])
+        decisions.append((estimate.class_id == int(dataset.y[members[0]]),
+                          estimate.contact_seconds, min(1.0, estimate.contact_seconds / total)))
+    return decision_measures(decisions)
