@@ -76,34 +76,57 @@ def contact_time(data: Data, size: Size, log: Callable[[str], None], *, seed: in
                  threads: int) -> dict:
     """Section 1: per model and window, accuracy against the contact seconds of a decision."""
     from tactex_classify.evaluate import cross_validate, sequence_accuracy, threshold_decisions
-    points, runs = [], {}
+    points, runs, skipped = [], {}, []
     for window, dataset in data.datasets.items():
         hop = window // 2
         for model in size.models:
+            if not fits(model, window, len(dataset.channels)):
+                skipped.append(f'{model} at window {window} (too short for its layers)')
+                log(f'  {model}, window {window}: skipped, too short for its layers')
+                continue
             began = time.monotonic()
             result = cross_validate(dataset, lambda m=model: make_estimator(
                 m, size, seed=seed, threads=threads), SCHEME, folds=size.folds, seed=seed)
             cv_s = time.monotonic() - began
             accuracy = float(np.mean(result.proba.argmax(axis=1) == dataset.y))
-            runs[(model, window)] = {'accuracy': accuracy, 'cv_s': cv_s}
+            runs[run_key(model, window)] = {'accuracy': accuracy, 'cv_s': cv_s}
             log(f'  {model}, window {window}: window accuracy {100 * accuracy:.1f} % '
                 f'({cv_s:.0f} s)')
             for k, value in sequence_accuracy(dataset, result.proba).items():
-                points.append({'model': model, 'window': window, 'rule': f'{k} windows',
+                points.append({'model': model, 'window': window,
+                               'rule': f'{k} window{"s" * (k > 1)}',
                                'windows': k, 'threshold': None,
                                'contact_s': (window + (k - 1) * hop) / data.rate_hz,
                                'accuracy': value, 'earliness': None, 'harmonic_mean': None})
             for threshold in THRESHOLDS:
                 measures = threshold_decisions(dataset, result.proba, threshold, data.rate_hz)
                 points.append({'model': model, 'window': window,
-                               'rule': f'posterior > {threshold:.10g}', 'windows': None,
+                               'rule': f'posterior > {threshold:.10g}' if threshold < 1
+                               else 'whole contact (threshold 1)', 'windows': None,
                                'threshold': threshold,
                                'contact_s': measures['median_contact_s'],
                                'accuracy': measures['accuracy'],
                                'earliness': measures['earliness'],
                                'harmonic_mean': measures['harmonic_mean']})
     mark_pareto(points)
-    return {'points': points, 'runs': runs}
+    return {'points': points, 'runs': runs, 'skipped': skipped}
+
+
+def fits(model: str, window: int, channels: int) -> bool:
+    """`model` takes windows of `window` samples (pooling deep models need a minimum)."""
+    if model in BASELINES:
+        return True
+    from tactex_classify.models import MODELS
+    try:
+        MODELS[model](window, channels, 2)
+    except ValueError:
+        return False
+    return True
+
+
+def run_key(model: str, window: int) -> str:
+    """The key of a model's cross-validation at a window in section 1's `runs`."""
+    return f'{model}, window {window}'
 
 
 def mark_pareto(points: list[dict]) -> None:
@@ -140,8 +163,8 @@ def compute_time(data: Data, section1: dict, size: Size, scratch: Path,
             predictor = load_predictor(folder, runtime, threads=1)
             latency[predictor.runtime] = time_predictor(predictor, dataset.X, size.latency_calls)
         rows.append({'model': model, 'window': window, 'deep': model not in BASELINES,
-                     'accuracy': section1['runs'][(model, window)]['accuracy'],
-                     'cv_s': section1['runs'][(model, window)]['cv_s'],
+                     'accuracy': section1['runs'][run_key(model, window)]['accuracy'],
+                     'cv_s': section1['runs'][run_key(model, window)]['cv_s'],
                      'train_s': train_s, 'windows': len(dataset.y), 'latency': latency})
         log(f'  {model}: trained in {train_s:.1f} s; per window ' + ', '.join(
             f'{name} {1e3 * value["single_s"]:.2f} ms' for name, value in latency.items()))

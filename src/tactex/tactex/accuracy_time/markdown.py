@@ -84,7 +84,9 @@ def contact_section(results: dict) -> list[str]:
         '`Evidence` replayed on out-of-fold probabilities; a sweep that never meets the '
         "threshold is decided at its end). Earliness: the share of the sweep's windowed "
         'contact used; HM: harmonic mean of accuracy and 1 - earliness (TEASER). '
-        '**P**: on the Pareto front over every row.',
+        '**P**: on the Pareto front over every row.' + (
+            f' Not run: {", ".join(results["1"]["skipped"])}.' if results['1']['skipped']
+            else ''),
         [table(['model', 'window', 'rule', 'contact s', 'accuracy', 'earliness', 'HM', ''],
                rows)])
 
@@ -145,13 +147,17 @@ def simulation_section(results: dict) -> list[str]:
     """Section 5: real-time factor and spectral distance per variant."""
     fifth = results['5']
     rows = [[r['variant'], f'{r["step_ms"]:.3f}', f'{r["real_time_factor"]:.1f}x',
-             f'{r["distance_db"]:.2f}'] for r in fifth['rows']]
+             f'{r["distance_db"]:.2f}' + (f' (without {", ".join(r["not_simulated"])})'
+                                          if r['not_simulated'] else '')]
+            for r in fifth['rows']]
     return _section(
         results, '5', 'Simulation cost against fidelity',
-        f'one {fifth["seconds"]:g} s sweep of the {fifth["scene"]} scene over wood per '
-        'variant; Welch spectra of accelerometer, gyroscope and barometer while sliding',
+        f'one sweep of the {fifth["scene"]} scene over wood per variant, '
+        f'{fifth["seconds"]:g} s of sliding; Welch spectra of accelerometer, gyroscope and '
+        'barometer while sliding',
         'Distance: RMS over frequency of 10 log10(power / reference power), averaged over '
-        'the 7 signals. The reference with another noise seed shows what noise alone gives.',
+        'the 7 signals (those a variant does not simulate left out). The reference with '
+        'another noise seed shows what noise alone gives.',
         [table(['variant', 'physics step ms', 'real-time factor', 'spectral distance dB'],
                rows)])
 

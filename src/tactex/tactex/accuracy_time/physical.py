@@ -84,9 +84,16 @@ def _spectra(scene, seconds: float, seed: int) -> tuple[np.ndarray, float, float
 
 
 def spectral_distance_db(power: np.ndarray, reference: np.ndarray) -> float:
-    """Mean over signals of the RMS over frequency of 10 log10(power / reference) (dB)."""
+    """Mean over signals of the RMS over frequency of 10 log10(power / reference) (dB).
+
+    Signals one of the two runs does not simulate (NaN, e.g. pressure without the
+    barometer effect) are left out; NaN if no signal is left.
+    """
     floor = 1e-30
-    ratio = 10 * np.log10((power + floor) / (reference + floor))
+    both = np.isfinite(power).all(axis=1) & np.isfinite(reference).all(axis=1)
+    if not both.any():
+        return math.nan
+    ratio = 10 * np.log10((power[both] + floor) / (reference[both] + floor))
     return float(np.mean(np.sqrt(np.mean(ratio ** 2, axis=1))))
 
 
@@ -99,7 +106,7 @@ def simulation_cost(size: Size, log: Callable[[str], None], *, seed: int) -> dic
         dataclasses.replace(base, timestep_s=period / REFERENCE_STEPS), size.sim_seconds, seed)
     rows = [{'variant': f'reference: {REFERENCE_STEPS} steps per sample, every effect',
              'step_ms': step_ms, 'effects': ', '.join(base.effects),
-             'real_time_factor': simulated / wall, 'distance_db': 0.0}]
+             'real_time_factor': simulated / wall, 'distance_db': 0.0, 'not_simulated': []}]
     variants = [(f'reference, noise seed {seed + 1}', base, seed + 1, REFERENCE_STEPS)]
     variants += [(f'{steps} step{"s" * (steps > 1)} per sample', base, seed, steps)
                  for steps in STEPS_PER_SAMPLE]
@@ -113,7 +120,9 @@ def simulation_cost(size: Size, log: Callable[[str], None], *, seed: int) -> dic
             dataclasses.replace(scene, timestep_s=period / steps), size.sim_seconds, run_seed)
         rows.append({'variant': label, 'step_ms': step_ms, 'effects': ', '.join(scene.effects),
                      'real_time_factor': simulated / wall,
-                     'distance_db': spectral_distance_db(power, reference)})
+                     'distance_db': spectral_distance_db(power, reference),
+                     'not_simulated': [name for name, row in zip(SIGNALS, power, strict=True)
+                                       if not np.isfinite(row).all()]})
         log(f'  {label}: {simulated / wall:.1f}x real time, '
             f'{rows[-1]["distance_db"]:.2f} dB from the reference')
     return {'rows': rows, 'seconds': size.sim_seconds, 'scene': base.name}

@@ -67,13 +67,13 @@ def run_sections(size: Size, *, seed: int, threads: int,
 
 
 def choose(points: list[dict], compute: list[dict]) -> dict:
-    """The three configurations, among the live node's threshold rules.
+    """The three configurations, among the live node's threshold rules (below 1: it decides).
 
     fastest: least contact time within `NEAR_BEST` accuracy of the most accurate;
     accurate: the most accurate (ties: less contact time); budget: the most accurate
     deciding within `BUDGET_S` of contact (None if none does).
     """
-    live = [p for p in points if p['threshold'] is not None]
+    live = [p for p in points if p['threshold'] is not None and p['threshold'] < 1.0]
     accurate = max(live, key=lambda p: (p['accuracy'], -p['contact_s']))
     near = [p for p in live if p['accuracy'] >= accurate['accuracy'] - NEAR_BEST]
     fastest = min(near, key=lambda p: (p['contact_s'], -p['accuracy']))
@@ -110,8 +110,14 @@ def command(point: dict, size: Size, folds: int) -> str:
 def write_report(folder: Path, size: Size, *, seed: int = 0, threads: int = 1,
                  progress: Callable[[str], None] = print) -> dict:
     """Measure everything and write report.md, the PNGs and results.json into `folder`."""
-    from tactex.accuracy_time import markdown
     results = run_sections(size, seed=seed, threads=threads, progress=progress)
+    write_files(folder, results)
+    return results
+
+
+def write_files(folder: Path, results: dict) -> None:
+    """Write report.md, the PNGs and results.json of measured `results` into `folder`."""
+    from tactex.accuracy_time import markdown
     data = markdown.data_line(results)
     p = markdown.PLOTS
     plots.contact_time(folder / p['1'], results['1']['points'], data)
@@ -123,12 +129,12 @@ def write_report(folder: Path, size: Size, *, seed: int = 0, threads: int = 1,
                       f'uneven_texture, {results["4"]["contact_s"]:g} s sliding per sweep, '
                       f'{results["4"]["model"]}, grouped CV')
     plots.simulation_cost(folder / p['5'], results['5']['rows'],
-                          f'{results["5"]["seconds"]:g} s sweep, {results["5"]["scene"]}')
+                          f'{results["5"]["seconds"]:g} s of sliding over wood, '
+                          f'{results["5"]["scene"]} scene')
     plots.filter_rate(folder / p['6'], results['6']['rows'], results['6']['costs'],
                       f'Madgwick MARG, synthetic motions {", ".join(results["6"]["motions"])}')
     plots.whole_job(folder / p['7'], results['7']['stages'],
                     f'one simulated job, model {results["7"]["model"]}')
     (folder / 'report.md').write_text(markdown.render(results), encoding='utf-8')
-    (folder / 'results.json').write_text(json.dumps(results, indent=1, default=str) + '\n',
+    (folder / 'results.json').write_text(json.dumps(results, indent=1) + '\n',
                                          encoding='utf-8')
-    return results
