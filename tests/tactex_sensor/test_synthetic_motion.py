@@ -1,5 +1,7 @@
 # Copyright 2026 The tactex authors
 # SPDX-License-Identifier: Apache-2.0
+"""Synthetic motions and readings with exact truth, and the attitude errors."""
+
 import math
 
 import numpy as np
