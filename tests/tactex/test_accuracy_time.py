@@ -79,6 +79,7 @@ def test_a_failing_section_leaves_nothing_behind(tmp_path, monkeypatch, capsys):
 
 
 @pytest.mark.slow
+@pytest.mark.timeout(1200)  # about 6 minutes on two loaded cores
 def test_the_quick_report_measures_every_section_and_opens_with_three_commands(tmp_path,
                                                                                 capsys):
     out = tmp_path / 'report'

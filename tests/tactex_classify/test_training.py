@@ -23,6 +23,7 @@ from tactex_classify.errors import CheckpointError, DatasetError, NotFittedError
 from tactex_classify.evaluate import (
     confusion,
     cross_validate,
+    decide_recordings,
     decision_measures,
     metrics,
     sequence_accuracy,
@@ -208,6 +209,21 @@ def test_threshold_decisions_replay_the_live_rule_on_each_recording():
     assert whole['earliness'] == pytest.approx(1.0)
     assert whole['median_contact_s'] > first['median_contact_s']
     assert first['earliness'] < 1.0 and first['harmonic_mean'] > whole['harmonic_mean']
+
+
+def test_deciding_live_asks_for_no_window_after_the_decision():
+    data = toy()
+    asked = []
+
+    def proba_of(index):
+        asked.append(index)
+        row = np.full(3, 0.05)
+        row[data.y[index]] = 0.9
+        return row
+    decisions = decide_recordings(data, proba_of, 0.99, 100.0)
+    assert len(decisions) == len(np.unique(data.trial))
+    assert all(d['correct'] and d['wall_s'] >= 0 for d in decisions)
+    assert len(asked) == 2 * len(decisions)  # 0.9 / 0.1 ratios: two windows pass 0.99
 
 
 def test_decision_measures_give_teasers_harmonic_mean():

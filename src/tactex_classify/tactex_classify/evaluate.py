@@ -13,6 +13,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
+import time
 
 import numpy as np
 from sklearn.model_selection import StratifiedGroupKFold, StratifiedKFold
@@ -152,33 +153,53 @@ def decision_measures(decisions: list[tuple[bool, float, float]]) -> dict:
             'earliness': early, 'harmonic_mean': harmonic, 'sweeps': len(decisions)}
 
 
-def threshold_decisions(dataset: Dataset, proba: np.ndarray, threshold: float,
-                        rate_hz: float) -> dict:
-    """The live node's decisions at `threshold`, replayed on out-of-fold probabilities.
+def decide_recordings(dataset: Dataset, proba_of: Callable[[int], np.ndarray],
+                      threshold: float, rate_hz: float) -> list[dict]:
+    """The live node's decision on each recording, its windows fed in time order.
 
-    Each recording's windows are fed in time order to the same `Evidence` the live node
-    uses; the decision is the first estimate that meets the threshold, else the last one
-    (decided at the end of contact, as TEASER forces a decision).
+    Each recording's windows go to the same `Evidence` the live node uses until an
+    estimate meets `threshold`; without one, the last estimate is the decision (made at
+    the end of contact, as TEASER forces one).
+
+    Args:
+        dataset: the windows (`t0` orders them; `y` gives the truth).
+        proba_of: window index -> its class probabilities (computed on demand).
+        threshold: the decision threshold.
+        rate_hz: the sampling rate (a window covers its samples' periods).
 
     Returns:
-        `decision_measures` of the recordings' decisions.
+        Per recording: correct, contact_s at the decision, earliness (the share of the
+        recording's windowed contact used) and wall_s (time spent on its windows).
     """
     from tactex_classify.evidence import Evidence, EvidenceSettings, union_seconds
     period_ns = int(round(1e9 / rate_hz))
     span_ns = (dataset.X.shape[1] - 1) * period_ns
     settings = EvidenceSettings(threshold=threshold)
-    decisions = []
     starts_ns = np.round(dataset.t0 * 1e9).astype(np.int64)
+    decisions = []
     for trial in np.unique(dataset.trial):
         members = np.flatnonzero(dataset.trial == trial)
         members = members[np.argsort(starts_ns[members], kind='stable')]
         evidence = Evidence(len(dataset.classes), period_ns, settings)
+        began = time.perf_counter()
         for index in members:
-            estimate = evidence.add(proba[index], starts_ns[index], starts_ns[index] + span_ns)
+            estimate = evidence.add(proba_of(index), starts_ns[index],
+                                    starts_ns[index] + span_ns)
             if estimate.decided:
                 break
+        wall = time.perf_counter() - began
         total = union_seconds([(starts_ns[i], starts_ns[i] + span_ns + period_ns)
                                for i in members])
-        decisions.append((estimate.class_id == int(dataset.y[members[0]]),
-                          estimate.contact_seconds, min(1.0, estimate.contact_seconds / total)))
-    return decision_measures(decisions)
+        decisions.append({'correct': estimate.class_id == int(dataset.y[members[0]]),
+                          'contact_s': estimate.contact_seconds,
+                          'earliness': min(1.0, estimate.contact_seconds / total),
+                          'wall_s': wall})
+    return decisions
+
+
+def threshold_decisions(dataset: Dataset, proba: np.ndarray, threshold: float,
+                        rate_hz: float) -> dict:
+    """`decision_measures` of the live rule at `threshold` on out-of-fold probabilities."""
+    decisions = decide_recordings(dataset, proba.__getitem__, threshold, rate_hz)
+    return decision_measures([(d['correct'], d['contact_s'], d['earliness'])
+                              for d in decisions])

@@ -30,7 +30,7 @@ def whole_job(probe_run, scratch: Path, size: Size, model: str, threshold: float
               log: Callable[[str], None], *, seed: int, threads: int) -> dict:
     """Per stage: wall seconds of this run and simulated (arm) seconds."""
     from tactex_classify.dataset import convert
-    from tactex_classify.evidence import Evidence, EvidenceSettings
+    from tactex_classify.evaluate import decide_recordings
     from tactex_classify.runtime import load_predictor
     from tactex_sim.collect import collect
     from tactex_sim.scene import load_scene, resolve_scene
@@ -75,7 +75,9 @@ def whole_job(probe_run, scratch: Path, size: Size, model: str, threshold: float
             textures=textures, progress=lambda line: None)
     test = convert([held_out], window=WINDOW, hop=WINDOW // 2, progress=lambda line: None)
     predictor = load_predictor(folder, threads=1)
-    decisions = decide_live(predictor, test, threshold, rate, Evidence, EvidenceSettings)
+    columns = [list(predictor.info.classes).index(name) for name in test.classes]
+    decisions = decide_recordings(
+        test, lambda i: predictor.predict_proba(test.X[i][None])[0][columns], threshold, rate)
     stages.append({'stage': 'live decision', 'wall_s': float(np.mean(
         [d['wall_s'] for d in decisions])), 'arm_s': float(np.mean(
             [d['contact_s'] for d in decisions]))})
@@ -84,27 +86,3 @@ def whole_job(probe_run, scratch: Path, size: Size, model: str, threshold: float
     return {'stages': stages, 'model': model, 'threshold': threshold, 'window': WINDOW,
             'sweeps': size.job_sweeps, 'textures': size.textures, 'contact_fraction': contact,
             'live_accuracy': accuracy, 'held_out': len(decisions), 'probed': len(contacts)}
-
-
-def decide_live(predictor, data, threshold: float, rate: float, evidence_type,
-                settings_type) -> list[dict]:
-    """Feed each recording's windows in order until the threshold is met; time it."""
-    period_ns = int(round(1e9 / rate))
-    span_ns = (data.X.shape[1] - 1) * period_ns
-    starts = np.round(data.t0 * 1e9).astype(np.int64)
-    index = [list(predictor.info.classes).index(name) for name in data.classes]
-    decisions = []
-    for trial in np.unique(data.trial):
-        members = np.flatnonzero(data.trial == trial)
-        members = members[np.argsort(starts[members], kind='stable')]
-        evidence = evidence_type(len(data.classes), period_ns, settings_type(threshold))
-        began = time.perf_counter()
-        for member in members:
-            proba = predictor.predict_proba(data.X[member][None])[0][index]
-            estimate = evidence.add(proba, starts[member], starts[member] + span_ns)
-            if estimate.decided:
-                break
-        decisions.append({'correct': estimate.class_id == int(data.y[members[0]]),
-                          'contact_s': estimate.contact_seconds,
-                          'wall_s': time.perf_counter() - began})
-    return decisions
