@@ -305,6 +305,8 @@ BAD_INPUTS = {
         Case('report accuracy-time --out {w}/report --threads 0', 'argument --threads',
              '{w}/report'),
         Case('report accuracy-time --out {w}/report --seed -1', 'argument --seed', '{w}/report'),
+        Case('report accuracy-time --out {w}/report --epochs 0', 'argument --epochs',
+             '{w}/report'),
         Case('report accuracy-time --out {w}/report --quick=yes', 'ignored explicit argument',
              '{w}/report'),
     ],

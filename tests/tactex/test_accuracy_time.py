@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from tactex.accuracy_time import report
+from tactex.accuracy_time import markdown, report
 from tactex.accuracy_time.classification import fits, mark_pareto
 from tactex.accuracy_time.physical import spectral_distance_db
 from tactex.accuracy_time.sizes import QUICK
@@ -46,12 +46,13 @@ def test_the_three_configurations_follow_their_rules():
 
 
 def test_a_configuration_is_a_command_line_that_exports_onnx_only_when_it_runs_it():
-    native = report.command({**point('extratrees', 1.0, 0.9), 'runtime': 'native'}, QUICK, 4)
-    onnx = report.command({**point('cnn_3', 1.0, 0.9, 0.999), 'runtime': 'onnxruntime'},
-                          QUICK, 4)
+    native = markdown.command({**point('extratrees', 1.0, 0.9), 'runtime': 'native'},
+                            epochs=7, folds=4)
+    onnx = markdown.command({**point('cnn_3', 1.0, 0.9, 0.999), 'runtime': 'onnxruntime'},
+                          epochs=7, folds=4)
     assert 'tactex export' not in native and '--epochs' not in native
     assert 'tactex convert bags --window 128 --hop 64' in native
-    assert 'tactex export run/model --onnx' in onnx and f'--epochs {QUICK.epochs}' in onnx
+    assert 'tactex export run/model --onnx' in onnx and '--epochs 7 --cv grouped' in onnx
     assert onnx.splitlines()[-1] == ('tactex launch classify checkpoint:=run/model '
                                      'threshold:=0.999 runtime:=onnxruntime')
 

@@ -4,8 +4,8 @@
 
 from __future__ import annotations
 
-from tactex.accuracy_time.report import BUDGET_S, command, NEAR_BEST
-from tactex.accuracy_time.sizes import SIZES
+from tactex.accuracy_time.report import BUDGET_S, NEAR_BEST
+from tactex_classify.catalog import BASELINES
 
 PLOTS = {'1': 'contact_time.png', '2': 'compute_time.png', '3': 'probing_time.png',
          '4': 'sweep_speed.png', '5': 'simulation_cost.png', '6': 'filter_rate.png',
@@ -22,6 +22,21 @@ def table(columns: list[str], rows: list[list[str]]) -> list[str]:
             *(f'| {" | ".join(row)} |' for row in rows)]
 
 
+def command(point: dict, *, epochs: int, folds: int) -> str:
+    """Copy-paste command lines that build and run a configuration."""
+    window, model = point['window'], point['model']
+    epoch_option = '' if model in BASELINES else f' --epochs {epochs}'
+    lines = ['tactex sim collect --sweeps 25 --out bags   # or your own recordings',
+             f'tactex convert bags --window {window} --hop {window // 2} --out data.npz',
+             f'tactex train data.npz --model {model}{epoch_option} --cv grouped --folds {folds} '
+             '--out run']
+    if point['runtime'] == 'onnxruntime':
+        lines.append('tactex export run/model --onnx')
+    lines.append('tactex launch classify checkpoint:=run/model '
+                 f'threshold:={point["threshold"]:.10g} runtime:={point["runtime"]}')
+    return '\n'.join(lines)
+
+
 def data_line(results: dict) -> str:
     """What the classification sections ran on."""
     size, data = results['size'], results['data']
@@ -32,9 +47,8 @@ def data_line(results: dict) -> str:
 
 def render(results: dict) -> str:
     """The whole report."""
-    size = SIZES[results['size']['name']]
     lines = ['# What accuracy costs in time', '',
-             f'Measured by `tactex report accuracy-time` ({size.name} size, seed '
+             f'Measured by `tactex report accuracy-time` ({results["size"]["name"]} size, seed '
              f'{results["seed"]}) in {results["total_s"] / 60:.1f} min; every number below '
              'comes from this run. Classification: ' + data_line(results) + '.', '',
              '## Three configurations', '']
@@ -51,7 +65,8 @@ def render(results: dict) -> str:
                   f'{point["threshold"]:.10g}: {_pct(point["accuracy"])} of sweeps right after '
                   f'a median {point["contact_s"]:.2f} s of contact (earliness '
                   f'{point["earliness"]:.2f}), runtime {point["runtime"]}.', '', '```sh',
-                  command(point, size, results['size']['folds']), '```', '']
+                  command(point, epochs=results['size']['epochs'],
+                          folds=results['size']['folds']), '```', '']
     for renderer in (contact_section, compute_section, probing_section, speed_section,
                      simulation_section, filter_section, job_section):
         lines += renderer(results) + ['']
@@ -157,7 +172,8 @@ def simulation_section(results: dict) -> list[str]:
         'barometer while sliding',
         'Distance: RMS over frequency of 10 log10(power / reference power), averaged over '
         'the 7 signals (those a variant does not simulate left out). The reference with '
-        'another noise seed shows what noise alone gives.',
+        'another noise seed shows what noise alone gives. Real-time factor: one run per '
+        'variant, so it carries the load of the machine at that moment.',
         [table(['variant', 'physics step ms', 'real-time factor', 'spectral distance dB'],
                rows)])
 

@@ -92,21 +92,6 @@ def choose(points: list[dict], compute: list[dict]) -> dict:
             'budget': runtime(budget)}
 
 
-def command(point: dict, size: Size, folds: int) -> str:
-    """Copy-paste command lines that build and run a configuration."""
-    window, model = point['window'], point['model']
-    epochs = '' if model in ('extratrees', 'minirocket') else f' --epochs {size.epochs}'
-    lines = ['tactex sim collect --sweeps 25 --out bags   # or your own recordings',
-             f'tactex convert bags --window {window} --hop {window // 2} --out data.npz',
-             f'tactex train data.npz --model {model}{epochs} --cv grouped --folds {folds} '
-             '--out run']
-    if point['runtime'] == 'onnxruntime':
-        lines.append('tactex export run/model --onnx')
-    lines.append('tactex launch classify checkpoint:=run/model '
-                 f'threshold:={point["threshold"]:.10g} runtime:={point["runtime"]}')
-    return '\n'.join(lines)
-
-
 def write_report(folder: Path, size: Size, *, seed: int = 0, threads: int = 1,
                  progress: Callable[[str], None] = print) -> dict:
     """Measure everything and write report.md, the PNGs and results.json into `folder`."""

@@ -5,6 +5,7 @@
 from __future__ import annotations
 
 import argparse
+from dataclasses import replace
 from pathlib import Path
 import time
 
@@ -20,6 +21,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     accuracy.add_argument('--out', type=Path, required=True, help='report folder (new)')
     accuracy.add_argument('--quick', action='store_true',
                           help='the small size (a few minutes; a test), not the default')
+    accuracy.add_argument('--epochs', type=integer(1),
+                          help='epochs of the deep models (default: 3 quick, 15 default; '
+                               'cnn_3 needs about 80 to learn the 12 textures)')
     accuracy.add_argument('--seed', type=integer(0), default=0)
     accuracy.add_argument('--threads', type=integer(1, 256), default=1,
                           help='torch threads while training (1)')
@@ -31,6 +35,8 @@ def run(args: argparse.Namespace) -> int:
     from tactex.accuracy_time.report import write_report
     from tactex.accuracy_time.sizes import DEFAULT, QUICK
     size = QUICK if args.quick else DEFAULT
+    if args.epochs is not None:
+        size = replace(size, epochs=args.epochs)
     started = time.monotonic()
     with staged_folder(args.out) as folder:
         results = write_report(folder, size, seed=args.seed, threads=args.threads)
