@@ -106,3 +106,19 @@ def test_the_quick_report_measures_every_section_and_opens_with_three_commands(t
     assert results['5']['rows'][0]['distance_db'] == 0.0
     assert all(s['wall_s'] > 0 for s in results['7']['stages'])
     assert sorted(p.name for p in tmp_path.iterdir()) == ['report']  # nothing staged left
+
+
+def test_a_speed_out_of_reach_is_a_row_that_says_so_not_a_lost_report(tmp_path):
+    from tactex.accuracy_time import plots
+    measured = {'speed_mm_s': 15.0, 'distance_mm': 30.0, 'contact_fraction': 0.98,
+                'contact_fraction_min': 0.95, 'window_accuracy': 0.6, 'sweep_accuracy': 0.7,
+                'windows': 40, 'collect_s': 9.0, 'failed': ''}
+    failed = {'speed_mm_s': 60.0, 'failed': 'sweep point x=0.229 m unreachable'}
+    results = {'seconds': {'4': 12.0}, '4': {
+        'rows': [measured, failed], 'model': 'extratrees', 'contact_s': 2.0, 'window': 64,
+        'sweeps': 3, 'textures': 4}}
+    text = '\n'.join(markdown.speed_section(results))
+    assert '| 60 | not measured: sweep point x=0.229 m unreachable |' in text
+    assert '| 15 | 30 | 98.0 % (95.0 %) | 40 | 60.0 % | 70.0 % | 9 |' in text
+    plots.sweep_speed(tmp_path / 'speed.png', results['4']['rows'], 'test data')
+    assert (tmp_path / 'speed.png').stat().st_size > 0

@@ -142,7 +142,9 @@ def probing_section(results: dict) -> list[str]:
 def speed_section(results: dict) -> list[str]:
     """Section 4: contact fraction and accuracy per sliding speed."""
     fourth = results['4']
-    rows = [[f'{r["speed_mm_s"]:g}', f'{r["distance_mm"]:.0f}',
+    rows = [[f'{r["speed_mm_s"]:g}', f'not measured: {r["failed"]}', '', '', '', '', '']
+            if r['failed'] else
+            [f'{r["speed_mm_s"]:g}', f'{r["distance_mm"]:.0f}',
              f'{_pct(r["contact_fraction"])} ({_pct(r["contact_fraction_min"])})',
              str(r['windows']), _pct(r['window_accuracy']), _pct(r['sweep_accuracy']),
              f'{r["collect_s"]:.0f}'] for r in fourth['rows']]

@@ -89,6 +89,7 @@ def probing(path: Path, rows: list[dict], data: str) -> None:
 def sweep_speed(path: Path, rows: list[dict], data: str) -> None:
     """Section 4: contact fraction and accuracy against sliding speed."""
     figure, axis = plt.subplots(figsize=(7, 4.2))
+    rows = [r for r in rows if not r['failed']]
     speeds = [r['speed_mm_s'] for r in rows]
     axis.plot(speeds, [100 * r['contact_fraction'] for r in rows], 'o-',
               label='contact fraction (mean)')

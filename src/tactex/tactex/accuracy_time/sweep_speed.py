@@ -25,11 +25,15 @@ MODEL = 'extratrees'
 
 
 def sweep_speed(scratch: Path, size: Size, log: Callable[[str], None], *, seed: int) -> dict:
-    """Per speed: contact fraction, window and whole-sweep accuracy, collection time."""
+    """Per speed: contact fraction, window and whole-sweep accuracy, collection time.
+
+    A speed whose sweeps cannot be simulated (out of reach) gets a row with `failed`.
+    """
     from tactex_classify.baselines import StatsExtraTrees
     from tactex_classify.dataset import convert
     from tactex_classify.evaluate import cross_validate, threshold_decisions
     from tactex_sim.collect import collect
+    from tactex_sim.errors import SimError
     from tactex_sim.scene import load_scene, resolve_scene
     from tactex_sim.textures import TEXTURES
     base = load_scene(resolve_scene('uneven_texture'))
@@ -40,7 +44,13 @@ def sweep_speed(scratch: Path, size: Size, log: Callable[[str], None], *, seed: 
                                             contact_s=size.speed_contact_s))
         bags = scratch / f'speed_{speed:g}'
         began = time.monotonic()
-        collect(scene, size.speed_sweeps, bags, textures=textures, progress=lambda line: None)
+        try:
+            collect(scene, size.speed_sweeps, bags, textures=textures,
+                    progress=lambda line: None)
+        except SimError as err:  # e.g. the stretch runs out of the arm's reach
+            rows.append({'speed_mm_s': speed, 'failed': str(err)})
+            log(f'  {speed:g} mm/s: not measured: {err}')
+            continue
         collect_s = time.monotonic() - began
         data = convert([bags], window=size.speed_window, hop=size.speed_window // 2,
                        progress=lambda line: None)
@@ -56,7 +66,7 @@ def sweep_speed(scratch: Path, size: Size, log: Callable[[str], None], *, seed: 
                      'window_accuracy': float(np.mean(result.proba.argmax(axis=1) == data.y)),
                      'sweep_accuracy': whole['accuracy'], 'windows': len(data.y),
                      'distance_mm': speed * size.speed_contact_s, 'collect_s': collect_s,
-                     'folds': folds})
+                     'folds': folds, 'failed': ''})
         log(f'  {speed:g} mm/s: contact {100 * rows[-1]["contact_fraction"]:.1f} %, window '
             f'accuracy {100 * rows[-1]["window_accuracy"]:.1f} %, whole sweep '
             f'{100 * whole["accuracy"]:.1f} %')
