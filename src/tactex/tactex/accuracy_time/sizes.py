@@ -26,7 +26,8 @@ class Size:
         speed_window: window of section 4 (samples).
         probe_span_m: length of the probed line (section 3).
         probe_settings: (step m, descent speed m/s) pairs of section 3.
-        sim_seconds: seconds of sliding of each section-5 sweep.
+        sim_seconds: seconds of sliding of each section-5 sweep (at most 7: the plate's
+            reachable stretch at 15 mm/s).
         filter_seconds: length of each section-6 motion (s).
         filter_rates_hz: Madgwick rates of section 6.
         filter_gains: Madgwick gains of section 6.
@@ -63,13 +64,12 @@ QUICK = Size(name='quick', textures=4, sweeps=4, folds=4, windows=(64, 128),
              sim_seconds=4.0, filter_seconds=8.0, filter_rates_hz=(50.0, 120.0, 350.0),
              filter_gains=(0.01, 0.03, 0.1, 0.3), job_sweeps=2, latency_calls=50)
 
-DEFAULT = Size(name='default', textures=12, sweeps=5, folds=4, windows=(64, 128, 256),
+DEFAULT = Size(name='default', textures=8, sweeps=4, folds=4, windows=(64, 128, 256),
                models=('extratrees', 'minirocket', 'cnn_3'), epochs=15,
-               speeds_mm_s=(5.0, 15.0, 30.0, 60.0), speed_sweeps=3, speed_contact_s=2.0,
-               speed_window=64, probe_span_m=0.04,
-               probe_settings=((0.01, 0.005), (0.01, 0.01), (0.01, 0.02), (0.005, 0.005),
-                               (0.02, 0.005), (0.02, 0.02)),
-               sim_seconds=10.0, filter_seconds=30.0,
+               speeds_mm_s=(5.0, 15.0, 30.0, 60.0), speed_sweeps=2, speed_contact_s=2.0,
+               speed_window=64, probe_span_m=0.03,
+               probe_settings=((0.01, 0.005), (0.01, 0.02), (0.005, 0.005), (0.02, 0.005)),
+               sim_seconds=7.0, filter_seconds=30.0,
                filter_rates_hz=(50.0, 100.0, 120.0, 200.0, 350.0),
                filter_gains=(0.01, 0.02, 0.03, 0.06, 0.1, 0.2, 0.3), job_sweeps=2,
                latency_calls=200)
