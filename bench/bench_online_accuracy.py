@@ -190,6 +190,7 @@ def sweeps_of(estimates: list, spans: list[tuple[str, int, int]], classes: list[
 
 def evaluate(sweeps: list, rate_hz: float) -> dict:
     """The decision measures per threshold, for the first window and for the whole sweep."""
+    from tactex_classify.evaluate import decision_measures
     window_s = WINDOW / rate_hz
     period_ns = int(round(1e9 / rate_hz))
 
@@ -197,16 +198,6 @@ def evaluate(sweeps: list, rate_hz: float) -> dict:
         from tactex_classify.evidence import union_seconds
         return union_seconds([(stamp(e.window_starts[-1]), stamp(e.window_ends[-1]) + period_ns)
                               for e in estimates])
-
-    def measures(decisions: list[tuple[bool, float, float]]) -> dict:
-        correct = np.array([d[0] for d in decisions], float)
-        contact = np.array([d[1] for d in decisions])
-        earliness = np.array([d[2] for d in decisions])
-        accuracy, early = float(correct.mean()), float(earliness.mean())
-        harmonic = 2 * accuracy * (1 - early) / (accuracy + 1 - early) if accuracy + 1 - early \
-            else 0.0
-        return {'accuracy': accuracy, 'median_contact_s': float(np.median(contact)),
-                'earliness': early, 'harmonic_mean': harmonic, 'sweeps': len(decisions)}
 
     used = [(label, estimates) for label, estimates in sweeps if estimates]
     rows = {}
@@ -216,10 +207,11 @@ def evaluate(sweeps: list, rate_hz: float) -> dict:
             chosen = next((e for e in estimates if e.confidence > threshold), estimates[-1])
             decisions.append((chosen.class_id == label, chosen.contact_seconds,
                               min(1.0, chosen.contact_seconds / total_s(estimates))))
-        rows[f'{threshold:.10g}'] = measures(decisions)
+        rows[f'{threshold:.10g}'] = decision_measures(decisions)
     first = [(e[0].class_id == label, window_s, window_s / total_s(e)) for label, e in used]
     whole = [(e[-1].class_id == label, total_s(e), 1.0) for label, e in used]
-    return {'thresholds': rows, 'first_window': measures(first), 'whole_sweep': measures(whole),
+    return {'thresholds': rows, 'first_window': decision_measures(first),
+            'whole_sweep': decision_measures(whole),
             'sweeps_without_estimate': len(sweeps) - len(used),
             'restarts': sum(sum(b.windows_used <= a.windows_used for a, b in zip(
                 e, e[1:], strict=False)) for _, e in used)}

@@ -47,6 +47,7 @@ from tactex_probe.normals import angle_between  # noqa: E402
 from tactex_probe.pathway import ProbeParameters  # noqa: E402
 from tactex_probe.simulation import (  # noqa: E402
     nearest_surface_point,
+    PLATE_LINE,
     run_probe,
     score_run,
     summary,
@@ -55,8 +56,7 @@ from tactex_probe.simulation import (  # noqa: E402
 from tactex_sim.scene import load_scene, resolve_scene  # noqa: E402
 
 RESULTS = Path(__file__).parent / 'results'
-LINE = dict(start=(0.10, 0.0, 0.018), direction=(1.0, 0.0, 0.0), span=0.10,
-            approach_height=0.02, max_descent_depth=0.025, force_limit=3.0)
+LINE = PLATE_LINE
 
 
 @dataclasses.dataclass(frozen=True)

@@ -34,7 +34,7 @@ import numpy as np  # noqa: E402
 
 from tactex_description.kinematics import inverse_kinematics  # noqa: E402
 from tactex_sim.scene import load_scene, resolve_scene  # noqa: E402
-from tactex_sim.sweep import plan_sweep, SweepParameters  # noqa: E402
+from tactex_sim.sweep import plan_sweep, play, SweepParameters  # noqa: E402
 from tactex_sim.world import World  # noqa: E402
 
 RESULTS = Path(__file__).parent / 'results'
@@ -47,12 +47,7 @@ def run_sweep(scene, seconds=10.0, repeats=3) -> tuple[float, World]:
     best = math.inf
     for _ in range(repeats):
         world = World(scene, patch_texture='wood' if scene.patches else None)
-        world.place_arm(plan.joints[0])
-        world.controller = plan.targets
-        start = time.perf_counter()
-        while world.time_s < plan.times_s[-1]:
-            world.next_sample()
-        best = min(best, time.perf_counter() - start)
+        best = min(best, play(world, plan))
     return best, world
 
 

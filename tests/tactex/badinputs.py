@@ -349,6 +349,24 @@ BAD_INPUTS = {
         Case('description --check-urdf {w}/text.txt', 'is stale; regenerate it with `make '
              'urdf`'),
     ],
+    'report': [
+        Case('report', 'the following arguments are required: REPORT'),
+        Case('report nope --out {w}/report', "invalid choice: 'nope'", '{w}/report'),
+        Case('report accuracy-time', 'the following arguments are required: --out'),
+        Case('report accuracy-time --out {w}/text.txt --quick', '--out .*text.txt is a file',
+             '{w}/text.txt'),
+        Case('report accuracy-time --out {w}/full --quick', '--out .*already holds files',
+             '{w}/full'),
+        Case('report accuracy-time --out {w}/text.txt/report --quick', 'text.txt is a file, '
+             'not a folder', '{w}/text.txt/report'),
+        Case('report accuracy-time --out {w}/report --threads 0', 'argument --threads',
+             '{w}/report'),
+        Case('report accuracy-time --out {w}/report --seed -1', 'argument --seed', '{w}/report'),
+        Case('report accuracy-time --out {w}/report --epochs 0', 'argument --epochs',
+             '{w}/report'),
+        Case('report accuracy-time --out {w}/report --quick=yes', 'ignored explicit argument',
+             '{w}/report'),
+    ],
     'launch': [
         Case('launch', 'name a launch file'),
         Case('launch nope', "no launch file 'nope'.*known: "),

@@ -20,7 +20,15 @@ from tactex_classify.classifier import (
 )
 from tactex_classify.dataset import Dataset
 from tactex_classify.errors import CheckpointError, DatasetError, NotFittedError
-from tactex_classify.evaluate import confusion, cross_validate, metrics, sequence_accuracy
+from tactex_classify.evaluate import (
+    confusion,
+    cross_validate,
+    decide_recordings,
+    decision_measures,
+    metrics,
+    sequence_accuracy,
+    threshold_decisions,
+)
 
 CLASSES = ['low', 'mid', 'high']
 
@@ -188,6 +196,42 @@ def test_sequence_accuracy_grows_with_accumulated_windows():
     curve = sequence_accuracy(data, proba)
     assert list(curve) == [1, 2, 4]
     assert curve[1] < curve[4] == 1.0
+
+
+def test_threshold_decisions_replay_the_live_rule_on_each_recording():
+    data = toy()  # 6 windows of 96 samples, hop 48, per recording; t0 every 0.1 s
+    proba = np.full((len(data.X), 3), 0.2)
+    proba[np.arange(len(data.X)), data.y] = 0.6
+    first = threshold_decisions(data, proba, 0.5, 100.0)
+    assert first['accuracy'] == 1.0
+    assert first['median_contact_s'] == pytest.approx(0.96)  # one window: 96 samples
+    whole = threshold_decisions(data, proba, 1.0, 100.0)  # never met: decided at the end
+    assert whole['earliness'] == pytest.approx(1.0)
+    assert whole['median_contact_s'] > first['median_contact_s']
+    assert first['earliness'] < 1.0 and first['harmonic_mean'] > whole['harmonic_mean']
+
+
+def test_deciding_live_asks_for_no_window_after_the_decision():
+    data = toy()
+    asked = []
+
+    def proba_of(index):
+        asked.append(index)
+        row = np.full(3, 0.05)
+        row[data.y[index]] = 0.9
+        return row
+    decisions = decide_recordings(data, proba_of, 0.99, 100.0)
+    assert len(decisions) == len(np.unique(data.trial))
+    assert all(d['correct'] and d['wall_s'] >= 0 for d in decisions)
+    assert len(asked) == 2 * len(decisions)  # 0.9 / 0.1 ratios: two windows pass 0.99
+
+
+def test_decision_measures_give_teasers_harmonic_mean():
+    measures = decision_measures([(True, 1.0, 0.2), (False, 3.0, 0.6)])
+    assert measures['accuracy'] == 0.5 and measures['earliness'] == pytest.approx(0.4)
+    assert measures['median_contact_s'] == 2.0
+    assert measures['harmonic_mean'] == pytest.approx(2 * 0.5 * 0.6 / 1.1)
+    assert decision_measures([(False, 1.0, 1.0)])['harmonic_mean'] == 0.0
 
 
 def test_metrics_from_a_confusion_matrix():

@@ -31,6 +31,7 @@ COMMANDS = {
     'compare': 'Compare models x windows x seeds x folds on Ray (resumable), with the table.',
     'export': "Write a checkpoint's model as ONNX (for classifier_node without torch).",
     'launch': "Run a launch file's nodes as supervised processes (no ROS 2 launch needed).",
+    'report': 'Reports across the system: accuracy-time (what accuracy costs in time).',
 }
 
 

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
+import time
 
 import numpy as np
 from sklearn.model_selection import StratifiedGroupKFold, StratifiedKFold
@@ -129,3 +130,76 @@ def sequence_accuracy(dataset: Dataset, proba: np.ndarray) -> dict[int, float]:
         result[k] = correct / total
         k *= 2
     return result
+
+
+def decision_measures(decisions: list[tuple[bool, float, float]]) -> dict:
+    """Accuracy, median contact seconds, earliness and TEASER's harmonic mean of decisions.
+
+    Args:
+        decisions: one (correct, contact seconds at the decision, earliness) per sweep;
+            earliness is the share of the sweep's windowed contact used (0..1).
+
+    Returns:
+        accuracy, median_contact_s, earliness (mean), harmonic_mean of accuracy and
+        1 - earliness (Schafer & Leser 2020), and the number of sweeps.
+    """
+    correct = np.array([d[0] for d in decisions], float)
+    contact = np.array([d[1] for d in decisions])
+    earliness = np.array([d[2] for d in decisions])
+    accuracy, early = float(correct.mean()), float(earliness.mean())
+    harmonic = 2 * accuracy * (1 - early) / (accuracy + 1 - early) if accuracy + 1 - early \
+        else 0.0
+    return {'accuracy': accuracy, 'median_contact_s': float(np.median(contact)),
+            'earliness': early, 'harmonic_mean': harmonic, 'sweeps': len(decisions)}
+
+
+def decide_recordings(dataset: Dataset, proba_of: Callable[[int], np.ndarray],
+                      threshold: float, rate_hz: float) -> list[dict]:
+    """The live node's decision on each recording, its windows fed in time order.
+
+    Each recording's windows go to the same `Evidence` the live node uses until an
+    estimate meets `threshold`; without one, the last estimate is the decision (made at
+    the end of contact, as TEASER forces one).
+
+    Args:
+        dataset: the windows (`t0` orders them; `y` gives the truth).
+        proba_of: window index -> its class probabilities (computed on demand).
+        threshold: the decision threshold.
+        rate_hz: the sampling rate (a window covers its samples' periods).
+
+    Returns:
+        Per recording: correct, contact_s at the decision, earliness (the share of the
+        recording's windowed contact used) and wall_s (time spent on its windows).
+    """
+    from tactex_classify.evidence import Evidence, EvidenceSettings, union_seconds
+    period_ns = int(round(1e9 / rate_hz))
+    span_ns = (dataset.X.shape[1] - 1) * period_ns
+    settings = EvidenceSettings(threshold=threshold)
+    starts_ns = np.round(dataset.t0 * 1e9).astype(np.int64)
+    decisions = []
+    for trial in np.unique(dataset.trial):
+        members = np.flatnonzero(dataset.trial == trial)
+        members = members[np.argsort(starts_ns[members], kind='stable')]
+        evidence = Evidence(len(dataset.classes), period_ns, settings)
+        began = time.perf_counter()
+        for index in members:
+            estimate = evidence.add(proba_of(index), starts_ns[index],
+                                    starts_ns[index] + span_ns)
+            if estimate.decided:
+                break
+        wall = time.perf_counter() - began
+        total = union_seconds([(starts_ns[i], starts_ns[i] + span_ns + period_ns)
+                               for i in members])
+        decisions.append({'correct': estimate.class_id == int(dataset.y[members[0]]),
+                          'contact_s': estimate.contact_seconds,
+                          'earliness': min(1.0, estimate.contact_seconds / total),
+                          'wall_s': wall})
+    return decisions
+
+
+def threshold_decisions(dataset: Dataset, proba: np.ndarray, threshold: float,
+                        rate_hz: float) -> dict:
+    """`decision_measures` of the live rule at `threshold` on out-of-fold probabilities."""
+    decisions = decide_recordings(dataset, proba.__getitem__, threshold, rate_hz)
+    return decision_measures([(d['correct'], d['contact_s'], d['earliness'])
+                              for d in decisions])

@@ -39,6 +39,10 @@ from tactex_sim.world import Sample, World
 
 # Gain of madgwick_node in config/sensor.yaml.
 NODE_MADGWICK = MadgwickConfig(gain=0.1)
+# The line of the uneven plate (probe scene) that the benchmarks and reports probe; give
+# step and descent_speed (and span to shorten it) to make `ProbeParameters`.
+PLATE_LINE = dict(start=(0.10, 0.0, 0.018), direction=(1.0, 0.0, 0.0), span=0.10,
+                  approach_height=0.02, max_descent_depth=0.025, force_limit=3.0)
 
 
 @dataclass(frozen=True)

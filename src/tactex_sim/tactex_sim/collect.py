@@ -16,9 +16,9 @@ from tactex_common.cluster import ray_session, run_tasks
 from tactex_sim.errors import SceneError, SimError
 from tactex_sim.recording import SweepBag
 from tactex_sim.scene import Scene
-from tactex_sim.sweep import plan_sweep, SweepParameters
+from tactex_sim.sweep import plan_sweep, play, SweepParameters
 from tactex_sim.textures import TEXTURES
-from tactex_sim.world import World
+from tactex_sim.world import Sample, World
 
 # Recordings are spaced in time as if taken one after another.
 RECORDING_SPACING_NS = 60 * 1_000_000_000
@@ -73,20 +73,19 @@ def record_sweep(scene: Scene, texture_name: str, trial: int, out: Path,
                   texture_heading_rad=parameters.heading_rad,
                   noise_scale=parameters.noise_scale,
                   drift_pa_per_s=parameters.drift_pa_per_s)
-    world.place_arm(plan.joints[0])
-    world.controller = plan.targets
     metadata = {'label': texture_name, 'trial': trial, 'surface': scene.surface.kind,
                 'scene': scene.name, 'source': 'tactex_sim', 'sensor_rate_hz':
                 scene.sensor_rate_hz, 'sweep': asdict(parameters)}
     path = out / f'{slug(texture_name)}_{trial:04d}'
     over_texture = 0
     with SweepBag(path, metadata, time_offset_ns=trial * RECORDING_SPACING_NS) as bag:
-        while world.time_s < plan.times_s[-1]:
-            sample = world.next_sample()
+        def write(sample: Sample) -> None:
+            nonlocal over_texture
             sliding = plan.slide_start_s <= sample.time_s <= plan.slide_end_s
             over_texture += sliding and sample.truth.contact.touching \
                 and sample.truth.texture == texture_name
             bag.add(sample, world.joint_positions(), world.joint_velocities(), sliding)
+        play(world, plan, write)
     if not over_texture:
         raise SimError(f'{scene.path or scene.name}: sweep {trial} ({texture_name}) never '
                        'touched the patch while sliding; check [sweep], [variability] '

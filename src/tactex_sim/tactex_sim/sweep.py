@@ -11,14 +11,20 @@ from the inward normal, lift off. Each phase is solved with the analytic IK ever
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 import math
+import time
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from tactex_description.kinematics import inverse_kinematics
 from tactex_sim.errors import SimError
 from tactex_sim.scene import Scene
+
+if TYPE_CHECKING:
+    from tactex_sim.world import Sample, World
 
 PLAN_STEP_S = 0.01
 APPROACH_HEIGHT_M = 0.02
@@ -126,3 +132,14 @@ def _smooth(fraction: float) -> float:
     """Smoothstep from 0 to 1."""
     f = min(max(fraction, 0.0), 1.0)
     return f * f * (3.0 - 2.0 * f)
+
+
+def play(world: World, plan: SweepPlan,
+         on_sample: Callable[[Sample], None] = lambda sample: None) -> float:
+    """Run `plan` in `world` from its first pose to its end; the wall seconds it took."""
+    world.place_arm(plan.joints[0])
+    world.controller = plan.targets
+    began = time.perf_counter()
+    while world.time_s < plan.times_s[-1]:
+        on_sample(world.next_sample())
+    return time.perf_counter() - began

@@ -1,0 +1,153 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""The report's PNG plots: each names its axes with units and the data it shows."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use('Agg')
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def _save(figure, path: Path, data: str) -> None:
+    """Write `figure` with the line naming its data under it."""
+    figure.text(0.5, 0.005, f'data: {data}', ha='center', va='bottom', fontsize=7,
+                color='dimgray', wrap=True)
+    figure.tight_layout(rect=(0, 0.04, 1, 1))
+    figure.savefig(path, dpi=110)
+    plt.close(figure)
+
+
+def contact_time(path: Path, points: list[dict], data: str) -> None:
+    """Section 1: accuracy against contact seconds, per model and window, Pareto front."""
+    figure, axes = plt.subplots(1, 2, figsize=(12, 4.6), sharey=True)
+    keys = sorted({(p['model'], p['window']) for p in points})
+    for model, window in keys:
+        for axis, threshold_rule in zip(axes, (False, True), strict=True):
+            mine = sorted((p for p in points if p['model'] == model and p['window'] == window
+                           and (p['threshold'] is not None) == threshold_rule),
+                          key=lambda p: p['contact_s'])
+            axis.plot([p['contact_s'] for p in mine], [100 * p['accuracy'] for p in mine],
+                      'o-', markersize=3, linewidth=1, label=f'{model}, window {window}')
+    front = sorted((p for p in points if p['pareto']), key=lambda p: p['contact_s'])
+    for axis in axes:
+        axis.step([p['contact_s'] for p in front], [100 * p['accuracy'] for p in front],
+                  where='post', color='black', linewidth=1.5, label='Pareto front (all)')
+        axis.axvline(2.0, color='tab:red', linestyle='--', linewidth=0.8, label='2 s budget')
+        axis.set_xscale('log')
+        axis.set_xlabel('contact time a decision needs (s, log)')
+        axis.grid(alpha=0.3)
+    axes[0].set_ylabel('grouped-CV accuracy of the decision (%)')
+    axes[0].set_title('k consecutive windows (summed log-probabilities)')
+    axes[1].set_title("live node's threshold rule (median contact s at decision)")
+    axes[1].legend(fontsize=6, ncol=2)
+    _save(figure, path, data)
+
+
+def compute_time(path: Path, rows: list[dict], data: str) -> None:
+    """Section 2: accuracy against training time and against per-window latency."""
+    figure, (train, latency) = plt.subplots(1, 2, figsize=(11, 4.2), sharey=True)
+    markers = {'onnxruntime': 's'}
+    for row in rows:
+        accuracy = 100 * row['accuracy']
+        train.scatter(row['train_s'], accuracy, marker='o' if row['deep'] else '^')
+        train.annotate(row['model'], (row['train_s'], accuracy), fontsize=7, xytext=(4, 3),
+                       textcoords='offset points')
+        for runtime, value in row['latency'].items():
+            x = 1e3 * value['single_s']
+            latency.scatter(x, accuracy, marker=markers.get(runtime, 'o'))
+            latency.annotate(f'{row["model"]} ({runtime})', (x, accuracy), fontsize=7,
+                             xytext=(4, 3), textcoords='offset points')
+    train.set(xscale='log', xlabel='training time on every window (s, log)',
+              ylabel='grouped-CV window accuracy (%)',
+              title='training (circles deep, triangles baselines)')
+    latency.set(xscale='log', xlabel='inference latency of one window (ms, log)',
+                title='inference (squares: onnxruntime)')
+    for axis in (train, latency):
+        axis.grid(alpha=0.3)
+    _save(figure, path, data)
+
+
+def probing(path: Path, rows: list[dict], data: str) -> None:
+    """Section 3: normal and position error against probing time."""
+    figure, axes = plt.subplots(1, 2, figsize=(11, 4.2))
+    for axis, key, label in ((axes[0], 'normal_mean_deg', 'mean normal error (deg)'),
+                             (axes[1], 'position_mean_mm', 'mean position error (mm)')):
+        for row in rows:
+            axis.scatter(row['probing_s'], row[key])
+            axis.annotate(f'{row["step_mm"]:g} mm step, {row["descent_mm_s"]:g} mm/s',
+                          (row['probing_s'], row[key]), fontsize=7, xytext=(4, 3),
+                          textcoords='offset points')
+        axis.set(xlabel='total probing time of the line (simulated s)', ylabel=label)
+        axis.grid(alpha=0.3)
+    _save(figure, path, data)
+
+
+def sweep_speed(path: Path, rows: list[dict], data: str) -> None:
+    """Section 4: contact fraction and accuracy against sliding speed."""
+    figure, axis = plt.subplots(figsize=(7, 4.2))
+    rows = [r for r in rows if not r['failed']]
+    speeds = [r['speed_mm_s'] for r in rows]
+    axis.plot(speeds, [100 * r['contact_fraction'] for r in rows], 'o-',
+              label='contact fraction (mean)')
+    axis.plot(speeds, [100 * r['contact_fraction_min'] for r in rows], 'o:',
+              label='contact fraction (worst sweep)')
+    axis.plot(speeds, [100 * r['window_accuracy'] for r in rows], 's-',
+              label='window accuracy')
+    axis.plot(speeds, [100 * r['sweep_accuracy'] for r in rows], 'D-',
+              label='whole-sweep accuracy')
+    axis.set(xlabel='sliding speed (mm/s)', ylabel='%', ylim=(0, 105))
+    axis.grid(alpha=0.3)
+    axis.legend(fontsize=8)
+    _save(figure, path, data)
+
+
+def simulation_cost(path: Path, rows: list[dict], data: str) -> None:
+    """Section 5: spectral distance against real-time factor."""
+    figure, axis = plt.subplots(figsize=(8, 4.6))
+    for row in rows:
+        axis.scatter(row['real_time_factor'], row['distance_db'])
+        axis.annotate(row['variant'], (row['real_time_factor'], row['distance_db']),
+                      fontsize=7, xytext=(4, 3), textcoords='offset points')
+    axis.set(xlabel='real-time factor (simulated s per wall s)',
+             ylabel='spectral distance to the reference (dB)')
+    axis.grid(alpha=0.3)
+    _save(figure, path, data)
+
+
+def filter_rate(path: Path, rows: list[dict], costs: list[dict], data: str) -> None:
+    """Section 6: RMS attitude error against gain per rate; cost per sample against rate."""
+    figure, (errors, cost) = plt.subplots(1, 2, figsize=(11, 4.2))
+    for rate in sorted({r['rate_hz'] for r in rows}):
+        mine = [r for r in rows if r['rate_hz'] == rate]
+        errors.plot([r['gain'] for r in mine], [r['rms_attitude_deg'] for r in mine], 'o-',
+                    label=f'{rate:g} Hz')
+    errors.set(xscale='log', yscale='log', xlabel='Madgwick gain beta (log)',
+               ylabel='RMS attitude error after settling (deg, log)')
+    errors.legend(fontsize=8)
+    rates = [c['rate_hz'] for c in costs]
+    cost.plot(rates, [c['stream_us'] for c in costs], 'o-', label='streaming (the node)')
+    cost.plot(rates, [c['batch_us'] for c in costs], 's-', label='batch (compiled)')
+    cost.set(xlabel='sample rate (Hz)', ylabel='cost per sample (us)', yscale='log')
+    cost.legend(fontsize=8)
+    for axis in (errors, cost):
+        axis.grid(alpha=0.3)
+    _save(figure, path, data)
+
+
+def whole_job(path: Path, stages: list[dict], data: str) -> None:
+    """Section 7: stacked bars of seconds per stage (this run's wall time, arm time)."""
+    figure, axis = plt.subplots(figsize=(9, 3.8))
+    bars = ('wall time of this run', "arm's time (simulated s)")
+    left = [0.0, 0.0]
+    for stage in stages:
+        widths = [stage['wall_s'], stage['arm_s']]
+        axis.barh(bars, widths, left=left, label=stage['stage'])
+        left = [a + b for a, b in zip(left, widths, strict=True)]
+    axis.set(xlabel='seconds')
+    axis.legend(fontsize=7, ncol=3, loc='upper center', bbox_to_anchor=(0.5, -0.2))
+    axis.grid(alpha=0.3, axis='x')
+    _save(figure, path, data)

@@ -1,0 +1,124 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""The accuracy-time report: its choices, its measures, and a quick run end to end."""
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from tactex.accuracy_time import markdown, report
+from tactex.accuracy_time.classification import fits, mark_pareto
+from tactex.accuracy_time.physical import spectral_distance_db
+from tactex.accuracy_time.sizes import QUICK
+from tactex.cli import main
+from tactex_sim.errors import SimError
+
+
+def point(model, contact_s, accuracy, threshold=0.99, window=128):
+    return {'model': model, 'window': window, 'rule': f'posterior > {threshold}',
+            'windows': None, 'threshold': threshold, 'contact_s': contact_s,
+            'accuracy': accuracy, 'earliness': 0.5, 'harmonic_mean': 0.5}
+
+
+def test_the_pareto_front_holds_only_points_nothing_beats():
+    points = [point('a', 1.0, 0.6), point('b', 2.0, 0.9), point('c', 2.0, 0.8),
+              point('d', 3.0, 0.9), point('e', 0.5, 0.5)]
+    mark_pareto(points)
+    assert [p['model'] for p in points if p['pareto']] == ['a', 'b', 'e']
+
+
+def test_the_three_configurations_follow_their_rules():
+    points = [point('fast', 0.5, 0.80), point('near', 1.5, 0.93, 0.9),
+              point('best', 4.0, 0.97, 0.9999), point('budget', 1.9, 0.95, 0.999),
+              {**point('fixed', 0.1, 1.0), 'threshold': None, 'rule': '1 window'},
+              point('never', 5.0, 1.0, 1.0)]
+    compute = [{'model': 'budget', 'latency': {'scikit-learn': {'single_s': 2e-3},
+                                                'onnxruntime': {'single_s': 1e-4}}}]
+    chosen = report.choose(points, compute)
+    assert chosen['accurate']['model'] == 'best'  # fixed windows and threshold 1 never decide
+    assert chosen['fastest']['model'] == 'near'  # within 5 points of 97 %
+    assert chosen['budget']['model'] == 'budget'
+    assert chosen['budget']['runtime'] == 'onnxruntime'
+    assert chosen['accurate']['runtime'] == 'native'
+    assert report.choose([point('slow', 3.0, 0.9)], [])['budget'] is None
+
+
+def test_a_configuration_is_a_command_line_that_exports_onnx_only_when_it_runs_it():
+    native = markdown.command({**point('extratrees', 1.0, 0.9), 'runtime': 'native'},
+                            epochs=7, folds=4)
+    onnx = markdown.command({**point('cnn_3', 1.0, 0.9, 0.999), 'runtime': 'onnxruntime'},
+                          epochs=7, folds=4)
+    assert 'tactex export' not in native and '--epochs' not in native
+    assert 'tactex convert bags --window 128 --hop 64' in native
+    assert 'tactex export run/model --onnx' in onnx and '--epochs 7 --cv grouped' in onnx
+    assert onnx.splitlines()[-1] == ('tactex launch classify checkpoint:=run/model '
+                                     'threshold:=0.999 runtime:=onnxruntime')
+
+
+def test_spectral_distance_is_zero_for_the_reference_and_grows_with_the_difference():
+    reference = np.abs(np.random.default_rng(0).normal(size=(7, 129))) + 1e-3
+    assert spectral_distance_db(reference, reference) == 0.0
+    assert spectral_distance_db(10 * reference, reference) == pytest.approx(10.0)
+    assert spectral_distance_db(100 * reference, reference) == pytest.approx(20.0)
+    assert math.isfinite(spectral_distance_db(np.zeros_like(reference), reference))
+
+
+def test_a_window_too_short_for_a_deep_model_is_found_before_training():
+    assert fits('extratrees', 8, 10) and fits('cnn_3', 128, 10)
+    assert not fits('cnn_3', 16, 10)
+
+
+def test_a_failing_section_leaves_nothing_behind(tmp_path, monkeypatch, capsys):
+    def fail(*args, **kwargs):
+        raise SimError('the sweep never touched the patch')
+    monkeypatch.setattr(report, 'run_sections', fail)
+    assert main(['report', 'accuracy-time', '--quick', '--out', str(tmp_path / 'out')]) == 1
+    assert capsys.readouterr().err == 'error: the sweep never touched the patch\n'
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.slow
+@pytest.mark.timeout(1200)  # about 6 minutes on two loaded cores
+def test_the_quick_report_measures_every_section_and_opens_with_three_commands(tmp_path,
+                                                                                capsys):
+    out = tmp_path / 'report'
+    assert main(['report', 'accuracy-time', '--quick', '--out', str(out)]) == 0
+    printed = capsys.readouterr().out
+    for number in range(1, 8):
+        assert f'section {number}/7' in printed
+    text = (out / 'report.md').read_text(encoding='utf-8')
+    opening = text.split('## 1.')[0]
+    assert opening.count('tactex launch classify checkpoint:=run/model') + opening.count(
+        'no configuration decided') == 3
+    for number in range(1, 8):
+        assert f'## {number}. ' in text
+    pictures = sorted(p.name for p in out.glob('*.png'))
+    assert len(pictures) == 7
+    for name in pictures:
+        assert f']({name})' in text
+        assert (out / name).read_bytes()[:8] == b'\x89PNG\r\n\x1a\n'
+    results = json.loads((out / 'results.json').read_text(encoding='utf-8'))
+    assert {str(n) for n in range(1, 8)} <= set(results)
+    assert all(0.0 <= p['accuracy'] <= 1.0 for p in results['1']['points'])
+    assert [r['speed_mm_s'] for r in results['4']['rows']] == list(QUICK.speeds_mm_s)
+    assert results['5']['rows'][0]['distance_db'] == 0.0
+    assert all(s['wall_s'] > 0 for s in results['7']['stages'])
+    assert sorted(p.name for p in tmp_path.iterdir()) == ['report']  # nothing staged left
+
+
+def test_a_speed_out_of_reach_is_a_row_that_says_so_not_a_lost_report(tmp_path):
+    from tactex.accuracy_time import plots
+    measured = {'speed_mm_s': 15.0, 'distance_mm': 30.0, 'contact_fraction': 0.98,
+                'contact_fraction_min': 0.95, 'window_accuracy': 0.6, 'sweep_accuracy': 0.7,
+                'windows': 40, 'collect_s': 9.0, 'failed': ''}
+    failed = {'speed_mm_s': 60.0, 'failed': 'sweep point x=0.229 m unreachable'}
+    results = {'seconds': {'4': 12.0}, '4': {
+        'rows': [measured, failed], 'model': 'extratrees', 'contact_s': 2.0, 'window': 64,
+        'sweeps': 3, 'textures': 4}}
+    text = '\n'.join(markdown.speed_section(results))
+    assert '| 60 | not measured: sweep point x=0.229 m unreachable |' in text
+    assert '| 15 | 30 | 98.0 % (95.0 %) | 40 | 60.0 % | 70.0 % | 9 |' in text
+    plots.sweep_speed(tmp_path / 'speed.png', results['4']['rows'], 'test data')
+    assert (tmp_path / 'speed.png').stat().st_size > 0
