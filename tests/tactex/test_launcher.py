@@ -33,18 +33,34 @@ def _console_scripts(package: str) -> set[str]:
     return set(re.findall(r"'(\w+) = ", setup))
 
 
-@pytest.mark.parametrize('name', LAUNCH_NAMES)
-def test_every_launch_file_declares_nodes_that_exist(name):
+# Arguments some launch files need to start at all; every file is checked with each set.
+NEEDED = {'classify': {'checkpoint': '/run/model'}}
+VARIANTS = {'probe': [{'sim': 'true'}], 'sweep': [{'sim': 'true'}],
+            'classify': [{'source': 'sim'}],
+            'system': [{'sim': 'true'}, {'sim': 'true', 'checkpoint': '/run/model'},
+                       {'checkpoint': '/run/model'}]}
+CASES = [pytest.param(name, {**NEEDED.get(name, {}), **variant},
+                      id=' '.join([name, *(f'{k}:={v}' for k, v in variant.items())]))
+         for name in LAUNCH_NAMES for variant in [{}, *VARIANTS.get(name, [])]]
+
+
+def test_every_launch_file_is_checked():
+    assert set(LAUNCH_NAMES) >= {'arm', 'classify', 'probe', 'sensor', 'sim', 'sweep', 'system'}
+    assert set(NEEDED) | set(VARIANTS) <= set(LAUNCH_NAMES)
+
+
+@pytest.mark.parametrize(('name', 'arguments'), CASES)
+def test_every_launch_file_declares_nodes_that_exist(name, arguments):
     launch = load_launch_file(name)
-    nodes = launch.node_specs({})
+    nodes = launch.node_specs(arguments)
     assert nodes
     for spec in nodes:
         assert spec.executable in _console_scripts(spec.package), spec
         node_command(spec)  # the executable is installed
 
 
-@pytest.mark.parametrize('name', LAUNCH_NAMES)
-def test_ros2_launch_starts_the_same_node_set(name):
+@pytest.mark.parametrize(('name', 'arguments'), CASES)
+def test_ros2_launch_starts_the_same_node_set(name, arguments):
     if importlib.util.find_spec('launch_ros') is None:
         pytest.skip('ROS 2 launch (launch_ros) is not installed here; the data path is tested')
     from launch import LaunchContext
@@ -56,6 +72,7 @@ def test_ros2_launch_starts_the_same_node_set(name):
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     context = LaunchContext()
+    context.launch_configurations.update(arguments)
     started = []
     for entity in module.generate_launch_description().entities:
         if isinstance(entity, DeclareLaunchArgument):
@@ -65,12 +82,51 @@ def test_ros2_launch_starts_the_same_node_set(name):
                 assert isinstance(group, GroupAction)
                 started += [(n.node_package, n.node_executable)
                             for n in group.get_sub_entities() if isinstance(n, Node)]
-    assert started == [(n.package, n.executable) for n in module.LAUNCH.node_specs({})]
+    assert started == [(n.package, n.executable) for n in module.LAUNCH.node_specs(arguments)]
+
+
+def _names(name: str, **arguments: str) -> list[str]:
+    return [spec.name for spec in load_launch_file(name).node_specs(arguments)]
+
+
+def test_system_launch_starts_the_robot_probe_sweep_and_with_a_checkpoint_the_classifier():
+    sim = ['mujoco_bridge', 'madgwick_node', 'probe_node', 'sweep_node']
+    hardware = ['teensy_node', 'madgwick_node', 'arm_driver', 'probe_node', 'sweep_node']
+    assert _names('system', sim='true') == sim
+    assert _names('system', sim='true', checkpoint='/run/model') == [*sim, 'classifier_node']
+    assert _names('system') == hardware
+    assert _names('system', checkpoint='/run/model', rviz='true') == [
+        *hardware, 'classifier_node', 'robot_state_publisher', 'rviz2']
+
+
+def test_system_launch_passes_its_arguments_to_the_nodes_it_borrows():
+    arguments = {'sim': 'true', 'checkpoint': '/run/model', 'recording_root': '/data/bags',
+                 'pathway_file': '/data/pathway.json', 'patch_texture': 'wood',
+                 'rate_factor': '3.0', 'threshold': '0.9', 'runtime': 'onnxruntime'}
+    nodes = {spec.name: spec for spec in load_launch_file('system').node_specs(arguments)}
+
+    def parameters(name: str) -> dict:
+        merged = {}
+        for item in nodes[name].parameters:
+            merged.update(item if isinstance(item, dict) else {})
+        return merged
+    assert parameters('mujoco_bridge') == {'scene': 'uneven_texture', 'rate_factor': '3.0',
+                                           'patch_texture': 'wood'}
+    assert parameters('probe_node')['pathway_file'] == '/data/pathway.json'
+    assert parameters('sweep_node')['recording_root'] == '/data/bags'
+    assert parameters('classifier_node') == {'checkpoint': '/run/model', 'threshold': '0.9',
+                                             'runtime': 'onnxruntime', 'use_sim_time': True}
+    assert all(parameters(name)['use_sim_time'] for name in
+               ('madgwick_node', 'probe_node', 'sweep_node'))
+    with pytest.raises(LaunchError, match='no node .nope. in this launch file; it starts '
+                                          'mujoco_bridge, madgwick_node'):
+        load_launch_file('sim').node('nope', {})
 
 
 def test_unknown_arguments_and_bad_choices_are_refused_with_the_known_ones():
     launch = load_launch_file('sim')
-    with pytest.raises(LaunchError, match='takes: discovery, namespace, rate_factor, scene'):
+    with pytest.raises(LaunchError, match='takes: discovery, namespace, patch_texture, '
+                                          'rate_factor, rviz, scene'):
         launch.resolve({'scen': 'probe'})
     with pytest.raises(LaunchError, match='localhost, subnet'):
         launch.resolve({'discovery': 'internet'})

@@ -13,7 +13,7 @@ from test_training import CLASSES, FAST, rehash, STREAM, toy
 
 from tactex.cli import main
 from tactex_classify.baselines import MiniRocketRidge, StatsExtraTrees
-from tactex_classify.checkpoint import load_checkpoint, read_checkpoint, sha256
+from tactex_classify.checkpoint import load_checkpoint, read_checkpoint
 from tactex_classify.classifier import DeepClassifier
 from tactex_classify.errors import CheckpointError, ExportError
 from tactex_classify.runtime import export_onnx, load_predictor

@@ -66,6 +66,8 @@ COMMON_ARGUMENTS = (
     Argument('discovery', 'localhost',
              'who may discover these nodes: this host only, or the whole subnet',
              ('localhost', 'subnet')),
+    Argument('rviz', 'false', 'also start robot_state_publisher and RViz (full ROS 2 installs)',
+             ('true', 'false')),
 )
 DISCOVERY_RANGE = {'localhost': 'LOCALHOST', 'subnet': 'SUBNET'}
 
@@ -109,8 +111,23 @@ class LaunchFile:
         return values
 
     def node_specs(self, overrides: Mapping[str, str]) -> list[NodeSpec]:
-        """The nodes to start for these argument values."""
-        return list(self.nodes(self.resolve(overrides)))
+        """The nodes to start for these argument values (and the viewer with rviz:=true)."""
+        values = self.resolve(overrides)
+        nodes = list(self.nodes(values))
+        return nodes + visualisation_nodes() if is_true(values['rviz']) else nodes
+
+
+    def node(self, name: str, overrides: Mapping[str, str]) -> NodeSpec:
+        """The node called `name` of this launch file, for these argument values.
+
+        Raises:
+            LaunchError: it starts no node of that name.
+        """
+        nodes = {spec.name: spec for spec in self.node_specs(overrides)}
+        if name not in nodes:
+            raise LaunchError(f'no node {name!r} in this launch file; it starts '
+                              f'{", ".join(nodes)}')
+        return nodes[name]
 
 
 def config_path(name: str) -> str:
