@@ -2,11 +2,12 @@
 # SPDX-License-Identifier: Apache-2.0
 """Launch the MuJoCo bridge in place of the arm and the sensor, plus the Madgwick filter."""
 
-from tactex.launch_spec import Argument, config_path, LaunchFile, NodeSpec
+from tactex.launch_spec import Argument, as_float, config_path, LaunchFile, NodeSpec
 
 
 def _nodes(args):
-    bridge = {'scene': args['scene'], 'rate_factor': args['rate_factor']}
+    bridge = {'scene': args['scene'],
+              'rate_factor': as_float('rate_factor', args['rate_factor'])}
     if args['patch_texture']:
         bridge['patch_texture'] = args['patch_texture']
     return [NodeSpec('tactex_sim', 'mujoco_bridge', 'mujoco_bridge', parameters=(bridge,)),

@@ -102,7 +102,7 @@ def test_system_launch_starts_the_robot_probe_sweep_and_with_a_checkpoint_the_cl
 def test_system_launch_passes_its_arguments_to_the_nodes_it_borrows():
     arguments = {'sim': 'true', 'checkpoint': '/run/model', 'recording_root': '/data/bags',
                  'pathway_file': '/data/pathway.json', 'patch_texture': 'wood',
-                 'rate_factor': '3.0', 'threshold': '0.9', 'runtime': 'onnxruntime'}
+                 'rate_factor': '3', 'threshold': '1', 'runtime': 'onnxruntime'}
     nodes = {spec.name: spec for spec in load_launch_file('system').node_specs(arguments)}
 
     def parameters(name: str) -> dict:
@@ -110,14 +110,16 @@ def test_system_launch_passes_its_arguments_to_the_nodes_it_borrows():
         for item in nodes[name].parameters:
             merged.update(item if isinstance(item, dict) else {})
         return merged
-    assert parameters('mujoco_bridge') == {'scene': 'uneven_texture', 'rate_factor': '3.0',
+    assert parameters('mujoco_bridge') == {'scene': 'uneven_texture', 'rate_factor': 3.0,
                                            'patch_texture': 'wood'}
     assert parameters('probe_node')['pathway_file'] == '/data/pathway.json'
     assert parameters('sweep_node')['recording_root'] == '/data/bags'
-    assert parameters('classifier_node') == {'checkpoint': '/run/model', 'threshold': '0.9',
+    assert parameters('classifier_node') == {'checkpoint': '/run/model', 'threshold': 1.0,
                                              'runtime': 'onnxruntime', 'use_sim_time': True}
     assert all(parameters(name)['use_sim_time'] for name in
                ('madgwick_node', 'probe_node', 'sweep_node'))
+    with pytest.raises(LaunchError, match="rate_factor:='fast' is not a finite number"):
+        load_launch_file('system').node_specs({'sim': 'true', 'rate_factor': 'fast'})
     with pytest.raises(LaunchError, match='no node .nope. in this launch file; it starts '
                                           'mujoco_bridge, madgwick_node'):
         load_launch_file('sim').node('nope', {})

@@ -16,6 +16,7 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 import importlib.util
+import math
 from pathlib import Path
 from typing import Any
 
@@ -157,6 +158,21 @@ def is_true(value: str) -> bool:
     if value.lower() in ('false', '0', 'no'):
         return False
     raise LaunchError(f'expected true or false, got {value!r}')
+
+
+def as_float(name: str, value: str) -> float:
+    """A number argument as a float, so that `rate_factor:=3` reaches a DOUBLE parameter.
+
+    Raises:
+        LaunchError: not a finite number.
+    """
+    try:
+        number = float(value)
+    except ValueError:
+        number = math.nan
+    if not math.isfinite(number):
+        raise LaunchError(f'{name}:={value!r} is not a finite number')
+    return number
 
 
 def launch_directory() -> Path:
