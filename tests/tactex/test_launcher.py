@@ -11,6 +11,7 @@ import subprocess
 import sys
 import time
 
+import numpy as np
 import pytest
 
 from tactex.launch_spec import (
@@ -202,15 +203,67 @@ def test_sim_launch_runs_in_its_namespace_and_stops_cleanly_on_sigterm(ros_conte
     assert not [name for name, pid in pids.items() if _alive(pid)]
 
 
+def _descendants(pid: int) -> set[int]:
+    """Every process below `pid` in the process tree (children of all its threads)."""
+    found, todo = set(), [pid]
+    while todo:
+        parent = todo.pop()
+        for task in Path(f'/proc/{parent}/task').glob('*'):
+            try:
+                children = (task / 'children').read_text().split()
+            except OSError:
+                continue
+            for child in map(int, children):
+                if child not in found:
+                    found.add(child)
+                    todo.append(child)
+    return found
+
+
 @pytest.mark.ros
-def test_killing_the_launcher_leaves_no_orphaned_node(tmp_path):
+def test_killing_the_launcher_leaves_no_orphaned_process(tmp_path):
     log = tmp_path / 'launch.log'
-    launcher = _start_launch('sim', 'rate_factor:=1.0', log=log)
-    assert _wait(lambda: len(_pids(log.read_text())) == 2, 20), log.read_text()
-    pids = _pids(log.read_text())
-    launcher.kill()
+    launcher = _start_launch('system', 'sim:=true', f'recording_root:={tmp_path}/bags',
+                             f'pathway_file:={tmp_path}/pathway.json', log=log)
+    assert _wait(lambda: len(_pids(log.read_text())) == 4, 30), log.read_text()
+    tree = _descendants(launcher.pid)
+    assert set(_pids(log.read_text()).values()) <= tree
+    launcher.kill()  # SIGKILL: the launcher cannot clean up; the kernel tells the nodes
     launcher.wait()
-    assert _wait(lambda: not any(_alive(pid) for pid in pids.values()), 10)
+    assert _wait(lambda: not any(_alive(pid) for pid in tree), 10), \
+        [open(f'/proc/{pid}/cmdline').read() for pid in tree if _alive(pid)]
+
+
+@pytest.mark.ros
+@pytest.mark.slow
+def test_probe_launch_in_simulation_broadcasts_contacts_with_the_surface_normals(tmp_path):
+    from transforms3d.quaternions import quat2mat
+
+    from tactex.demo_session import ProbeLine, SystemClient
+    from tactex_sim.scene import load_scene, resolve_scene
+
+    log = tmp_path / 'launch.log'
+    launcher = _start_launch('probe', 'sim:=true', 'rate_factor:=0.5',
+                             f'pathway_file:={tmp_path}/pathway.json', log=log)
+    try:
+        with SystemClient() as client:
+            client.wait_ready(60, sweep=False, alive=lambda: launcher.poll() is None)
+            result, pathway, contacts = client.probe(ProbeLine(0.185, 0.01, 0.01), 280,
+                                                     alive=lambda: launcher.poll() is None)
+    finally:
+        launcher.send_signal(signal.SIGTERM)
+        code = launcher.wait(timeout=15)
+    assert code == 0, log.read_text()[-3000:]
+    assert list(result.outcomes) == [0, 0], log.read_text()[-3000:]
+    assert len(contacts.poses) == len(pathway.contacts) == 2
+    surface = load_scene(resolve_scene('probe')).surface
+    for pose in contacts.poses:  # the z axis of each pose is the outward normal
+        q = pose.orientation
+        normal = quat2mat([q.w, q.x, q.y, q.z])[:, 2]
+        nx, nz = surface.normal(pose.position.x)
+        assert np.degrees(np.arccos(min(1.0, nx * normal[0] + nz * normal[2]))) < 8.0
+        assert abs(pose.position.z - surface.height(pose.position.x)) < 0.002
+    assert not [pid for pid in _pids(log.read_text()).values() if _alive(pid)]
 
 
 @pytest.mark.ros

@@ -23,9 +23,9 @@ from tactex_sim.scene import Surface
 MIN_CONTACT_SHARE = 0.8  # of the probe points give a contact
 MAX_NORMAL_ERROR_DEG = 5.0  # mean, against the true surface
 MAX_POSITION_ERROR_MM = 2.0  # mean distance of a contact to the true surface
-MIN_CONTACT_FRACTION = 0.85  # mean share of a sweep's sliding spent in contact
+MIN_CONTACT_FRACTION = 0.75  # mean share of a sweep's sliding spent in contact
 MAX_SPEED_ERROR = 0.10  # mean |measured - commanded| / commanded sliding speed
-MIN_CV_ACCURACY = 0.5  # grouped by recording (chance: 1/12)
+MIN_CV_ACCURACY = 0.5  # grouped by recording (chance: 1/12, --quick 1/4)
 MIN_LIVE_ACCURACY = 0.5  # decisions of classifier_node on fresh sweeps
 MAX_TIME_TO_DECISION_S = 5.0  # median seconds of contact before the decision
 

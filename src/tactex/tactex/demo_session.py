@@ -134,10 +134,12 @@ class SystemClient:
                 raise CommandError(f'{what}: a node stopped; the node logs say why')
             time.sleep(0.05)
 
-    def wait_ready(self, timeout_s: float, *, bridge: bool = True, alive=lambda: True) -> None:
-        """Wait for the probe and sweep action servers (and the bridge's parameters)."""
-        ready = [('the probe action server', self._probe.server_is_ready),
-                 ('the sweep action server', self._sweep.server_is_ready)]
+    def wait_ready(self, timeout_s: float, *, sweep: bool = True, bridge: bool = True,
+                   alive=lambda: True) -> None:
+        """Wait for the probe (and sweep) action servers (and the bridge's parameters)."""
+        ready = [('the probe action server', self._probe.server_is_ready)]
+        if sweep:
+            ready.append(('the sweep action server', self._sweep.server_is_ready))
         if bridge:
             ready.append(('the simulator', self._parameters.service_is_ready))
         for what, check in ready:

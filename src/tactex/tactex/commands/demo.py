@@ -19,7 +19,7 @@ from __future__ import annotations
 import argparse
 from collections.abc import Iterator
 from contextlib import contextmanager, redirect_stdout
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 import json
 import os
 from pathlib import Path
@@ -55,10 +55,13 @@ class Sizes:
     probe_span_m: float
     probe_step_m: float
     folds: int
+    textures: tuple[str, ...] = ()  # () : all 12
 
 
-DEFAULT = Sizes(sweeps=4, live_sweeps=1, probe_span_m=0.10, probe_step_m=0.01, folds=4)
-QUICK = Sizes(sweeps=2, live_sweeps=1, probe_span_m=0.04, probe_step_m=0.02, folds=2)
+DEFAULT = Sizes(sweeps=3, live_sweeps=1, probe_span_m=0.10, probe_step_m=0.02, folds=3)
+# Four textures, two alike (the cotton weaves), so that the check can fail.
+QUICK = Sizes(sweeps=2, live_sweeps=1, probe_span_m=0.04, probe_step_m=0.02, folds=2,
+              textures=('ridged polymer', 'wood', 'open weave cotton', 'tight weave cotton'))
 PROBE_START_X_M = 0.10
 
 
@@ -68,8 +71,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help='folder for summary.json, plots, recordings, model and logs '
                              '(default out/demo; a previous demo there is replaced)')
     parser.add_argument('--quick', action='store_true',
-                        help=f'{QUICK.sweeps} sweeps per texture, a shorter pathway (a few '
-                             'minutes)')
+                        help=f'{len(QUICK.textures)} textures, {QUICK.sweeps} sweeps each, a '
+                             'shorter pathway (a few minutes)')
     parser.add_argument('--sweeps', type=integer(2, 50), default=None,
                         help=f'recorded sweeps per texture (2..50; default {DEFAULT.sweeps}, '
                              f'--quick {QUICK.sweeps})')
@@ -83,10 +86,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     """Run every stage; print the figures against their thresholds; 1 if one misses."""
     sizes = QUICK if args.quick else DEFAULT
-    sizes = Sizes(sweeps=args.sweeps or sizes.sweeps,
-                  live_sweeps=args.live_sweeps or sizes.live_sweeps,
-                  probe_span_m=sizes.probe_span_m, probe_step_m=sizes.probe_step_m,
-                  folds=min(sizes.folds, args.sweeps or sizes.sweeps))
+    sweeps = args.sweeps or sizes.sweeps
+    sizes = replace(sizes, sweeps=sweeps, live_sweeps=args.live_sweeps or sizes.live_sweeps,
+                    folds=min(DEFAULT.folds, sweeps))
     out = _check_out(args.out)
     started = time.monotonic()
     with staged_folder(out) as folder, _demo_environment(folder):
@@ -156,7 +158,7 @@ class Demo:
         """Every stage; the summary and its checks."""
         from tactex.demo_report import checks
         from tactex_sim.textures import TEXTURES
-        textures = list(TEXTURES)
+        textures = list(self.sizes.textures or TEXTURES)
         self.next_stage('launch the system in simulation (launch/system.launch.py sim:=true)')
         with self.system('collect') as (client, alive):
             probe = self.probe(client, alive)
@@ -343,7 +345,8 @@ class Demo:
             'live_sweeps': figures['live_sweeps'],
             'live_decided': figures['live_decided'],
             'time_to_decision_s': figures['time_to_decision_s'],
-            'sizes': vars(self.sizes) | {'rate_factor': self.rate_factor, 'model': MODEL},
+            'sizes': vars(self.sizes) | {'textures': textures, 'rate_factor': self.rate_factor,
+                                         'model': MODEL},
         }
         report.plot_pathway(self.folder / 'pathway.png', probe['positions'], probe['normals'],
                             self.scene.surface)
@@ -387,10 +390,19 @@ def _sweep_line(run) -> str:
 
 
 def _node_failure(log_path: Path) -> str:
-    """The launcher's error line of a log, or where to look."""
+    """The launcher's error line of a log; the failed node's last lines go to stdout.
+
+    The log itself is removed with the rest of the unfinished --out, so what it says about
+    the failure is shown here.
+    """
     text = log_path.read_text(encoding='utf-8', errors='replace') if log_path.exists() else ''
-    found = re.findall(r'\[launch\] error: (.+)', text)
-    return f'{found[-1]}; see logs/{log_path.name}' if found else f'see logs/{log_path.name}'
+    found = re.findall(r'\[launch\] error: node (\S+) (.+)', text)
+    if not found:
+        return 'no node reported an error'
+    name, what = found[-1]
+    lines = [line for line in text.splitlines() if line.startswith(f'[{name}] ')]
+    print(f'last lines of {name}:', *lines[-15:], sep='\n  ', flush=True)
+    return f'node {name} {what}'
 
 
 def _print_summary(out: Path, summary: dict, checks: list) -> None:
