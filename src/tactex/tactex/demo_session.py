@@ -199,11 +199,14 @@ class SystemClient:
             raise CommandError(f'the simulator refused the texture {name!r}: {answer.reason}')
 
     def sweep(self, run: SweepRun, *, edge_offset_rad: float, press_depth_m: float,
-              record: bool, timeout_s: float, alive=lambda: True) -> SweepRun:
-        """Sweep along the broadcast pathway; fills `run` (estimates heard meanwhile too)."""
+              record: bool, timeout_s: float, alive=lambda: True,
+              pathway: Pathway | None = None) -> SweepRun:
+        """Sweep along `pathway` (None: the broadcast one); fills `run` and its estimates."""
         goal = Sweep.Goal(sliding_speed=run.speed_m_s, edge_offset_angle=edge_offset_rad,
                           press_depth=press_depth_m, label=run.label, trial=run.trial,
-                          record=record)  # no contacts: the node sweeps the latest pathway
+                          record=record)
+        if pathway is not None:
+            goal.pathway = pathway
         started = time.monotonic()
 
         def on_feedback(message) -> None:

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import argparse
 from collections.abc import Iterator
-from contextlib import contextmanager, redirect_stdout
+from contextlib import contextmanager, redirect_stderr, redirect_stdout
 from dataclasses import dataclass, replace
 import json
 import os
@@ -60,7 +60,7 @@ class Sizes:
 
 DEFAULT = Sizes(sweeps=3, live_sweeps=1, probe_span_m=0.10, probe_step_m=0.02, folds=3)
 # Four textures, two alike (the cotton weaves), so that the check can fail.
-QUICK = Sizes(sweeps=2, live_sweeps=1, probe_span_m=0.04, probe_step_m=0.02, folds=2,
+QUICK = Sizes(sweeps=2, live_sweeps=1, probe_span_m=0.06, probe_step_m=0.03, folds=2,
               textures=('ridged polymer', 'wood', 'open weave cotton', 'tight weave cotton'))
 PROBE_START_X_M = 0.10
 
@@ -169,8 +169,9 @@ class Demo:
         self.next_stage(f'launch the system again with the checkpoint; {self.sizes.live_sweeps} '
                         f'fresh sweep(s) per texture classified live by classifier_node')
         with self.system('live', checkpoint=self.folder / 'train' / 'model') as (client, alive):
+            # The new probe_node has broadcast nothing: the goals carry the pathway.
             live = self.sweeps(client, alive, textures, self.sizes.live_sweeps, record=False,
-                               seed=1)
+                               seed=1, pathway=probe['pathway'])
         self.next_stage('figures: summary.json and plots')
         summary = self.summarise(probe, recorded, live, metrics, textures)
         figures = checks(summary, probe['points'])
@@ -239,13 +240,17 @@ class Demo:
                  f'on probe/pathway and probe/contacts ({len(contacts.poses)} poses); normal '
                  f'error {normal_deg.mean():.2f} deg, position error {position_mm.mean():.2f} mm'
                  ' (mean, against the true surface)')
-        return {'points': line.points, 'positions': positions, 'normals': normals,
+        return {'points': line.points, 'pathway': pathway, 'positions': positions,
+                'normals': normals,
                 'outcomes': list(result.outcomes), 'normal_deg': normal_deg,
                 'position_mm': position_mm}
 
     def sweeps(self, client, alive, textures: list[str], per_texture: int, *, record: bool,
-               seed: int) -> list:
-        """Sweep every texture `per_texture` times (drawn speed, press and tilt)."""
+               seed: int, pathway=None) -> list:
+        """Sweep every texture `per_texture` times (drawn speed, press and tilt).
+
+        Without `pathway` the goals leave it empty: sweep_node sweeps the broadcast one.
+        """
         from tactex.demo_session import SweepRun
         from tactex_sim.sweep import SweepParameters
         if record:
@@ -261,21 +266,21 @@ class Demo:
                     run = client.sweep(SweepRun(texture, len(runs), drawn.speed_m_s),
                                        edge_offset_rad=drawn.edge_offset_rad,
                                        press_depth_m=drawn.press_depth_m, record=record,
-                                       timeout_s=SWEEP_TIMEOUT_S, alive=alive)
+                                       timeout_s=SWEEP_TIMEOUT_S, alive=alive,
+                                       pathway=pathway)
                     run.attempts = attempt + 1
                     if run.status_ok:
                         break
                     self._discard(run.result.recording_path)
                     self.say(f'  sweep {run.trial} ({texture}) {run.result.message}; its '
-                             'recording is discarded, trying again')
+                             'recording is discarded')
+                if not run.status_ok:
+                    raise CommandError(f'sweep {run.trial} ({texture}) failed '
+                                       f'{SWEEP_ATTEMPTS} times: {run.result.message}')
                 runs.append(run)
                 done = len(runs)
                 left = (time.monotonic() - began) / done * (total - done)
                 self.say(f'  [{done}/{total}] {_sweep_line(run)}  (about {left:.0f} s left)')
-        failed = [run for run in runs if not run.status_ok]
-        if failed:
-            raise CommandError(f'{len(failed)} sweep(s) failed twice, e.g. {failed[0].label}: '
-                               f'{failed[0].result.message}')
         return runs
 
     def _discard(self, recording: str) -> None:
@@ -315,11 +320,12 @@ class Demo:
     def _command(self, argv: list[str], name: str, main) -> None:
         """Run a tactex subcommand with its output in logs/NAME.log."""
         log = self.folder / 'logs' / f'{name}.log'
-        with log.open('w', encoding='utf-8') as stream, redirect_stdout(stream):
+        with log.open('w', encoding='utf-8') as stream, redirect_stdout(stream), \
+                redirect_stderr(stream):
             code = main(argv)
         if code:
-            raise CommandError(f'tactex {" ".join(argv)} failed (exit {code}); see '
-                               f'logs/{name}.log')
+            errors = re.findall(r'^error: (.+)$', log.read_text(encoding='utf-8'), re.MULTILINE)
+            raise CommandError(f'tactex {name} failed: {errors[-1] if errors else code}')
 
     def summarise(self, probe: dict, recorded: list, live: list, metrics: dict,
                   textures: list[str]) -> dict:
