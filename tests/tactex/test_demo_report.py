@@ -53,17 +53,17 @@ def test_the_decision_is_the_first_decided_estimate_else_the_last():
     assert LiveSweep('wood', ()).decision() is None
 
 
-def test_live_figures_count_a_silent_sweep_as_wrong_and_time_only_decisions():
+def test_live_figures_count_a_silent_sweep_as_wrong_and_time_forced_decisions():
     sweeps = [LiveSweep('wood', (Estimate('wood', True, 1.0),)),
               LiveSweep('mesh', (Estimate('wood', True, 3.0),)),
               LiveSweep('mesh', (Estimate('mesh', False, 4.0),)),
               LiveSweep('wood', ())]
     figures = live_figures(sweeps)
     assert figures['live_accuracy'] == 0.5
-    assert figures['time_to_decision_s'] == 2.0  # median of 1 and 3; undecided left out
+    assert figures['time_to_decision_s'] == 3.0  # median of 1, 3 and 4 (decided at its end)
     assert figures['live_decided'] == 2 and figures['live_sweeps'] == 4
     assert math.isnan(live_figures([])['live_accuracy'])
-    assert math.isnan(live_figures(sweeps[2:])['time_to_decision_s'])
+    assert math.isnan(live_figures(sweeps[3:])['time_to_decision_s'])
 
 
 def test_accuracy_against_contact_time_follows_the_latest_estimate():

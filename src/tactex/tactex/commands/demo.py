@@ -21,6 +21,7 @@ from collections.abc import Iterator
 from contextlib import contextmanager, redirect_stderr, redirect_stdout
 from dataclasses import dataclass, replace
 import json
+import math
 import os
 from pathlib import Path
 import random
@@ -63,6 +64,9 @@ DEFAULT = Sizes(sweeps=3, live_sweeps=1, probe_span_m=0.10, probe_step_m=0.02, f
 QUICK = Sizes(sweeps=2, live_sweeps=1, probe_span_m=0.06, probe_step_m=0.03, folds=2,
               textures=('ridged polymer', 'wood', 'open weave cotton', 'tight weave cotton'))
 PROBE_START_X_M = 0.10
+# Probe points 25 mm up: with the 20 mm approach the tilted tool clears the 8 mm wave's
+# crests when it moves sideways between points (from 18 mm up it touched them).
+PROBE_START_Z_M = 0.025
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -99,8 +103,9 @@ def run(args: argparse.Namespace) -> int:
             shutil.rmtree(out)  # a previous demo (checked by _check_out)
     _print_summary(out, summary, checks)
     missed = [check for check in checks if not check.passed]
-    for check in missed:
-        print(f'error: {check.key} missed its threshold: {check.line()}', file=sys.stderr)
+    if missed:
+        print(f'error: {len(missed)} figure(s) missed the threshold: '
+              f'{"; ".join(check.line() for check in missed)}', file=sys.stderr)
     return 1 if missed else 0
 
 
@@ -177,7 +182,9 @@ class Demo:
         figures = checks(summary, probe['points'])
         summary['thresholds'] = {c.key: {'limit': c.limit, 'at_least': c.at_least,
                                          'passed': c.passed} for c in figures}
-        (self.folder / 'summary.json').write_text(json.dumps(summary, indent=2) + '\n',
+        finite = {k: None if isinstance(v, float) and not math.isfinite(v) else v
+                  for k, v in summary.items()}  # JSON has no NaN
+        (self.folder / 'summary.json').write_text(json.dumps(finite, indent=2) + '\n',
                                                   encoding='utf-8')
         return summary, figures
 
@@ -227,7 +234,8 @@ class Demo:
         """Probe the line; the broadcast contacts and their errors against the surface."""
         from tactex.demo_report import pathway_errors
         from tactex.demo_session import ProbeLine
-        line = ProbeLine(PROBE_START_X_M, self.sizes.probe_span_m, self.sizes.probe_step_m)
+        line = ProbeLine(PROBE_START_X_M, self.sizes.probe_span_m, self.sizes.probe_step_m,
+                         start_z_m=PROBE_START_Z_M)
         self.next_stage(f'probe {line.points} points from x = {1e3 * line.start_x_m:.0f} mm '
                         f'every {1e3 * line.step_m:.0f} mm (the probe action)')
         result, pathway, contacts = client.probe(line, PROBE_TIMEOUT_S, alive)
