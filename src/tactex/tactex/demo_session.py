@@ -34,6 +34,10 @@ from tactex_msgs.msg import Pathway, TextureEstimate
 BRIDGE_PARAMETERS = 'mujoco_bridge/set_parameters'
 
 
+class ProbeAborted(CommandError):
+    """The probe node aborted the goal; the message is its reason."""
+
+
 @dataclass(frozen=True)
 class ProbeLine:
     """A Probe goal along x at y = 0 (base_link), m and m/s."""
@@ -174,7 +178,7 @@ class SystemClient:
         answer = self._send(self._probe, goal, timeout_s, 'probing', alive)
         result = answer.result
         if result.message:
-            raise CommandError(f'probing failed: {result.message}')
+            raise ProbeAborted(result.message)
         stamp = stamp_ns(result.pathway.header.stamp)
 
         def broadcast() -> bool:

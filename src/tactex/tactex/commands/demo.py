@@ -44,7 +44,7 @@ STAGES = 7
 NODE_START_S = 120.0  # wait for the action servers (a loaded machine starts them slowly)
 PROBE_TIMEOUT_S = 900.0
 SWEEP_TIMEOUT_S = 240.0
-SWEEP_ATTEMPTS = 2  # a sweep the node aborted is tried once more (both are reported)
+ATTEMPTS = 2  # an aborted probe or sweep goal is tried once more (both are reported)
 
 
 @dataclass(frozen=True)
@@ -209,8 +209,8 @@ class Demo:
             shown = ' '.join(f'{k}:={v}'.replace(str(self.folder), str(self.out))
                              for k, v in values.items())
             self.say(f'  tactex launch system {shown}'
-                     f' ({len(nodes)} nodes: {", ".join(n.name for n in nodes)}; log '
-                     f'logs/{name}.log)')
+                     f' ({len(nodes)} nodes: {", ".join(n.name for n in nodes)}; ROS_DOMAIN_ID='
+                     f'{os.environ.get("ROS_DOMAIN_ID")}; log logs/{name}.log)')
             stop = threading.Event()
             codes: list[int] = []
             launcher.start()
@@ -233,12 +233,19 @@ class Demo:
     def probe(self, client, alive) -> dict:
         """Probe the line; the broadcast contacts and their errors against the surface."""
         from tactex.demo_report import pathway_errors
-        from tactex.demo_session import ProbeLine
+        from tactex.demo_session import ProbeAborted, ProbeLine
         line = ProbeLine(PROBE_START_X_M, self.sizes.probe_span_m, self.sizes.probe_step_m,
                          start_z_m=PROBE_START_Z_M)
         self.next_stage(f'probe {line.points} points from x = {1e3 * line.start_x_m:.0f} mm '
                         f'every {1e3 * line.step_m:.0f} mm (the probe action)')
-        result, pathway, contacts = client.probe(line, PROBE_TIMEOUT_S, alive)
+        for attempt in range(1, ATTEMPTS + 1):
+            try:
+                result, pathway, contacts = client.probe(line, PROBE_TIMEOUT_S, alive)
+                break
+            except ProbeAborted as err:
+                if attempt == ATTEMPTS:
+                    raise CommandError(f'probing failed {ATTEMPTS} times: {err}') from None
+                self.say(f'  probing aborted: {err}; trying again')
         positions = np.array([[c.position.x, c.position.y, c.position.z]
                               for c in pathway.contacts]).reshape(-1, 3)
         normals = np.array([[c.normal.x, c.normal.y, c.normal.z]
@@ -248,7 +255,8 @@ class Demo:
                  f'on probe/pathway and probe/contacts ({len(contacts.poses)} poses); normal '
                  f'error {normal_deg.mean():.2f} deg, position error {position_mm.mean():.2f} mm'
                  ' (mean, against the true surface)')
-        return {'points': line.points, 'pathway': pathway, 'positions': positions,
+        return {'points': line.points, 'attempts': attempt, 'pathway': pathway,
+                'positions': positions,
                 'normals': normals,
                 'outcomes': list(result.outcomes), 'normal_deg': normal_deg,
                 'position_mm': position_mm}
@@ -270,7 +278,7 @@ class Demo:
             client.set_texture(texture, alive)
             for _ in range(per_texture):
                 drawn = SweepParameters.draw(self.scene, rng)
-                for attempt in range(SWEEP_ATTEMPTS):
+                for attempt in range(ATTEMPTS):
                     run = client.sweep(SweepRun(texture, len(runs), drawn.speed_m_s),
                                        edge_offset_rad=drawn.edge_offset_rad,
                                        press_depth_m=drawn.press_depth_m, record=record,
@@ -284,7 +292,7 @@ class Demo:
                              'recording is discarded')
                 if not run.status_ok:
                     raise CommandError(f'sweep {run.trial} ({texture}) failed '
-                                       f'{SWEEP_ATTEMPTS} times: {run.result.message}')
+                                       f'{ATTEMPTS} times: {run.result.message}')
                 runs.append(run)
                 done = len(runs)
                 left = (time.monotonic() - began) / done * (total - done)
@@ -347,6 +355,7 @@ class Demo:
         summary = {
             'contacts': len(probe['positions']),
             'probe_points': probe['points'],
+            'probe_attempts': probe['attempts'],
             'normal_error_deg_mean': _mean(probe['normal_deg']),
             'position_error_mm_mean': _mean(probe['position_mm']),
             'contact_fraction': _mean([r.contact_fraction for r in sweeps]),
