@@ -151,6 +151,16 @@ class Feeder:
             self.executor.spin_once(timeout_sec=0.005)
         return until()
 
+    def run_clock(self, start_ns: int, seconds: float, until) -> bool:
+        """Publish /clock from `start_ns` at real time, spinning, until `until()` or `seconds`."""
+        import rclpy
+        started = time.monotonic()
+        while time.monotonic() - started < seconds and not until():
+            now_ns = start_ns + int((time.monotonic() - started) * 1e9)
+            self.clock.publish(self.clock_type(clock=rclpy.time.Time(nanoseconds=now_ns).to_msg()))
+            self.spin(0.05)
+        return until()
+
     def play(self, messages: list[tuple[int, str, bytes]]) -> None:
         """Publish one bag's messages at their log times / speed, with /clock before each."""
         import rclpy
@@ -282,7 +292,10 @@ def run_model(checkpoint: Path, test: list, speed: float, env: dict) -> dict:
     rclpy.init(context=context)
     feeder = Feeder(context, speed)
     try:
-        if not feeder.spin(60.0, lambda: len(feeder.diagnostics) >= 2):
+        # The nodes run on simulated time: their diagnostics tick only while /clock runs,
+        # so it runs up to the first held-out message while they start.
+        if not feeder.run_clock(test[0][1][0][0] - 60_000_000_000, 60.0,
+                                lambda: len(feeder.diagnostics) >= 2):
             raise RuntimeError('classifier_node did not come up in 60 s')
         feeder.spin(2.0)
         spans = []

@@ -124,13 +124,15 @@ def stop(process):
         return process.communicate()[0]
 
 
-def run_stream(context, process, *, seconds=4.0):
+def run_stream(context, process, *, smooth_s=2.0, ridged_s=4.0):
     sensor = SensorStandIn(context)
     assert sensor.spin_until(lambda: sensor.diagnostics, 60.0), 'the node never came up'
     time.sleep(1.2)  # long enough for a warning about the silent sensor
-    sensor.publish(seconds / 2, ridged=0.0)
-    sensor.publish(seconds / 2, ridged=1.0)
-    # The change to the ridged texture restarts the evidence (the worker may lag the stream).
+    sensor.publish(smooth_s, ridged=0.0)
+    # The change to the ridged texture restarts the evidence. The worker may lag the stream
+    # and skip windows on a loaded machine, so the ridged part lasts long enough for several
+    # classified windows whatever it skips.
+    sensor.publish(ridged_s, ridged=1.0)
     sensor.spin_until(lambda: sensor.estimates and sensor.estimates[-1].label == 'ridged', 20.0)
     return sensor
 
