@@ -318,9 +318,12 @@ class Demo:
         self._command(['convert', str(self.folder / 'bags'), '--out', str(data),
                        '--window', str(WINDOW)], 'convert', main)
         dataset = Dataset.load(data)
+        skipped = re.findall(r'skipped (.+)$', (self.folder / 'logs' / 'convert.log').read_text(
+            encoding='utf-8'), re.MULTILINE)
+        note = f'; {len(skipped)} recording(s) skipped, e.g. {skipped[0]}' if skipped else ''
         self.say(f'  {len(dataset.X)} windows of {WINDOW} samples from '
                  f'{len(np.unique(dataset.trial))} recordings at '
-                 f'{dataset.info["sampling_rate_hz"]:.0f} Hz (dataset.npz)')
+                 f'{dataset.info["sampling_rate_hz"]:.0f} Hz (dataset.npz){note}')
         return data
 
     def train(self, data: Path) -> dict:
