@@ -151,15 +151,12 @@ class Feeder:
             self.executor.spin_once(timeout_sec=0.005)
         return until()
 
-    def run_clock(self, start_ns: int, seconds: float, until) -> bool:
-        """Publish /clock from `start_ns` at real time, spinning, until `until()` or `seconds`."""
-        import rclpy
-        started = time.monotonic()
-        while time.monotonic() - started < seconds and not until():
-            now_ns = start_ns + int((time.monotonic() - started) * 1e9)
-            self.clock.publish(self.clock_type(clock=rclpy.time.Time(nanoseconds=now_ns).to_msg()))
-            self.spin(0.05)
-        return until()
+    def nodes_up(self, count: int) -> bool:
+        """Whether `count` classifier nodes subscribe to the sensor and publish estimates."""
+        from tactex_classify.bags import TOPIC_ROLES
+        return (self.node.count_subscribers(TOPIC_ROLES['imu'][0]) >= count
+                and self.node.count_publishers('texture/estimate')
+                + self.node.count_publishers('texture/estimate_check') >= count)
 
     def play(self, messages: list[tuple[int, str, bytes]]) -> None:
         """Publish one bag's messages at their log times / speed, with /clock before each."""
@@ -292,10 +289,9 @@ def run_model(checkpoint: Path, test: list, speed: float, env: dict) -> dict:
     rclpy.init(context=context)
     feeder = Feeder(context, speed)
     try:
-        # The nodes run on simulated time: their diagnostics tick only while /clock runs,
-        # so it runs up to the first held-out message while they start.
-        if not feeder.run_clock(test[0][1][0][0] - 60_000_000_000, 60.0,
-                                lambda: len(feeder.diagnostics) >= 2):
+        # The nodes run on simulated time (their diagnostics tick only once /clock runs):
+        # they are up when both subscribe to the sensor and publish estimates.
+        if not feeder.spin(60.0, lambda: feeder.nodes_up(2)):
             raise RuntimeError('classifier_node did not come up in 60 s')
         feeder.spin(2.0)
         spans = []
@@ -393,6 +389,8 @@ def render(summary: dict) -> str:
         check = result['live_check']
         lines += ['', f'Live node at threshold {check["threshold"]}: same decision (class and '
                   f'window) as derived in {check["agree"]} of {check["sweeps"]} sweeps. '
+                  f'Held-out sweeps without a single window in contact (left out above): '
+                  f'{live["sweeps_without_estimate"]}. '
                   f'Evidence restarts (texture change) seen: {live["restarts"]}. Offline '
                   f'reference (converter windows, same model): window accuracy '
                   f'{100 * offline["window_accuracy"]:.1f} %, whole-sweep '

@@ -9,7 +9,9 @@ reference, run here too: the simulator's scripted sweep (tactex_sim.sweep), whic
 the true surface, over the same stretch at the same speed, edge offset and press.
 
 (a) against the number of path samples (trajectory points along the slide), probing
-    every 10 mm; (b) against the probing step, samples every 2 mm (the default).
+    every 10 mm; (b) against the probing step, samples every 2 mm (the default);
+(c) the default sweep along pathways probed in closed loop in MuJoCo by tactex_probe's
+    explorer (every 10 mm over the same stretch), not made from the true surface.
 Each point: 3 pathways (seeds). Metrics over the planned contact segment: fraction in
 contact (ground truth), worst 0.25 s window of the sliding speed (in brackets: of the
 edge where the arm's joints hold it, before the compliant body), press depth error
@@ -49,6 +51,7 @@ from tactex_trajectory.simulation import (  # noqa: E402
     measure,
     measure_segment,
     probe_like_pathway,
+    probed_pathway,
     record,
 )
 
@@ -63,16 +66,21 @@ PROBE_STEPS = (0.005, 0.01, 0.015, 0.02, 0.03)
 REFERENCE_TRIM_S = 0.75
 
 
-def our_sweep(step: float, seed: int, samples: int | None = None) -> dict:
+def our_sweep(step: float, seed: int, samples: int | None = None, *,
+              closed_loop: bool = False) -> dict:
     """Plan (timed) and simulate one sweep; its measurement and planning time."""
-    points, normals = probe_like_pathway(SCENE.surface, FIRST_X, LAST_X, step,
-                                         np.random.default_rng(seed))
+    if closed_loop:
+        points, normals, ok = probed_pathway(SCENE, FIRST_X, LAST_X, step, seed=seed)
+    else:
+        points, normals = probe_like_pathway(SCENE.surface, FIRST_X, LAST_X, step,
+                                             np.random.default_rng(seed))
+        ok = None
     settings = SweepSettings(sliding_speed_m_s=SPEED, path=PathSettings(samples=samples),
                              pose=PoseSettings(edge_offset_rad=OFFSET, press_depth_m=DEPTH))
     times = []
     for _ in range(5):
         began = time.perf_counter()
-        plan = plan_sweep(points, normals, None, START_JOINTS, settings)
+        plan = plan_sweep(points, normals, ok, START_JOINTS, settings)
         times.append(time.perf_counter() - began)
     result = measure(execute(World(SCENE, seed=seed), plan, start_joints=START_JOINTS), plan,
                      SCENE.surface)
@@ -139,6 +147,8 @@ def main() -> None:
     for step in PROBE_STEPS:
         print(f'(b) probing every {step * 1e3:g} mm ...', file=sys.stderr)
         by_step[step] = summarise([our_sweep(step, seed) for seed in SEEDS])
+    print('(c) probed in closed loop every 10 mm ...', file=sys.stderr)
+    probed = summarise([our_sweep(0.01, seed, closed_loop=True) for seed in SEEDS])
     header = ('| setting | contact % min (mean) | worst speed window % (arm) | press depth error '
               'rms mm (planned) | mean mm | depth error vs reference | planning ms (best of 5) |\n'
               '|---|---|---|---|---|---|---|')
@@ -153,6 +163,8 @@ def main() -> None:
     for step, numbers in by_step.items():
         print(row(f'(b) probed every {step * 1e3:g} mm, samples every 2 mm', numbers,
                   reference))
+    print(row('(c) probed in closed loop (MuJoCo) every 10 mm, samples every 2 mm', probed,
+              reference))
     default = by_step[0.01]
     print()
     print(f'goals: contact >= 99 %, speed within +-5 %; thresholds: >= 95 %, +-10 %. '
@@ -161,17 +173,18 @@ def main() -> None:
           f'{default["arm_speed"]:.1f} %), press depth error '
           f'{default["depth"]:.2f} mm rms ({default["depth"] / reference["depth"]:.2f}x the '
           f'scripted sweep on the true surface), planned in {default["plan_ms"]:.0f} ms.')
-    plot(by_samples, by_step, reference)
+    plot(by_samples, by_step, reference, probed)
     (RESULTS / 'sweep.json').write_text(json.dumps(
         {'speed_m_s': SPEED, 'edge_offset_rad': OFFSET, 'press_depth_m': DEPTH,
          'pathways': len(SEEDS), 'reference': reference,
          'by_samples': {str(k): v for k, v in by_samples.items()},
-         'by_step_mm': {f'{k * 1e3:g}': v for k, v in by_step.items()}}, indent=1) + '\n',
+         'by_step_mm': {f'{k * 1e3:g}': v for k, v in by_step.items()},
+         'probed_closed_loop': probed}, indent=1) + '\n',
         encoding='utf-8')
     print(f'({time.monotonic() - started:.0f} s)', file=sys.stderr)
 
 
-def plot(by_samples: dict, by_step: dict, reference: dict) -> None:
+def plot(by_samples: dict, by_step: dict, reference: dict, probed: dict) -> None:
     metrics = (('contact', 'contact, worst pathway (%)'), ('speed', 'worst speed window (%)'),
                ('depth', 'press depth error rms (mm)'), ('plan_ms', 'planning time (ms)'))
     figure, axes = plt.subplots(2, 4, figsize=(16, 7))
@@ -181,6 +194,9 @@ def plot(by_samples: dict, by_step: dict, reference: dict) -> None:
         xs = [x * 1e3 if scale == 'linear' else x for x in series]
         for axis, (key, title) in zip(row_axes, metrics, strict=True):
             axis.plot(xs, [series[x][key] for x in series], 'o-', label='tactex_trajectory')
+            if series is by_step:
+                axis.plot(10, probed[key], '*', markersize=12, color='tab:orange',
+                          label='probed in closed loop')
             extra = {'speed': ('arm_speed', "the arm's edge"),
                      'depth': ('planned', 'the plan alone')}.get(key)
             if extra:

@@ -239,19 +239,22 @@ def sweep() -> str:
                 f'({numbers["planned"]:.2f}) | {numbers["bias"]:+.2f} | '
                 f'{numbers["plan_ms"]:.0f} |')
 
-    reference, default = data['reference'], data['by_step_mm']['10']
+    reference, default = data['reference'], data['probed_closed_loop']
     lines = ["| sweep | contact % (worst pathway) | worst speed window % (arm's edge) | "
              "press depth error rms mm (the plan's share) | mean mm | planning ms |",
              '|---|---|---|---|---|---|',
-             row('scripted, on the true surface (reference)', reference)]
-    lines += [row(f'{count} trajectory points, probed every 10 mm', numbers)
+             row('scripted, on the true surface (reference)', reference),
+             row('**probed in closed loop (MuJoCo, tactex_probe) every 10 mm, a point every '
+                 '2 mm**', default)]
+    lines += [row(f'{count} trajectory points, model probe every 10 mm', numbers)
               for count, numbers in data['by_samples'].items()]
-    lines += [row(f'probed every {step} mm, a point every 2 mm', numbers)
+    lines += [row(f'model probe every {step} mm, a point every 2 mm', numbers)
               for step, numbers in data['by_step_mm'].items()]
     return ('\n'.join(lines) + '\n\n' +
-            f'With the defaults (probing every 10 mm, a point every 2 mm), over '
-            f'{data["pathways"]} pathways: {default["contact"]:.1f} % of the contact segment '
-            f'in contact at worst (threshold 95 %, goal 99 %); the worst 0.25 s window '
+            f'"Model probe": contacts on the true surface with a probe\'s noise (1 mm, 2 deg), '
+            f'for the curves. Along pathways the explorer probed in closed loop (the default '
+            f'sweep, {data["pathways"]} pathways): {default["contact"]:.1f} % of the contact '
+            f'segment in contact at worst (threshold 95 %, goal 99 %); the worst 0.25 s window '
             f'{default["speed"]:.1f} % off {data["speed_m_s"] * 1e3:g} mm/s (threshold 10 %, '
             f'goal 5 %; the edge where the arm holds it {default["arm_speed"]:.1f} %); the '
             f'press depth {default["depth"]:.2f} mm rms off the asked '

@@ -103,6 +103,12 @@ def _unit_length(vector: Vector3) -> float:
     return math.sqrt(sum(v * v for v in vector))
 
 
+# The probe node's own goal (probe_on_start): the uneven plate in front of the arm.
+DEFAULT_GOAL = dict(start=[0.10, 0.0, 0.018], direction=[1.0, 0.0, 0.0], span=0.10, step=0.01,
+                    approach_height=0.02, descent_speed=0.005, max_descent_depth=0.025,
+                    force_limit=3.0)
+
+
 @dataclass(frozen=True)
 class ProbeParameters:
     """Where and how to probe (tactex_msgs/action/Probe's goal; SI units, base_link).

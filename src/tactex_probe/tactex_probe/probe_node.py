@@ -52,14 +52,16 @@ from tactex_probe.exploration import (
     Recorded,
 )
 from tactex_probe.normals import quaternion_z_to
-from tactex_probe.pathway import FRAME_ID, PARAMETER_RANGES, Pathway, ProbeParameters
+from tactex_probe.pathway import (
+    DEFAULT_GOAL,
+    FRAME_ID,
+    PARAMETER_RANGES,
+    Pathway,
+    ProbeParameters,
+)
 
 # Samples each sensor subscription may queue while the node is busy.
 INPUT_QUEUE = 100
-# The node's own goal (probe_on_start): the uneven plate in front of the arm.
-DEFAULT_GOAL = dict(start=[0.10, 0.0, 0.018], direction=[1.0, 0.0, 0.0], span=0.10, step=0.01,
-                    approach_height=0.02, descent_speed=0.005, max_descent_depth=0.025,
-                    force_limit=3.0)
 
 
 def _float_range(low: float, high: float) -> list[FloatingPointRange]:

@@ -7,8 +7,10 @@
 sample; `measure` scores it over the planned contact segment: the fraction of it in
 contact, the sliding speed along the path (in windows), and the press depth the arm
 really held (its joints' edge position against the true surface) minus the one asked.
-`probe_like_pathway` makes the contacts a probe would report from the scene's surface,
-with the probe's noise, for planning without probing.
+`probed_pathway` probes the scene in closed loop with tactex_probe's explorer (what a
+sweep of a real surface starts from); `probe_like_pathway` makes the contacts a probe
+would report from the scene's surface, with the probe's noise, for planning without
+probing.
 """
 
 from __future__ import annotations
@@ -22,7 +24,9 @@ from tactex_description.geometry import ARM_JOINT_NAMES
 from tactex_description.mjcf import EDGE_TIP_RADIUS_M
 from tactex_driver.arm import ArmController
 from tactex_driver.playback import JointLimits
-from tactex_sim.scene import Surface
+from tactex_probe.pathway import DEFAULT_GOAL, ProbeParameters
+from tactex_probe.simulation import run_probe
+from tactex_sim.scene import Scene, Surface
 from tactex_sim.world import World
 from tactex_trajectory.monitor import window_speeds
 from tactex_trajectory.path import SweepPath
@@ -202,3 +206,23 @@ def probe_like_pathway(surface: Surface, start_x_m: float, end_x_m: float, step_
     tilts = rng.normal(0.0, normal_sd_rad, (len(xs), 2))
     noisy = (normals + tilts[:, :1] * across + tilts[:, 1:] * np.array([0.0, 1.0, 0.0]))
     return points, noisy / np.linalg.norm(noisy, axis=1, keepdims=True)
+
+
+def probed_pathway(scene: Scene, start_x_m: float, end_x_m: float, step_m: float, *,
+                   seed: int | None = None, y_m: float = 0.0
+                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The pathway tactex_probe's explorer measures on `scene`, probing along x in MuJoCo.
+
+    Probes every `step_m` from `start_x_m` to `end_x_m` (the probe node's default goal for
+    heights, speed and force, from its approach height above the highest surface point) and
+    returns (points, normals, ok) as `plan_sweep` takes them: every probe, failed ones
+    with ok False.
+    """
+    top = float(np.max(scene.surface.height(np.linspace(start_x_m, end_x_m, 200))))
+    parameters = ProbeParameters(**{
+        **DEFAULT_GOAL, 'start': (start_x_m, y_m, top), 'direction': (1.0, 0.0, 0.0),
+        'span': end_x_m - start_x_m + 1e-9, 'step': step_m})
+    probes = run_probe(scene, parameters, seed=seed).pathway.probes
+    return (np.array([p.position for p in probes], dtype=float),
+            np.array([p.normal for p in probes], dtype=float),
+            np.array([p.ok for p in probes], dtype=bool))
