@@ -64,7 +64,7 @@ class Sizes:
 
 DEFAULT = Sizes(sweeps=3, live_sweeps=1, probe_span_m=0.10, probe_step_m=0.02, folds=3)
 # Four textures, two alike (the cotton weaves), so that the check can fail.
-QUICK = Sizes(sweeps=2, live_sweeps=1, probe_span_m=0.06, probe_step_m=0.03, folds=2,
+QUICK = Sizes(sweeps=2, live_sweeps=1, probe_span_m=0.06, probe_step_m=0.02, folds=2,
               textures=('ridged polymer', 'wood', 'open weave cotton', 'tight weave cotton'))
 PROBE_START_X_M = 0.10
 # Probe points 25 mm up: with the 20 mm approach the tilted tool clears the 8 mm wave's
