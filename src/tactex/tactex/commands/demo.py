@@ -280,8 +280,8 @@ class Demo:
         for texture in textures:
             client.set_texture(texture, alive)
             for _ in range(per_texture):
-                drawn = SweepParameters.draw(self.scene, rng)
                 for attempt in range(ATTEMPTS):
+                    drawn = SweepParameters.draw(self.scene, rng)  # a retry draws anew
                     run = client.sweep(SweepRun(texture, len(runs), drawn.speed_m_s),
                                        edge_offset_rad=drawn.edge_offset_rad,
                                        press_depth_m=max(drawn.press_depth_m, MIN_PRESS_M),
