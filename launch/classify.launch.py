@@ -2,7 +2,14 @@
 # SPDX-License-Identifier: Apache-2.0
 """Launch the online texture classifier with the tactile sensor or the simulator."""
 
-from tactex.launch_spec import Argument, config_path, LaunchError, LaunchFile, NodeSpec
+from tactex.launch_spec import (
+    Argument,
+    as_float,
+    config_path,
+    LaunchError,
+    LaunchFile,
+    NodeSpec,
+)
 
 
 def _nodes(args):
@@ -12,12 +19,13 @@ def _nodes(args):
     simulated = args['source'] == 'sim'
     if simulated:
         source = [NodeSpec('tactex_sim', 'mujoco_bridge', 'mujoco_bridge', parameters=(
-            {'scene': args['scene'], 'rate_factor': args['rate_factor']},))]
+            {'scene': args['scene'],
+             'rate_factor': as_float('rate_factor', args['rate_factor'])},))]
     else:
         source = [NodeSpec('tactex_sensor', 'teensy_node', 'teensy_node',
                            parameters=(config_path('sensor.yaml'), {'port': args['port']}))]
     classifier = {'checkpoint': args['checkpoint'], 'runtime': args['runtime'],
-                  'threshold': args['threshold'], 'use_sim_time': simulated}
+                  'threshold': as_float('threshold', args['threshold']), 'use_sim_time': simulated}
     return source + [NodeSpec('tactex_classify', 'classifier_node', 'classifier_node',
                               parameters=(config_path('classify.yaml'), classifier))]
 

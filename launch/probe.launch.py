@@ -20,10 +20,11 @@ def _nodes(args):
     else:
         robot = [*load_launch_file('sensor').node_specs({'port': args['sensor_port']}),
                  *load_launch_file('arm').node_specs({'port': args['arm_port']})]
+    settings = {'probe_on_start': is_true(args['probe_on_start']), 'use_sim_time': sim}
+    if args['pathway_file']:
+        settings['pathway_file'] = args['pathway_file']
     probe = NodeSpec('tactex_probe', 'probe_node', 'probe_node',
-                     parameters=(config_path('probe.yaml'),
-                                 {'probe_on_start': is_true(args['probe_on_start']),
-                                  'use_sim_time': sim}))
+                     parameters=(config_path('probe.yaml'), settings))
     return [*robot, probe]
 
 
@@ -33,6 +34,7 @@ LAUNCH = LaunchFile(
               ('true', 'false')),
      Argument('probe_on_start', 'false', 'start probing with the goal of config/probe.yaml',
               ('true', 'false')),
+     Argument('pathway_file', '', "where the pathway is kept ('': config/probe.yaml's)"),
      Argument('scene', 'probe', 'sim:=true: scene under config/scenes/ or a .toml path'),
      Argument('rate_factor', '1.0', 'sim:=true: simulated seconds per wall second'),
      Argument('sensor_port', '/dev/ttyACM0', 'sim:=false: serial device of the Teensy'),

@@ -26,6 +26,7 @@ LAUNCH_FILES = sorted((ROOT / 'launch').glob('*.launch.py'))
 # Modules that may import rclpy and ROS message packages: the nodes and the ROS helpers.
 # Everything else under src/ is a pure module (no ROS install needed to import it).
 ROS_FACING = frozenset({
+    'tactex.demo_session',
     'tactex.ros_launch',
     'tactex_common.ros',
     'tactex_classify.classifier_node',
@@ -153,7 +154,9 @@ def test_packages_import_only_lower_layers():
 
 
 def test_no_node_module_is_imported_by_another_module():
-    nodes = ROS_FACING - {'tactex_common.ros'}
+    # ROS-facing helpers that are not nodes (the launch builder, the demo's client) may be
+    # imported, lazily, by the command that uses them.
+    nodes = {name for name in ROS_FACING if name.endswith('_node')}
     offending = [f'{name} imports {imported}' for name, path in SOURCE_MODULES.items()
                  for imported in _imports(path)
                  if imported in nodes or (imported == 'tactex_common.ros'

@@ -65,3 +65,24 @@ def test_bridge_serves_topics_and_follows_a_trajectory(ros_context):
     assert got['pose'][-1].pose.position.y > 0.0  # the sensor swung to the left with joint1
     bridge.destroy_node()
     probe.destroy_node()
+
+
+def test_the_patch_texture_can_be_set_while_running_and_a_wrong_one_is_refused(ros_context):
+    from rclpy.parameter import Parameter
+
+    from tactex_sim.mujoco_bridge_node import MujocoBridgeNode
+
+    bridge = MujocoBridgeNode(context=ros_context, parameter_overrides=[
+        Parameter('scene', value='uneven_texture'), Parameter('rate_factor', value=1.0)])
+    try:
+        ok, = bridge.set_parameters([Parameter('patch_texture', value='carpet wool')])
+        assert ok.successful
+        assert bridge._world._texture_name_at((0.15, 0.0)) == 'carpet wool'
+        refused, = bridge.set_parameters([Parameter('patch_texture', value='velvet')])
+        assert not refused.successful and 'known: ' in refused.reason
+        assert bridge.get_parameter('patch_texture').value == 'carpet wool'
+        assert bridge._world._texture_name_at((0.15, 0.0)) == 'carpet wool'
+        assert bridge.set_parameters([Parameter('patch_texture', value='')])[0].successful
+        assert bridge._world._texture_name_at((0.15, 0.0)) == 'wood'  # the scene's own
+    finally:
+        bridge.destroy_node()

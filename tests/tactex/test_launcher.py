@@ -11,6 +11,7 @@ import subprocess
 import sys
 import time
 
+import numpy as np
 import pytest
 
 from tactex.launch_spec import (
@@ -33,22 +34,34 @@ def _console_scripts(package: str) -> set[str]:
     return set(re.findall(r"'(\w+) = ", setup))
 
 
-# Arguments a launch file cannot start without.
-REQUIRED_ARGUMENTS = {'classify': {'checkpoint': '/data/run/cnn_3'}}
+# Arguments some launch files need to start at all; every file is checked with each set.
+NEEDED = {'classify': {'checkpoint': '/run/model'}}
+VARIANTS = {'probe': [{'sim': 'true'}], 'sweep': [{'sim': 'true'}],
+            'classify': [{'source': 'sim'}],
+            'system': [{'sim': 'true'}, {'sim': 'true', 'checkpoint': '/run/model'},
+                       {'checkpoint': '/run/model'}]}
+CASES = [pytest.param(name, {**NEEDED.get(name, {}), **variant},
+                      id=' '.join([name, *(f'{k}:={v}' for k, v in variant.items())]))
+         for name in LAUNCH_NAMES for variant in [{}, *VARIANTS.get(name, [])]]
 
 
-@pytest.mark.parametrize('name', LAUNCH_NAMES)
-def test_every_launch_file_declares_nodes_that_exist(name):
+def test_every_launch_file_is_checked():
+    assert set(LAUNCH_NAMES) >= {'arm', 'classify', 'probe', 'sensor', 'sim', 'sweep', 'system'}
+    assert set(NEEDED) | set(VARIANTS) <= set(LAUNCH_NAMES)
+
+
+@pytest.mark.parametrize(('name', 'arguments'), CASES)
+def test_every_launch_file_declares_nodes_that_exist(name, arguments):
     launch = load_launch_file(name)
-    nodes = launch.node_specs(REQUIRED_ARGUMENTS.get(name, {}))
+    nodes = launch.node_specs(arguments)
     assert nodes
     for spec in nodes:
         assert spec.executable in _console_scripts(spec.package), spec
         node_command(spec)  # the executable is installed
 
 
-@pytest.mark.parametrize('name', LAUNCH_NAMES)
-def test_ros2_launch_starts_the_same_node_set(name):
+@pytest.mark.parametrize(('name', 'arguments'), CASES)
+def test_ros2_launch_starts_the_same_node_set(name, arguments):
     if importlib.util.find_spec('launch_ros') is None:
         pytest.skip('ROS 2 launch (launch_ros) is not installed here; the data path is tested')
     from launch import LaunchContext
@@ -60,6 +73,7 @@ def test_ros2_launch_starts_the_same_node_set(name):
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     context = LaunchContext()
+    context.launch_configurations.update(arguments)
     started = []
     for entity in module.generate_launch_description().entities:
         if isinstance(entity, DeclareLaunchArgument):
@@ -69,12 +83,53 @@ def test_ros2_launch_starts_the_same_node_set(name):
                 assert isinstance(group, GroupAction)
                 started += [(n.node_package, n.node_executable)
                             for n in group.get_sub_entities() if isinstance(n, Node)]
-    assert started == [(n.package, n.executable) for n in module.LAUNCH.node_specs({})]
+    assert started == [(n.package, n.executable) for n in module.LAUNCH.node_specs(arguments)]
+
+
+def _names(name: str, **arguments: str) -> list[str]:
+    return [spec.name for spec in load_launch_file(name).node_specs(arguments)]
+
+
+def test_system_launch_starts_the_robot_probe_sweep_and_with_a_checkpoint_the_classifier():
+    sim = ['mujoco_bridge', 'madgwick_node', 'probe_node', 'sweep_node']
+    hardware = ['teensy_node', 'madgwick_node', 'arm_driver', 'probe_node', 'sweep_node']
+    assert _names('system', sim='true') == sim
+    assert _names('system', sim='true', checkpoint='/run/model') == [*sim, 'classifier_node']
+    assert _names('system') == hardware
+    assert _names('system', checkpoint='/run/model', rviz='true') == [
+        *hardware, 'classifier_node', 'robot_state_publisher', 'rviz2']
+
+
+def test_system_launch_passes_its_arguments_to_the_nodes_it_borrows():
+    arguments = {'sim': 'true', 'checkpoint': '/run/model', 'recording_root': '/data/bags',
+                 'pathway_file': '/data/pathway.json', 'patch_texture': 'wood',
+                 'rate_factor': '3', 'threshold': '1', 'runtime': 'onnxruntime'}
+    nodes = {spec.name: spec for spec in load_launch_file('system').node_specs(arguments)}
+
+    def parameters(name: str) -> dict:
+        merged = {}
+        for item in nodes[name].parameters:
+            merged.update(item if isinstance(item, dict) else {})
+        return merged
+    assert parameters('mujoco_bridge') == {'scene': 'uneven_texture', 'rate_factor': 3.0,
+                                           'patch_texture': 'wood'}
+    assert parameters('probe_node')['pathway_file'] == '/data/pathway.json'
+    assert parameters('sweep_node')['recording_root'] == '/data/bags'
+    assert parameters('classifier_node') == {'checkpoint': '/run/model', 'threshold': 1.0,
+                                             'runtime': 'onnxruntime', 'use_sim_time': True}
+    assert all(parameters(name)['use_sim_time'] for name in
+               ('madgwick_node', 'probe_node', 'sweep_node'))
+    with pytest.raises(LaunchError, match="rate_factor:='fast' is not a finite number"):
+        load_launch_file('system').node_specs({'sim': 'true', 'rate_factor': 'fast'})
+    with pytest.raises(LaunchError, match='no node .nope. in this launch file; it starts '
+                                          'mujoco_bridge, madgwick_node'):
+        load_launch_file('sim').node('nope', {})
 
 
 def test_unknown_arguments_and_bad_choices_are_refused_with_the_known_ones():
     launch = load_launch_file('sim')
-    with pytest.raises(LaunchError, match='takes: discovery, namespace, rate_factor, scene'):
+    with pytest.raises(LaunchError, match='takes: discovery, namespace, patch_texture, '
+                                          'rate_factor, rviz, scene'):
         launch.resolve({'scen': 'probe'})
     with pytest.raises(LaunchError, match='localhost, subnet'):
         launch.resolve({'discovery': 'internet'})
@@ -148,15 +203,67 @@ def test_sim_launch_runs_in_its_namespace_and_stops_cleanly_on_sigterm(ros_conte
     assert not [name for name, pid in pids.items() if _alive(pid)]
 
 
+def _descendants(pid: int) -> set[int]:
+    """Every process below `pid` in the process tree (children of all its threads)."""
+    found, todo = set(), [pid]
+    while todo:
+        parent = todo.pop()
+        for task in Path(f'/proc/{parent}/task').glob('*'):
+            try:
+                children = (task / 'children').read_text().split()
+            except OSError:
+                continue
+            for child in map(int, children):
+                if child not in found:
+                    found.add(child)
+                    todo.append(child)
+    return found
+
+
 @pytest.mark.ros
-def test_killing_the_launcher_leaves_no_orphaned_node(tmp_path):
+def test_killing_the_launcher_leaves_no_orphaned_process(tmp_path):
     log = tmp_path / 'launch.log'
-    launcher = _start_launch('sim', 'rate_factor:=1.0', log=log)
-    assert _wait(lambda: len(_pids(log.read_text())) == 2, 20), log.read_text()
-    pids = _pids(log.read_text())
-    launcher.kill()
+    launcher = _start_launch('system', 'sim:=true', f'recording_root:={tmp_path}/bags',
+                             f'pathway_file:={tmp_path}/pathway.json', log=log)
+    assert _wait(lambda: len(_pids(log.read_text())) == 4, 30), log.read_text()
+    tree = _descendants(launcher.pid)
+    assert set(_pids(log.read_text()).values()) <= tree
+    launcher.kill()  # SIGKILL: the launcher cannot clean up; the kernel tells the nodes
     launcher.wait()
-    assert _wait(lambda: not any(_alive(pid) for pid in pids.values()), 10)
+    assert _wait(lambda: not any(_alive(pid) for pid in tree), 10), \
+        [open(f'/proc/{pid}/cmdline').read() for pid in tree if _alive(pid)]
+
+
+@pytest.mark.ros
+@pytest.mark.slow
+def test_probe_launch_in_simulation_broadcasts_contacts_with_the_surface_normals(tmp_path):
+    from transforms3d.quaternions import quat2mat
+
+    from tactex.demo_session import ProbeLine, SystemClient
+    from tactex_sim.scene import load_scene, resolve_scene
+
+    log = tmp_path / 'launch.log'
+    launcher = _start_launch('probe', 'sim:=true', 'rate_factor:=0.5',
+                             f'pathway_file:={tmp_path}/pathway.json', log=log)
+    try:
+        with SystemClient() as client:
+            client.wait_ready(60, sweep=False, alive=lambda: launcher.poll() is None)
+            result, pathway, contacts = client.probe(ProbeLine(0.185, 0.01, 0.01), 280,
+                                                     alive=lambda: launcher.poll() is None)
+    finally:
+        launcher.send_signal(signal.SIGTERM)
+        code = launcher.wait(timeout=15)
+    assert code == 0, log.read_text()[-3000:]
+    assert list(result.outcomes) == [0, 0], log.read_text()[-3000:]
+    assert len(contacts.poses) == len(pathway.contacts) == 2
+    surface = load_scene(resolve_scene('probe')).surface
+    for pose in contacts.poses:  # the z axis of each pose is the outward normal
+        q = pose.orientation
+        normal = quat2mat([q.w, q.x, q.y, q.z])[:, 2]
+        nx, nz = surface.normal(pose.position.x)
+        assert np.degrees(np.arccos(min(1.0, nx * normal[0] + nz * normal[2]))) < 8.0
+        assert abs(pose.position.z - surface.height(pose.position.x)) < 0.002
+    assert not [pid for pid in _pids(log.read_text()).values() if _alive(pid)]
 
 
 @pytest.mark.ros

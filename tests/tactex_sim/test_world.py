@@ -166,6 +166,23 @@ def test_same_seed_gives_bit_identical_streams():
     assert not np.array_equal(run(other, 0.2)[-1].accel, streams[0][23, :3])
 
 
+def test_changing_the_patch_texture_while_running_equals_starting_with_it():
+    scene = SCENE['uneven_texture']
+    parameters = SweepParameters(0.10, 0.015, 0.0015, 0.5, 0.1, 1.0, 1.0)
+    plan = plan_sweep(scene, parameters, duration_s=1.0)
+    streams = []
+    for changed in (False, True):
+        world = World(scene, seed=5, patch_texture='carpet wool' if changed else 'wood')
+        world.place_arm(plan.joints[0])
+        world.controller = plan.targets
+        world.set_patch_texture('wood' if changed else None)  # None: the scene's, wood
+        streams.append([(s.truth.texture, *s.accel) for s in run(world, plan.times_s[-1])])
+    assert streams[0] == streams[1]
+    assert {texture for texture, *_ in streams[0]} >= {'wood'}
+    with pytest.raises(KeyError, match="unknown texture 'velvet'; known: .*wood"):
+        world.set_patch_texture('velvet')
+
+
 def test_a_scene_without_contact_does_not_collide():
     scene = parse_scene({'name': 'ghost', 'seed': 1, 'effects': ['compliance'],
                          'surface': {'kind': 'flat'}})

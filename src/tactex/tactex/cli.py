@@ -21,7 +21,7 @@ from tactex_sim.errors import SimError
 # Subcommand name -> module under tactex.commands with add_arguments(parser) and run(args).
 COMMANDS = {
     'description': 'Show the robot description, write its URDF or MJCF, check the URDF.',
-    'demo': 'Run the simulated pipeline slice that works today.',
+    'demo': 'Run the whole pipeline in simulation through the launched nodes (make demo).',
     'emulate': 'Emulate hardware on a pseudo-terminal (teensy, dynamixel).',
     'sim': 'Simulation jobs: collect a synthetic texture dataset.',
     'record': 'Record the tactile topics, joint states and sweep segments (rosbag2, mcap).',

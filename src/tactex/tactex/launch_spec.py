@@ -16,6 +16,7 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 import importlib.util
+import math
 from pathlib import Path
 from typing import Any
 
@@ -66,6 +67,8 @@ COMMON_ARGUMENTS = (
     Argument('discovery', 'localhost',
              'who may discover these nodes: this host only, or the whole subnet',
              ('localhost', 'subnet')),
+    Argument('rviz', 'false', 'also start robot_state_publisher and RViz (full ROS 2 installs)',
+             ('true', 'false')),
 )
 DISCOVERY_RANGE = {'localhost': 'LOCALHOST', 'subnet': 'SUBNET'}
 
@@ -109,8 +112,23 @@ class LaunchFile:
         return values
 
     def node_specs(self, overrides: Mapping[str, str]) -> list[NodeSpec]:
-        """The nodes to start for these argument values."""
-        return list(self.nodes(self.resolve(overrides)))
+        """The nodes to start for these argument values (and the viewer with rviz:=true)."""
+        values = self.resolve(overrides)
+        nodes = list(self.nodes(values))
+        return nodes + visualisation_nodes() if is_true(values['rviz']) else nodes
+
+
+    def node(self, name: str, overrides: Mapping[str, str]) -> NodeSpec:
+        """The node called `name` of this launch file, for these argument values.
+
+        Raises:
+            LaunchError: it starts no node of that name.
+        """
+        nodes = {spec.name: spec for spec in self.node_specs(overrides)}
+        if name not in nodes:
+            raise LaunchError(f'no node {name!r} in this launch file; it starts '
+                              f'{", ".join(nodes)}')
+        return nodes[name]
 
 
 def config_path(name: str) -> str:
@@ -140,6 +158,21 @@ def is_true(value: str) -> bool:
     if value.lower() in ('false', '0', 'no'):
         return False
     raise LaunchError(f'expected true or false, got {value!r}')
+
+
+def as_float(name: str, value: str) -> float:
+    """A number argument as a float, so that `rate_factor:=3` reaches a DOUBLE parameter.
+
+    Raises:
+        LaunchError: not a finite number.
+    """
+    try:
+        number = float(value)
+    except ValueError:
+        number = math.nan
+    if not math.isfinite(number):
+        raise LaunchError(f'{name}:={value!r} is not a finite number')
+    return number
 
 
 def launch_directory() -> Path:

@@ -48,8 +48,9 @@ def find_executable(package: str, executable: str) -> str:
     found = shutil.which(executable)
     if found:
         return found
-    raise LaunchError(f'cannot find the executable {executable!r} of package {package!r}; '
-                      'install the workspace (make test, or colcon build and source it)')
+    fix = ('install the workspace (make test, or colcon build and source it)'
+           if package.startswith('tactex') else 'it comes with a full ROS 2 install: source it')
+    raise LaunchError(f'cannot find the executable {executable!r} of package {package!r}; {fix}')
 
 
 def _yaml_value(value: Any) -> str:

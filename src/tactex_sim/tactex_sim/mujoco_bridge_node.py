@@ -5,7 +5,8 @@
 Same topics and commands as the hardware: joint_states, the raw tactile topics,
 arm/joint_trajectory (validated and played exactly as the driver does), arm/stop and
 arm/torque; plus /clock (simulated time: run other nodes with use_sim_time) and the
-ground truth on sim/ground_truth/*. `rate_factor` 1 runs in real time, 5 five times
+ground truth on sim/ground_truth/*. `patch_texture` may be set while running (one texture
+per sweep without a restart). `rate_factor` 1 runs in real time, 5 five times
 faster, 0 as fast as the machine allows.
 """
 
@@ -16,7 +17,7 @@ import time
 
 from geometry_msgs.msg import PoseStamped
 import numpy as np
-from rcl_interfaces.msg import ParameterDescriptor
+from rcl_interfaces.msg import ParameterDescriptor, SetParametersResult
 import rclpy
 from rclpy.node import Node
 from rosgraph_msgs.msg import Clock
@@ -30,6 +31,7 @@ from tactex_common.ros import COMMAND, SENSOR_DATA, spin
 from tactex_driver.arm import ArmController
 from tactex_driver.playback import JointLimits
 from tactex_sensor.messages import TACTILE_TOPICS
+from tactex_sim.errors import SimError
 from tactex_sim.recording import sample_messages, SAMPLE_TOPICS
 from tactex_sim.scene import load_scene, resolve_scene
 from tactex_sim.world import Sample, World
@@ -62,7 +64,8 @@ class MujocoBridgeNode(Node):
         start = self.declare_parameter('initial_joints', [0.0, -0.3, 0.3, 1.2, 0.0], describe(
             description='joint1..joint4 (rad) and gripper (m) at start', read_only=True)).value
         texture = self.declare_parameter('patch_texture', '', describe(
-            description='texture of every patch ("" keeps the scene\'s)', read_only=True)).value
+            description='texture of every patch ("" keeps the scene\'s); settable while '
+                        'running (the next sample feels it)')).value
         if self._rate_factor < 0 or not math.isfinite(self._rate_factor):
             raise ValueError(f'rate_factor must be >= 0, got {self._rate_factor!r}')
         scene = load_scene(resolve_scene(scene_name))
@@ -73,6 +76,7 @@ class MujocoBridgeNode(Node):
         self._controller.update_measured(self._world.joint_positions())
         self._controller.torque_on(0.0)
         self._world.controller = self._goal
+        self.add_on_set_parameters_callback(self._on_set_parameters)
 
         self._clock_pub = self.create_publisher(Clock, '/clock', 10)
         sensor_topics = {topic for topic, _ in TACTILE_TOPICS}
@@ -90,6 +94,17 @@ class MujocoBridgeNode(Node):
         self.create_timer(min(period, 0.01), self._tick)
         self.get_logger().info(f'scene {scene.name!r}, effects {list(scene.effects)}, '
                                f'{scene.sensor_rate_hz:g} Hz, rate factor {self._rate_factor}')
+
+    def _on_set_parameters(self, parameters) -> SetParametersResult:
+        for parameter in parameters:
+            if parameter.name == 'patch_texture':
+                try:
+                    self._world.set_patch_texture(parameter.value or None)
+                except SimError as err:
+                    reason = ' '.join(map(str, err.args))
+                    return SetParametersResult(successful=False, reason=reason)
+                self.get_logger().info(f'patch texture {parameter.value or "of the scene"!r}')
+        return SetParametersResult(successful=True)
 
     def _goal(self, sim_time_s: float) -> np.ndarray:
         goal = self._controller.goal(sim_time_s)

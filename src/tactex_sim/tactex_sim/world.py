@@ -114,11 +114,7 @@ class World:
         self.scene = scene
         self.rng = np.random.default_rng(scene.seed if seed is None else seed)
         self._patches = scene.patches
-        if patch_texture is not None:
-            find_texture(patch_texture)
-            self._patches = tuple(type(p)(patch_texture, p.x_m, p.y_m) for p in scene.patches)
-        for patch in self._patches:
-            find_texture(patch.texture)
+        self.set_patch_texture(patch_texture)
         self.effects: list[Effect] = []
         # Registry order, whatever the scene's order (effect_class names unknown ones).
         for cls in sorted(map(effect_class, scene.effects), key=list(EFFECTS.values()).index):
@@ -196,6 +192,18 @@ class World:
         heights = surface.height(xs) - (surface.top_z - surface.amplitude_m)
         normalised = np.clip(heights / max(2 * surface.amplitude_m, 1e-12), 0.0, 1.0)
         self.model.hfield_data[:] = np.tile(normalised, nrow)
+
+    def set_patch_texture(self, name: str | None) -> None:
+        """Give every patch the texture `name` (None: the scene's own), from the next sample.
+
+        Raises:
+            SimError: no texture of that name (the message names the known ones).
+        """
+        patches = self.scene.patches if name is None else tuple(
+            type(p)(name, p.x_m, p.y_m) for p in self.scene.patches)
+        for patch in patches:
+            find_texture(patch.texture)
+        self._patches = patches
 
     # -- control ----------------------------------------------------------------------
     @property

@@ -472,19 +472,20 @@ class SweepNode(Node):
             recorder.add_topic(topic, type_name)
         with self._lock:
             self._recorder = recorder
-        self._recording_subscriptions = [
-            self.create_subscription(message_class(type_name), topic, self._writer_for(topic),
-                                     RECORDING[qos], raw=True,
-                                     callback_group=self._record_group)
-            for topic, type_name, qos in RECORDED_TOPICS
-            if topic != topics.RECORDING_METADATA]
+        # Made at the first recording and kept: destroying a subscription while the
+        # multi-threaded executor builds its wait set kills the node (rclpy InvalidHandle).
+        # Between recordings the writers drop what arrives.
+        if not self._recording_subscriptions:
+            self._recording_subscriptions = [
+                self.create_subscription(message_class(type_name), topic,
+                                         self._writer_for(topic), RECORDING[qos], raw=True,
+                                         callback_group=self._record_group)
+                for topic, type_name, qos in RECORDED_TOPICS
+                if topic != topics.RECORDING_METADATA]
         self.get_logger().info(f'recording to {root}')
         return root
 
     def _stop_recording(self) -> None:
-        for subscription in self._recording_subscriptions:
-            self.destroy_subscription(subscription)
-        self._recording_subscriptions = []
         with self._lock:
             recorder, self._recorder = self._recorder, None
         if recorder is not None:

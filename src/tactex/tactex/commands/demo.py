@@ -1,214 +1,445 @@
 # Copyright 2026 The tactex authors
 # SPDX-License-Identifier: Apache-2.0
-"""`tactex demo`: the part of the simulated pipeline that works today, run end to end.
+"""`tactex demo`: the whole pipeline in simulation, through the launched nodes.
 
-Slice 1, the robot description: the exploration motion of the probe phase (approach
-height, descend, retract, step 1 cm) is solved with our analytic IK and played on the
-MuJoCo arm through its position servos; the sensor tip it reaches is compared with the
-target. Slice 2, the tactile sensor: an emulated Teensy streams real protocol frames
-with injected garbage and CRC errors over a pseudo-terminal; the serial reader decodes
-them and the Madgwick filter estimates the tilt, compared with the emulated one.
-Slice 3, data: scripted sweeps over three textures in the MuJoCo texture scene are
-recorded as bags and converted into a windowed dataset. Slice 4, classification: the
-statistics + ExtraTrees baseline, cross-validated by recording. Probing and the online
-classifier are not in it yet.
-
-Each slice states a threshold and is measured against it (the worst tracking error, the
-filter's tilt error and how much of the stream it saw, the grouped accuracy); the demo
-ends with a table of every figure and exits 1, naming the slice, when one is missed.
+`launch/system.launch.py sim:=true` is started by the launcher (supervised processes);
+the demo then talks to the nodes only through their interfaces: it probes the uneven
+surface (the `probe` action; the pathway is broadcast on probe/pathway and
+probe/contacts), sweeps each of the 12 textures along it while sweep_node records
+(the `sweep` action with `record: true`; the texture is the bridge's `patch_texture`
+parameter), converts the recordings (`tactex convert`), trains with grouped and
+stratified cross-validation (`tactex train`), starts the system again with the
+checkpoint and classifies fresh sweeps live through classifier_node (texture/estimate).
+It writes summary.json, the plots and every node's log under --out, prints each figure
+against its threshold (README, "The demo") and exits 1 naming a figure that misses it.
 """
 
 from __future__ import annotations
 
 import argparse
-from dataclasses import dataclass
+from collections.abc import Iterator
+from contextlib import contextmanager, redirect_stderr, redirect_stdout
+from dataclasses import dataclass, replace
+import json
 import math
+import os
 from pathlib import Path
+import random
+import re
+import shutil
 import sys
+import threading
+import time
 
 import numpy as np
 
 from tactex.errors import CommandError
-from tactex.options import integer, number
+from tactex.options import check_output_folder, integer, number, staged_folder
 
-# Folds of the demo's grouped cross-validation.
-DEMO_FOLDS = 3
-# The thresholds each slice is held to.
-TRACKING_LIMIT_MM = 2.0  # worst steady-state error of the sensor edge at a waypoint
-ROLL_LIMIT_DEG = 1.0  # Madgwick estimate vs the emulated 20 deg roll
-MIN_DECODED_FRAMES = 350  # one second of the 3 s stream, so the filter really ran
-ACCURACY_FLOOR = 0.70  # grouped, 3 textures, two of them alike (chance 0.33; 0.86 seen)
+SCENE = 'uneven_texture'
+MODEL = 'extratrees'
+WINDOW = 128
+MARKER = '.tactex-demo'  # marks a folder the demo wrote (replaced by the next run)
+STAGES = 7
+NODE_START_S = 120.0  # wait for the action servers (a loaded machine starts them slowly)
+PROBE_TIMEOUT_S = 900.0
+SWEEP_TIMEOUT_S = 240.0
+# Shallower draws of the scene's press depth (1.5 +- 0.4 mm) lose the crests of the wave
+# for longer than sweep_node's contact_loss_tolerance, and the node aborts the sweep.
+MIN_PRESS_M = 0.0012
+ATTEMPTS = 2  # an aborted probe or sweep goal is tried once more (both are reported)
 
 
 @dataclass(frozen=True)
-class Check:
-    """One figure of a slice against the threshold it is held to."""
+class Sizes:
+    """How much the demo does."""
 
-    slice_name: str
-    figure: str
-    value: float
-    limit: float
-    unit: str
-    at_least: bool = False  # True: the figure must reach the limit; False: stay within it
+    sweeps: int  # recorded sweeps per texture
+    live_sweeps: int  # fresh sweeps per texture classified live
+    probe_span_m: float
+    probe_step_m: float
+    folds: int
+    textures: tuple[str, ...] = ()  # () : all 12
 
-    @property
-    def passed(self) -> bool:
-        """Whether the figure meets its threshold (NaN never does)."""
-        return self.value >= self.limit if self.at_least else self.value <= self.limit
 
-    def line(self) -> str:
-        """`slice: figure value (threshold): PASS|FAIL`."""
-        bound = '>=' if self.at_least else '<='
-        return (f'{self.slice_name}: {self.figure} {self.value:.4g} {self.unit} '
-                f'(threshold {bound} {self.limit:g} {self.unit}): '
-                f'{"PASS" if self.passed else "FAIL"}')
+DEFAULT = Sizes(sweeps=3, live_sweeps=1, probe_span_m=0.10, probe_step_m=0.02, folds=3)
+# Four textures, two alike (the cotton weaves), so that the check can fail.
+QUICK = Sizes(sweeps=2, live_sweeps=1, probe_span_m=0.06, probe_step_m=0.02, folds=2,
+              textures=('ridged polymer', 'wood', 'open weave cotton', 'tight weave cotton'))
+PROBE_START_X_M = 0.10
+# Probe points 25 mm up: with the 20 mm approach the tilted tool clears the 8 mm wave's
+# crests when it moves sideways between points (from 18 mm up it touched them).
+PROBE_START_Z_M = 0.025
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Register the options of this subcommand."""
-    parser.add_argument('--points', type=integer(1, 10), default=5,
-                        help='probe stations, 1 cm apart (1..10, default 5)')
-    parser.add_argument('--settle-s', type=number(at_most=60.0), default=1.5,
-                        help='simulated time to hold each waypoint (default 1.5 s)')
-    parser.add_argument('--sweeps', type=integer(DEMO_FOLDS, 50), default=6,
-                        help=f'sweeps per texture in the data slice ({DEMO_FOLDS}..50, default '
-                             f'6): each texture needs a recording in every one of the '
-                             f'{DEMO_FOLDS} folds')
+    parser.add_argument('--out', type=Path, default=Path('out/demo'),
+                        help='folder for summary.json, plots, recordings, model and logs '
+                             '(default out/demo; a previous demo there is replaced)')
+    parser.add_argument('--quick', action='store_true',
+                        help=f'{len(QUICK.textures)} textures, {QUICK.sweeps} sweeps each, a '
+                             'shorter pathway (a few minutes)')
+    parser.add_argument('--sweeps', type=integer(2, 50), default=None,
+                        help=f'recorded sweeps per texture (2..50; default {DEFAULT.sweeps}, '
+                             f'--quick {QUICK.sweeps})')
+    parser.add_argument('--live-sweeps', type=integer(1, 20), default=None,
+                        help='fresh sweeps per texture classified live (1..20, default 1)')
+    parser.add_argument('--rate-factor', type=number(at_most=10.0), default=1.0,
+                        help='simulated seconds per wall second (default 1; a loaded machine '
+                             'keeps up with less)')
 
 
 def run(args: argparse.Namespace) -> int:
-    """Run every slice, print each figure against its threshold; 1 if one is missed."""
-    checks = [*_description_slice(args.points, args.settle_s), *_sensor_slice(),
-              *_data_and_classification_slices(args.sweeps)]
-    print('\ntactex demo, summary:')
-    for check in checks:
-        print(f'  {check.line()}')
+    """Run every stage; print the figures against their thresholds; 1 if one misses."""
+    sizes = QUICK if args.quick else DEFAULT
+    sweeps = args.sweeps or sizes.sweeps
+    sizes = replace(sizes, sweeps=sweeps, live_sweeps=args.live_sweeps or sizes.live_sweeps,
+                    folds=min(DEFAULT.folds, sweeps))
+    out = _check_out(args.out)
+    started = time.monotonic()
+    with staged_folder(out) as folder, _demo_environment(folder):
+        (folder / MARKER).write_text('written by tactex demo\n', encoding='utf-8')
+        demo = Demo(folder, out, sizes, args.rate_factor, started)
+        summary, checks = demo.run()
+        if out.is_dir():
+            shutil.rmtree(out)  # a previous demo (checked by _check_out)
+    _print_summary(out, summary, checks)
     missed = [check for check in checks if not check.passed]
-    for check in missed:
-        print(f'error: {check.slice_name} missed its threshold: {check.line()}',
-              file=sys.stderr)
+    if missed:
+        print(f'error: {len(missed)} figure(s) missed the threshold: '
+              f'{"; ".join(check.line() for check in missed)}', file=sys.stderr)
     return 1 if missed else 0
 
 
-def _description_slice(points: int, settle_s: float) -> list[Check]:
-    """Play the probe motion in MuJoCo and print the tracking error per waypoint."""
-    import mujoco
-
-    from tactex_description.geometry import ARM_JOINT_NAMES
-    from tactex_description.kinematics import forward_kinematics, inverse_kinematics
-    from tactex_description.mjcf import build_mjcf
-
-    print('tactex demo, slice 1/5: robot description (IK -> MuJoCo servos -> FK).')
-    print('Not yet in the demo: probing the surface, the online classifier.\n')
-    model = mujoco.MjModel.from_xml_string(build_mjcf())
-    data = mujoco.MjData(model)
-    joints = [model.joint(name).qposadr[0] for name in ARM_JOINT_NAMES]
-    seed = np.array([0.0, -0.3, 0.3, 1.5])
-    waypoints = []
-    for station in range(points):
-        x = 0.10 + 0.01 * station
-        waypoints += [(x, 0.0, 0.08), (x, 0.0, 0.03), (x, 0.0, 0.08)]
-    print(f'{"target x,y,z (m)":<26}{"reached x,y,z (m)":<28}{"error (mm)":>10}')
-    worst = 0.0
-    steps = int(round(settle_s / model.opt.timestep))
-    for target in waypoints:
-        result = inverse_kinematics(target, math.pi / 2, seed=seed)
-        if not result.reachable:
-            raise CommandError(f'--points {points}: waypoint {target} is unreachable: '
-                               f'{result.detail}; use fewer points')
-        seed = result.solutions[0]
-        data.ctrl[:4] = seed
-        for _ in range(steps):
-            mujoco.mj_step(model, data)
-        reached = forward_kinematics(data.qpos[joints], 'sensor_edge')[:3, 3]
-        error_mm = 1e3 * float(np.linalg.norm(reached - target))
-        worst = max(worst, error_mm)
-        print(f'{_xyz(target):<26}{_xyz(reached):<28}{error_mm:>10.2f}')
-    print(f'\n{len(waypoints)} waypoints, worst steady-state error {worst:.2f} mm '
-          '(position servos under gravity).')
-    return [Check('slice 1', 'worst tracking error', worst, TRACKING_LIMIT_MM, 'mm')]
+def _check_out(out: Path) -> Path:
+    """--out is new, empty, or a previous demo's folder (which the run replaces)."""
+    if out.is_dir() and (out / MARKER).is_file():
+        if not os.access(out.parent, os.W_OK | os.X_OK):
+            raise CommandError(f'--out {out}: {out.parent} is not writable')
+        return out
+    return check_output_folder(out)
 
 
-def _sensor_slice() -> list[Check]:
-    """Emulated Teensy -> pty -> decoder -> Madgwick; print what arrived and the tilt."""
-    import tempfile
-    import threading
-    import time
-
-    from tactex_sensor.emulator import Fault, Motion, SignalSource, TeensyEmulator
-    from tactex_sensor.link import SerialLink
-    from tactex_sensor.madgwick import MadgwickFilter
-    from tactex_sensor.reader import TeensyReader
-
-    print('\ntactex demo, slice 2/5: tactile sensor (emulated Teensy -> pty -> decoder -> '
-          'Madgwick), 350 Hz for 3 s, 20 deg roll, garbage and CRC faults.')
-    roll_deg = 20.0
-    with tempfile.TemporaryDirectory() as folder:
-        link_path = f'{folder}/teensy'
-        faults = (Fault.parse('garbage@0.5:300'), Fault.parse('crc@1.0:5'))
-        source = SignalSource(Motion.STATIC, roll_rad=math.radians(roll_deg), seed=1)
-        with TeensyEmulator(link_path, 350.0, source, faults=faults) as emulator:
-            streamer = threading.Thread(target=emulator.run, args=(3.0,), daemon=True)
-            streamer.start()
-            reader = TeensyReader(SerialLink(link_path, 250000), time.monotonic_ns)
-            madgwick = MadgwickFilter()
-            previous_ns = None
-            while streamer.is_alive():
-                for stamp_ns, sample in reader.poll():
-                    dt = 0.0 if previous_ns is None else (stamp_ns - previous_ns) * 1e-9
-                    previous_ns = stamp_ns
-                    madgwick.update(sample.gyro, sample.accel, dt)
-            reader.link.close()
-    stats = reader.decoder.stats
-    w, x, y, z = madgwick.quaternion
-    roll = math.degrees(math.atan2(2 * (w * x + y * z), 1 - 2 * (x * x + y * y)))
-    print(f'frames decoded {stats.frames}, CRC errors {stats.crc_errors}, '
-          f'lost {stats.lost_frames}, garbage bytes discarded {stats.discarded_bytes}')
-    print(f'estimated roll {roll:.2f} deg (emulated {roll_deg:.1f} deg)')
-    return [Check('slice 2', 'frames decoded', stats.frames, MIN_DECODED_FRAMES, 'frames',
-                  at_least=True),
-            Check('slice 2', 'roll error', abs(roll - roll_deg), ROLL_LIMIT_DEG, 'deg')]
+@contextmanager
+def _demo_environment(folder: Path) -> Iterator[None]:
+    """A ROS domain of the demo's own (no robot nearby hears it) and logs under --out."""
+    names = ('ROS_DOMAIN_ID', 'ROS_LOG_DIR', 'ROS_AUTOMATIC_DISCOVERY_RANGE')
+    saved = {name: os.environ.get(name) for name in names}
+    os.environ.update(ROS_DOMAIN_ID=str(random.SystemRandom().randint(150, 232)),
+                      ROS_LOG_DIR=str(folder / 'logs' / 'ros'),
+                      ROS_AUTOMATIC_DISCOVERY_RANGE='LOCALHOST')
+    try:
+        yield
+    finally:
+        for name, value in saved.items():
+            if value is None:
+                os.environ.pop(name, None)
+            else:
+                os.environ[name] = value
 
 
-def _xyz(values) -> str:
-    return ' '.join(f'{v:+.4f}' for v in values)
+class Demo:
+    """The stages, writing into `folder` (staged; moved to `out` when they succeed)."""
+
+    def __init__(self, folder: Path, out: Path, sizes: Sizes, rate_factor: float,
+                 started: float) -> None:
+        from tactex_sim.scene import load_scene, resolve_scene
+        self.folder = folder
+        self.out = out
+        self.sizes = sizes
+        self.rate_factor = rate_factor
+        self.started = started
+        self.scene = load_scene(resolve_scene(SCENE))
+        self.stage = 0
+
+    def say(self, line: str) -> None:
+        """A progress line with the elapsed time."""
+        print(f'[{time.monotonic() - self.started:6.0f} s] {line}', flush=True)
+
+    def next_stage(self, line: str) -> None:
+        """Announce the next stage."""
+        self.stage += 1
+        self.say(f'stage {self.stage}/{STAGES}: {line}')
+
+    def run(self) -> tuple[dict, list]:
+        """Every stage; the summary and its checks."""
+        from tactex.demo_report import checks
+        from tactex_sim.textures import TEXTURES
+        textures = list(self.sizes.textures or TEXTURES)
+        self.next_stage('launch the system in simulation (launch/system.launch.py sim:=true)')
+        with self.system('collect') as (client, alive):
+            probe = self.probe(client, alive)
+            recorded = self.sweeps(client, alive, textures, self.sizes.sweeps, record=True,
+                                   seed=0)
+        data = self.convert()
+        metrics = self.train(data)
+        self.next_stage(f'launch the system again with the checkpoint; {self.sizes.live_sweeps} '
+                        f'fresh sweep(s) per texture classified live by classifier_node')
+        with self.system('live', checkpoint=self.folder / 'train' / 'model') as (client, alive):
+            # The new probe_node has broadcast nothing: the goals carry the pathway.
+            live = self.sweeps(client, alive, textures, self.sizes.live_sweeps, record=False,
+                               seed=1, pathway=probe['pathway'])
+        self.next_stage('figures: summary.json and plots')
+        summary = self.summarise(probe, recorded, live, metrics, textures)
+        figures = checks(summary, probe['points'])
+        summary['thresholds'] = {c.key: {'limit': c.limit, 'at_least': c.at_least,
+                                         'passed': c.passed} for c in figures}
+        finite = {k: None if isinstance(v, float) and not math.isfinite(v) else v
+                  for k, v in summary.items()}  # JSON has no NaN
+        (self.folder / 'summary.json').write_text(json.dumps(finite, indent=2) + '\n',
+                                                  encoding='utf-8')
+        return summary, figures
+
+    # -- the launched system --------------------------------------------------------------
+    @contextmanager
+    def system(self, name: str, *, checkpoint: Path | None = None):
+        """Launch system.launch.py sim:=true; yield a client and `alive()`; stop it after."""
+        from tactex.demo_session import SystemClient
+        from tactex.launch_spec import load_launch_file
+        from tactex.launcher import Launcher
+
+        values = {'sim': 'true', 'scene': SCENE, 'rate_factor': str(self.rate_factor),
+                  'recording_root': str(self.folder / 'bags'),
+                  'pathway_file': str(self.folder / 'pathway.json')}
+        if checkpoint is not None:
+            values['checkpoint'] = str(checkpoint)
+        nodes = load_launch_file('system').node_specs(values)
+        log_path = self.folder / 'logs' / f'{name}.log'
+        log_path.parent.mkdir(parents=True, exist_ok=True)
+        with log_path.open('w', encoding='utf-8') as log:
+            launcher = Launcher(nodes, out=log)
+            shown = ' '.join(f'{k}:={v}'.replace(str(self.folder), str(self.out))
+                             for k, v in values.items())
+            self.say(f'  tactex launch system {shown}'
+                     f' ({len(nodes)} nodes: {", ".join(n.name for n in nodes)}; ROS_DOMAIN_ID='
+                     f'{os.environ.get("ROS_DOMAIN_ID")}; log logs/{name}.log)')
+            stop = threading.Event()
+            codes: list[int] = []
+            launcher.start()
+            watcher = threading.Thread(target=lambda: codes.append(
+                launcher.supervise(until=stop.is_set)), daemon=True)
+            watcher.start()
+            try:
+                with SystemClient() as client:
+                    client.wait_ready(NODE_START_S, alive=watcher.is_alive)
+                    yield client, watcher.is_alive
+            except CommandError as err:
+                raise CommandError(f'{err} ({_node_failure(log_path)})') from None
+            finally:
+                stop.set()
+                watcher.join()
+        if codes != [0]:
+            raise CommandError(f'the {name} system stopped: {_node_failure(log_path)}')
+
+    # -- stages ---------------------------------------------------------------------------
+    def probe(self, client, alive) -> dict:
+        """Probe the line; the broadcast contacts and their errors against the surface."""
+        from tactex.demo_report import pathway_errors
+        from tactex.demo_session import ProbeAborted, ProbeLine
+        line = ProbeLine(PROBE_START_X_M, self.sizes.probe_span_m, self.sizes.probe_step_m,
+                         start_z_m=PROBE_START_Z_M)
+        self.next_stage(f'probe {line.points} points from x = {1e3 * line.start_x_m:.0f} mm '
+                        f'every {1e3 * line.step_m:.0f} mm (the probe action)')
+        for attempt in range(1, ATTEMPTS + 1):
+            try:
+                result, pathway, contacts = client.probe(line, PROBE_TIMEOUT_S, alive)
+                break
+            except ProbeAborted as err:
+                if attempt == ATTEMPTS:
+                    raise CommandError(f'probing failed {ATTEMPTS} times: {err}') from None
+                self.say(f'  probing aborted: {err}; trying again')
+        positions = np.array([[c.position.x, c.position.y, c.position.z]
+                              for c in pathway.contacts]).reshape(-1, 3)
+        normals = np.array([[c.normal.x, c.normal.y, c.normal.z]
+                            for c in pathway.contacts]).reshape(-1, 3)
+        normal_deg, position_mm = pathway_errors(positions, normals, self.scene.surface)
+        self.say(f'  {len(pathway.contacts)} of {line.points} probes gave a contact, broadcast '
+                 f'on probe/pathway and probe/contacts ({len(contacts.poses)} poses); normal '
+                 f'error {normal_deg.mean():.2f} deg, position error {position_mm.mean():.2f} mm'
+                 ' (mean, against the true surface)')
+        return {'points': line.points, 'attempts': attempt, 'pathway': pathway,
+                'positions': positions,
+                'normals': normals,
+                'outcomes': list(result.outcomes), 'normal_deg': normal_deg,
+                'position_mm': position_mm}
+
+    def sweeps(self, client, alive, textures: list[str], per_texture: int, *, record: bool,
+               seed: int, pathway=None) -> list:
+        """Sweep every texture `per_texture` times (drawn speed, press and tilt).
+
+        Without `pathway` the goals leave it empty: sweep_node sweeps the broadcast one.
+        """
+        from tactex.demo_session import SweepRun
+        from tactex_sim.sweep import SweepParameters
+        if record:
+            self.next_stage(f'sweep each of the {len(textures)} textures {per_texture} times '
+                            'along the pathway, recording (the sweep action, record: true)')
+        rng = np.random.default_rng([self.scene.seed, seed])
+        runs, total, began = [], len(textures) * per_texture, time.monotonic()
+        for texture in textures:
+            client.set_texture(texture, alive)
+            for _ in range(per_texture):
+                for attempt in range(ATTEMPTS):
+                    drawn = SweepParameters.draw(self.scene, rng)  # a retry draws anew
+                    run = client.sweep(SweepRun(texture, len(runs), drawn.speed_m_s),
+                                       edge_offset_rad=drawn.edge_offset_rad,
+                                       press_depth_m=max(drawn.press_depth_m, MIN_PRESS_M),
+                                       record=record,
+                                       timeout_s=SWEEP_TIMEOUT_S, alive=alive,
+                                       pathway=pathway)
+                    run.attempts = attempt + 1
+                    if run.status_ok:
+                        break
+                    self._discard(run.result.recording_path)
+                    self.say(f'  sweep {run.trial} ({texture}) {run.result.message}; its '
+                             'recording is discarded')
+                if not run.status_ok:
+                    raise CommandError(f'sweep {run.trial} ({texture}) failed '
+                                       f'{ATTEMPTS} times: {run.result.message}')
+                runs.append(run)
+                done = len(runs)
+                left = (time.monotonic() - began) / done * (total - done)
+                self.say(f'  [{done}/{total}] {_sweep_line(run)}  (about {left:.0f} s left)')
+        return runs
+
+    def _discard(self, recording: str) -> None:
+        """Remove an aborted sweep's recording (only one under this demo's bags/)."""
+        path = Path(recording)
+        if recording and path.is_dir() and (self.folder / 'bags') in path.parents:
+            shutil.rmtree(path)
+
+    def convert(self) -> Path:
+        """`tactex convert` the recordings into windows."""
+        from tactex.cli import main
+        from tactex_classify.dataset import Dataset
+        data = self.folder / 'dataset.npz'
+        self.next_stage(f'convert the recordings (tactex convert bags --window {WINDOW})')
+        self._command(['convert', str(self.folder / 'bags'), '--out', str(data),
+                       '--window', str(WINDOW)], 'convert', main)
+        dataset = Dataset.load(data)
+        skipped = re.findall(r'skipped (.+)$', (self.folder / 'logs' / 'convert.log').read_text(
+            encoding='utf-8'), re.MULTILINE)
+        note = f'; {len(skipped)} recording(s) skipped, e.g. {skipped[0]}' if skipped else ''
+        self.say(f'  {len(dataset.X)} windows of {WINDOW} samples from '
+                 f'{len(np.unique(dataset.trial))} recordings at '
+                 f'{dataset.info["sampling_rate_hz"]:.0f} Hz (dataset.npz){note}')
+        return data
+
+    def train(self, data: Path) -> dict:
+        """`tactex train` with grouped and stratified CV, keeping the deployable model."""
+        from tactex.cli import main
+        self.next_stage(f'train {MODEL}, {self.sizes.folds}-fold CV grouped by recording and '
+                        'stratified (tactex train)')
+        self._command(['train', str(data), '--model', MODEL, '--folds', str(self.sizes.folds),
+                       '--out', str(self.folder / 'train')], 'train', main)
+        metrics = json.loads((self.folder / 'train' / 'metrics.json').read_text(
+            encoding='utf-8'))
+        grouped, stratified = (_accuracy(metrics, s) for s in ('grouped', 'stratified'))
+        self.say(f'  accuracy {100 * grouped:.1f} % grouped by recording (honest), '
+                 f'{100 * stratified:.1f} % stratified (leaky); report train/report.md')
+        return {'grouped': grouped, 'stratified': stratified}
+
+    def _command(self, argv: list[str], name: str, main) -> None:
+        """Run a tactex subcommand with its output in logs/NAME.log."""
+        log = self.folder / 'logs' / f'{name}.log'
+        with log.open('w', encoding='utf-8') as stream, redirect_stdout(stream), \
+                redirect_stderr(stream):
+            code = main(argv)
+        if code:
+            errors = re.findall(r'^error: (.+)$', log.read_text(encoding='utf-8'), re.MULTILINE)
+            raise CommandError(f'tactex {name} failed: {errors[-1] if errors else code}')
+
+    def summarise(self, probe: dict, recorded: list, live: list, metrics: dict,
+                  textures: list[str]) -> dict:
+        """summary.json's figures, and the plots."""
+        from tactex import demo_report as report
+        sweeps = [run.result for run in recorded]
+        speed_errors = [abs(r.speed_mean - run.speed_m_s) / run.speed_m_s
+                        for r, run in zip(sweeps, recorded, strict=True)]
+        live_sweeps = [report.LiveSweep(run.label, tuple(run.estimates)) for run in live]
+        figures = report.live_figures(live_sweeps)
+        summary = {
+            'contacts': len(probe['positions']),
+            'probe_points': probe['points'],
+            'probe_attempts': probe['attempts'],
+            'normal_error_deg_mean': _mean(probe['normal_deg']),
+            'position_error_mm_mean': _mean(probe['position_mm']),
+            'contact_fraction': _mean([r.contact_fraction for r in sweeps]),
+            'sliding_speed_error': _mean(speed_errors),
+            'sweeps_recorded': len(recorded),
+            'sweep_attempts': sum(run.attempts for run in (*recorded, *live)),
+            'cv_accuracy_grouped': metrics['grouped'],
+            'cv_accuracy_stratified': metrics['stratified'],
+            'live_accuracy': figures['live_accuracy'],
+            'live_sweeps': figures['live_sweeps'],
+            'live_decided': figures['live_decided'],
+            'time_to_decision_s': figures['time_to_decision_s'],
+            'sizes': vars(self.sizes) | {'textures': textures, 'rate_factor': self.rate_factor,
+                                         'model': MODEL},
+        }
+        report.plot_pathway(self.folder / 'pathway.png', probe['positions'], probe['normals'],
+                            self.scene.surface)
+        first = recorded[0]
+        report.plot_sweep(self.folder / 'sweep.png', first.feedback, first.speed_m_s,
+                          f'Sweep {first.trial} ({first.label})')
+        report.plot_confusion(self.folder / 'confusion.png',
+                              report.confusion(live_sweeps, textures), textures)
+        longest = max((e.contact_s for s in live_sweeps for e in s.estimates), default=1.0)
+        times = np.linspace(0.0, longest, 60)
+        report.plot_accuracy_against_time(
+            self.folder / 'accuracy_vs_contact_time.png', times,
+            report.accuracy_against_contact_time(live_sweeps, times), 1 / len(textures))
+        summary['wall_s'] = time.monotonic() - self.started
+        return summary
 
 
-DEMO_TEXTURES = ('ridged polymer', 'open weave cotton', 'tight weave cotton')
+def _accuracy(metrics: dict, scheme: str) -> float:
+    """A scheme's accuracy from tactex train's metrics.json."""
+    try:
+        return float(metrics['schemes'][scheme]['accuracy'])
+    except (KeyError, TypeError, ValueError):
+        raise CommandError(f'train/metrics.json has no {scheme} accuracy') from None
 
 
-def _data_and_classification_slices(sweeps: int) -> list[Check]:
-    """Simulated sweeps -> bags -> dataset -> grouped cross-validation of a baseline."""
-    import tempfile
+def _mean(values) -> float:
+    values = np.asarray(values, dtype=float)
+    return float(values.mean()) if values.size else float('nan')
 
-    from tactex_classify.baselines import StatsExtraTrees
-    from tactex_classify.dataset import convert
-    from tactex_classify.evaluate import confusion, cross_validate, metrics
-    from tactex_sim.collect import collect
-    from tactex_sim.scene import load_scene, resolve_scene
 
-    print(f'\ntactex demo, slice 3/5: data ({sweeps} simulated sweeps of each of '
-          f'{", ".join(DEMO_TEXTURES)} -> mcap bags -> 128-sample windows).')
-    with tempfile.TemporaryDirectory() as folder:
-        scene = load_scene(resolve_scene('uneven_texture'))
-        collect(scene, sweeps, Path(folder), textures=DEMO_TEXTURES,
-                progress=lambda line: print(f'  {line}', flush=True))
-        dataset = convert([Path(folder)], window=128, hop=64, progress=lambda line: None)
-    print(f'{len(dataset.X)} windows from {len(set(dataset.trial.tolist()))} recordings, '
-          f'{dataset.info["sampling_rate_hz"]:.0f} Hz')
-    print('\ntactex demo, slice 4/5: classification (statistics + ExtraTrees, '
-          f'{DEMO_FOLDS}-fold CV '
-          'grouped by recording: no recording on both sides).')
-    result = cross_validate(dataset, lambda: StatsExtraTrees(seed=0), 'grouped',
-                            folds=DEMO_FOLDS)
-    for note in result.notes:
-        print(f'note: {note}')
-    matrix = confusion(dataset.y, result.proba.argmax(axis=1), len(dataset.classes))
-    accuracy = metrics(matrix, dataset.classes)['accuracy']
-    print(f'accuracy {100 * accuracy:.1f} % over {len(dataset.X)} windows; confusion '
-          f'(rows true, columns predicted):')
-    for name, row in zip(dataset.classes, matrix, strict=True):
-        print(f'  {name:<20}' + ''.join(f'{count:>6}' for count in row))
-    print('The two cotton weaves are meant to be confused: alike in reality, alike here.')
-    return [Check('slice 4', 'grouped accuracy', 100 * accuracy, 100 * ACCURACY_FLOOR, '%',
-                  at_least=True)]
+def _sweep_line(run) -> str:
+    result = run.result
+    text = (f'{run.label} #{run.trial}: contact {100 * result.contact_fraction:.0f} %, speed '
+            f'{1e3 * result.speed_mean:.1f} mm/s (asked {1e3 * run.speed_m_s:.1f})')
+    if run.estimates:
+        decided = [e for e in run.estimates if e.decided]
+        final = decided[0] if decided else run.estimates[-1]
+        text += (f'; classified {final.label!r} '
+                 f'{"after" if decided else "undecided after"} {final.contact_s:.1f} s')
+    return text
+
+
+def _node_failure(log_path: Path) -> str:
+    """The launcher's error line of a log; the failed node's last lines go to stdout.
+
+    The log itself is removed with the rest of the unfinished --out, so what it says about
+    the failure is shown here.
+    """
+    text = log_path.read_text(encoding='utf-8', errors='replace') if log_path.exists() else ''
+    found = re.findall(r'\[launch\] error: node (\S+) (.+)', text)
+    if not found:
+        return 'no node reported an error'
+    name, what = found[-1]
+    lines = [line for line in text.splitlines() if line.startswith(f'[{name}] ')]
+    print(f'last lines of {name}:', *lines[-15:], sep='\n  ', flush=True)
+    return f'node {name} {what}'
+
+
+def _print_summary(out: Path, summary: dict, checks: list) -> None:
+    print(f'\ntactex demo, summary ({out}/summary.json; plots pathway.png, sweep.png, '
+          'confusion.png, accuracy_vs_contact_time.png):')
+    print(f'  cv_accuracy_stratified {summary["cv_accuracy_stratified"]:.4g} (leaky, '
+          'reported only)')
+    for check in checks:
+        print(f'  {check.line()}')
+    print(f'  wall_s {summary["wall_s"]:.0f} s')
