@@ -5,7 +5,7 @@
 import math
 
 from hard_values import anything, finite, vectors
-from hypothesis import event, given, settings
+from hypothesis import event, example, given, settings
 from hypothesis import strategies as st
 import numpy as np
 import pytest
@@ -46,6 +46,8 @@ def trajectories(draw):
 
 @settings(max_examples=150)
 @given(trajectories(), st.lists(anything(), min_size=1, max_size=6))
+@example((['joint1', 'joint2'], [5e-324, 2.0, 3.0, 4.0],
+          [[0.0, -0.46875], [0.0, -0.5], [0.0, -0.5], [0.0, -0.5]], []), [0.0])
 def test_any_trajectory_is_refused_or_plays_finite_goals_within_the_limits(trajectory,
                                                                           sample_times):
     names, point_times, positions, velocities = trajectory

@@ -23,6 +23,8 @@ from tactex_driver.errors import TrajectoryRejected
 
 SAMPLES_PER_SEGMENT = 32
 LIMIT_TOLERANCE = 1e-9
+# Closer points make the spline's slopes overflow (a subnormal gap gives inf).
+MIN_POINT_SPACING_S = 1e-6
 
 
 @dataclass(frozen=True)
@@ -130,6 +132,9 @@ def plan(joint_names: Sequence[str], times_s: Sequence[float],
     if not np.all(np.isfinite(times)) or times[0] < 0 or np.any(np.diff(times) <= 0):
         raise TrajectoryRejected(f'time_from_start must be finite, >= 0 and strictly '
                                  f'increasing, got {times.tolist()!r}')
+    if 0 < times[0] < MIN_POINT_SPACING_S or np.any(np.diff(times) < MIN_POINT_SPACING_S):
+        raise TrajectoryRejected(f'points must be at least {MIN_POINT_SPACING_S * 1e6:g} us '
+                                 f'apart (and from the start), got {times.tolist()!r}')
     full = np.tile(current, (len(times), 1))
     full[:, columns] = rows
     for index, row in enumerate(full):

@@ -215,7 +215,10 @@ def estimate_normal(free: SensorWindow, pressed: SensorWindow) -> NormalEstimate
     deformed = filter_world.T @ quat2mat(pressed.quaternion)
     up = np.array([0.0, 0.0, 1.0])
     mismatch = align(free.accel, undeformed_free.T @ up)
-    gravity_deformed = undeformed @ align(mismatch @ pressed.accel, undeformed.T @ up)
+    # Only the direction of the pressed accel matters: scaled first, a huge one cannot
+    # overflow in the rotation.
+    pressed_accel = pressed.accel / np.max(np.abs(pressed.accel))
+    gravity_deformed = undeformed @ align(mismatch @ pressed_accel, undeformed.T @ up)
     normal = -deformed @ FACE_AXIS
     gravity_normal = -gravity_deformed @ FACE_AXIS
     agreement = angle_between(normal, gravity_normal)
@@ -260,6 +263,8 @@ def bearing_point(estimate: NormalEstimate) -> np.ndarray:
     try:
         u, v = np.linalg.solve(matrix, target)
     except np.linalg.LinAlgError:
+        return estimate.face_centre
+    if not (math.isfinite(u) and math.isfinite(v)):  # an absurd compression overflowed
         return estimate.face_centre
     # Never beyond the face: the contact is on it.
     u, v = (float(np.clip(w, -RIM_LIMIT_M, RIM_LIMIT_M)) for w in (u, v))
