@@ -88,6 +88,10 @@ def assert_valid_trajectory(trajectory):
 
 @example((np.array([[FLOAT32_MAX, 0.0, 0.026], [0.095, 0.0, 0.024]]),
           np.array([[0.06, 0.03, 1.0], [0.28, -0.01, 0.96]]), np.ones(2, dtype=bool)))
+@example((np.array([[1e300, 0.0, 0.026], [0.095, 0.0, 0.024]]),
+          np.array([[0.06, 0.03, 1.0], [0.28, -0.01, 0.96]]), np.ones(2, dtype=bool)))
+@example((np.array([[0.085, 0.0, 0.026], [0.095, 0.0, 0.024]]),
+          np.array([[1.34e154, 0.03, 1.0], [0.28, -0.01, 0.96]]), np.ones(2, dtype=bool)))
 @settings(max_examples=40, deadline=None)
 @given(spoilt_contacts())
 def test_any_contacts_give_a_path_of_unit_normals_or_a_path_error(spoilt):

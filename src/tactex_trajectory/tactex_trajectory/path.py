@@ -181,6 +181,7 @@ def path_from_contacts(points, normals, ok=None, settings: PathSettings = PathSe
     active = _drop_outliers(merged_points, merged_normals, kept, settings, dropped)
     if len(active) < 2:
         raise PathError(_too_few(len(points), len(active), dropped, settings))
+    _check_span(merged_points[active])
     curve = _fit(merged_points[active], merged_normals[active], settings)
     dropped.sort(key=lambda item: item.index)
     return _resample(curve, kept[active], settings, tuple(dropped))
@@ -229,13 +230,31 @@ def _merge_close(points: np.ndarray, usable: Sequence[int], within_m: float,
     return groups
 
 
+def _unit_rows(vectors: np.ndarray) -> np.ndarray:
+    """Each row scaled to unit length, scaled by its largest entry first (no overflow)."""
+    scaled = vectors / np.max(np.abs(vectors), axis=1, keepdims=True)
+    return scaled / np.linalg.norm(scaled, axis=1, keepdims=True)
+
+
 def _mean_direction(normals: np.ndarray) -> np.ndarray:
     """Mean unit direction; the first one's where they cancel (opposite duplicates)."""
-    units = normals / np.linalg.norm(normals, axis=1, keepdims=True)
+    units = _unit_rows(normals)
     total = units.sum(axis=0)
     if np.linalg.norm(total) < 0.5 * len(units):
         return units[0]
     return total / np.linalg.norm(total)
+
+
+def _check_span(points: np.ndarray) -> None:
+    """Refuse contacts whose chord length exceeds MAX_EXTENT_M, before anything is fitted."""
+    steps = np.diff(points, axis=0)
+    scale = np.max(np.abs(steps), axis=1)
+    with np.errstate(invalid='ignore'):
+        chords = scale * np.linalg.norm(steps / np.where(scale > 0, scale, 1.0)[:, None], axis=1)
+    span = float(np.sum(chords))
+    if not span <= MAX_EXTENT_M:
+        raise PathError(f'the contacts span {span:.3g} m, more than a path may '
+                        f'({MAX_EXTENT_M:g} m): check their positions')
 
 
 def _too_few(given: int, usable: int, dropped: list[DroppedContact],
@@ -257,7 +276,7 @@ def _drop_outliers(points: np.ndarray, normals: np.ndarray, kept: np.ndarray,
     and their normals interpolated on the sphere. Judging by neighbours, not by a
     smoothed fit, keeps a genuine peak between coarse probes from looking like an outlier.
     """
-    units = normals / np.linalg.norm(normals, axis=1, keepdims=True)
+    units = _unit_rows(normals)
     active = list(range(len(points)))
     if len(active) == 2:
         angle = _angle(units[0], units[1])
@@ -390,12 +409,12 @@ class _Curve:
         normals = np.cos(angle) * self.base[0] + np.sin(angle) * direction / safe
         tangents = self.tangents(u)
         normals -= np.sum(normals * tangents, axis=1, keepdims=True) * tangents
-        return normals / np.linalg.norm(normals, axis=1, keepdims=True)
+        return _unit_rows(normals)
 
 
 def _fit(points: np.ndarray, normals: np.ndarray, settings: PathSettings) -> _Curve:
     """Fit positions (with the normals' tangent condition) and the normal field."""
-    units = normals / np.linalg.norm(normals, axis=1, keepdims=True)
+    units = _unit_rows(normals)
     origin = points.mean(axis=0)  # fitted about their mean: far from base_link stays exact
     points = points - origin
     chords = np.linalg.norm(np.diff(points, axis=0), axis=1)
@@ -518,9 +537,6 @@ def _log_map(units: np.ndarray, base: np.ndarray) -> np.ndarray:
 
 def _resample(curve: _Curve, kept: np.ndarray, settings: PathSettings,
               dropped: tuple[DroppedContact, ...]) -> SweepPath:
-    if not curve.end_u <= MAX_EXTENT_M:
-        raise PathError(f'the contacts span {curve.end_u:.3g} m, more than a path may '
-                        f'({MAX_EXTENT_M:g} m): check their positions')
     dense_u = np.linspace(0.0, curve.end_u, max(200, int(curve.end_u * DENSE_PER_M) + 2))
     speed = np.linalg.norm(curve.velocity(dense_u), axis=1)
     dense_s = np.concatenate([[0.0], np.cumsum(0.5 * (speed[1:] + speed[:-1])
