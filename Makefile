@@ -18,13 +18,17 @@ MSGS_INPUTS := $(wildcard src/tactex_msgs/msg/*.msg src/tactex_msgs/srv/*.srv \
 	src/tactex_msgs/package.xml tools/build_interfaces.py
 PYTEST_ARGS ?=
 
-.PHONY: demo test bench results urdf lint clean
+.PHONY: demo test hunt bench results urdf lint clean
 
 demo: $(STAMP) $(MSGS_STAMP)
 	$(BIN)/tactex demo
 
 test: $(STAMP) $(MSGS_STAMP)
 	$(BIN)/python -m pytest $(PYTEST_ARGS)
+
+# The hard-case property suite with fresh random examples (`make test` draws a fixed set).
+hunt: $(STAMP)
+	$(BIN)/python -m pytest -q tests/hard_cases --hypothesis-profile=hunt $(PYTEST_ARGS)
 
 bench: $(STAMP) $(MSGS_STAMP)
 	$(BIN)/python bench/run_all.py

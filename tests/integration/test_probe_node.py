@@ -22,9 +22,9 @@ pytestmark = pytest.mark.ros
 BIN = Path(sys.executable).parent
 
 
-def spin_in_background(context, nodes, threads=4):
-    from rclpy.executors import MultiThreadedExecutor
-    executor = MultiThreadedExecutor(num_threads=threads, context=context)
+def spin_in_background(context, nodes):
+    from rclpy.executors import SingleThreadedExecutor
+    executor = SingleThreadedExecutor(context=context)
     for node in nodes:
         executor.add_node(node)
     thread = threading.Thread(target=executor.spin, daemon=True)
@@ -48,10 +48,6 @@ def goal(x, span, approach=0.02):
                       max_descent_depth=0.025, force_limit=3.0)
 
 
-@pytest.mark.xfail(strict=False, reason=(
-    'issue 16 open: the probe closed loop through separate node processes in real time '
-    'aborts (over-force, arm not following, joint-state gaps) on this 2-core machine; the '
-    'in-process closed loop (tests/tactex_probe/test_simulation.py) holds the accuracy'))
 @pytest.mark.slow
 def test_probe_goal_in_simulation_broadcasts_the_pathway(ros_context, tmp_path):
     from geometry_msgs.msg import PoseArray
@@ -82,7 +78,7 @@ def test_probe_goal_in_simulation_broadcasts_the_pathway(ros_context, tmp_path):
     poses, late = [], []
     client_node.create_subscription(PoseArray, 'probe/contacts', poses.append, LATCHED)
     client = ActionClient(client_node, Probe, 'probe')
-    executor, thread = spin_in_background(ros_context, [client_node], threads=2)
+    executor, thread = spin_in_background(ros_context, [client_node])
     try:
         assert client.wait_for_server(timeout_sec=30.0)
         feedback = []

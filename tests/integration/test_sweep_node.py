@@ -42,7 +42,7 @@ class Harness:
         from geometry_msgs.msg import PoseStamped
         import rclpy
         from rclpy.action import ActionClient
-        from rclpy.executors import MultiThreadedExecutor, SingleThreadedExecutor
+        from rclpy.executors import SingleThreadedExecutor
         from rclpy.parameter import Parameter
         from std_msgs.msg import Bool, String
 
@@ -79,7 +79,7 @@ class Harness:
         # The bridge spins alone, as in its own process: its busy timer must not hold up
         # the others.
         self.executors = [SingleThreadedExecutor(context=context),
-                          MultiThreadedExecutor(num_threads=4, context=context)]
+                          SingleThreadedExecutor(context=context)]
         self.executors[0].add_node(self.bridge)
         for node in (self.sweeper, self.client):
             self.executors[1].add_node(node)
@@ -148,9 +148,6 @@ def test_sweep_slides_in_contact_and_records_one_labelled_bag(harness):
     assert len(recording.stamps_ns) > 100
 
 
-@pytest.mark.xfail(strict=False, reason=(
-    'flaky: in one fresh-clone run of the whole suite the sweep never became active within '
-    '240 s (passes alone and in other full runs); being investigated'))
 def test_cancel_mid_sweep_lifts_the_edge_off_before_stopping(harness):
     from action_msgs.msg import GoalStatus
     handle = harness.send(pathway=pathway_message(0.10, 0.20), sliding_speed=0.015,

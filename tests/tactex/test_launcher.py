@@ -234,10 +234,6 @@ def test_killing_the_launcher_leaves_no_orphaned_process(tmp_path):
         [open(f'/proc/{pid}/cmdline').read() for pid in tree if _alive(pid)]
 
 
-@pytest.mark.xfail(strict=False, reason=(
-    'issue 16 open: the probe closed loop through separate node processes in real time '
-    'aborts (over-force, arm not following, joint-state gaps) on this 2-core machine; the '
-    'in-process closed loop (tests/tactex_probe/test_simulation.py) holds the accuracy'))
 @pytest.mark.ros
 @pytest.mark.slow
 def test_probe_launch_in_simulation_broadcasts_contacts_with_the_surface_normals(tmp_path):

@@ -39,22 +39,22 @@ RECORDING = {'sensor': QoSProfile(depth=500, reliability=ReliabilityPolicy.BEST_
              'command': COMMAND, 'latched': LATCHED}
 
 
-def spin(make_node: Callable[[], Node], args: list[str] | None = None, *,
-         executor_factory: Callable[[], rclpy.executors.Executor] = SingleThreadedExecutor
-         ) -> None:
-    """Create the node and spin it; Ctrl-C or an external shutdown ends it cleanly.
+def spin(make_node: Callable[[], Node], args: list[str] | None = None) -> None:
+    """Create the node and spin it on one thread; Ctrl-C or an external shutdown ends it.
+
+    One thread keeps up with the streams where rclpy's multi-threaded executor falls
+    behind on two cores; an action whose goal waits on other callbacks awaits them from
+    a coroutine execute callback instead of blocking a thread.
 
     Args:
         make_node: builds the node (after rclpy.init).
         args: command-line arguments (ROS arguments included).
-        executor_factory: the executor to spin with (a MultiThreadedExecutor for nodes
-            whose action callbacks wait on other callbacks).
     """
     rclpy.init(args=args)
     node = None
     try:
         node = make_node()
-        executor = executor_factory()
+        executor = SingleThreadedExecutor()
         executor.add_node(node)
         executor.spin()
     except (KeyboardInterrupt, ExternalShutdownException):

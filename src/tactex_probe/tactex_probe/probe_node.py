@@ -15,17 +15,15 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-import threading
 
 from builtin_interfaces.msg import Duration
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from geometry_msgs.msg import Point, Pose, PoseArray, Quaternion, Vector3
 from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
 from rclpy.action import ActionClient, ActionServer, CancelResponse, GoalResponse
-from rclpy.callback_groups import MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
-from rclpy.executors import MultiThreadedExecutor
 from rclpy.node import Node
 from rclpy.qos import QoSProfile
+from rclpy.task import Future
 from rclpy.time import Time
 from sensor_msgs.msg import FluidPressure, Imu, JointState
 from std_msgs.msg import ColorRGBA, Header
@@ -94,25 +92,20 @@ class ProbeNode(Node):
                 read_only=True, **({'floating_point_range': _float_range(
                     allowed.low, allowed.high)} if allowed else {}))).value
         self._pathway_file = Path(pathway_file).expanduser()
-        self._lock = threading.Lock()
         self._explorer: Explorer | None = None
         self._goal_handle = None
-        self._done = threading.Event()
+        self._finished: Future | None = None  # done when the running goal's core finishes
         self._started_ns = 0
         self._last_outcome = 'idle'
         self._last_input_ns = {'joint_states': None, 'imu': None, 'pressure': None}
         self._rejected_goals = 0
 
-        inputs = MutuallyExclusiveCallbackGroup()  # one at a time, in arrival order
         # Sensor-data QoS with a deeper queue: a busy moment must not cost samples.
         queued = QoSProfile(depth=INPUT_QUEUE, reliability=SENSOR_DATA.reliability,
                             durability=SENSOR_DATA.durability, history=SENSOR_DATA.history)
-        self.create_subscription(JointState, topics.JOINT_STATES, self._on_joints, COMMAND,
-                                 callback_group=inputs)
-        self.create_subscription(Imu, topics.IMU_FILTERED, self._on_imu, queued,
-                                 callback_group=inputs)
-        self.create_subscription(FluidPressure, topics.PRESSURE, self._on_pressure, queued,
-                                 callback_group=inputs)
+        self.create_subscription(JointState, topics.JOINT_STATES, self._on_joints, COMMAND)
+        self.create_subscription(Imu, topics.IMU_FILTERED, self._on_imu, queued)
+        self.create_subscription(FluidPressure, topics.PRESSURE, self._on_pressure, queued)
         self._trajectory_pub = self.create_publisher(JointTrajectory, topics.JOINT_TRAJECTORY,
                                                      COMMAND)
         self._contacts_pub = self.create_publisher(PoseArray, topics.PROBE_CONTACTS, LATCHED)
@@ -122,10 +115,8 @@ class ProbeNode(Node):
                                                       COMMAND)
         self._server = ActionServer(
             self, Probe, topics.PROBE_ACTION, execute_callback=self._execute,
-            goal_callback=self._on_goal, cancel_callback=self._on_cancel,
-            callback_group=ReentrantCallbackGroup())
-        self.create_timer(1.0 / self._rate_hz, self._step,
-                          callback_group=MutuallyExclusiveCallbackGroup())
+            goal_callback=self._on_goal, cancel_callback=self._on_cancel)
+        self.create_timer(1.0 / self._rate_hz, self._step)
         self.create_timer(1.0, self._publish_diagnostics)
         if self._probe_on_start:
             self._client = ActionClient(self, Probe, topics.PROBE_ACTION)
@@ -203,29 +194,26 @@ class ProbeNode(Node):
             return
         stamp = stamp_ns(msg.header.stamp)
         self._last_input_ns['joint_states'] = stamp
-        with self._lock:
-            if self._explorer is not None:
-                self._explorer.joint_state(stamp, [msg.position[index[n]]
-                                                   for n in ARM_JOINT_NAMES])
+        if self._explorer is not None:
+            self._explorer.joint_state(stamp, [msg.position[index[n]]
+                                               for n in ARM_JOINT_NAMES])
 
     def _on_imu(self, msg: Imu) -> None:
         stamp = stamp_ns(msg.header.stamp)
         self._last_input_ns['imu'] = stamp
         a, q = msg.linear_acceleration, msg.orientation
-        with self._lock:
-            if self._explorer is not None:
-                self._explorer.imu(stamp, (a.x, a.y, a.z), (q.w, q.x, q.y, q.z))
+        if self._explorer is not None:
+            self._explorer.imu(stamp, (a.x, a.y, a.z), (q.w, q.x, q.y, q.z))
 
     def _on_pressure(self, msg: FluidPressure) -> None:
         stamp = stamp_ns(msg.header.stamp)
         self._last_input_ns['pressure'] = stamp
-        with self._lock:
-            if self._explorer is not None:
-                self._explorer.pressure(stamp, msg.fluid_pressure)
+        if self._explorer is not None:
+            self._explorer.pressure(stamp, msg.fluid_pressure)
 
     # -- the action ---------------------------------------------------------------------
     def _on_goal(self, goal: Probe.Goal) -> GoalResponse:
-        if self._explorer is not None:
+        if self._finished is not None:
             self.get_logger().warning('probe goal refused: a goal is already running')
             self._rejected_goals += 1
             return GoalResponse.REJECT
@@ -241,27 +229,23 @@ class ProbeNode(Node):
             self.get_logger().error(f'probe goal refused: {err}')
             self._rejected_goals += 1
             return GoalResponse.REJECT
+        self._finished = Future()  # busy from acceptance on: a second goal is refused
         return GoalResponse.ACCEPT
 
     def _on_cancel(self, goal_handle) -> CancelResponse:
-        with self._lock:
-            if self._explorer is not None:
-                self._explorer.cancel()
+        if self._explorer is not None:
+            self._explorer.cancel()
         return CancelResponse.ACCEPT
 
-    def _execute(self, goal_handle) -> Probe.Result:
+    async def _execute(self, goal_handle) -> Probe.Result:
         parameters = parameters_from_goal(goal_handle.request)
-        self._done.clear()
-        with self._lock:
-            self._explorer = Explorer(parameters, self._config)
-            self._goal_handle = goal_handle
-            self._started_ns = self.get_clock().now().nanoseconds
+        self._explorer = Explorer(parameters, self._config)
+        self._goal_handle = goal_handle
+        self._started_ns = self.get_clock().now().nanoseconds
         self.get_logger().info(f'probing {parameters.probe_count} points from '
                                f'{list(parameters.start)} along {list(parameters.direction)}')
-        self._done.wait()
-        with self._lock:
-            finished = self._explorer.finished
-            self._explorer, self._goal_handle = None, None
+        finished = await self._finished
+        self._explorer, self._goal_handle, self._finished = None, None, None
         result = Probe.Result(pathway=pathway_message(finished.pathway),
                               outcomes=[int(p.status) for p in finished.pathway.probes],
                               elapsed=_duration(self.get_clock().now().nanoseconds
@@ -278,11 +262,10 @@ class ProbeNode(Node):
         return result
 
     def _step(self) -> None:
-        with self._lock:
-            if self._explorer is None:
-                return
-            events = self._explorer.step(self.get_clock().now().nanoseconds)
-            records = self._explorer.records
+        if self._explorer is None:
+            return
+        events = self._explorer.step(self.get_clock().now().nanoseconds)
+        records = self._explorer.records
         for event in events:
             if isinstance(event, Command):
                 self._trajectory_pub.publish(trajectory_message(event.path))
@@ -292,7 +275,7 @@ class ProbeNode(Node):
                 self._broadcast(records, event.record.stamp_ns)
             elif isinstance(event, Finished):
                 self._broadcast(event.pathway.probes, event.pathway.stamp_ns)
-                self._done.set()
+                self._finished.set_result(self._explorer.finished)
 
     def _broadcast(self, records, stamp: int) -> None:
         """Publish contacts, pathway and markers, and rewrite the pathway file."""
@@ -329,12 +312,11 @@ class ProbeNode(Node):
         now = self.get_clock().now().nanoseconds
         ages = {name: (f'{(now - stamp) * 1e-9:.2f}' if stamp is not None else 'never')
                 for name, stamp in self._last_input_ns.items()}
-        with self._lock:
-            explorer = self._explorer
-            running = explorer is not None
-            records = explorer.records if running else []
-            dropped = explorer.history.dropped if running else 0
-            phase = explorer.phase.name.lower() if running else 'idle'
+        explorer = self._explorer
+        running = explorer is not None
+        records = explorer.records if running else []
+        dropped = explorer.history.dropped if running else 0
+        phase = explorer.phase.name.lower() if running else 'idle'
         silent = [name for name, stamp in self._last_input_ns.items() if stamp is None]
         if self._last_outcome.startswith('aborted'):
             level, message = DiagnosticStatus.ERROR, self._last_outcome
@@ -456,5 +438,5 @@ def _duration(nanoseconds: int) -> Duration:
 
 def main(args: list[str] | None = None) -> None:
     """Run the node until shutdown."""
-    spin(ProbeNode, args, executor_factory=MultiThreadedExecutor)
+    spin(ProbeNode, args)
 

@@ -9,6 +9,10 @@ aborts (lifting the edge off) on contact lost, over-force or a tracking error. A
 lifts the edge off before the goal ends. recording/metadata (label, trial, surface,
 parameters) is published latched at the start of each goal; with `record: true` the node
 records the tactile topics itself, one labelled recording per goal.
+
+One thread runs everything: the goal's execute callback is a coroutine that waits on the
+ticks of a steady-clock timer, so the inputs are handled between its steps and no lock is
+needed (rclpy's multi-threaded executor fell behind the streams on two cores).
 """
 
 from __future__ import annotations
@@ -18,7 +22,6 @@ from dataclasses import asdict, replace
 import json
 import math
 from pathlib import Path
-import threading
 import time
 
 from builtin_interfaces.msg import Duration, Time
@@ -27,9 +30,9 @@ from geometry_msgs.msg import Point
 import numpy as np
 from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor
 from rclpy.action import ActionServer, CancelResponse, GoalResponse
-from rclpy.callback_groups import MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
-from rclpy.executors import MultiThreadedExecutor
+from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
+from rclpy.task import Future
 from sensor_msgs.msg import FluidPressure, JointState
 from std_msgs.msg import Bool, ColorRGBA, String
 from std_srvs.srv import Trigger
@@ -133,16 +136,10 @@ class SweepNode(Node):
         self._surface = declare('surface', 'uneven', ParameterDescriptor(
             description='surface written to recording/metadata', read_only=True)).value
 
-        # The watched streams have a group of their own: a recording's writes never hold
-        # them up.
-        data_group = MutuallyExclusiveCallbackGroup()
-        self._record_group = MutuallyExclusiveCallbackGroup()
-        self.create_subscription(JointState, topics.JOINT_STATES, self._on_joints, COMMAND,
-                                 callback_group=data_group)
+        self.create_subscription(JointState, topics.JOINT_STATES, self._on_joints, COMMAND)
         self.create_subscription(FluidPressure, topics.PRESSURE, self._on_pressure,
-                                 SENSOR_DATA, callback_group=data_group)
-        self.create_subscription(Pathway, topics.PROBE_PATHWAY, self._on_pathway, LATCHED,
-                                 callback_group=data_group)
+                                 SENSOR_DATA)
+        self.create_subscription(Pathway, topics.PROBE_PATHWAY, self._on_pathway, LATCHED)
         self._trajectory_pub = self.create_publisher(JointTrajectory, topics.JOINT_TRAJECTORY,
                                                      COMMAND)
         self._active_pub = self.create_publisher(Bool, topics.SWEEP_ACTIVE, COMMAND)
@@ -150,7 +147,6 @@ class SweepNode(Node):
         self._markers_pub = self.create_publisher(MarkerArray, topics.SWEEP_MARKERS, LATCHED)
         self._diagnostics_pub = self.create_publisher(DiagnosticArray, topics.DIAGNOSTICS,
                                                       COMMAND)
-        self._lock = threading.Lock()
         self._joints: tuple[float, np.ndarray] | None = None
         self._joints_wall_s = -math.inf
         self._pressure_s = -math.inf
@@ -164,14 +160,16 @@ class SweepNode(Node):
         self._last_outcome = ''
         self._last_planning_s = math.nan
         self._recording_subscriptions: list = []
-        self._stop_client = self.create_client(Trigger, 'arm/stop',
-                                               callback_group=ReentrantCallbackGroup())
+        self._stop_client = self.create_client(Trigger, 'arm/stop')
         self._server = ActionServer(self, Sweep, topics.SWEEP_ACTION,
                                     execute_callback=self._execute,
                                     goal_callback=self._on_goal,
-                                    cancel_callback=lambda _request: CancelResponse.ACCEPT,
-                                    callback_group=ReentrantCallbackGroup())
-        self.create_timer(1.0, self._publish_diagnostics, callback_group=data_group)
+                                    cancel_callback=lambda _request: CancelResponse.ACCEPT)
+        # The running goal's waits end on these ticks (wall clock, only while a goal runs).
+        self._waiting: list[Future] = []
+        self._ticks = self.create_timer(WATCH_PERIOD_S, self._on_tick, autostart=False,
+                                        clock=Clock(clock_type=ClockType.STEADY_TIME))
+        self.create_timer(1.0, self._publish_diagnostics)
         self.get_logger().info('sweep action server ready')
 
     # -- inputs ---------------------------------------------------------------------------
@@ -185,26 +183,22 @@ class SweepNode(Node):
         except (ValueError, IndexError):
             return
         sample = (self._stamp_s(msg.header), joints)
-        with self._lock:
-            self._joints = sample
-            self._joints_wall_s = time.monotonic()
-            self._joint_queue.append(sample)
+        self._joints = sample
+        self._joints_wall_s = time.monotonic()
+        self._joint_queue.append(sample)
 
     def _on_pressure(self, msg: FluidPressure) -> None:
-        with self._lock:
-            self._pressure_queue.append((self._stamp_s(msg.header), float(msg.fluid_pressure)))
-            if math.isfinite(msg.fluid_pressure):
-                self._pressure_s = self._now_s()
+        self._pressure_queue.append((self._stamp_s(msg.header), float(msg.fluid_pressure)))
+        if math.isfinite(msg.fluid_pressure):
+            self._pressure_s = self._now_s()
 
     def _on_pathway(self, msg: Pathway) -> None:
-        with self._lock:
-            self._pathway = msg
+        self._pathway = msg
 
     def _writer_for(self, topic: str):
         def write(data: bytes) -> None:
-            with self._lock:
-                if self._recorder is not None:
-                    self._recorder.write(topic, self.get_clock().now().nanoseconds, data)
+            if self._recorder is not None:
+                self._recorder.write(topic, self.get_clock().now().nanoseconds, data)
         return write
 
     # -- the action -----------------------------------------------------------------------
@@ -215,11 +209,23 @@ class SweepNode(Node):
         self._busy = True
         return GoalResponse.ACCEPT
 
-    def _execute(self, goal_handle) -> Sweep.Result:
+    def _on_tick(self) -> None:
+        waiting, self._waiting = self._waiting, []
+        for future in waiting:
+            future.set_result(None)
+
+    async def _pause(self) -> None:
+        """Let the inputs run until the next tick (WATCH_PERIOD_S of wall time)."""
+        future = Future()
+        self._waiting.append(future)
+        await future
+
+    async def _execute(self, goal_handle) -> Sweep.Result:
         result = Sweep.Result()
+        self._ticks.reset()
         try:
             try:
-                outcome, message = self._run(goal_handle, result)
+                outcome, message = await self._run(goal_handle, result)
             finally:
                 # Everything ends before the goal does: its result is kept only so long.
                 self._publish_active(False)
@@ -227,9 +233,10 @@ class SweepNode(Node):
                 self._state = 'idle'
             return self._finish(goal_handle, result, message, outcome)
         finally:
+            self._ticks.cancel()
             self._busy = False
 
-    def _run(self, goal_handle, result: Sweep.Result) -> tuple[str, str]:
+    async def _run(self, goal_handle, result: Sweep.Result) -> tuple[str, str]:
         """Plan and execute a goal, filling `result`; return (outcome, message)."""
         goal = goal_handle.request
         try:
@@ -244,20 +251,19 @@ class SweepNode(Node):
                 result.recording_path = str(self._start_recording(goal, metadata))
             except (OSError, ValueError) as err:
                 return 'abort', f'cannot record: {err}'
-        if not self._wait_for_subscriber():
+        if not await self._wait_for_subscriber():
             return 'abort', (f'nothing subscribes to {topics.JOINT_TRAJECTORY}: is the arm '
                              'driver (or the simulator) running?')
         monitor = SweepMonitor(plan, self._monitor_settings)
-        with self._lock:
-            self._joint_queue.clear()
-            self._pressure_queue.clear()
+        self._joint_queue.clear()
+        self._pressure_queue.clear()
         start_s = self._now_s()
         sent_wall_s = time.monotonic()
         self._send(plan.trajectory)
         self._state = 'sweeping'
         next_feedback = 0.0
         while True:
-            time.sleep(WATCH_PERIOD_S)
+            await self._pause()
             elapsed = self._now_s() - start_s
             status = self._feed(monitor, start_s, elapsed)
             self._publish_active(status.active)
@@ -268,7 +274,7 @@ class SweepNode(Node):
                     in_contact=status.in_contact, tracking_error=status.tracking_error_m,
                     sliding_speed=status.sliding_speed_m_s))
             if goal_handle.is_cancel_requested:
-                failed = self._retract(plan)
+                failed = await self._retract(plan)
                 self._fill(result, monitor.result(), start_s)
                 return 'cancel', (f'canceled: {failed}' if failed else
                                   'canceled: the edge was lifted off the surface')
@@ -285,7 +291,7 @@ class SweepNode(Node):
                 reason = (f'the arm did not start moving within {START_TIMEOUT_S:g} s: did '
                           f'the driver reject the trajectory? (see its log and diagnostics)')
             if reason:
-                failed = self._retract(plan)
+                failed = await self._retract(plan)
                 self._fill(result, monitor.result(), start_s)
                 return 'abort', (f'aborted: {reason}; '
                                  f'{failed or "the edge was lifted off"}')
@@ -303,16 +309,14 @@ class SweepNode(Node):
                              f'got {goal.sliding_speed!r}')
         pathway = goal.pathway
         if not pathway.contacts:
-            with self._lock:
-                pathway = self._pathway
+            pathway = self._pathway
             if pathway is None or not pathway.contacts:
                 raise ValueError('the goal has no contacts and nothing was published on '
                                  f'{topics.PROBE_PATHWAY}; probe the surface first')
         if pathway.header.frame_id not in ('', 'base_link'):
             raise ValueError(f'the pathway must be in base_link, got frame '
                              f'{pathway.header.frame_id!r}')
-        with self._lock:
-            joints = self._joints
+        joints = self._joints
         if joints is None:
             raise ValueError(f'no {topics.JOINT_STATES} received yet: is the arm driver (or '
                              'the simulator) running?')
@@ -348,11 +352,10 @@ class SweepNode(Node):
                     'contact_end_s': plan.contact_end_s}}
 
     def _feed(self, monitor: SweepMonitor, start_s: float, elapsed: float):
-        with self._lock:
-            joints = list(self._joint_queue)
-            pressures = list(self._pressure_queue)
-            self._joint_queue.clear()
-            self._pressure_queue.clear()
+        joints = list(self._joint_queue)
+        pressures = list(self._pressure_queue)
+        self._joint_queue.clear()
+        self._pressure_queue.clear()
         samples = sorted([(t, 0, q) for t, q in joints] + [(t, 1, p) for t, p in pressures],
                          key=lambda item: (item[0], item[1]))
         for stamp, kind, value in samples:
@@ -362,27 +365,29 @@ class SweepNode(Node):
                 monitor.update_pressure(stamp - start_s, value)
         return monitor.status(elapsed)
 
-    def _wait_for_subscriber(self) -> bool:
+    async def _wait_for_subscriber(self) -> bool:
         deadline = time.monotonic() + SUBSCRIBER_WAIT_S
         while self._trajectory_pub.get_subscription_count() == 0:
             if time.monotonic() > deadline:
                 return False
-            time.sleep(WATCH_PERIOD_S)
+            await self._pause()
         return True
 
-    def _retract(self, plan: SweepPlan) -> str:
+    async def _retract(self, plan: SweepPlan) -> str:
         """Stop the arm, then lift the edge off from where it stopped; '' or what failed.
 
         Stopping first (arm/stop holds the commanded pose) makes the lift start where the
         arm really is, however late the driver hears of it.
         """
         self._state = 'retracting'
-        if self._stop_client.wait_for_service(timeout_sec=SERVICE_WAIT_S):
+        deadline = time.monotonic() + SERVICE_WAIT_S
+        while not self._stop_client.service_is_ready() and time.monotonic() < deadline:
+            await self._pause()
+        if self._stop_client.service_is_ready():
             future = self._stop_client.call_async(Trigger.Request())
-            deadline = time.monotonic() + SERVICE_WAIT_S
             while not future.done() and time.monotonic() < deadline:
-                time.sleep(WATCH_PERIOD_S)
-        joints = self._joints_at_rest()
+                await self._pause()
+        joints = await self._joints_at_rest()
         if joints is None:
             return f'no {topics.JOINT_STATES}: the edge could not be lifted'
         lift = retract(plan, joints)
@@ -393,21 +398,18 @@ class SweepNode(Node):
         goal, _ = ARM.tool_pose(lift.positions[-1])
         deadline = time.monotonic() + RETRACT_WAIT_S
         while time.monotonic() < deadline:
-            time.sleep(WATCH_PERIOD_S)
-            with self._lock:
-                latest = self._joints
-            edge, _ = ARM.tool_pose(latest[1])
+            await self._pause()
+            edge, _ = ARM.tool_pose(self._joints[1])
             if np.linalg.norm(edge - start) >= LIFTED_FRACTION * np.linalg.norm(goal - start):
                 return ''
         return 'the lift did not complete in time: check the arm'
 
-    def _joints_at_rest(self) -> np.ndarray | None:
+    async def _joints_at_rest(self) -> np.ndarray | None:
         """The newest joints once they stop changing (or after a while, the newest)."""
         deadline = time.monotonic() + SERVICE_WAIT_S
         previous = None
         while time.monotonic() < deadline:
-            with self._lock:
-                latest = self._joints
+            latest = self._joints
             if latest is not None and previous is not None and \
                     latest[0] - previous[0] >= REST_INTERVAL_S:
                 if np.max(np.abs(latest[1] - previous[1])) < REST_TOLERANCE_RAD:
@@ -415,9 +417,8 @@ class SweepNode(Node):
                 previous = latest
             elif previous is None:
                 previous = latest
-            time.sleep(WATCH_PERIOD_S)
-        with self._lock:
-            return None if self._joints is None else self._joints[1]
+            await self._pause()
+        return None if self._joints is None else self._joints[1]
 
     def _finish(self, goal_handle, result: Sweep.Result, message: str, outcome: str):
         result.message = message
@@ -470,24 +471,20 @@ class SweepNode(Node):
         recorder = SplitRecorder(root, metadata).__enter__()
         for topic, type_name, _qos in RECORDED_TOPICS:
             recorder.add_topic(topic, type_name)
-        with self._lock:
-            self._recorder = recorder
-        # Made at the first recording and kept: destroying a subscription while the
-        # multi-threaded executor builds its wait set kills the node (rclpy InvalidHandle).
-        # Between recordings the writers drop what arrives.
+        self._recorder = recorder
+        # Made at the first recording and kept; between recordings the writers drop what
+        # arrives.
         if not self._recording_subscriptions:
             self._recording_subscriptions = [
                 self.create_subscription(message_class(type_name), topic,
-                                         self._writer_for(topic), RECORDING[qos], raw=True,
-                                         callback_group=self._record_group)
+                                         self._writer_for(topic), RECORDING[qos], raw=True)
                 for topic, type_name, qos in RECORDED_TOPICS
                 if topic != topics.RECORDING_METADATA]
         self.get_logger().info(f'recording to {root}')
         return root
 
     def _stop_recording(self) -> None:
-        with self._lock:
-            recorder, self._recorder = self._recorder, None
+        recorder, self._recorder = self._recorder, None
         if recorder is not None:
             recorder.close()
 
@@ -537,4 +534,4 @@ def _time(seconds: float) -> Time:
 
 def main(args: list[str] | None = None) -> None:
     """Serve sweeps until shutdown."""
-    spin(SweepNode, args, executor_factory=lambda: MultiThreadedExecutor(num_threads=4))
+    spin(SweepNode, args)

@@ -137,7 +137,8 @@ def ramped_law(length: float, speed_m_s: float, ramp_s: float) -> TimeLaw:
         down_t = duration - t
         down = length - speed_m_s / 2.0 * (down_t - np.sin(w * down_t) / w)
         cruise = ramp_length + speed_m_s * (t - ramp_s)
-        return np.where(t < ramp_s, up, np.where(t > duration - ramp_s, down, cruise))
+        travel = np.where(t < ramp_s, up, np.where(t > duration - ramp_s, down, cruise))
+        return np.clip(travel, 0.0, length)  # t - sin(wt)/w rounds below 0 near t = 0
 
     def speed(t):
         t = np.clip(np.asarray(t, dtype=float), 0.0, duration)
