@@ -20,7 +20,7 @@ from rcl_interfaces.srv import SetParameters
 import rclpy
 from rclpy.action import ActionClient
 from rclpy.context import Context
-from rclpy.executors import MultiThreadedExecutor
+from rclpy.executors import SingleThreadedExecutor
 
 from tactex.demo_report import Estimate
 from tactex.errors import CommandError
@@ -94,7 +94,7 @@ class SystemClient:
         self._probe = ActionClient(node, Probe, topics.PROBE_ACTION)
         self._sweep = ActionClient(node, Sweep, topics.SWEEP_ACTION)
         self._parameters = node.create_client(SetParameters, BRIDGE_PARAMETERS)
-        self._executor = MultiThreadedExecutor(num_threads=2, context=self._context)
+        self._executor = SingleThreadedExecutor(context=self._context)
         self._executor.add_node(node)
         self._thread = threading.Thread(target=self._executor.spin, daemon=True)
         self._thread.start()

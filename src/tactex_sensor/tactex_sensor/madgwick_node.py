@@ -1,18 +1,22 @@
 # Copyright 2026 The tactex authors
 # SPDX-License-Identifier: Apache-2.0
-"""ROS 2 node: tactile/imu/data_raw (+ tactile/imu/mag) -> tactile/imu/data with orientation."""
+"""ROS 2 node: tactile/imu/data_raw (+ tactile/imu/mag) -> tactile/imu/data with orientation.
+
+Diagnostics count the samples fused and those the filter rejected, by kind.
+"""
 
 from __future__ import annotations
 
 import dataclasses
 import math
 
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor, SetParametersResult
 from rclpy.node import Node
 from sensor_msgs.msg import Imu, MagneticField
 
 from tactex_common import topics
-from tactex_common.ros import SENSOR_DATA, spin
+from tactex_common.ros import COMMAND, SENSOR_DATA, spin
 from tactex_sensor.madgwick import MadgwickConfig, MadgwickFilter, REJECTED_GYRO
 
 
@@ -44,11 +48,17 @@ class MadgwickNode(Node):
             description='world frame of the output; only enu (REP-145)', read_only=True)).value
         self._mag_timeout = self.declare_parameter('mag_timeout_s', 0.1, ParameterDescriptor(
             description='oldest magnetometer sample still fused (s)')).value
+        diagnostics_period = self.declare_parameter(
+            'diagnostics_period_s', 1.0, ParameterDescriptor(
+                description='diagnostics period (s)', read_only=True,
+                floating_point_range=[FloatingPointRange(from_value=0.05, to_value=60.0)])).value
         if world_frame != 'enu':
             raise ValueError(f'world_frame must be "enu", got {world_frame!r}')
         self._filter = MadgwickFilter(MadgwickConfig(gain=gain, use_mag=use_mag,
                                                      max_rate_rad_s=max_rate))
         self._last_stamp: float | None = None
+        self._received = 0
+        self._published = 0
         self._mag: tuple[float, tuple[float, float, float]] | None = None
         self._publisher = self.create_publisher(Imu, topics.IMU_FILTERED, SENSOR_DATA)
         self.create_subscription(Imu, topics.IMU_RAW, self._on_imu,
@@ -56,6 +66,9 @@ class MadgwickNode(Node):
         if use_mag:
             self.create_subscription(MagneticField, topics.MAG, self._on_mag,
                                      SENSOR_DATA)
+        self._diagnostics_pub = self.create_publisher(DiagnosticArray, topics.DIAGNOSTICS,
+                                                      COMMAND)
+        self.create_timer(diagnostics_period, self._publish_diagnostics)
         self.add_on_set_parameters_callback(self._on_set_parameters)
 
     def _on_set_parameters(self, parameters) -> SetParametersResult:
@@ -75,6 +88,7 @@ class MadgwickNode(Node):
         self._mag = (_stamp_s(msg), (field.x, field.y, field.z))
 
     def _on_imu(self, msg: Imu) -> None:
+        self._received += 1
         stamp = _stamp_s(msg)
         dt = 0.0 if self._last_stamp is None else stamp - self._last_stamp
         self._last_stamp = stamp if self._last_stamp is None else max(stamp, self._last_stamp)
@@ -100,6 +114,26 @@ class MadgwickNode(Node):
         out.orientation.w, out.orientation.x, out.orientation.y, out.orientation.z = (
             float(v) for v in q)
         self._publisher.publish(out)
+        self._published += 1
+
+    def _publish_diagnostics(self) -> None:
+        rejected = self._filter.rejected
+        if not self._received:
+            level, message = DiagnosticStatus.WARN, f'no {topics.IMU_RAW} yet'
+        elif any(rejected.values()):
+            level = DiagnosticStatus.WARN
+            message = 'samples rejected: ' + ', '.join(
+                f'{count} {kind}' for kind, count in rejected.items() if count)
+        else:
+            level, message = DiagnosticStatus.OK, 'fusing'
+        values = {'received': self._received, 'published': self._published,
+                  'gain': self._filter.config.gain, 'restarts': self._filter.restarts,
+                  **{f'rejected_{kind}': count for kind, count in rejected.items()}}
+        array = DiagnosticArray(status=[DiagnosticStatus(
+            level=level, name='tactex_sensor: madgwick', message=message,
+            values=[KeyValue(key=k, value=str(v)) for k, v in values.items()])])
+        array.header.stamp = self.get_clock().now().to_msg()
+        self._diagnostics_pub.publish(array)
 
 
 def main(args: list[str] | None = None) -> None:

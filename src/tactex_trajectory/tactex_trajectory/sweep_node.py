@@ -239,6 +239,10 @@ class SweepNode(Node):
     async def _run(self, goal_handle, result: Sweep.Result) -> tuple[str, str]:
         """Plan and execute a goal, filling `result`; return (outcome, message)."""
         goal = goal_handle.request
+        # A goal sent as the system comes up waits for the arm's first joint state.
+        deadline = time.monotonic() + JOINT_STATE_TIMEOUT_S
+        while self._joints is None and time.monotonic() < deadline:
+            await self._pause()
         try:
             plan = self._plan(goal)
         except (TrajectoryError, ValueError) as err:
