@@ -102,6 +102,7 @@ class Soak:
     def checkpoint(self) -> Path:
         """Train a small checkpoint from simulated sweeps of TEXTURES (tactex commands)."""
         folder = self.demo.folder
+        (folder / 'logs').mkdir()
         self.demo.say(f'training a checkpoint: tactex sim collect {len(TEXTURES)} textures x 2 '
                       'sweeps, convert, train extratrees')
         self.demo.command(['sim', 'collect', '--sweeps', '2', '--textures', *TEXTURES,
