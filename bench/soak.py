@@ -53,11 +53,12 @@ from tactex.options import check_output_folder, number, staged_folder
 from tactex_common import topics
 
 KILLED = 'madgwick_node'  # restarted by the launcher (respawn) after SIGKILL
-PROBE_SPAN_M = 0.02  # three probe points: a short loop (a sweep needs two)
+PROBE_SPAN_M = 0.04  # five probe points: a sweep long enough for a few 1 s windows
 TEXTURES = ('wood', 'ridged polymer')  # the trained checkpoint's classes, swept in turn
 FAULT_S = 3.0  # how long a stream fault lasts
 RECOVERY_S = 30.0  # a fault not recovered from within this long after it ends is a loss
 RSS_PERIOD_S = 5.0
+MAX_MINUTES = 7 * 24 * 60
 WARMUP_S = 60.0  # memory growth is fitted to the samples after this (start-up left out)
 PROBE_TIMEOUT_S = 300.0
 SWEEP_TIMEOUT_S = 120.0
@@ -68,8 +69,9 @@ SILENCED = {'sensor_unplug': topics.IMU_RAW, 'crc_burst': topics.IMU_RAW,
 def parse(argv: list[str] | None) -> argparse.Namespace:
     """The command line."""
     parser = CommandParser(prog='bench/soak.py', description=__doc__.split('\n\n')[0])
-    parser.add_argument('--minutes', type=number(), required=True,
-                        help='how long to loop (faults are injected within it)')
+    parser.add_argument('--minutes', type=number(at_most=MAX_MINUTES), required=True,
+                        help=f'how long to loop, at most {MAX_MINUTES} (a week); faults are '
+                             'injected within it')
     parser.add_argument('--out', type=Path, default=Path('out/soak'),
                         help='new folder for the summary, table, plot, logs and bags')
     parser.add_argument('--checkpoint', type=Path, default=None,
