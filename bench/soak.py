@@ -15,7 +15,7 @@ carries a finite sample again, or the killed node runs again and is back on the 
 Reported: windows expected (cut by classifier_node) / classified / counted as dropped,
 summed over the classifier's lives; bags written / readable (every message of every
 recording read back and decoded); resident memory of every node, sampled every 5 s, and
-its growth per hour (least squares over the samples after the first minute). Exit 1 on
+its growth per hour (least squares, each process's first minute left out). Exit 1 on
 any unaccounted loss: expected != classified + dropped, an unreadable bag, a fault not
 injected or not recovered from, or a node that died for good. Writes --out (default
 out/soak; an existing non-empty folder is refused): summary.json, table.txt, memory.png,
@@ -59,7 +59,7 @@ FAULT_S = 3.0  # how long a stream fault lasts
 RECOVERY_S = 30.0  # a fault not recovered from within this long after it ends is a loss
 RSS_PERIOD_S = 5.0
 MAX_MINUTES = 7 * 24 * 60
-WARMUP_S = 60.0  # memory growth is fitted to the samples after this (start-up left out)
+WARMUP_S = 60.0  # each process's first minute is left out of its memory growth fit
 PROBE_TIMEOUT_S = 300.0
 SWEEP_TIMEOUT_S = 120.0
 SILENCED = {'sensor_unplug': topics.IMU_RAW, 'crc_burst': topics.IMU_RAW,
@@ -228,7 +228,7 @@ class Soak:
     def _summary(self, windows: dict, lives: int) -> dict:
         bags = sorted(p for p in (self.demo.folder / 'bags').glob('*') if p.is_dir())
         unreadable = {p.name: why for p in bags if (why := soak.read_back(p))}
-        memory = soak.memory_report(self.memory, after_s=WARMUP_S)
+        memory = soak.memory_report(self.memory, warmup_s=WARMUP_S)
         summary = {'minutes': self.minutes, **self.counts, 'windows': windows,
                    'classifier_lives': lives, 'bags_written': len(bags),
                    'bags_readable': len(bags) - len(unreadable), 'unreadable': unreadable,

@@ -60,10 +60,10 @@ def test_memory_slope_is_the_least_squares_growth_per_hour():
     assert report['a']['growth_mb_per_hour'] is None
     assert report['b'] == {'rss_mb_last': 2.0, 'samples': 2,
                            'growth_mb_per_hour': pytest.approx(1.0)}
-    start_up = {'c': [(0.0, 1e6), (10.0, 9e6), (3600.0, 9e6), (7200.0, 9e6)]}
-    assert memory_report(start_up, after_s=60.0)['c']['growth_mb_per_hour'] == pytest.approx(
+    start_up = {'c': [(100.0, 1e6), (110.0, 9e6), (3700.0, 9e6), (7300.0, 9e6)]}
+    assert memory_report(start_up, warmup_s=60.0)['c']['growth_mb_per_hour'] == pytest.approx(
         0.0, abs=1e-9)
-    assert memory_report(start_up, after_s=7200.0)['c']['growth_mb_per_hour'] is None
+    assert memory_report(start_up, warmup_s=7200.0)['c']['growth_mb_per_hour'] is None
 
 
 def test_rss_of_this_process_and_none_for_a_gone_one():

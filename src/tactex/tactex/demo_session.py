@@ -109,6 +109,7 @@ class SystemClient:
         """Stop spinning and leave the ROS graph (idempotent)."""
         if self._context.ok():
             self._executor.shutdown(timeout_sec=2.0)
+            self._thread.join(timeout=5.0)  # no spin may touch the node while it is destroyed
             self._node.destroy_node()
             rclpy.try_shutdown(context=self._context)
 

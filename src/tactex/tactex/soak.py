@@ -63,19 +63,18 @@ def memory_growth_mb_per_hour(times_s, rss_bytes) -> float:
 
 
 def memory_report(samples: dict[str, list[tuple[float, int]]],
-                  after_s: float = 0.0) -> dict[str, dict]:
-    """Per process: last RSS (MB) and growth (MB/h) fitted to the samples after `after_s`.
+                  warmup_s: float = 0.0) -> dict[str, dict]:
+    """Per process: last RSS (MB) and growth (MB/h) fitted after its first `warmup_s`.
 
-    The growth is None with fewer than 2 sample times after `after_s` (start-up, when
-    imports and first allocations dominate, is left out of the fit).
+    Start-up, when imports and first allocations dominate, is left out of the fit (of a
+    respawned node's life too). The growth is None with fewer than 2 sample times left.
     """
     report = {}
     for name, points in samples.items():
-        times, rss = zip(*points, strict=True)
-        fitted = [(t, r) for t, r in points if t >= after_s]
+        fitted = [(t, r) for t, r in points if t >= points[0][0] + warmup_s]
         growth = (memory_growth_mb_per_hour(*zip(*fitted, strict=True)) if fitted
                   else float('nan'))
-        report[name] = {'rss_mb_last': rss[-1] / 1e6, 'samples': len(points),
+        report[name] = {'rss_mb_last': points[-1][1] / 1e6, 'samples': len(points),
                         'growth_mb_per_hour': growth if math.isfinite(growth) else None}
     return report
 
