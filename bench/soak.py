@@ -13,7 +13,8 @@ SIGKILL (the launcher respawns it). A fault is recovered from when the silenced 
 carries a finite sample again, or the killed node runs again and is back on the graph.
 
 Reported: windows expected (cut by classifier_node) / classified / counted as dropped,
-summed over the classifier's lives; bags written / readable (every message of every
+summed over the classifier's lives, beside the windows `tactex convert` cuts from the
+recordings afterwards (a cross-check); bags written / readable (every message of every
 recording read back and decoded); resident memory of every node, sampled every 5 s, and
 its growth per hour (least squares, each process's first minute left out). Exit 1 on
 any unaccounted loss: expected != classified + dropped, an unreadable bag, a fault not
@@ -47,6 +48,7 @@ from tactex.commands.demo import (
     MIN_PRESS_M,
     PROBE_START_X_M,
     PROBE_START_Z_M,
+    WINDOW,
 )
 from tactex.errors import CommandError
 from tactex.options import check_output_folder, number, staged_folder
@@ -110,7 +112,8 @@ class Soak:
         self.demo.command(['sim', 'collect', '--sweeps', '2', '--textures', *TEXTURES,
                             '--out', str(folder / 'train_bags')], 'collect', tactex)
         self.demo.command(['convert', str(folder / 'train_bags'), '--out',
-                            str(folder / 'train.npz'), '--window', '128'], 'convert', tactex)
+                            str(folder / 'train.npz'), '--window', str(WINDOW)], 'convert',
+                          tactex)
         self.demo.command(['train', str(folder / 'train.npz'), '--model', 'extratrees',
                             '--folds', '2', '--cv', 'grouped', '--out', str(folder / 'train')],
                            'train', tactex)
@@ -133,7 +136,21 @@ class Soak:
             windows, lives = client.windows()
             self.done.set()
             workers[0].join()
-        return self._summary(windows, lives)
+        return self._summary(windows, lives) | self._windows_in_bags()
+
+    def _windows_in_bags(self) -> dict:
+        """What `tactex convert` cuts from the recordings: a cross-check, not accounted.
+
+        The live count is larger by the windows of probe contacts (not recorded).
+        """
+        from tactex_classify.dataset import Dataset
+        data = self.demo.folder / 'bag_windows.npz'
+        try:
+            self.demo.command(['convert', str(self.demo.folder / 'bags'), '--out', str(data),
+                               '--window', str(WINDOW)], 'convert_bags', tactex)
+        except CommandError as err:
+            return {'windows_in_bags': 0, 'windows_in_bags_note': str(err)}
+        return {'windows_in_bags': len(Dataset.load(data).X), 'windows_in_bags_note': ''}
 
     def _loop(self, client, alive) -> None:
         from tactex.demo_session import ProbeLine, SweepRun

@@ -145,6 +145,7 @@ def table(summary: dict) -> str:
             ('windows expected', w['windows_cut']),
             ('windows classified', w['windows_classified']),
             ('windows dropped', w['windows_dropped']),
+            ('windows in the bags (converter)', summary.get('windows_in_bags', 'n/a')),
             ('classifier lives', summary['classifier_lives']),
             ('bags written / readable',
              f'{summary["bags_written"]} / {summary["bags_readable"]}'),
