@@ -28,6 +28,7 @@ LAUNCH_FILES = sorted((ROOT / 'launch').glob('*.launch.py'))
 ROS_FACING = frozenset({
     'tactex.demo_session',
     'tactex.ros_launch',
+    'tactex.soak_session',
     'tactex_common.ros',
     'tactex_classify.classifier_node',
     'tactex_classify.recorder_node',

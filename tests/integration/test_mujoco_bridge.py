@@ -86,3 +86,53 @@ def test_the_patch_texture_can_be_set_while_running_and_a_wrong_one_is_refused(r
         assert bridge._world._texture_name_at((0.15, 0.0)) == 'wood'  # the scene's own
     finally:
         bridge.destroy_node()
+
+
+def test_a_fault_set_while_running_silences_or_spoils_its_topics_until_cleared(ros_context):
+    import rclpy
+    from rclpy.parameter import Parameter
+    from rclpy.qos import qos_profile_sensor_data
+    from sensor_msgs.msg import Imu, JointState
+
+    from tactex_sim.mujoco_bridge_node import MujocoBridgeNode
+
+    bridge = MujocoBridgeNode(context=ros_context, parameter_overrides=[
+        Parameter('scene', value='probe'), Parameter('rate_factor', value=5.0)])
+    listener = rclpy.create_node('fault_listener', context=ros_context)
+    got = {'imu': [], 'joints': []}
+    listener.create_subscription(Imu, 'tactile/imu/data_raw', got['imu'].append,
+                                 qos_profile_sensor_data)
+    listener.create_subscription(JointState, 'joint_states', got['joints'].append, 10)
+    executor = rclpy.executors.SingleThreadedExecutor(context=ros_context)
+    executor.add_node(bridge)
+    executor.add_node(listener)
+
+    def spin(seconds):
+        deadline = time.monotonic() + seconds
+        while time.monotonic() < deadline:
+            executor.spin_once(timeout_sec=0.01)
+
+    def heard(fault):
+        """Messages per topic in the second after the first 0.5 s under `fault`."""
+        assert bridge.set_parameters([Parameter('fault', value=fault)])[0].successful
+        spin(0.5)  # what was sent before
+        for messages in got.values():
+            messages.clear()
+        spin(1.0)
+        return {name: len(messages) for name, messages in got.items()}
+
+    try:
+        spin(2.0)  # discovery
+        counts = heard('sensor_unplug')
+        assert counts['imu'] == 0 and counts['joints'] > 0
+        counts = heard('servo_silence')
+        assert counts['joints'] == 0 and counts['imu'] > 0
+        assert heard('crc_burst')['imu'] > 0
+        assert all(math.isnan(m.linear_acceleration.z) for m in got['imu'])
+        assert min(heard('').values()) > 0
+        assert math.isfinite(got['imu'][-1].linear_acceleration.z)
+        refused, = bridge.set_parameters([Parameter('fault', value='meteor')])
+        assert not refused.successful and "'crc_burst'" in refused.reason
+    finally:
+        bridge.destroy_node()
+        listener.destroy_node()

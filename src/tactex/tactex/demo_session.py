@@ -109,6 +109,7 @@ class SystemClient:
         """Stop spinning and leave the ROS graph (idempotent)."""
         if self._context.ok():
             self._executor.shutdown(timeout_sec=2.0)
+            self._thread.join(timeout=5.0)  # no spin may touch the node while it is destroyed
             self._node.destroy_node()
             rclpy.try_shutdown(context=self._context)
 
@@ -193,14 +194,18 @@ class SystemClient:
 
     def set_texture(self, name: str, alive=lambda: True) -> None:
         """Give the simulator's patches the texture `name` (the bridge's parameter)."""
+        self.set_bridge_parameter('patch_texture', name, alive)
+
+    def set_bridge_parameter(self, name: str, value: str, alive=lambda: True) -> None:
+        """Set a string parameter of the simulator while it runs."""
         request = SetParameters.Request(parameters=[Parameter(
-            name='patch_texture', value=ParameterValue(type=ParameterType.PARAMETER_STRING,
-                                                       string_value=name))])
+            name=name, value=ParameterValue(type=ParameterType.PARAMETER_STRING,
+                                            string_value=value))])
         future = self._parameters.call_async(request)
-        self._wait(future.done, 10.0, f'the simulator did not take the texture {name!r}', alive)
+        self._wait(future.done, 10.0, f'the simulator did not take {name} {value!r}', alive)
         answer = future.result().results[0]
         if not answer.successful:
-            raise CommandError(f'the simulator refused the texture {name!r}: {answer.reason}')
+            raise CommandError(f'the simulator refused {name} {value!r}: {answer.reason}')
 
     def sweep(self, run: SweepRun, *, edge_offset_rad: float, press_depth_m: float,
               record: bool, timeout_s: float, alive=lambda: True,

@@ -324,7 +324,8 @@ class ClassifierNode(Node):
             level, summary = DiagnosticStatus.OK, state
         values = {'model': self._info.model_id, 'runtime': self._predictor.runtime,
                   'input_rate_hz': f'{rate:.1f}', 'latency_p50_ms': f'{p50:.3f}',
-                  'latency_p99_ms': f'{p99:.3f}', 'windows_classified': str(classified),
+                  'latency_p99_ms': f'{p99:.3f}', 'windows_cut': str(counts['windows']),
+                  'windows_classified': str(classified),
                   'windows_dropped': str(self._classifier.skipped),
                   'samples_late': str(counts['late']),
                   'samples_dropped': str(counts['dropped']),

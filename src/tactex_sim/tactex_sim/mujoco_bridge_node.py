@@ -6,8 +6,9 @@ Same topics and commands as the hardware: joint_states, the raw tactile topics,
 arm/joint_trajectory (validated and played exactly as the driver does), arm/stop and
 arm/torque; plus /clock (simulated time: run other nodes with use_sim_time) and the
 ground truth on sim/ground_truth/*. `patch_texture` may be set while running (one texture
-per sweep without a restart). `rate_factor` 1 runs in real time, 5 five times
-faster, 0 as fast as the machine allows.
+per sweep without a restart), and `fault` plays a fault (`tactex_sim.faults`) until
+cleared. `rate_factor` 1 runs in real time, 5 five times faster, 0 as fast as the machine
+allows.
 """
 
 from __future__ import annotations
@@ -32,6 +33,7 @@ from tactex_driver.arm import ArmController
 from tactex_driver.playback import JointLimits
 from tactex_sensor.messages import TACTILE_TOPICS
 from tactex_sim.errors import SimError
+from tactex_sim.faults import FAULTS, faulty_sample, muted_topics
 from tactex_sim.recording import sample_messages, SAMPLE_TOPICS
 from tactex_sim.scene import load_scene, resolve_scene
 from tactex_sim.world import Sample, World
@@ -66,6 +68,10 @@ class MujocoBridgeNode(Node):
         texture = self.declare_parameter('patch_texture', '', describe(
             description='texture of every patch ("" keeps the scene\'s); settable while '
                         'running (the next sample feels it)')).value
+        self._fault = self.declare_parameter('fault', '', describe(
+            description=f'fault played until set back to "": one of {", ".join(FAULTS[1:])} '
+                        '(soak tests; settable while running)')).value
+        self._muted = muted_topics(self._fault)
         if self._rate_factor < 0 or not math.isfinite(self._rate_factor):
             raise ValueError(f'rate_factor must be >= 0, got {self._rate_factor!r}')
         scene = load_scene(resolve_scene(scene_name))
@@ -104,6 +110,14 @@ class MujocoBridgeNode(Node):
                     reason = ' '.join(map(str, err.args))
                     return SetParametersResult(successful=False, reason=reason)
                 self.get_logger().info(f'patch texture {parameter.value or "of the scene"!r}')
+            elif parameter.name == 'fault':
+                try:
+                    self._muted = muted_topics(parameter.value)
+                except ValueError as err:
+                    return SetParametersResult(successful=False, reason=str(err))
+                self._fault = parameter.value
+                self.get_logger().warn(f'fault {parameter.value!r}' if parameter.value
+                                       else 'fault cleared')
         return SetParametersResult(successful=True)
 
     def _goal(self, sim_time_s: float) -> np.ndarray:
@@ -125,9 +139,11 @@ class MujocoBridgeNode(Node):
     def _publish(self, sample: Sample) -> None:
         time_ns = int(round(sample.time_s * 1e9))
         self._clock_pub.publish(Clock(clock=rclpy.time.Time(nanoseconds=time_ns).to_msg()))
-        for topic, data in sample_messages(sample, time_ns, self._world.joint_positions(),
+        for topic, data in sample_messages(faulty_sample(self._fault, sample), time_ns,
+                                           self._world.joint_positions(),
                                            self._world.joint_velocities()):
-            self._publishers_by_topic[topic].publish(data)
+            if topic not in self._muted:
+                self._publishers_by_topic[topic].publish(data)
 
     def _on_trajectory(self, msg: JointTrajectory) -> None:
         ok, report = self._controller.execute_message(msg, self._world.time_s)

@@ -99,7 +99,7 @@ def run(args: argparse.Namespace) -> int:
                     folds=min(DEFAULT.folds, sweeps))
     out = _check_out(args.out)
     started = time.monotonic()
-    with staged_folder(out) as folder, _demo_environment(folder):
+    with staged_folder(out) as folder, demo_environment(folder):
         (folder / MARKER).write_text('written by tactex demo\n', encoding='utf-8')
         demo = Demo(folder, out, sizes, args.rate_factor, started)
         summary, checks = demo.run()
@@ -123,7 +123,7 @@ def _check_out(out: Path) -> Path:
 
 
 @contextmanager
-def _demo_environment(folder: Path) -> Iterator[None]:
+def demo_environment(folder: Path) -> Iterator[None]:
     """A ROS domain of the demo's own (no robot nearby hears it) and logs under --out."""
     names = ('ROS_DOMAIN_ID', 'ROS_LOG_DIR', 'ROS_AUTOMATIC_DISCOVERY_RANGE')
     saved = {name: os.environ.get(name) for name in names}
@@ -153,6 +153,7 @@ class Demo:
         self.started = started
         self.scene = load_scene(resolve_scene(SCENE))
         self.stage = 0
+        self.launcher = None  # the running system's (see system())
 
     def say(self, line: str) -> None:
         """A progress line with the elapsed time."""
@@ -194,8 +195,13 @@ class Demo:
 
     # -- the launched system --------------------------------------------------------------
     @contextmanager
-    def system(self, name: str, *, checkpoint: Path | None = None):
-        """Launch system.launch.py sim:=true; yield a client and `alive()`; stop it after."""
+    def system(self, name: str, *, checkpoint: Path | None = None, client_type=None,
+               respawn: tuple[str, ...] = ()):
+        """Launch system.launch.py sim:=true; yield a client and `alive()`; stop it after.
+
+        `client_type` replaces SystemClient; the nodes named in `respawn` are restarted when
+        they exit; the launcher is `self.launcher` meanwhile.
+        """
         from tactex.demo_session import SystemClient
         from tactex.launch_spec import load_launch_file
         from tactex.launcher import Launcher
@@ -205,11 +211,12 @@ class Demo:
                   'pathway_file': str(self.folder / 'pathway.json')}
         if checkpoint is not None:
             values['checkpoint'] = str(checkpoint)
-        nodes = load_launch_file('system').node_specs(values)
+        nodes = [replace(spec, respawn=spec.respawn or spec.name in respawn)
+                 for spec in load_launch_file('system').node_specs(values)]
         log_path = self.folder / 'logs' / f'{name}.log'
         log_path.parent.mkdir(parents=True, exist_ok=True)
         with log_path.open('w', encoding='utf-8') as log:
-            launcher = Launcher(nodes, out=log)
+            launcher = self.launcher = Launcher(nodes, out=log)
             shown = ' '.join(f'{k}:={v}'.replace(str(self.folder), str(self.out))
                              for k, v in values.items())
             self.say(f'  tactex launch system {shown}'
@@ -222,7 +229,7 @@ class Demo:
                 launcher.supervise(until=stop.is_set)), daemon=True)
             watcher.start()
             try:
-                with SystemClient() as client:
+                with (client_type or SystemClient)() as client:
                     client.wait_ready(NODE_START_S, alive=watcher.is_alive)
                     yield client, watcher.is_alive
             except CommandError as err:
@@ -316,7 +323,7 @@ class Demo:
         from tactex_classify.dataset import Dataset
         data = self.folder / 'dataset.npz'
         self.next_stage(f'convert the recordings (tactex convert bags --window {WINDOW})')
-        self._command(['convert', str(self.folder / 'bags'), '--out', str(data),
+        self.command(['convert', str(self.folder / 'bags'), '--out', str(data),
                        '--window', str(WINDOW)], 'convert', main)
         dataset = Dataset.load(data)
         skipped = re.findall(r'skipped (.+)$', (self.folder / 'logs' / 'convert.log').read_text(
@@ -332,7 +339,7 @@ class Demo:
         from tactex.cli import main
         self.next_stage(f'train {MODEL}, {self.sizes.folds}-fold CV grouped by recording and '
                         'stratified (tactex train)')
-        self._command(['train', str(data), '--model', MODEL, '--folds', str(self.sizes.folds),
+        self.command(['train', str(data), '--model', MODEL, '--folds', str(self.sizes.folds),
                        '--out', str(self.folder / 'train')], 'train', main)
         metrics = json.loads((self.folder / 'train' / 'metrics.json').read_text(
             encoding='utf-8'))
@@ -341,7 +348,7 @@ class Demo:
                  f'{100 * stratified:.1f} % stratified (leaky); report train/report.md')
         return {'grouped': grouped, 'stratified': stratified}
 
-    def _command(self, argv: list[str], name: str, main) -> None:
+    def command(self, argv: list[str], name: str, main) -> None:
         """Run a tactex subcommand with its output in logs/NAME.log."""
         log = self.folder / 'logs' / f'{name}.log'
         with log.open('w', encoding='utf-8') as stream, redirect_stdout(stream), \
