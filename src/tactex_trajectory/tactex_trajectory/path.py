@@ -230,9 +230,16 @@ def _merge_close(points: np.ndarray, usable: Sequence[int], within_m: float,
     return groups
 
 
+def _scaled_rows(vectors: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(largest |entry| of each row, the rows divided by it): norms of these never overflow."""
+    scale = np.max(np.abs(vectors), axis=1, keepdims=True)
+    with np.errstate(invalid='ignore', divide='ignore'):
+        return scale, vectors / scale
+
+
 def _unit_rows(vectors: np.ndarray) -> np.ndarray:
-    """Each row scaled to unit length, scaled by its largest entry first (no overflow)."""
-    scaled = vectors / np.max(np.abs(vectors), axis=1, keepdims=True)
+    """Each row scaled to unit length, without overflow for huge finite entries."""
+    scaled = _scaled_rows(vectors)[1]
     return scaled / np.linalg.norm(scaled, axis=1, keepdims=True)
 
 
@@ -247,10 +254,8 @@ def _mean_direction(normals: np.ndarray) -> np.ndarray:
 
 def _check_span(points: np.ndarray) -> None:
     """Refuse contacts whose chord length exceeds MAX_EXTENT_M, before anything is fitted."""
-    steps = np.diff(points, axis=0)
-    scale = np.max(np.abs(steps), axis=1)
-    with np.errstate(invalid='ignore'):
-        chords = scale * np.linalg.norm(steps / np.where(scale > 0, scale, 1.0)[:, None], axis=1)
+    scale, scaled = _scaled_rows(np.diff(points, axis=0))
+    chords = scale[:, 0] * np.linalg.norm(np.nan_to_num(scaled), axis=1)  # 0/0: no step
     span = float(np.sum(chords))
     if not span <= MAX_EXTENT_M:
         raise PathError(f'the contacts span {span:.3g} m, more than a path may '
@@ -409,7 +414,7 @@ class _Curve:
         normals = np.cos(angle) * self.base[0] + np.sin(angle) * direction / safe
         tangents = self.tangents(u)
         normals -= np.sum(normals * tangents, axis=1, keepdims=True) * tangents
-        return _unit_rows(normals)
+        return normals / np.linalg.norm(normals, axis=1, keepdims=True)  # bounded: cos, sin
 
 
 def _fit(points: np.ndarray, normals: np.ndarray, settings: PathSettings) -> _Curve:
