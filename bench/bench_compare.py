@@ -6,11 +6,12 @@ Collects the synthetic set once (`tactex sim collect`, 12 textures x 25 sweeps, 
 `--cpus` Ray workers; or takes `--bags`), keeps the first `--recordings` sweeps of each
 texture when asked (whole recordings, hard-linked into their own folder), converts them
 at 128, 256 and 512 samples (50 % overlap) into `--work`, then runs `tactex compare`
-on the three datasets into bench/results/compare/. The grid resumes: run this again
+on the datasets into bench/results/GRID/ (`--grid`, default compare: the README's
+table; compare_long: the deep models trained longer). The grid resumes: run this again
 (same settings) and only the cells not yet finished are trained, so the kept run can be
 built in chunks on a busy machine. Each call appends its steps and their durations to
-bench/results/compare/run.json; `bench/render_results.py` builds the README's
-comparison from summary.json and run.json only.
+GRID/run.json; `bench/render_results.py` builds the README's comparison sections from
+summary.json and run.json only.
 """
 
 import argparse
@@ -23,7 +24,7 @@ import subprocess
 import sys
 import time
 
-RESULTS = Path(__file__).parent / 'results' / 'compare'
+RESULTS = Path(__file__).parent / 'results'
 TACTEX = str(Path(sys.executable).parent / 'tactex')
 WINDOWS = (128, 256, 512)
 
@@ -83,10 +84,16 @@ def main() -> int:
                         help='keep the first N recordings of each texture (default: all)')
     parser.add_argument('--cpus', type=int, default=2)
     parser.add_argument('--models', help='comma-separated (default: every model)')
+    parser.add_argument('--cv', default='both', choices=('grouped', 'stratified', 'both'))
+    parser.add_argument('--early-stopping', type=int, default=0,
+                        help='patience in epochs on held-out recordings (0: off)')
+    parser.add_argument('--grid', default='compare',
+                        help='folder under bench/results/ (default compare, the README table)')
     parser.add_argument('--windows', default=','.join(map(str, WINDOWS)),
                         help='comma-separated window sizes (default 128,256,512); a later call '
                              'with more windows adds them to the same grid')
     args = parser.parse_args()
+    results = RESULTS / args.grid
     steps: list[dict] = []
     bags = args.bags or args.work / 'bags'
     if not bags.is_dir():
@@ -105,13 +112,14 @@ def main() -> int:
         datasets.append(data)
     command = [TACTEX, 'compare', *map(str, datasets), '--epochs', str(args.epochs),
                '--folds', str(args.folds), '--seeds', str(args.seeds), '--cpus', str(args.cpus),
-               '--out', str(RESULTS)]
+               '--cv', args.cv, '--early-stopping', str(args.early_stopping),
+               '--out', str(results)]
     if args.models:
         command += ['--models', args.models]
     try:
         _timed(command, steps)
     finally:
-        path = RESULTS / 'run.json'
+        path = results / 'run.json'
         record = json.loads(path.read_text(encoding='utf-8')) if path.is_file() else {
             'datasets': {}, 'calls': []}
         for data in datasets:
@@ -119,7 +127,7 @@ def main() -> int:
         record['calls'].append({'started': time.strftime('%Y-%m-%dT%H:%M:%S%z'),
                                 'cpus': args.cpus, 'recordings_per_texture': args.recordings,
                                 'steps': steps})
-        RESULTS.mkdir(parents=True, exist_ok=True)
+        results.mkdir(parents=True, exist_ok=True)
         path.write_text(json.dumps(record, indent=2) + '\n', encoding='utf-8')
     return 0
 

@@ -145,9 +145,9 @@ def pinned(command: list, realtime: bool, core: str = NODE_CORE) -> list:
             + [str(c) for c in command])
 
 
-def measure(listener: Listener, checkpoint: Path, runtime: str, seconds: float,
-            realtime: bool, env: dict) -> dict:
-    """Run classifier_node on the stream for `seconds` after its first estimate."""
+def measure(listener: Listener, checkpoint: Path, runtime: str, estimates: int,
+            max_seconds: float, realtime: bool, env: dict) -> dict:
+    """Run classifier_node on the stream until `estimates` latencies (at most `max_seconds`)."""
     listener.reset()
     node = subprocess.Popen(pinned([BIN / 'classifier_node', '--ros-args', '-p',
                                     f'checkpoint:={checkpoint}', '-p', f'runtime:={runtime}',
@@ -161,7 +161,7 @@ def measure(listener: Listener, checkpoint: Path, runtime: str, seconds: float,
             raise RuntimeError(f'{checkpoint.name} {runtime}: no estimate within 60 s; the '
                                f'node said: {node.communicate(timeout=15)[1][-2000:]}; '
                                f'diagnostics: {listener.diagnostics}')
-        listener.spin(seconds)
+        listener.spin(max_seconds, lambda: len(listener.latencies) >= estimates)
         listener.diagnostics = {}
         listener.spin(5.0, lambda: bool(listener.diagnostics))
     finally:
@@ -183,8 +183,10 @@ def measure(listener: Listener, checkpoint: Path, runtime: str, seconds: float,
 def main(argv: list[str] | None = None) -> int:
     """Run the grid; print the table; keep results/online_latency.{json,md}."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument('--seconds', type=float, default=15.0,
-                        help='measuring time per configuration (s)')
+    parser.add_argument('--estimates', type=int, default=60,
+                        help='latencies measured per configuration (default 60)')
+    parser.add_argument('--max-seconds', type=float, default=100.0,
+                        help='measuring time per configuration at most (s; default 100)')
     parser.add_argument('--families', default=','.join(FAMILIES))
     parser.add_argument('--windows', default=','.join(map(str, WINDOWS)))
     parser.add_argument('--realtime', action=argparse.BooleanOptionalAction, default=True,
@@ -232,7 +234,8 @@ def main(argv: list[str] | None = None) -> int:
                             row = {'family': family, 'model': FAMILIES[family],
                                    'window': window, 'rate_hz': rate, 'runtime': runtime}
                             bare = bare_inference_ms(paths[rate], runtime, args.realtime)
-                            row.update(measure(listener, paths[rate], runtime, args.seconds,
+                            row.update(measure(listener, paths[rate], runtime,
+                                               args.estimates, args.max_seconds,
                                                args.realtime, env),
                                        bare_p50_ms=bare[0], bare_p99_ms=bare[1])
                             rows.append(row)
@@ -245,7 +248,8 @@ def main(argv: list[str] | None = None) -> int:
         finally:
             listener.node.destroy_node()
             rclpy.shutdown(context=context)
-    summary = {'realtime': args.realtime, 'seconds': args.seconds,
+    summary = {'realtime': args.realtime, 'estimates': args.estimates,
+               'max_seconds': args.max_seconds,
                'load_average_before': load_before, 'load_average_after': os.getloadavg()[0],
                'cores': os.cpu_count(), 'rows': rows, 'failures': failures}
     RESULTS.mkdir(exist_ok=True)

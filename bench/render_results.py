@@ -231,18 +231,15 @@ def kinematics() -> str:
 
 
 def sim_collect() -> str:
-    text = _read('sim_collect_300.txt')
-    loads = [_numbers(line.split('load average:')[1])[0] for line in text.splitlines()
-             if 'load average:' in line]
-    clock = _line(text.replace('\t', ''), 'Elapsed (wall clock)').split('): ')[1]
-    minutes, seconds = (float(v) for v in clock.split(':')[-2:])
-    return (f'- `tactex sim collect --sweeps 25 --workers 2` recorded the 300 sweeps in '
-            f'{minutes + seconds / 60:.1f} min on the 2 cores of this machine while other jobs '
-            f'kept them busy (load average {loads[0]:.1f} at the start, {loads[-1]:.1f} at the '
-            f'end; `bench/results/sim_collect_300.txt`), against 4.5 min measured earlier on one '
-            f'core of a quieter machine. Two workers cannot beat one by more than the cores '
-            f'they get: here the Ray workers, at a lower priority than the other jobs, got a '
-            f'fraction of them.\n')
+    data = _json('sim_collect.json')
+    one, two = data['runs']['1'], data['runs']['2']
+    same = 'byte for byte the same bags' if data['same_bags'] else '**different bags**'
+    return (f'- `python bench/bench_collect.py --sweeps {data["sweeps"] // 12}`: '
+            f'`tactex sim collect` recorded the {data["sweeps"]} sweeps in {one / 60:.1f} min '
+            f'with one worker and {two / 60:.1f} min with two (a local Ray instance, its start '
+            f'included) in the same run: {data["speedup"]:.2f}x on the 2 cores of this '
+            f'machine, {same} (load average {data["load_before"]:.1f} before, '
+            f'{data["load_after"]:.1f} after; `bench/results/sim_collect.json`).\n')
 
 
 def training() -> str:
@@ -299,13 +296,18 @@ def _grid_gaps(rows: list[dict], expected: int) -> list[str]:
     return gaps
 
 
-def compare() -> str:
-    summary = _json('compare/summary.json')
-    run = _json('compare/run.json')
-    from tactex_classify.compare_report import table
-    settings = summary['settings']
+def _kept_grid(name: str) -> tuple[dict, dict, list[dict]]:
+    """A kept comparison's summary, its calls (run.json) and their `tactex compare` steps."""
+    summary, run = _json(f'{name}/summary.json'), _json(f'{name}/run.json')
     grid = [step for call in run['calls'] for step in call['steps']
             if step['command'].startswith('tactex compare ')]
+    return summary, run, grid
+
+
+def compare() -> str:
+    from tactex_classify.compare_report import table
+    summary, run, grid = _kept_grid('compare')
+    settings = summary['settings']
     seeds = {int(_option(step['command'], '--seeds')) for step in grid}
     per_texture = {call['recordings_per_texture'] for call in run['calls']}
     if len(seeds) != 1 or len(per_texture) != 1:
@@ -362,6 +364,98 @@ def compare() -> str:
             '![accuracy](bench/results/compare/accuracy.png)\n')
 
 
+def online_latency() -> str:
+    data = _json('online_latency.json')
+    rows = data['rows']
+    groups: dict[tuple[str, str], list[dict]] = {}
+    for row in rows:
+        groups.setdefault((row['model'], row['runtime_used']), []).append(row)
+
+    def span(values: list[float]) -> str:
+        return f'{min(values):.1f}-{max(values):.1f}'
+    lines = ['| model | runtime | configurations | p50 ms | p99 ms | node p99 ms | bare model '
+             'p50 ms | dropped |', '|---|---|---|---|---|---|---|---|']
+    for (model, runtime), found in groups.items():
+        lines.append(f'| {model} | {runtime} | {len(found)} | '
+                     f'{span([r["p50_ms"] for r in found])} | '
+                     f'{span([r["p99_ms"] for r in found])} | '
+                     f'{span([r["node_p99_ms"] for r in found])} | '
+                     f'{span([r["bare_p50_ms"] for r in found])} | '
+                     f'{sum(r["dropped"] for r in found)} |')
+    cnn = [r for r in rows if r['family'] == 'cnn']
+    fast = [r for r in rows if r['family'] in ('cnn', 'minirocket')]
+    dropped_350 = sum(r['dropped'] for r in rows if r['rate_hz'] == 350.0)
+    estimates = [r['windows'] for r in rows]
+    windows = sorted({r['window'] for r in rows})
+    rates = sorted({r['rate_hz'] for r in rows})
+    return ("End-to-end latency, a window's last sample arriving to its estimate (`python "
+            f'bench/bench_online.py`, kept in `bench/results/online_latency.{{md,json}}`: '
+            f'{len(rows)} configurations: {", ".join(dict.fromkeys(r["model"] for r in rows))} '
+            'at windows '
+            f'{", ".join(map(str, windows))} and {" and ".join(f"{r:g}" for r in rates)} Hz '
+            f'with hop = window / 2, torch and onnxruntime side by side; {min(estimates)}-'
+            f'{max(estimates)} estimates each, so a p99 is close to the largest of them; '
+            'teensy_node and classifier_node SCHED_FIFO on one core; load average '
+            f'{data["load_average_before"]:.1f} before, {data["load_average_after"]:.1f} after, '
+            'other jobs on the same cores). Ranges are over windows, rates and runtimes '
+            '(the per-configuration table is in the kept file):\n\n'
+            + '\n'.join(lines) + '\n\n'
+            f'Must: CNN p99 < 20 ms, met by {sum(r["p99_ms"] < 20.0 for r in cnn)} of '
+            f'{len(cnn)} configurations; windows dropped at 350 Hz: {dropped_350}. Goal: p99 '
+            f'< 5 ms for the CNN and MiniRocket, met by {sum(r["p99_ms"] < 5.0 for r in fast)} '
+            f'of {len(fast)}. The bare model takes {span([r["bare_p50_ms"] for r in rows])} '
+            'ms; the rest is the pipeline.\n')
+
+
+def compare_long() -> str:
+    from tactex_classify.compare_report import table
+    summary, run, grid = _kept_grid('compare_long')
+    settings = summary['settings']
+    command = grid[-1]['command']
+    seeds = int(_option(command, '--seeds'))
+    schemes = _option(command, '--cv')
+    expected = seeds * settings['folds'] * (2 if schemes == 'both' else 1)
+    per_texture = {call['recordings_per_texture'] for call in run['calls']}.pop()
+    minutes = sum(step['seconds'] for step in grid) / 60
+    loads = [load for step in grid for load in step['load_average']]
+    rows = summary['rows']
+    models = ','.join(sorted({row['model'] for row in rows}))
+    windows = ','.join(str(w) for w in sorted({row['window'] for row in rows}))
+    best = max(rows, key=lambda row: row['schemes']['grouped']['accuracy']['mean'])
+    short = next(r for r in _json('compare/summary.json')['rows']
+                 if r['model'] == best['model'] and r['window'] == best['window'])
+    unfinished = [row['model'] for row in rows
+                  if sum(v['cells'] for v in row['schemes'].values()) < expected]
+    status = f' **Unfinished**: {", ".join(unfinished)}.' if unfinished else ''
+    baselines = [r for r in _json('compare/summary.json')['rows']
+                 if r['window'] == best['window'] and r['model'] in ('minirocket', 'extratrees')]
+    baseline = max(baselines, key=lambda r: r['schemes']['grouped']['accuracy']['mean'])
+    fitted = [row['schemes']['grouped']['train_accuracy']['mean'] for row in rows]
+    stopping = (f'stopped when the loss on {100 * settings["validation_fraction"]:.0f} % of the '
+                'training recordings held out has not improved for '
+                f'{settings["early_stopping"]} epochs (the epochs column is the one kept)'
+                if settings['early_stopping'] else 'no early stopping')
+    return (f'The deep models trained longer (`python bench/bench_compare.py --grid '
+            f'compare_long --recordings {per_texture} --models {models} --windows {windows} '
+            f'--cv {schemes} --folds {settings["folds"]} --epochs {settings["epochs"]} '
+            f'--early-stopping {settings["early_stopping"]} --seeds {seeds}`, outputs in '
+            '`bench/results/compare_long/`): the same recordings, grouped by recording, '
+            f'{settings["epochs"]} epochs at most, {stopping}; '
+            f'{sum(r["schemes"]["grouped"]["cells"] for r in rows)} cells in {minutes:.0f} min '
+            f'on the two cores (load average {min(loads):.1f}-{max(loads):.1f}).{status} '
+            f'{best["model"]} reaches {100 * best["schemes"]["grouped"]["accuracy"]["mean"]:.1f} '
+            f'% on held-out recordings at {best["window"]} samples, against '
+            f'{100 * short["schemes"]["grouped"]["accuracy"]["mean"]:.1f} % after '
+            f'{_json("compare/summary.json")["settings"]["epochs"]} epochs above: the deep '
+            f'models now fit their training windows ({100 * min(fitted):.0f}-'
+            f'{100 * max(fitted):.0f} %) but, with about '
+            f'{round(per_texture * (settings["folds"] - 1) / settings["folds"])} training '
+            'recordings per texture, generalise to new recordings less well than '
+            f'{baseline["model"]} ({100 * baseline["schemes"]["grouped"]["accuracy"]["mean"]:.1f}'
+            ' %) does on the same folds.\n\n'
+            + table(rows, expected) + '\n')
+
+
 def sweep() -> str:
     data = _json('sweep.json')
 
@@ -399,7 +493,8 @@ SECTIONS: dict[str, Callable[[], str]] = {
     'sensor_decoder': sensor_decoder, 'sensor_node': sensor_node, 'madgwick': madgwick,
     'driver': driver, 'sim': sim, 'convert': convert, 'synthetic_set': synthetic_set,
     'textures': textures, 'init': init, 'kinematics': kinematics, 'sweep': sweep,
-    'sim_collect': sim_collect, 'training': training, 'compare': compare}
+    'sim_collect': sim_collect, 'training': training, 'compare': compare,
+    'compare_long': compare_long, 'online_latency': online_latency}
 
 
 def _wrapped(text: str) -> str:

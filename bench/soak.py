@@ -28,6 +28,7 @@ the node logs and the recordings.
 from __future__ import annotations
 
 import argparse
+from dataclasses import replace
 import json
 import os
 from pathlib import Path
@@ -276,7 +277,7 @@ def run(args: argparse.Namespace) -> int:
                            'model/ folder of a tactex train run')
     started = time.monotonic()
     with staged_folder(out) as folder, demo_environment(folder):
-        demo = Demo(folder, out, DEFAULT, args.rate_factor, started)
+        demo = Demo(folder, out, replace(DEFAULT, rate_factor=args.rate_factor), started)
         job = Soak(demo, args.minutes, args.fault_period)
         summary = job.run(checkpoint.resolve() if checkpoint else job.checkpoint())
         (folder / 'summary.json').write_text(json.dumps(summary, indent=2) + '\n',

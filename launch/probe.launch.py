@@ -7,25 +7,19 @@ from tactex.launch_spec import (
     config_path,
     is_true,
     LaunchFile,
-    load_launch_file,
     NodeSpec,
+    robot_nodes,
 )
 
 
 def _nodes(args):
     sim = is_true(args['sim'])
-    if sim:
-        robot = load_launch_file('sim').node_specs(
-            {'scene': args['scene'], 'rate_factor': args['rate_factor']})
-    else:
-        robot = [*load_launch_file('sensor').node_specs({'port': args['sensor_port']}),
-                 *load_launch_file('arm').node_specs({'port': args['arm_port']})]
     settings = {'probe_on_start': is_true(args['probe_on_start']), 'use_sim_time': sim}
     if args['pathway_file']:
         settings['pathway_file'] = args['pathway_file']
     probe = NodeSpec('tactex_probe', 'probe_node', 'probe_node',
                      parameters=(config_path('probe.yaml'), settings))
-    return [*robot, probe]
+    return [*robot_nodes(args), probe]
 
 
 LAUNCH = LaunchFile(

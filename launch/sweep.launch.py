@@ -12,8 +12,8 @@ from tactex.launch_spec import (
     config_path,
     is_true,
     LaunchFile,
-    load_launch_file,
     NodeSpec,
+    robot_nodes,
 )
 
 
@@ -22,13 +22,7 @@ def _nodes(args):
     sweep = NodeSpec('tactex_trajectory', 'sweep_node', 'sweep_node', parameters=(
         config_path('sweep.yaml'),
         {'use_sim_time': simulated, 'recording_root': args['recording_root']}))
-    if simulated:
-        robot = load_launch_file('sim').node_specs(
-            {'scene': args['scene'], 'rate_factor': args['rate_factor']})
-    else:
-        robot = (load_launch_file('arm').node_specs({'port': args['arm_port']})
-                 + load_launch_file('sensor').node_specs({'port': args['sensor_port']}))
-    return [*robot, sweep]
+    return [*robot_nodes(args), sweep]
 
 
 LAUNCH = LaunchFile(

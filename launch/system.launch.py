@@ -9,19 +9,12 @@ online classifier; without one the system probes, sweeps and records (what a dat
 needs before there is a model).
 """
 
-from tactex.launch_spec import Argument, is_true, LaunchFile, load_launch_file
+from tactex.launch_spec import Argument, is_true, LaunchFile, load_launch_file, robot_nodes
 
 
 def _nodes(args):
     simulated = is_true(args['sim'])
-    if simulated:
-        robot = load_launch_file('sim').node_specs(
-            {'scene': args['scene'], 'rate_factor': args['rate_factor'],
-             'patch_texture': args['patch_texture']})
-    else:
-        robot = [*load_launch_file('sensor').node_specs({'port': args['sensor_port']}),
-                 *load_launch_file('arm').node_specs({'port': args['arm_port']})]
-    nodes = [*robot,
+    nodes = [*robot_nodes(args, patch_texture=args['patch_texture']),
              load_launch_file('probe').node('probe_node', {
                  'sim': args['sim'], 'probe_on_start': args['probe_on_start'],
                  'pathway_file': args['pathway_file']}),

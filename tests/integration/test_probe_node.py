@@ -14,6 +14,7 @@ import sys
 import threading
 import time
 
+from processes import stop, wait_for
 import pytest
 
 pytest.importorskip('tactex_msgs', reason='tactex_msgs is not built in this environment')
@@ -30,13 +31,6 @@ def spin_in_background(context, nodes):
     thread = threading.Thread(target=executor.spin, daemon=True)
     thread.start()
     return executor, thread
-
-
-def wait_for(condition, timeout):
-    deadline = time.monotonic() + timeout
-    while not condition() and time.monotonic() < deadline:
-        time.sleep(0.05)
-    return condition()
 
 
 def goal(x, span, approach=0.02):
@@ -119,13 +113,7 @@ def test_probe_goal_in_simulation_broadcasts_the_pathway(ros_context, tmp_path):
     finally:
         executor.shutdown()
         client_node.destroy_node()
-        for node in nodes:
-            node.send_signal(signal.SIGINT)
-        for node in nodes:
-            try:
-                node.wait(timeout=10)
-            except subprocess.TimeoutExpired:
-                node.kill()
+        stop(nodes, signal.SIGINT)
         for log in logs.values():
             log.close()
 

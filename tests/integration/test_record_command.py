@@ -10,6 +10,7 @@ import subprocess
 import sys
 import time
 
+from processes import wait_for
 import pytest
 
 from tactex.ros_env import ros_environment
@@ -40,15 +41,6 @@ def alive(pid: int) -> bool:
     except FileNotFoundError:
         return False
     return state != 'Z'
-
-
-def wait_for(condition, timeout_s: float) -> bool:
-    deadline = time.monotonic() + timeout_s
-    while time.monotonic() < deadline:
-        if condition():
-            return True
-        time.sleep(0.05)
-    return False
 
 
 def publish_until_a_part_exists(ros_context, out: Path) -> None:

@@ -10,6 +10,7 @@ import sys
 import time
 
 import numpy as np
+from processes import stop
 import pytest
 
 from tactex.ros_env import ros_environment
@@ -98,18 +99,3 @@ def test_nodes_publish_through_faults_and_a_disconnect(tmp_path, ros_context):
         stubborn = stop(nodes + ([emulator] if emulator else []))
     assert not stubborn, f'still running 10 s after SIGTERM: {stubborn}'
     assert os.path.lexists(link) is False
-
-
-def stop(processes) -> list[str]:
-    """SIGTERM each process, wait 10 s, SIGKILL what remains; the names of those killed."""
-    for process in processes:
-        process.terminate()
-    stubborn = []
-    for process in processes:
-        try:
-            process.wait(timeout=10)
-        except subprocess.TimeoutExpired:
-            process.kill()
-            process.wait()
-            stubborn.append(Path(str(process.args[0])).name)
-    return stubborn

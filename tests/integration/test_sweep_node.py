@@ -171,9 +171,10 @@ def test_cancel_mid_sweep_lifts_the_edge_off_before_stopping(harness):
     with harness.lock:
         touching = [stamp(msg) for _, msg in harness.contacts]
         final = harness.poses[-1][1].pose.position
-    # In contact when cancelled, out of contact before the result, and lifted clear.
+    # In contact when cancelled, out of contact before the result, and lifted clear (the
+    # lift leaves the surface in its first 2 mm; the result comes at 80 % of its 20 mm).
     assert any(t > cancelled_at - 0.2 for t in touching)
-    assert max(touching) < finished_at - 0.3
+    assert max(touching) < finished_at - 0.1
     assert final.z - SCENE.surface.height(final.x) > 0.008
 
 

@@ -12,6 +12,7 @@ import sys
 import time
 
 import numpy as np
+from processes import wait_for
 import pytest
 
 from tactex.launch_spec import (
@@ -162,15 +163,6 @@ def _alive(pid: int) -> bool:
         return False
 
 
-def _wait(condition, timeout_s: float) -> bool:
-    deadline = time.monotonic() + timeout_s
-    while time.monotonic() < deadline:
-        if condition():
-            return True
-        time.sleep(0.05)
-    return condition()
-
-
 def _start_launch(*arguments: str, log: Path) -> subprocess.Popen:
     return subprocess.Popen(TACTEX + ['launch', *arguments], stdout=log.open('w'),
                             stderr=subprocess.STDOUT, env=dict(os.environ, PYTHONUNBUFFERED='1'))
@@ -225,12 +217,12 @@ def test_killing_the_launcher_leaves_no_orphaned_process(tmp_path):
     log = tmp_path / 'launch.log'
     launcher = _start_launch('system', 'sim:=true', f'recording_root:={tmp_path}/bags',
                              f'pathway_file:={tmp_path}/pathway.json', log=log)
-    assert _wait(lambda: len(_pids(log.read_text())) == 4, 30), log.read_text()
+    assert wait_for(lambda: len(_pids(log.read_text())) == 4, 30), log.read_text()
     tree = _descendants(launcher.pid)
     assert set(_pids(log.read_text()).values()) <= tree
     launcher.kill()  # SIGKILL: the launcher cannot clean up; the kernel tells the nodes
     launcher.wait()
-    assert _wait(lambda: not any(_alive(pid) for pid in tree), 10), \
+    assert wait_for(lambda: not any(_alive(pid) for pid in tree), 10), \
         [open(f'/proc/{pid}/cmdline').read() for pid in tree if _alive(pid)]
 
 

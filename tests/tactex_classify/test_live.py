@@ -143,6 +143,22 @@ def stream_of(kind_of_sample, count, *, start=START_NS):
         yield 'pressure', stamp, (103_000.0,)
 
 
+def test_a_window_is_cut_as_its_last_frame_arrives_with_stamps_since_the_epoch():
+    # Stamps since 1970 (~1.8e18 ns) are not exact as floats; the newest sample must still
+    # be final at once, not wait for the next frame (it did: one frame of latency).
+    core = LiveWindows(SPEC, LiveSettings(contact='always'))
+    cut_at = []
+    for frame in range(80):
+        stamp = 1_795_360_000_123_456_789 + frame * 8_334_667
+        for role, values in (('imu', (0.1, 0.0, 9.8, 0.0, 0.0, 0.0)), ('mag', (1e-5, 0.0, 0.0)),
+                             ('pressure', (103_000.0,))):
+            core.add(role, stamp, values, frame)
+        cut_at += [(frame, event.end_ns == stamp) for event in core.poll()
+                   if isinstance(event, Window)]
+    assert cut_at and all(at_once for _, at_once in cut_at)
+    assert [frame for frame, _ in cut_at][:2] == [SPEC.window - 1, SPEC.window - 1 + SPEC.hop]
+
+
 def texture_model(windows):
     """A stand-in model: class 1 when ax averages above 0.5, confidently."""
     high = windows[:, :, 0].mean(axis=1) > 0.5

@@ -47,6 +47,17 @@ def test_a_sweep_of_the_uneven_scene_meets_the_accuracy_thresholds(seed):
     before = record.times_s < sweep.phase('descend').start_s
     assert not np.any(record.touching[before])
     assert not record.touching[-1]
+    # The default descent (30 mm/s peak) meets the surface in its slow tail: it presses
+    # no harder than sliding does.
+    assert peak_force(record, sweep, 'descend', 'settle') <= 1.1 * peak_force(
+        record, sweep, 'slide', 'slide')
+
+
+def peak_force(record, sweep, first: str, last: str) -> float:
+    """Largest contact force (N) from the start of phase `first` to the end of `last`."""
+    inside = ((record.times_s >= sweep.phase(first).start_s)
+              & (record.times_s <= sweep.phase(last).end_s))
+    return float(record.force_n[inside].max())
 
 
 def test_a_sweep_along_a_pathway_probed_in_closed_loop_meets_the_accuracy_thresholds():

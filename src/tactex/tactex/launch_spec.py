@@ -175,6 +175,19 @@ def as_float(name: str, value: str) -> float:
     return number
 
 
+def robot_nodes(args: Mapping[str, str], **sim_overrides: str) -> list[NodeSpec]:
+    """The robot of a launch file: MuJoCo with `sim:=true`, else the sensor and the arm.
+
+    Reads the arguments `sim`, `scene` and `rate_factor` (simulated), `sensor_port` and
+    `arm_port` (hardware); `sim_overrides` are more arguments of launch/sim.launch.py.
+    """
+    if is_true(args['sim']):
+        return load_launch_file('sim').node_specs(
+            {'scene': args['scene'], 'rate_factor': args['rate_factor'], **sim_overrides})
+    return [*load_launch_file('sensor').node_specs({'port': args['sensor_port']}),
+            *load_launch_file('arm').node_specs({'port': args['arm_port']})]
+
+
 def launch_directory() -> Path:
     """The installed (or checked-out) launch/ folder of the tactex package."""
     return share_directory('tactex') / 'launch'

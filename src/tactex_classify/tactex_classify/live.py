@@ -292,7 +292,9 @@ class LiveWindows:
             if self._buffers[role].count < 2:
                 return None  # not started yet: wait for it a while
             horizon = min(horizon, latest)
-        return int(horizon - self.settings.reorder_s * 1e9)
+        # Integer nanoseconds: a stamp since the epoch (~1.8e18) is not exact as a float64
+        # (256 ns apart), and rounding it down kept the newest sample waiting for the next.
+        return int(horizon) - int(round(self.settings.reorder_s * 1e9))
 
     def poll(self) -> list[Window | ContactLost]:
         """Make final what can be; return the windows and contact losses it completes."""

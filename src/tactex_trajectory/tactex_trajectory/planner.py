@@ -72,7 +72,7 @@ class SweepSettings:
 
     sliding_speed_m_s: float = 0.015
     approach_height_m: float = 0.02
-    descent_speed_m_s: float = 0.01
+    descent_speed_m_s: float = 0.03
     ramp_acceleration_m_s2: float = 0.05
     settle_s: float = 0.3
     path: PathSettings = field(default_factory=PathSettings)

@@ -89,11 +89,12 @@ class SweepNode(Node):
     def __init__(self, **kwargs) -> None:
         super().__init__('sweep_node', **kwargs)
         declare = self.declare_parameter
+        defaults = SweepSettings()
         self._settings = SweepSettings(
-            approach_height_m=declare('approach_height', 0.02, _positive(
+            approach_height_m=declare('approach_height', defaults.approach_height_m, _positive(
                 'height above the surface where the descent starts and the lift ends (m)',
                 high=0.1)).value,
-            descent_speed_m_s=declare('descent_speed', 0.01, _positive(
+            descent_speed_m_s=declare('descent_speed', defaults.descent_speed_m_s, _positive(
                 'peak speed of the descent and the lift (m/s)', high=0.1)).value,
             ramp_acceleration_m_s2=declare('ramp_acceleration', 0.05, _positive(
                 'largest edge acceleration of the speed ramps (m/s^2)', high=1.0)).value,

@@ -1,0 +1,39 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""Helpers of the tests that run nodes as processes: waiting for a condition, stopping them."""
+
+from pathlib import Path
+import signal
+import subprocess
+import time
+
+STOP_TIMEOUT_S = 10.0
+
+
+def wait_for(condition, timeout_s: float) -> bool:
+    """Poll `condition` every 50 ms for up to `timeout_s`; its last value."""
+    deadline = time.monotonic() + timeout_s
+    while time.monotonic() < deadline:
+        if condition():
+            return True
+        time.sleep(0.05)
+    return bool(condition())
+
+
+def stop(processes, stop_signal: int = signal.SIGTERM) -> list[str]:
+    """Signal each process, wait 10 s, SIGKILL what remains; the names of those killed.
+
+    Never raises, so that a test's own failure is the one reported.
+    """
+    for process in processes:
+        if process.poll() is None:
+            process.send_signal(stop_signal)
+    stubborn = []
+    for process in processes:
+        try:
+            process.wait(timeout=STOP_TIMEOUT_S)
+        except subprocess.TimeoutExpired:
+            process.kill()
+            process.wait()
+            stubborn.append(Path(str(process.args[0])).name)
+    return stubborn
