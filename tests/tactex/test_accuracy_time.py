@@ -79,6 +79,32 @@ def test_a_failing_section_leaves_nothing_behind(tmp_path, monkeypatch, capsys):
     assert list(tmp_path.iterdir()) == []
 
 
+def test_a_section_the_arm_cannot_do_is_reported_and_the_others_still_run(monkeypatch):
+    from tactex.accuracy_time import classification, physical, pipeline, sweep_speed
+    from tactex_probe.motion import PathUnreachable
+
+    class Data:
+        datasets = {64: type('D', (), {'trial': [0, 1], 'y': [0, 1], 'classes': ['a', 'b']})}
+        rate_hz, collect_s = 120.0, 1.0
+
+    def unreachable(*args, **kwargs):
+        raise PathUnreachable('the probe line leaves the workspace at x = 0.4 m')
+    live = point('extratrees', 1.0, 0.9)
+    monkeypatch.setattr(classification, 'build_data', lambda *args: Data())
+    monkeypatch.setattr(classification, 'contact_time', lambda *a, **k: {'points': [live]})
+    monkeypatch.setattr(classification, 'compute_time', lambda *a, **k: {'rows': []})
+    monkeypatch.setattr(physical, 'probing', unreachable)
+    monkeypatch.setattr(sweep_speed, 'sweep_speed', lambda *a, **k: {'rows': ['measured']})
+    monkeypatch.setattr(physical, 'simulation_cost', lambda *a, **k: {'rows': ['measured']})
+    monkeypatch.setattr(physical, 'filter_rate', lambda *a, **k: {'rows': ['measured']})
+    monkeypatch.setattr(pipeline, 'whole_job', lambda *a, **k: pytest.fail('ran without 3'))
+    results = report.run_sections(QUICK, seed=0, threads=1, progress=lambda line: None)
+    assert results['3'] == {'failed': 'PathUnreachable: the probe line leaves the workspace '
+                                      'at x = 0.4 m'}
+    assert results['7'] == {'failed': 'it starts from section 3, which was not measured'}
+    assert all(results[n] == {'rows': ['measured']} for n in ('4', '5', '6'))
+
+
 @pytest.mark.slow
 @pytest.mark.timeout(1200)  # about 6 minutes on two loaded cores
 def test_the_quick_report_measures_every_section_and_opens_with_three_commands(tmp_path,

@@ -11,6 +11,16 @@ PLOTS = {'1': 'contact_time.png', '2': 'compute_time.png', '3': 'probing_time.pn
          '4': 'sweep_speed.png', '5': 'simulation_cost.png', '6': 'filter_rate.png',
          '7': 'whole_job.png'}
 
+TITLES = {
+    '1': 'Contact time against accuracy',
+    '2': 'Compute time against accuracy',
+    '3': 'Probing time against reconstruction accuracy',
+    '4': 'Sweep speed against accuracy',
+    '5': 'Simulation cost against fidelity',
+    '6': 'Filter rate against attitude accuracy',
+    '7': 'Where the time goes end to end',
+}
+
 
 def _pct(value: float) -> str:
     return f'{100 * value:.1f} %'
@@ -67,15 +77,19 @@ def render(results: dict) -> str:
                   f'{point["earliness"]:.2f}), runtime {point["runtime"]}.', '', '```sh',
                   command(point, epochs=results['size']['epochs'],
                           folds=results['size']['folds']), '```', '']
-    for renderer in (contact_section, compute_section, probing_section, speed_section,
-                     simulation_section, filter_section, job_section):
-        lines += renderer(results) + ['']
+    renderers = (contact_section, compute_section, probing_section, speed_section,
+                 simulation_section, filter_section, job_section)
+    for number, renderer in zip(TITLES, renderers, strict=True):
+        failed = results[number].get('failed')
+        lines += ([f'## {number}. {TITLES[number]}', '', f'Not measured: {failed}.'] if failed
+                  else renderer(results)) + ['']
     return '\n'.join(lines)
 
 
-def _section(results: dict, number: str, title: str, data: str, notes: str,
+def _section(results: dict, number: str, data: str, notes: str,
              tables: list[list[str]]) -> list[str]:
     """A section: title, plot, the data it used, notes, its tables."""
+    title = TITLES[number]
     lines = [f'## {number}. {title}', '', f'![{title}]({PLOTS[number]})', '',
              f'Data: {data}. Section time: {results["seconds"][number]:.0f} s.', '']
     if notes:
@@ -93,7 +107,7 @@ def contact_section(results: dict) -> list[str]:
              '—' if p['harmonic_mean'] is None else f'{p["harmonic_mean"]:.3f}',
              '**P**' if p['pareto'] else ''] for p in results['1']['points']]
     return _section(
-        results, '1', 'Contact time against accuracy', data_line(results),
+        results, '1', data_line(results),
         'Contact time: for k windows, window length + (k - 1) hops; for the live rule, the '
         "median over sweeps of the contact seconds behind the decision (the node's "
         '`Evidence` replayed on out-of-fold probabilities; a sweep that never meets the '
@@ -114,7 +128,7 @@ def compute_section(results: dict) -> list[str]:
              f'{1e3 * value["batched_s"]:.3f}']
             for row in second['rows'] for runtime, value in row['latency'].items()]
     return _section(
-        results, '2', 'Compute time against accuracy',
+        results, '2',
         f'{data_line(results)}, window {second["window"]}',
         'Training: one fit on every window (the CV column is the whole grouped CV of '
         'section 1). Latency: median of single-window calls after a warm-up, one thread; '
@@ -132,7 +146,7 @@ def probing_section(results: dict) -> list[str]:
              f'{r["position_mean_mm"]:.2f} / {r["position_max_mm"]:.2f}',
              f'{r["probing_s"]:.1f}', f'{r["wall_s"]:.0f}'] for r in third['rows']]
     return _section(
-        results, '3', 'Probing time against reconstruction accuracy',
+        results, '3',
         f'closed-loop probing of a {third["span_mm"]:g} mm line of the uneven plate (probe '
         'scene, sensor noise and barometer on), scored against the true surface', '',
         [table(['step mm', 'descent mm/s', 'probes', 'contacts', 'normal mean / max deg',
@@ -149,7 +163,7 @@ def speed_section(results: dict) -> list[str]:
              str(r['windows']), _pct(r['window_accuracy']), _pct(r['sweep_accuracy']),
              f'{r["collect_s"]:.0f}'] for r in fourth['rows']]
     return _section(
-        results, '4', 'Sweep speed against accuracy',
+        results, '4',
         f'uneven_texture sweeps, {fourth["textures"]} textures x {fourth["sweeps"]} per '
         f'speed, {fourth["contact_s"]:g} s of sliding each, window {fourth["window"]}, '
         f'{fourth["model"]}, grouped CV',
@@ -168,7 +182,7 @@ def simulation_section(results: dict) -> list[str]:
                                           if r['not_simulated'] else '')]
             for r in fifth['rows']]
     return _section(
-        results, '5', 'Simulation cost against fidelity',
+        results, '5',
         f'one sweep of the {fifth["scene"]} scene over wood per variant, '
         f'{fifth["seconds"]:g} s of sliding; Welch spectra of accelerometer, gyroscope and '
         'barometer while sliding',
@@ -189,7 +203,7 @@ def filter_section(results: dict) -> list[str]:
     costs = [[f'{c["rate_hz"]:g}', f'{c["stream_us"]:.1f}', f'{c["batch_us"]:.2f}',
               f'{100 * c["stream_cpu_share"]:.2f} %'] for c in sixth['costs']]
     return _section(
-        results, '6', 'Filter rate against attitude accuracy',
+        results, '6',
         f'Madgwick (MARG) on synthetic motions with exact truth '
         f'({", ".join(sixth["motions"])}; {sixth["seconds"]:g} s each, noise, no gyro bias); '
         'errors after 3 s', f'The default gain ({sixth["default_gain"]:g}) is marked *.',
@@ -206,7 +220,7 @@ def job_section(results: dict) -> list[str]:
     rows.append(['total', f'{sum(t["wall_s"] for t in stages):.1f}',
                  f'{sum(t["arm_s"] for t in stages):.1f}'])
     return _section(
-        results, '7', 'Where the time goes end to end',
+        results, '7',
         f'one simulated job: probe ({job["probed"]} contacts), sweep along them, record '
         f'{job["textures"]} textures x {job["sweeps"]} sweeps, convert (window '
         f'{job["window"]}), train {job["model"]}, decide {job["held_out"]} held-out sweeps '

@@ -27,10 +27,22 @@ def run_sections(size: Size, *, seed: int, threads: int,
 
     results: dict = {'size': size.__dict__, 'seed': seed, 'threads': threads, 'seconds': {}}
 
-    def section(number: int, title: str, work: Callable[[], dict]) -> dict:
+    def section(number: int, title: str, work: Callable[[], dict], *,
+                may_fail: bool = False) -> dict:
+        """Run one section (`may_fail`: a configuration it cannot do is reported, not fatal).
+
+        The arm, the planner or the simulator refusing one gives the section `failed`
+        with the reason; the other sections still run.
+        """
         log(f'section {number}/7: {title}')
         began = time.monotonic()
-        results[str(number)] = work()
+        try:
+            results[str(number)] = work()
+        except unmeasurable() as err:
+            if not may_fail:
+                raise
+            results[str(number)] = {'failed': f'{type(err).__name__}: {err}'}
+            log(f'  section {number} not measured: {err}')
         results['seconds'][str(number)] = time.monotonic() - began
         return results[str(number)]
 
@@ -51,19 +63,32 @@ def run_sections(size: Size, *, seed: int, threads: int,
                            'classes': data.datasets[size.windows[0]].classes}
         results['configurations'] = choose(first['points'], second['rows'])
         probe = section(3, 'probing time against reconstruction accuracy',
-                        lambda: physical.probing(size, log))
+                        lambda: physical.probing(size, log), may_fail=True)
         section(4, 'sweep speed against accuracy',
-                lambda: sweep_speed.sweep_speed(scratch, size, log, seed=seed))
+                lambda: sweep_speed.sweep_speed(scratch, size, log, seed=seed), may_fail=True)
         section(5, 'simulation cost against fidelity',
-                lambda: physical.simulation_cost(size, log, seed=seed))
+                lambda: physical.simulation_cost(size, log, seed=seed), may_fail=True)
         section(6, 'filter rate against attitude accuracy',
-                lambda: physical.filter_rate(size, log, seed=seed))
+                lambda: physical.filter_rate(size, log, seed=seed), may_fail=True)
         job = results['configurations']['budget'] or results['configurations']['accurate']
-        section(7, 'where the time goes end to end', lambda: pipeline.whole_job(
-            probe.pop('_first_run'), scratch, size, job['model'], job['threshold'], log,
-            seed=seed, threads=threads))
+
+        def whole_job() -> dict:
+            if 'failed' in probe:
+                return {'failed': 'it starts from section 3, which was not measured'}
+            return pipeline.whole_job(probe.pop('_first_run'), scratch, size, job['model'],
+                                      job['threshold'], log, seed=seed, threads=threads)
+        section(7, 'where the time goes end to end', whole_job, may_fail=True)
     results['total_s'] = time.monotonic() - started
     return results
+
+
+def unmeasurable() -> tuple[type[Exception], ...]:
+    """Errors of a configuration the arm, the planner or the simulator cannot do."""
+    from tactex_probe.errors import ProbeError
+    from tactex_probe.motion import PathUnreachable
+    from tactex_sim.errors import SimError
+    from tactex_trajectory.errors import TrajectoryError
+    return ProbeError, PathUnreachable, SimError, TrajectoryError
 
 
 def choose(points: list[dict], compute: list[dict]) -> dict:
@@ -108,18 +133,25 @@ def write_files(folder: Path, results: dict) -> None:
     plots.contact_time(folder / p['1'], results['1']['points'], data)
     plots.compute_time(folder / p['2'], results['2']['rows'],
                        f'{data}, window {results["2"]["window"]}')
-    plots.probing(folder / p['3'], results['3']['rows'],
-                  f'closed-loop probing, {results["3"]["span_mm"]:g} mm line, probe scene')
-    plots.sweep_speed(folder / p['4'], results['4']['rows'],
-                      f'uneven_texture, {results["4"]["contact_s"]:g} s sliding per sweep, '
-                      f'{results["4"]["model"]}, grouped CV')
-    plots.simulation_cost(folder / p['5'], results['5']['rows'],
-                          f'{results["5"]["seconds"]:g} s of sliding over wood, '
-                          f'{results["5"]["scene"]} scene')
-    plots.filter_rate(folder / p['6'], results['6']['rows'], results['6']['costs'],
-                      f'Madgwick MARG, synthetic motions {", ".join(results["6"]["motions"])}')
-    plots.whole_job(folder / p['7'], results['7']['stages'],
-                    f'one simulated job, model {results["7"]["model"]}')
+    measured = {number for number in p if 'failed' not in results[number]}
+    if '3' in measured:
+        plots.probing(folder / p['3'], results['3']['rows'],
+                      f'closed-loop probing, {results["3"]["span_mm"]:g} mm line, probe scene')
+    if '4' in measured:
+        plots.sweep_speed(folder / p['4'], results['4']['rows'],
+                          f'uneven_texture, {results["4"]["contact_s"]:g} s sliding per sweep, '
+                          f'{results["4"]["model"]}, grouped CV')
+    if '5' in measured:
+        plots.simulation_cost(folder / p['5'], results['5']['rows'],
+                              f'{results["5"]["seconds"]:g} s of sliding over wood, '
+                              f'{results["5"]["scene"]} scene')
+    if '6' in measured:
+        plots.filter_rate(folder / p['6'], results['6']['rows'], results['6']['costs'],
+                          'Madgwick MARG, synthetic motions '
+                          f'{", ".join(results["6"]["motions"])}')
+    if '7' in measured:
+        plots.whole_job(folder / p['7'], results['7']['stages'],
+                        f'one simulated job, model {results["7"]["model"]}')
     (folder / 'report.md').write_text(markdown.render(results), encoding='utf-8')
     (folder / 'results.json').write_text(json.dumps(results, indent=1) + '\n',
                                          encoding='utf-8')
