@@ -422,12 +422,13 @@ def compare_long() -> str:
     models = ','.join(sorted({row['model'] for row in rows}))
     windows = ','.join(str(w) for w in sorted({row['window'] for row in rows}))
     best = max(rows, key=lambda row: row['schemes']['grouped']['accuracy']['mean'])
-    short = next(r for r in _json('compare/summary.json')['rows']
+    kept = _json('compare/summary.json')  # the 5-epoch grid of the README's table
+    short = next(r for r in kept['rows']
                  if r['model'] == best['model'] and r['window'] == best['window'])
     unfinished = [row['model'] for row in rows
                   if sum(v['cells'] for v in row['schemes'].values()) < expected]
     status = f' **Unfinished**: {", ".join(unfinished)}.' if unfinished else ''
-    baselines = [r for r in _json('compare/summary.json')['rows']
+    baselines = [r for r in kept['rows']
                  if r['window'] == best['window'] and r['model'] in ('minirocket', 'extratrees')]
     baseline = max(baselines, key=lambda r: r['schemes']['grouped']['accuracy']['mean'])
     fitted = [row['schemes']['grouped']['train_accuracy']['mean'] for row in rows]
@@ -446,7 +447,7 @@ def compare_long() -> str:
             f'{best["model"]} reaches {100 * best["schemes"]["grouped"]["accuracy"]["mean"]:.1f} '
             f'% on held-out recordings at {best["window"]} samples, against '
             f'{100 * short["schemes"]["grouped"]["accuracy"]["mean"]:.1f} % after '
-            f'{_json("compare/summary.json")["settings"]["epochs"]} epochs above: the deep '
+            f'{kept["settings"]["epochs"]} epochs above: the deep '
             f'models now fit their training windows ({100 * min(fitted):.0f}-'
             f'{100 * max(fitted):.0f} %) but, with about '
             f'{round(per_texture * (settings["folds"] - 1) / settings["folds"])} training '

@@ -1,6 +1,6 @@
 # Copyright 2026 The tactex authors
 # SPDX-License-Identifier: Apache-2.0
-"""Helpers of the tests that run nodes as processes: waiting for a condition, stopping them."""
+"""Helpers of the tests that run nodes as processes: waiting, checking and stopping them."""
 
 from pathlib import Path
 import signal
@@ -8,6 +8,15 @@ import subprocess
 import time
 
 STOP_TIMEOUT_S = 10.0
+
+
+def alive(pid: int) -> bool:
+    """Whether process `pid` exists and is not a zombie (from /proc/PID/stat)."""
+    try:
+        state = Path(f'/proc/{pid}/stat').read_text().split(')')[-1].split()[0]
+    except FileNotFoundError:
+        return False
+    return state != 'Z'
 
 
 def wait_for(condition, timeout_s: float) -> bool:

@@ -10,7 +10,7 @@ import subprocess
 import sys
 import time
 
-from processes import wait_for
+from processes import alive, wait_for
 import pytest
 
 from tactex.ros_env import ros_environment
@@ -33,14 +33,6 @@ def node_is_up(out: Path) -> bool:
 def children(pid: int) -> list[int]:
     found = subprocess.run(['pgrep', '-P', str(pid)], capture_output=True, text=True)
     return [int(p) for p in found.stdout.split()]
-
-
-def alive(pid: int) -> bool:
-    try:
-        state = Path(f'/proc/{pid}/stat').read_text().split(')')[-1].split()[0]
-    except FileNotFoundError:
-        return False
-    return state != 'Z'
 
 
 def publish_until_a_part_exists(ros_context, out: Path) -> None:

@@ -12,7 +12,7 @@ import sys
 import time
 
 import numpy as np
-from processes import wait_for
+from processes import alive, wait_for
 import pytest
 
 from tactex.launch_spec import (
@@ -155,14 +155,6 @@ def _pids(output: str) -> dict[str, int]:
             re.findall(r'\[launch\] started (\S+) \(pid (\d+)\)', output)}
 
 
-def _alive(pid: int) -> bool:
-    try:
-        with open(f'/proc/{pid}/stat', encoding='ascii') as stat:
-            return stat.read().split(') ')[1][0] != 'Z'
-    except FileNotFoundError:
-        return False
-
-
 def _start_launch(*arguments: str, log: Path) -> subprocess.Popen:
     return subprocess.Popen(TACTEX + ['launch', *arguments], stdout=log.open('w'),
                             stderr=subprocess.STDOUT, env=dict(os.environ, PYTHONUNBUFFERED='1'))
@@ -192,7 +184,7 @@ def test_sim_launch_runs_in_its_namespace_and_stops_cleanly_on_sigterm(ros_conte
     assert set(pids) == {'mujoco_bridge', 'madgwick_node'}
     launcher.send_signal(signal.SIGTERM)
     assert launcher.wait(timeout=10) == 0
-    assert not [name for name, pid in pids.items() if _alive(pid)]
+    assert not [name for name, pid in pids.items() if alive(pid)]
 
 
 def _descendants(pid: int) -> set[int]:
@@ -222,8 +214,8 @@ def test_killing_the_launcher_leaves_no_orphaned_process(tmp_path):
     assert set(_pids(log.read_text()).values()) <= tree
     launcher.kill()  # SIGKILL: the launcher cannot clean up; the kernel tells the nodes
     launcher.wait()
-    assert wait_for(lambda: not any(_alive(pid) for pid in tree), 10), \
-        [open(f'/proc/{pid}/cmdline').read() for pid in tree if _alive(pid)]
+    assert wait_for(lambda: not any(alive(pid) for pid in tree), 10), \
+        [open(f'/proc/{pid}/cmdline').read() for pid in tree if alive(pid)]
 
 
 @pytest.mark.ros
@@ -255,7 +247,7 @@ def test_probe_launch_in_simulation_broadcasts_contacts_with_the_surface_normals
         nx, nz = surface.normal(pose.position.x)
         assert np.degrees(np.arccos(min(1.0, nx * normal[0] + nz * normal[2]))) < 8.0
         assert abs(pose.position.z - surface.height(pose.position.x)) < 0.002
-    assert not [pid for pid in _pids(log.read_text()).values() if _alive(pid)]
+    assert not [pid for pid in _pids(log.read_text()).values() if alive(pid)]
 
 
 @pytest.mark.ros
@@ -265,7 +257,7 @@ def test_a_node_that_dies_stops_the_launch_with_its_name(tmp_path):
     assert launcher.wait(timeout=30) == 1
     output = log.read_text()
     assert 'error: node mujoco_bridge exited with code' in output
-    assert not [name for name, pid in _pids(output).items() if _alive(pid)]
+    assert not [name for name, pid in _pids(output).items() if alive(pid)]
 
 
 @pytest.mark.ros
