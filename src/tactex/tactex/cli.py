@@ -15,6 +15,7 @@ import sys
 from tactex.errors import CommandError
 from tactex_classify.errors import ClassifyError
 from tactex_common.errors import CommonError
+from tactex_common.stopping import raise_on_stop_signals, Stopped
 from tactex_driver.errors import DriverError
 from tactex_sim.errors import SimError
 
@@ -71,13 +72,18 @@ def describe(error: BaseException) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Parse `argv`, run the subcommand and return its exit code."""
+    """Parse `argv`, run the subcommand and return its exit code.
+
+    SIGINT, SIGTERM and SIGHUP stop every subcommand (also when SIGINT was inherited as
+    ignored); one that runs until stopped returns 0, any other reports the signal.
+    """
+    raise_on_stop_signals()
     args = build_parser().parse_args(argv)
     try:
         return int(args.run(args))
-    except KeyboardInterrupt:
-        print('error: interrupted', file=sys.stderr)
-        return 130
+    except Stopped as stopped:
+        print(f'error: stopped by {stopped}', file=sys.stderr)
+        return stopped.exit_code
     except USER_ERRORS as error:
         print(f'error: {describe(error)}', file=sys.stderr)
         return 1

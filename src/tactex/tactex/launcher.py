@@ -4,8 +4,8 @@
 
 Every node runs with the tactex middleware settings and the launch file's discovery
 range; its output lines are prefixed with its name. A node that exits is restarted when
-it asked for `respawn`; otherwise the launcher stops the others and reports it. Ctrl-C or
-SIGTERM stops every node: SIGINT first (rclpy shuts down cleanly and bags are closed),
+it asked for `respawn`; otherwise the launcher stops the others and reports it. SIGINT,
+SIGTERM or SIGHUP stops every node: SIGINT first (rclpy shuts down cleanly and bags are closed),
 SIGTERM after `grace_s`, SIGKILL before `kill_after_s`. The children are also told by the
 kernel to exit if the launcher itself is killed (Linux parent-death signal).
 """
@@ -28,6 +28,7 @@ from typing import Any, TextIO
 
 from tactex.launch_spec import DISCOVERY_RANGE, LaunchError, NodeSpec
 from tactex.ros_env import ros_environment
+from tactex_common.stopping import on_stop_signals
 
 _PR_SET_PDEATHSIG = 1
 
@@ -227,15 +228,12 @@ class Launcher:
 
 def run_launch(nodes: Sequence[NodeSpec], values: Mapping[str, str], *,
                out: TextIO = sys.stdout) -> int:
-    """Run a node set until Ctrl-C or SIGTERM (exit 0) or a node dies (exit 1)."""
+    """Run a node set until SIGINT, SIGTERM or SIGHUP (exit 0) or a node dies (exit 1)."""
     launcher = Launcher(nodes, namespace=values.get('namespace', ''),
                         discovery=values.get('discovery', 'localhost'), out=out)
-    previous = {s: signal.signal(s, lambda *_: launcher.request_stop())
-                for s in (signal.SIGINT, signal.SIGTERM)}
-    try:
-        launcher.start()
-        return launcher.supervise()
-    finally:
-        launcher.stop()
-        for signal_number, handler in previous.items():
-            signal.signal(signal_number, handler)
+    with on_stop_signals(lambda _signum: launcher.request_stop()):
+        try:
+            launcher.start()
+            return launcher.supervise()
+        finally:
+            launcher.stop()

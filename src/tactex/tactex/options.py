@@ -14,12 +14,14 @@ from __future__ import annotations
 import argparse
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
+import glob
 import math
 import os
 from pathlib import Path
 import re
 import secrets
 import shutil
+import sys
 
 from tactex.errors import CommandError
 
@@ -161,14 +163,30 @@ def check_input_folder(path: Path, option: str) -> Path:
     return path
 
 
+def _remove_abandoned_stagings(path: Path) -> None:
+    """Remove the staged folders of `path` left by runs that were killed (SIGKILL, power).
+
+    A staging folder's name holds the process id that made it; one whose process no
+    longer runs is removed, and said so on stderr. A live run's is left alone.
+    """
+    for staging in path.parent.glob(f'.{glob.escape(path.name)}.partial-*'):
+        owner = staging.name.rsplit('.partial-', 1)[1].split('-', 1)[0]
+        if owner.isdigit() and not Path(f'/proc/{owner}').exists() and staging.is_dir():
+            shutil.rmtree(staging, ignore_errors=True)
+            print(f'note: removed {staging}, left unfinished by a run that was killed',
+                  file=sys.stderr)
+
+
 @contextmanager
 def staged_folder(path: Path) -> Iterator[Path]:
     """A hidden folder beside `path`, moved to `path` when the block succeeds.
 
-    On an error the staged folder is removed and `path` is left as it was.
+    On an error the staged folder is removed and `path` is left as it was; one that a
+    killed run left behind is removed by the next run (never reused).
     """
     path = Path(path)
-    staging = path.with_name(f'.{path.name}.partial-{secrets.token_hex(4)}')
+    _remove_abandoned_stagings(path)
+    staging = path.with_name(f'.{path.name}.partial-{os.getpid()}-{secrets.token_hex(4)}')
     staging.mkdir(parents=True)
     try:
         yield staging

@@ -8,7 +8,6 @@ import json
 from pathlib import Path
 
 from rcl_interfaces.msg import ParameterDescriptor
-import rclpy
 from rclpy.node import Node
 
 from tactex_classify.recorder import RECORDED_TOPICS, SplitRecorder
@@ -65,7 +64,5 @@ class RecorderNode(Node):
 
 
 def main(args: list[str] | None = None) -> None:
-    """Record until shutdown (Ctrl-C or SIGTERM closes the bag cleanly)."""
-    import signal
-    signal.signal(signal.SIGTERM, lambda *_: rclpy.try_shutdown())
+    """Record until SIGINT, SIGTERM or SIGHUP, which close the last part bag cleanly."""
     spin(RecorderNode, args)

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 import importlib
+import threading
 
 import rclpy
 from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
@@ -20,6 +21,9 @@ from rclpy.qos import (
     QoSProfile,
     ReliabilityPolicy,
 )
+from rclpy.signals import SignalHandlerOptions
+
+from tactex_common.stopping import on_stop_signals
 
 # Sensor streams: best effort, keep last 5 (a late sample is worth less than a new one).
 SENSOR_DATA = qos_profile_sensor_data
@@ -37,32 +41,43 @@ RECORDING = {'sensor': QoSProfile(depth=500, reliability=ReliabilityPolicy.BEST_
                                   durability=DurabilityPolicy.VOLATILE,
                                   history=HistoryPolicy.KEEP_LAST),
              'command': COMMAND, 'latched': LATCHED}
+# The longest a node's spin loop goes without looking for a stop signal (s).
+STOP_CHECK_S = 0.1
 
 
 def spin(make_node: Callable[[], Node], args: list[str] | None = None) -> None:
-    """Create the node and spin it on one thread; Ctrl-C or an external shutdown ends it.
+    """Create the node and spin it on one thread until SIGINT, SIGTERM, SIGHUP or shutdown.
 
     One thread keeps up with the streams where rclpy's multi-threaded executor falls
     behind on two cores; an action whose goal waits on other callbacks awaits them from
     a coroutine execute callback instead of blocking a thread.
 
+    A stop signal only sets a flag that the spin loop reads at least every
+    `STOP_CHECK_S`; the node is then destroyed and rclpy shut down in that order. rclpy's
+    own handlers are off: they shut the context down under running callbacks (RCLError
+    tracebacks) or raise KeyboardInterrupt inside one, and they ignore SIGHUP and an
+    inherited ignored SIGINT (tactex_common.stopping).
+
     Args:
         make_node: builds the node (after rclpy.init).
         args: command-line arguments (ROS arguments included).
     """
-    rclpy.init(args=args)
+    stop = threading.Event()
+    rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
     node = None
-    try:
-        node = make_node()
-        executor = SingleThreadedExecutor()
-        executor.add_node(node)
-        executor.spin()
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
-    finally:
-        if node is not None:
-            node.destroy_node()
-        rclpy.try_shutdown()
+    with on_stop_signals(lambda _signum: stop.set()):
+        try:
+            node = make_node()
+            executor = SingleThreadedExecutor()
+            executor.add_node(node)
+            while not stop.is_set() and rclpy.ok():
+                executor.spin_once(timeout_sec=STOP_CHECK_S)
+        except ExternalShutdownException:
+            pass
+        finally:
+            if node is not None:
+                node.destroy_node()
+            rclpy.try_shutdown()
 
 
 def message_class(type_name: str) -> type:

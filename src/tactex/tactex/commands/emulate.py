@@ -5,15 +5,15 @@
 from __future__ import annotations
 
 import argparse
+from contextlib import suppress
 import math
 import os
 from pathlib import Path
-import signal
-import sys
 import tempfile
 
 from tactex.errors import CommandError
 from tactex.options import check_input_file, integer, number
+from tactex_common.stopping import Stopped
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -58,8 +58,6 @@ def run(args: argparse.Namespace) -> int:
         raise CommandError(f'--link {err}') from None
     if args.replay is not None:
         check_input_file(args.replay, '--replay')
-    # SIGTERM (a launcher, a test harness) unwinds like Ctrl-C, so the link is removed.
-    signal.signal(signal.SIGTERM, lambda *_: sys.exit(0))
     if args.device == 'dynamixel':
         return _run_dynamixel(args)
     from tactex_sensor.emulator import Fault, Motion, ReplaySource, SignalSource, TeensyEmulator
@@ -81,7 +79,8 @@ def run(args: argparse.Namespace) -> int:
     with emulator:
         print(f'teensy emulator on {args.link} -> {os.path.realpath(args.link)} at '
               f'{args.rate:g} Hz; faults: {", ".join(args.fault) or "none"}', flush=True)
-        emulator.run(args.duration)
+        with suppress(Stopped):  # a stop signal ends the run; the link is removed
+            emulator.run(args.duration)
     print(f'sent {emulator.frames_sent} writes, {emulator.frames_overflowed} lost to a '
           'full or closed pty')
     return 0
@@ -122,10 +121,12 @@ def _run_dynamixel(args: argparse.Namespace) -> int:
         actions = {'silence': lambda s: emulator.silence(s, True),
                    'answer': lambda s: emulator.silence(s, False),
                    'corrupt': emulator.corrupt_next_status, 'overload': emulator.overload}
-        while time.monotonic() - start < args.duration:
-            while schedule and schedule[0][0] <= time.monotonic() - start:
-                _, kind, servo = schedule.pop(0)
-                actions[kind](servo)
-                print(f'{time.monotonic() - start:.2f} s: {kind} servo {servo}', flush=True)
-            time.sleep(0.01)
+        with suppress(Stopped):  # a stop signal ends the run; the link is removed
+            while time.monotonic() - start < args.duration:
+                while schedule and schedule[0][0] <= time.monotonic() - start:
+                    _, kind, servo = schedule.pop(0)
+                    actions[kind](servo)
+                    print(f'{time.monotonic() - start:.2f} s: {kind} servo {servo}',
+                          flush=True)
+                time.sleep(0.01)
     return 0

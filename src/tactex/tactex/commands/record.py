@@ -6,8 +6,8 @@ The settings reach `recorder_node` in a parameter file (an unlinked temporary fi
 child reads through /dev/fd), never as `-p name:=value` overrides, so a label may be
 any text: overrides are parsed as YAML and `true`, `3`, `a: b` or `'` would change type
 or break. The node dies with this command: it gets SIGTERM when this process ends
-however it ends (Linux parent-death signal, SIGKILL included), and SIGTERM, SIGHUP or
-Ctrl-C given to this command are passed on, then awaited so the last part bag closes.
+however it ends (Linux parent-death signal, SIGKILL included), and SIGINT, SIGTERM or
+SIGHUP given to this command are passed on, then awaited so the last part bag closes.
 """
 
 from __future__ import annotations
@@ -24,6 +24,7 @@ import tempfile
 
 from tactex.errors import CommandError
 from tactex.options import check_output_folder, integer, number
+from tactex_common.stopping import on_stop_signals
 
 PR_SET_PDEATHSIG = 1  # linux/prctl.h
 RESERVED_KEYS = ('label', 'trial', 'surface')
@@ -129,25 +130,23 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _wait(process: subprocess.Popen) -> int:
-    """Wait for the node, passing SIGTERM, SIGHUP and Ctrl-C on; never leave it running."""
-    def forward(signum, _frame) -> None:
-        if process.poll() is None:
-            process.send_signal(signal.SIGTERM)
+    """Wait for the node, passing SIGINT, SIGTERM and SIGHUP on; never leave it running.
 
-    previous = {s: signal.signal(s, forward) for s in (signal.SIGTERM, signal.SIGHUP)}
-    interrupts = 0
+    The first stop signal is passed on as it came (the node closes its last part bag);
+    a second one kills the node.
+    """
+    stops = []
+
+    def forward(signum: int) -> None:
+        stops.append(signum)
+        if process.poll() is None:
+            process.send_signal(signum if len(stops) == 1 else signal.SIGKILL)
+
     try:
-        while True:
-            try:
-                code = process.wait()
-                return 0 if code in (0, -signal.SIGINT, -signal.SIGTERM) else 1
-            except KeyboardInterrupt:
-                interrupts += 1
-                if process.poll() is None:
-                    process.send_signal(signal.SIGINT if interrupts == 1 else signal.SIGKILL)
+        with on_stop_signals(forward):
+            code = process.wait()
+        return 0 if code in (0, -signal.SIGINT, -signal.SIGTERM, -signal.SIGHUP) else 1
     finally:
         if process.poll() is None:
             process.kill()
             process.wait()
-        for signum, handler in previous.items():
-            signal.signal(signum, handler)
