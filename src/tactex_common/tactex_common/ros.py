@@ -41,7 +41,7 @@ RECORDING = {'sensor': QoSProfile(depth=500, reliability=ReliabilityPolicy.BEST_
                                   durability=DurabilityPolicy.VOLATILE,
                                   history=HistoryPolicy.KEEP_LAST),
              'command': COMMAND, 'latched': LATCHED}
-# The longest a node's spin loop goes without looking for a stop signal (s).
+# How often the main thread of a node looks for a stop signal (s).
 STOP_CHECK_S = 0.1
 
 
@@ -52,11 +52,12 @@ def spin(make_node: Callable[[], Node], args: list[str] | None = None) -> None:
     behind on two cores; an action whose goal waits on other callbacks awaits them from
     a coroutine execute callback instead of blocking a thread.
 
-    A stop signal only sets a flag that the spin loop reads at least every
-    `STOP_CHECK_S`; the node is then destroyed and rclpy shut down in that order. rclpy's
-    own handlers are off: they shut the context down under running callbacks (RCLError
-    tracebacks) or raise KeyboardInterrupt inside one, and they ignore SIGHUP and an
-    inherited ignored SIGINT (tactex_common.stopping).
+    The executor spins on a thread of its own while the main thread waits for a stop
+    signal (Python runs signal handlers only there, and a wait set does not wake for
+    them); on one it shuts the executor down, then destroys the node and shuts rclpy
+    down, in that order. rclpy's own handlers are off: they shut the context down under
+    running callbacks (RCLError tracebacks) or raise KeyboardInterrupt inside one, and
+    they ignore SIGHUP and an inherited ignored SIGINT (tactex_common.stopping).
 
     Args:
         make_node: builds the node (after rclpy.init).
@@ -70,14 +71,27 @@ def spin(make_node: Callable[[], Node], args: list[str] | None = None) -> None:
             node = make_node()
             executor = SingleThreadedExecutor()
             executor.add_node(node)
-            while not stop.is_set() and rclpy.ok():
-                executor.spin_once(timeout_sec=STOP_CHECK_S)
-        except ExternalShutdownException:
-            pass
+            spinner = threading.Thread(target=_spin_until_shutdown, args=(executor, stop),
+                                       name='executor')
+            spinner.start()
+            while not stop.wait(STOP_CHECK_S):
+                pass
+            executor.shutdown(timeout_sec=STOP_CHECK_S)
+            spinner.join()
         finally:
             if node is not None:
                 node.destroy_node()
             rclpy.try_shutdown()
+
+
+def _spin_until_shutdown(executor: SingleThreadedExecutor, stop: threading.Event) -> None:
+    """Spin `executor` until it is shut down; then (or on an external shutdown) set `stop`."""
+    try:
+        executor.spin()
+    except ExternalShutdownException:
+        pass
+    finally:
+        stop.set()
 
 
 def message_class(type_name: str) -> type:
