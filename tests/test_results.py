@@ -2,21 +2,17 @@
 # SPDX-License-Identifier: Apache-2.0
 """The README's benchmark figures are what bench/render_results.py makes of bench/results/."""
 
-import importlib.util
 import json
 from pathlib import Path
 
 import pytest
+from scripts import load_script
 
 ROOT = Path(__file__).resolve().parents[1]
 
 
 def _renderer():
-    spec = importlib.util.spec_from_file_location('render_results',
-                                                  ROOT / 'bench' / 'render_results.py')
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return load_script('bench/render_results.py')
 
 
 def test_every_generated_readme_section_equals_its_rendering_of_the_kept_outputs():

@@ -9,7 +9,6 @@ import pytest
 from transforms3d.euler import euler2quat
 from transforms3d.quaternions import axangle2quat
 
-from tactex_common.constants import GYRO_FULL_SCALE_RAD_S
 from tactex_sensor.madgwick import (
     filter_batch,
     MadgwickConfig,
@@ -22,6 +21,7 @@ from tactex_sensor.madgwick import (
 from tactex_sensor.orientation import angle_between, rotate, tilt_between
 
 G = 9.81
+GYRO_FULL_SCALE_RAD_S = MadgwickConfig().max_rate_rad_s
 EARTH_FIELD_ENU = np.array([0.0, 2.0e-5, -4.3e-5])  # north and downwards, tesla
 RATE_HZ = 120.0
 

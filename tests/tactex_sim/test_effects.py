@@ -34,6 +34,8 @@ def applied(instance, inputs=SLIDING):
     ('texture', 'slip_length_m', 5e-324), ('magnetometer', 'magnet_radius_m', 1e-310),
     ('texture', 'resonance_hz', 0.5), ('texture', 'gain', -1.0),
     ('texture', 'damping_ratio', math.nan), ('texture', 'heading_rad', math.inf),
+    ('sensor', 'gyro_range_dps', 4000.0), ('sensor', 'gyro_range_dps', 300.0),
+    ('sensor', 'accel_range_g', 3.0), ('sensor', 'pressure_noise_pa', -1.0),
     ('texture', 'gain', '20'), ('texture', 'gain', True),
     ('imu_noise', 'accel_sd', -0.1), ('magnetometer', 'magnet_radius_m', 0.0),
     ('magnetometer', 'earth_field_t', [0.0, 2e-5]), ('magnetometer', 'noise_sd_t', 1.0),

@@ -45,11 +45,8 @@ import sys
 import numba
 import numpy as np
 
-from tactex_common.constants import (
-    ACCEL_FULL_SCALE_M_S2,
-    GYRO_FULL_SCALE_RAD_S,
-    STANDARD_GRAVITY_M_S2,
-)
+from tactex_common import chips
+from tactex_common.constants import STANDARD_GRAVITY_M_S2
 from tactex_sensor.errors import ReadingError
 from tactex_sensor.orientation import gravity_alignment, unit_direction
 
@@ -104,8 +101,10 @@ class MadgwickConfig:
     use_mag: bool = False
     min_dip_sin: float = 0.1
     max_dt_s: float = 0.1
-    max_rate_rad_s: float = GYRO_FULL_SCALE_RAD_S
-    max_accel_m_s2: float = ACCEL_FULL_SCALE_M_S2
+    # The LSM9DS0's widest full scales: no axis of a healthy chip reads more, whichever
+    # range the firmware selects.
+    max_rate_rad_s: float = max(r.full_scale_si for r in chips.GYRO_RANGES.values())
+    max_accel_m_s2: float = max(r.full_scale_si for r in chips.ACCEL_RANGES.values())
     min_accel_m_s2: float = 0.1 * STANDARD_GRAVITY_M_S2
     recovery_angle_rad: float = math.radians(10.0)
     recovery_s: float = 1.0

@@ -23,6 +23,7 @@ from typing import Any, ClassVar
 import mujoco
 import numpy as np
 
+from tactex_common import chips
 from tactex_common.constants import EARTH_FIELD_T, SEA_LEVEL_PRESSURE_PA
 from tactex_sim.errors import SceneError, UnknownNameError
 from tactex_sim.textures import Texture
@@ -49,14 +50,16 @@ class Reading:
 class Option:
     """One effect option: its default and the values it accepts.
 
-    Numbers must be finite and within [low, high]; a divisor's `low` is a physical
-    minimum above 0 (a subnormal divisor overflows); a vector option (a tuple default)
-    takes as many finite numbers, each in the range.
+    Numbers must be finite and within [low, high], or one of `choices` when it names
+    some (a chip's selectable ranges); a divisor's `low` is a physical minimum above 0 (a
+    subnormal divisor overflows); a vector option (a tuple default) takes as many finite
+    numbers, each in the range.
     """
 
     default: float | tuple[float, ...]
     low: float = -math.inf
     high: float = math.inf
+    choices: tuple[float, ...] = ()
 
     def check(self, effect: str, name: str, value: Any) -> float | tuple[float, ...]:
         """The value as float(s).
@@ -74,12 +77,15 @@ class Option:
             if not isinstance(item, (int, float)) or isinstance(item, bool) \
                     or not math.isfinite(item):
                 raise SceneError(f'{where} must be a finite number, got {value!r}')
-            if not self.low <= item <= self.high:
+            if not self.low <= item <= self.high or (self.choices
+                                                     and item not in self.choices):
                 raise SceneError(f'{where} must be in {self.describe()}, got {value!r}')
         return tuple(float(v) for v in items) if vector else float(value)
 
     def describe(self) -> str:
-        """The accepted range, as an interval."""
+        """The accepted values, as an interval or a set."""
+        if self.choices:
+            return '{' + ', '.join(f'{c:g}' for c in self.choices) + '}'
         return f'[{self.low:g}, {self.high:g}]'
 
 
@@ -318,8 +324,66 @@ class Barometer(Effect):
         reading.temperature = self.options['temperature_c'] + 0.002 * t
 
 
+class SensorChips(Effect):
+    """What the LSM9DS0 and the MPL115A2 make of the physical signal (tactex_common.chips).
+
+    Accelerometer, gyro and magnetometer: the configured full scale, each axis a whole
+    16-bit count and held at the rails as the chip saturates; the magnetometer updates at
+    its 100 Hz output data rate (a faster stream repeats its last value). Barometer: the
+    reading belongs to the start of its 1.6 ms conversion (interpolated back from this
+    sample), carries `pressure_noise_pa` of white noise (the datasheet states a 0.15 kPa
+    resolution, about two 10-bit codes, and no noise figure: one code by default) and is
+    a 10-bit code over 50-115 kPa, held at those ends. Not modelled yet: the gyro's
+    100 Hz and the accelerometer's 194 Hz digital low-pass. Channels no other effect
+    simulates stay NaN. A scene gets it only by declaring `sensor`.
+    """
+
+    name = 'sensor'
+    reads = frozenset({'time'})
+    writes = frozenset({'accel', 'gyro', 'mag', 'pressure'})
+    defaults = {'accel_range_g': Option(float(chips.ACCEL_RANGE_G),
+                                        choices=tuple(map(float, chips.ACCEL_RANGES))),
+                'gyro_range_dps': Option(float(chips.GYRO_RANGE_DPS),
+                                         choices=tuple(map(float, chips.GYRO_RANGES))),
+                'mag_range_gauss': Option(float(chips.MAG_RANGE_GAUSS),
+                                          choices=tuple(map(float, chips.MAG_RANGES))),
+                'pressure_noise_pa': Option(chips.PRESSURE_LSB_PA, 0.0, 1e4)}
+
+    def __init__(self, rng, noise_scale=1.0, **options) -> None:
+        super().__init__(rng, noise_scale, **options)
+        self.accel = chips.accel_range(self.options['accel_range_g'])
+        self.gyro = chips.gyro_range(self.options['gyro_range_dps'])
+        self.mag = chips.mag_range(self.options['mag_range_gauss'])
+        self._mag_tick = -1
+        self._mag_held = np.full(3, np.nan)
+        self._last_pressure: tuple[float, float] | None = None
+
+    def apply(self, reading: Reading, inputs: Mapping[str, Any]) -> None:
+        """Saturate and quantise each channel as the chips report it."""
+        t = inputs['time']
+        reading.accel = chips.quantise(reading.accel, self.accel.lsb_si)
+        reading.gyro = chips.quantise(reading.gyro, self.gyro.lsb_si)
+        tick = math.floor(t * chips.MAG_ODR_HZ + 1e-9)
+        if tick != self._mag_tick:
+            self._mag_tick = tick
+            self._mag_held = chips.quantise(reading.mag, self.mag.lsb_si)
+        reading.mag = self._mag_held.copy()
+        pressure = reading.pressure
+        if math.isnan(pressure):
+            return
+        reported = pressure
+        if self._last_pressure is not None and t > self._last_pressure[0]:
+            before_t, before = self._last_pressure
+            back = min(1.0, chips.PRESSURE_CONVERSION_S / (t - before_t))
+            reported = pressure - back * (pressure - before)
+        self._last_pressure = (t, pressure)
+        noisy = reported + self.rng.normal(0.0, self.options['pressure_noise_pa']
+                                           * self.noise_scale)
+        reading.pressure = float(chips.quantise_pressure(noisy))
+
+
 EFFECTS: dict[str, type[Effect]] = {cls.name: cls for cls in (
-    Contact, Compliance, TextureVibration, ImuNoise, Magnetometer, Barometer)}
+    Contact, Compliance, TextureVibration, ImuNoise, Magnetometer, Barometer, SensorChips)}
 
 
 def effect_class(name: str) -> type[Effect]:
