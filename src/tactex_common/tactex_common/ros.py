@@ -71,25 +71,31 @@ def spin(make_node: Callable[[], Node], args: list[str] | None = None) -> None:
             node = make_node()
             executor = SingleThreadedExecutor()
             executor.add_node(node)
-            spinner = threading.Thread(target=_spin_until_shutdown, args=(executor, stop),
-                                       name='executor')
+            failures: list[BaseException] = []
+            spinner = threading.Thread(target=_spin_until_shutdown,
+                                       args=(executor, stop, failures), name='executor')
             spinner.start()
             while not stop.wait(STOP_CHECK_S):
                 pass
             executor.shutdown(timeout_sec=STOP_CHECK_S)
             spinner.join()
+            if failures:  # a callback raised: the node fails as if it had spun here
+                raise failures[0]
         finally:
             if node is not None:
                 node.destroy_node()
             rclpy.try_shutdown()
 
 
-def _spin_until_shutdown(executor: SingleThreadedExecutor, stop: threading.Event) -> None:
-    """Spin `executor` until it is shut down; then (or on an external shutdown) set `stop`."""
+def _spin_until_shutdown(executor: SingleThreadedExecutor, stop: threading.Event,
+                         failures: list[BaseException]) -> None:
+    """Spin `executor` until it is shut down, keeping what a callback raised; then set `stop`."""
     try:
         executor.spin()
     except ExternalShutdownException:
         pass
+    except BaseException as error:  # noqa: B036 - handed to the main thread, raised there
+        failures.append(error)
     finally:
         stop.set()
 
