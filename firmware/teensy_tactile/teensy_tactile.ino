@@ -15,6 +15,7 @@
 #include <Wire.h>
 
 #include "tactex_frame.h"
+#include "tactex_ranges.h"
 #include "tactex_sensors.h"
 
 #if !defined(__MK20DX256__) && !defined(TACTEX_ARDUINO_MOCK)
@@ -28,11 +29,11 @@
 #endif
 static_assert(TACTEX_RATE_HZ >= 1 && TACTEX_RATE_HZ <= 350, "TACTEX_RATE_HZ must be 1..350");
 
-// The finest ranges: slow sweeps and texture vibration stay well inside them, and the
-// noise variances of config/sensor.yaml are those of +-2 g.
-const tactex::lsm9ds0::AccelRange kAccelRange = tactex::lsm9ds0::AccelRange::k2G;
-const tactex::lsm9ds0::GyroRange kGyroRange = tactex::lsm9ds0::GyroRange::k245Dps;
-const tactex::lsm9ds0::MagRange kMagRange = tactex::lsm9ds0::MagRange::k2Gauss;
+// The ranges of tactex_common/chips.py (tactex_ranges.h is written from it): sweeps and
+// texture vibration stay inside them, and the simulator and the Madgwick filter use them.
+const tactex::lsm9ds0::AccelRange kAccelRange = tactex::ranges::kAccel;
+const tactex::lsm9ds0::GyroRange kGyroRange = tactex::ranges::kGyro;
+const tactex::lsm9ds0::MagRange kMagRange = tactex::ranges::kMag;
 const uint32_t kI2cClockHz = 400000;
 const uint32_t kCheckIntervalUs = 1000000;  // retry silent chips, re-check live ones
 // Above systick (32) and USB (112): the interrupt stamps the tick, not the end of a USB job.

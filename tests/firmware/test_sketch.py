@@ -8,6 +8,7 @@ import struct
 from firmware_build import compile_cpp, FIRMWARE, FIRMWARE_SOURCES, MOCK, run_sketch, SKETCH
 import pytest
 
+from tactex_common import chips
 from tactex_sensor.link import SerialLink
 from tactex_sensor.protocol import FrameDecoder
 from tactex_sensor.reader import TeensyReader
@@ -21,8 +22,9 @@ PRESSURE_PA = ((0x3ECE / 8 + ((0xB3F9 - 65536) / 8192 + (0x33C8 >> 2) / 2**22 * 
                 + (0xC517 - 65536) / 16384 * 507) * 65 / 1023 + 50) * 1000
 TEMPERATURE_C = 25 + (507 - 472) / -5.35
 NAN_BITS = 0x7FC00000
-# One LSB at the sketch's ranges: +-2 g, +-245 dps, +-2 gauss.
-ACCEL_LSB, GYRO_LSB, MAG_LSB = 0.061e-3 * 9.80665, 8.75e-3 * math.pi / 180, 0.08e-7
+# One LSB at the sketch's ranges (tactex_common.chips, through tactex_ranges.h).
+ACCEL_LSB, GYRO_LSB, MAG_LSB = (chips.accel_range().lsb_si, chips.gyro_range().lsb_si,
+                                chips.mag_range().lsb_si)
 PERIOD_120_US, PERIOD_350_US = 1e6 / 120, 1e6 / 350
 
 

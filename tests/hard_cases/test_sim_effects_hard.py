@@ -21,6 +21,8 @@ from tactex_sim.world import Contact, PRESS_TRAVEL_M, World
 
 def option_values(option: Option):
     """Any value the option accepts, its bounds included."""
+    if option.choices:
+        return st.sampled_from(option.choices)
     low = max(option.low, -1e6)
     high = min(option.high, 1e6)
     number = st.one_of(st.sampled_from([low, high]), st.floats(low, high))
@@ -51,6 +53,8 @@ def world_inputs(draw):
             'sensor rotation': euler2mat(*draw(vectors(st.floats(-math.pi, math.pi)))),
             'sensor position': np.array(draw(vectors(finite()))),
             'sample rate': draw(st.floats(1.0, 2000.0)),
+            'sensor filters': draw(st.one_of(st.just((math.inf, math.inf)),
+                                             st.tuples(st.floats(1.0, 1e4), st.floats(1.0, 1e4)))),
             'compression': draw(st.floats(0.0, PRESS_TRAVEL_M)),
             'time': draw(st.floats(0.0, 1e9))}
 
@@ -67,6 +71,8 @@ def test_any_options_in_range_and_any_world_input_give_finite_channels(name, dat
         inputs = data.draw(world_inputs())
         reading = Reading(np.array(data.draw(vectors(st.floats(-1e3, 1e3)))),
                           np.array(data.draw(vectors(st.floats(-50.0, 50.0)))))
+        reading.mag = np.array(data.draw(vectors(st.floats(-1e-2, 1e-2))))
+        reading.pressure = data.draw(st.floats(0.0, 1e7))
         effect.apply(reading, inputs)
         for channel in cls.writes & {'accel', 'gyro', 'mag'}:
             assert np.all(np.isfinite(getattr(reading, channel))), channel

@@ -80,3 +80,17 @@ def test_a_rejected_trajectory_stops_the_running_one_and_is_counted(controller):
     assert controller.rejected == 1 and controller.mode is Mode.HOLDING
     assert controller.last_event.startswith('rejected trajectory')
     np.testing.assert_allclose(controller.goal(2.0), midway)
+
+
+def test_a_path_from_where_the_arm_measurably_is_starts_there_when_held_back(controller):
+    # Commanded 0.3 rad further than a contact lets joint1 go: the sender plans from the
+    # joint states, so its path begins where the arm is, not where it was told to be.
+    controller.execute(ARM, [0.0, 1.0], [[0.0, 0, 0, 0], [0.3, 0, 0, 0]], [[], []], now_s=0.0)
+    assert controller.goal(2.0)[0] == pytest.approx(0.3)
+    controller.update_measured(np.array([0.02, 0.0, 0.0, 0.0, 0.0]))
+    controller.execute(ARM, [0.0, 1.0], [[0.02, 0, 0, 0], [0.05, 0, 0, 0]], [[], []],
+                       now_s=2.0)
+    np.testing.assert_allclose(controller.goal(2.0)[:4], [0.02, 0, 0, 0], atol=1e-9)
+    # A path far from both is still refused.
+    with pytest.raises(TrajectoryRejected, match='first point is'):
+        controller.execute(ARM, [1.0], [[0.6, 0, 0, 0]], [[]], now_s=2.5)

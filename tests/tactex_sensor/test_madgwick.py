@@ -9,7 +9,7 @@ import pytest
 from transforms3d.euler import euler2quat
 from transforms3d.quaternions import axangle2quat
 
-from tactex_common.constants import GYRO_FULL_SCALE_RAD_S
+from tactex_common.chips import gyro_range
 from tactex_sensor.madgwick import (
     filter_batch,
     MadgwickConfig,
@@ -22,6 +22,7 @@ from tactex_sensor.madgwick import (
 from tactex_sensor.orientation import angle_between, rotate, tilt_between
 
 G = 9.81
+GYRO_FULL_SCALE_RAD_S = gyro_range().full_scale_si
 EARTH_FIELD_ENU = np.array([0.0, 2.0e-5, -4.3e-5])  # north and downwards, tesla
 RATE_HZ = 120.0
 
@@ -204,7 +205,7 @@ def test_start_from_identity_converges_within_one_second():
 
 def test_a_lasting_disagreement_with_the_accel_restarts_the_gain_ramp():
     q_true = euler2quat(0.2, 0.1, 0.0)
-    filt = MadgwickFilter()
+    filt = MadgwickFilter(MadgwickConfig(max_rate_rad_s=gyro_range(2000).full_scale_si))
     run_static(filt, q_true, 1.0)
     accel, _ = static_readings(q_true, mag=False)
     filt.update((30.0, 0.0, 0.0), accel, 0.087)  # in range, yet turns it 150 degrees

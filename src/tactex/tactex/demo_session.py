@@ -21,17 +21,23 @@ import rclpy
 from rclpy.action import ActionClient
 from rclpy.context import Context
 from rclpy.executors import SingleThreadedExecutor
+from sensor_msgs.msg import Imu
 
 from tactex.demo_report import Estimate
 from tactex.errors import CommandError
 from tactex_common import topics
-from tactex_common.ros import COMMAND, LATCHED
+from tactex_common.ros import COMMAND, LATCHED, SENSOR_DATA
 from tactex_common.stamps import stamp_ns
 from tactex_msgs.action import Probe, Sweep
 from tactex_msgs.msg import Pathway, TextureEstimate
 
 # The bridge's parameter service (the simulator stands in for the robot under this name).
 BRIDGE_PARAMETERS = 'mujoco_bridge/set_parameters'
+# The system is ready to move once this many orientation estimates arrived: every node has
+# started (madgwick_node's kernel compiled, the simulator's clock running), so the first
+# goals do not meet nodes still busy starting up (a lagging clock sent the probe's next
+# path before the last one had run, and the simulator refused it).
+STREAMING_ESTIMATES = 240
 
 
 class ProbeAborted(CommandError):
@@ -86,11 +92,13 @@ class SystemClient:
         self._pathway: Pathway | None = None
         self._contacts: PoseArray | None = None
         self._estimates: list[Estimate] | None = None
+        self._orientations = 0
         node = self._node
         node.create_subscription(Pathway, topics.PROBE_PATHWAY, self._on_pathway, LATCHED)
         node.create_subscription(PoseArray, topics.PROBE_CONTACTS, self._on_contacts, LATCHED)
         node.create_subscription(TextureEstimate, topics.TEXTURE_ESTIMATE, self._on_estimate,
                                  COMMAND)
+        node.create_subscription(Imu, topics.IMU_FILTERED, self._on_orientation, SENSOR_DATA)
         self._probe = ActionClient(node, Probe, topics.PROBE_ACTION)
         self._sweep = ActionClient(node, Sweep, topics.SWEEP_ACTION)
         self._parameters = node.create_client(SetParameters, BRIDGE_PARAMETERS)
@@ -122,6 +130,14 @@ class SystemClient:
         with self._lock:
             self._contacts = msg
 
+    def _on_orientation(self, _msg: Imu) -> None:
+        with self._lock:
+            self._orientations += 1
+
+    def _streaming(self) -> bool:
+        with self._lock:
+            return self._orientations >= STREAMING_ESTIMATES
+
     def _on_estimate(self, msg: TextureEstimate) -> None:
         with self._lock:
             if self._estimates is not None and msg.class_id >= 0:
@@ -141,8 +157,10 @@ class SystemClient:
 
     def wait_ready(self, timeout_s: float, *, sweep: bool = True, bridge: bool = True,
                    alive=lambda: True) -> None:
-        """Wait for the probe (and sweep) action servers (and the bridge's parameters)."""
-        ready = [('the probe action server', self._probe.server_is_ready)]
+        """Wait for the action servers, the bridge's parameters and the orientation stream."""
+        ready = [('the probe action server', self._probe.server_is_ready),
+                 (f'{STREAMING_ESTIMATES} orientation estimates on {topics.IMU_FILTERED}',
+                  self._streaming)]
         if sweep:
             ready.append(('the sweep action server', self._sweep.server_is_ready))
         if bridge:

@@ -58,6 +58,7 @@ class GroundTruth:
         contact_ns: stamps at which the sensor touched the surface.
         edge_ns: stamps of the sensor edge positions.
         edge_m: (n, 3) world positions of the sensor edge.
+        sensor_q: (n, 4) attitudes (w, x, y, z) of sensor_link in world, at edge_ns.
         texture_ns: stamps of the texture names.
         texture: the texture under the edge at each of those stamps ('' for none).
     """
@@ -67,6 +68,7 @@ class GroundTruth:
     edge_m: np.ndarray
     texture_ns: np.ndarray
     texture: np.ndarray
+    sensor_q: np.ndarray
 
 
 @dataclass
@@ -208,6 +210,7 @@ class _Collected:
         self.stamps = {role: array('q') for role in (*ROLE_CHANNELS, 'contact', 'edge',
                                                      'texture')}
         self.edge = array('d')
+        self.attitude = array('d')
         self.texture: list[str] = []
         self.active: list[tuple[int, bool]] = []
         self.joints: list[tuple[int, float]] = []
@@ -220,6 +223,7 @@ class _Collected:
         for role in self.stamps:
             self.stamps[role].extend(other.stamps[role])
         self.edge.extend(other.edge)
+        self.attitude.extend(other.attitude)
         self.texture += other.texture
         self.active += other.active
         self.joints += other.joints
@@ -249,8 +253,9 @@ class _Collected:
         elif role in ('contact', 'edge'):
             self.stamps[role].append(stamp_ns(message.header.stamp))
             if role == 'edge':
-                p = message.pose.position
+                p, q = message.pose.position, message.pose.orientation
                 self.edge.extend((p.x, p.y, p.z))
+                self.attitude.extend((q.w, q.x, q.y, q.z))
         elif role == 'texture':
             self.stamps[role].append(log_ns)
             self.texture.append(str(message.data))
@@ -394,9 +399,10 @@ def _truth(collected: _Collected, roles: Mapping[str, str]) -> GroundTruth | Non
         return [stamps[order]] + [v[order] for v in values]
 
     contact_ns, = ordered('contact')
-    edge_ns, edge_m = ordered('edge', np.frombuffer(collected.edge).reshape(-1, 3))
+    edge_ns, edge_m, sensor_q = ordered('edge', np.frombuffer(collected.edge).reshape(-1, 3),
+                                        np.frombuffer(collected.attitude).reshape(-1, 4))
     texture_ns, texture = ordered('texture', np.array(collected.texture, dtype=str))
-    return GroundTruth(contact_ns, edge_ns, edge_m, texture_ns, texture)
+    return GroundTruth(contact_ns, edge_ns, edge_m, texture_ns, texture, sensor_q)
 
 
 def inside(stamps_ns: np.ndarray, spans: Sequence[tuple[int, int]]) -> np.ndarray:

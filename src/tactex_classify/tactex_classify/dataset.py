@@ -307,7 +307,7 @@ def convert(paths: Sequence[Path], *, window: int, hop: int, label: str | None =
         DatasetError: bad window/hop or channels, or no window from any recording.
     """
     check_window(window, hop)
-    recordings = _unique(_expand(paths), progress)
+    recordings = recording_paths(paths, progress)
     if not recordings:
         raise DatasetError('no recordings found under the given paths')
     if trial is not None and len(recordings) > 1:
@@ -391,6 +391,12 @@ def _common_channels(recordings: Sequence[Path], remaps: Mapping[str, str] | Non
                          f'channels {", ".join(ROLE_CHANNELS[role])} left out of the dataset '
                          '(choose with --channels)')
     return channels
+
+
+def recording_paths(paths: Iterable[Path], progress: Callable[[str], None] = print
+                    ) -> list[Path]:
+    """The recordings given, or directly below given folders, each once."""
+    return _unique(_expand(paths), progress)
 
 
 def _expand(paths: Iterable[Path]) -> Iterable[Path]:

@@ -2,13 +2,7 @@
 # SPDX-License-Identifier: Apache-2.0
 """Physical and hardware constants more than one package needs (SI units)."""
 
-import math
-
 STANDARD_GRAVITY_M_S2 = 9.80665
-# The LSM9DS0's widest full scales (+-2000 deg/s, +-16 g): no axis of a healthy chip reads
-# more, whichever range the firmware selects.
-GYRO_FULL_SCALE_RAD_S = math.radians(2000.0)
-ACCEL_FULL_SCALE_M_S2 = 16.0 * STANDARD_GRAVITY_M_S2
 # Earth's magnetic field in the ENU world frame (T): 20 uT north, 43 uT down (mid-latitude).
 EARTH_FIELD_T = (0.0, 2.0e-5, -4.3e-5)
 SEA_LEVEL_PRESSURE_PA = 101325.0

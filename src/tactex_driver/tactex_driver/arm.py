@@ -106,8 +106,15 @@ class ArmController:
             raise TrajectoryRejected('torque is off; enable it with arm/torque')
         if self.measured is None:
             raise TrajectoryRejected('no joint state read yet')
-        # Start from where the arm is commanded to be, so a replacement is smooth.
+        # Start from where the arm is commanded to be, so a replacement is smooth; or, when
+        # the path begins too far from there but close to where the arm measurably is (an
+        # arm held back by a contact, or lagging), from there: its sender planned from the
+        # joint states, and the arm is where the path begins.
         start = self._last_goal if self._last_goal is not None else self.measured
+        if self._last_goal is not None and _starts_only_near(
+                positions, joint_names, self.limits, self.measured, self._last_goal,
+                self.start_tolerance):
+            start = self.measured
         return plan(joint_names, times_s, positions, velocities, start, self.limits,
                     start_tolerance=self.start_tolerance)
 
@@ -151,3 +158,21 @@ class ArmController:
         self._start_s = now_s
         self._last_goal = self._trajectory.sample(0.0)
         self.mode = Mode.HOLDING
+
+
+def _starts_only_near(positions, joint_names, limits, measured: np.ndarray,
+                      commanded: np.ndarray, tolerance: float) -> bool:
+    """Whether the first point is within `tolerance` of the measured joints, not the commanded.
+
+    False for anything malformed: `plan` then refuses it with the reason.
+    """
+    try:
+        columns = [limits.names.index(name) for name in joint_names]
+        first = np.asarray(positions[0], dtype=float)
+        if first.shape != (len(columns),) or not np.all(np.isfinite(first)) \
+                or not np.all(np.isfinite(measured)):
+            return False
+    except (ValueError, TypeError, IndexError):
+        return False
+    return float(np.max(np.abs(first - measured[columns]))) <= tolerance < float(
+        np.max(np.abs(first - commanded[columns])))

@@ -50,6 +50,11 @@ class DetectorConfig:
         baseline_samples: valid free-air samples needed before detection is armed.
         sigmas: contact threshold in baseline standard deviations of the pressure.
         min_rise_pa: smallest contact threshold (Pa), whatever the spread.
+        resolution_pa: the barometer's step (Pa): no spread is taken as finer. A quantised
+            reading that mostly repeats one code has a median absolute deviation of 0,
+            which would put the threshold within a code of the noise. 0 (default) for
+            the simulated barometer without the chip model; a real MPL115A2 needs
+            `chips.PRESSURE_LSB_PA` (63.5 Pa), which slows the probe's touch detection.
         release_fraction: contact ends below this fraction of the threshold.
         debounce: consecutive samples beyond a threshold to change state.
         pa_per_newton: barometer rise per newton of contact force (force proxy).
@@ -60,6 +65,7 @@ class DetectorConfig:
     baseline_samples: int = 12
     sigmas: float = 8.0
     min_rise_pa: float = 25.0
+    resolution_pa: float = 0.0
     release_fraction: float = 0.5
     debounce: int = 3
     pa_per_newton: float = DEFAULT_PA_PER_NEWTON
@@ -72,6 +78,9 @@ class DetectorConfig:
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int) or value < 1:
                 raise ValueError(f'{name} must be an integer >= 1, got {value!r}')
+        if not (math.isfinite(self.resolution_pa) and self.resolution_pa >= 0):
+            raise ValueError(f'resolution_pa must be finite and >= 0, got '
+                             f'{self.resolution_pa!r}')
         for name in ('sigmas', 'min_rise_pa', 'pa_per_newton', 'accel_threshold_rad'):
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0):
@@ -141,8 +150,10 @@ class ContactDetector:
         if self._pressures:
             values = np.asarray(self._pressures)
             self.baseline_pa = float(np.median(values))
-            # Robust spread: 1.4826 * median absolute deviation (a burst cannot inflate it).
-            self.spread_pa = float(1.4826 * np.median(np.abs(values - self.baseline_pa)))
+            # Robust spread: 1.4826 * median absolute deviation (a burst cannot inflate it),
+            # never finer than the barometer resolves.
+            self.spread_pa = max(float(1.4826 * np.median(np.abs(values - self.baseline_pa))),
+                                 self.config.resolution_pa)
         if self._accels:
             # Per-axis median of the directions: a few wild readings cannot turn it.
             median = np.median(self._accels, axis=0)

@@ -45,11 +45,8 @@ import sys
 import numba
 import numpy as np
 
-from tactex_common.constants import (
-    ACCEL_FULL_SCALE_M_S2,
-    GYRO_FULL_SCALE_RAD_S,
-    STANDARD_GRAVITY_M_S2,
-)
+from tactex_common import chips
+from tactex_common.constants import STANDARD_GRAVITY_M_S2
 from tactex_sensor.errors import ReadingError
 from tactex_sensor.orientation import gravity_alignment, unit_direction
 
@@ -84,8 +81,10 @@ class MadgwickConfig:
         use_mag: fuse the magnetometer (MARG) when it is valid.
         min_dip_sin: a magnetometer within asin(min_dip_sin) of gravity is ignored.
         max_dt_s: a longer step is a gap: no gyro integration over it.
-        max_rate_rad_s: a gyro axis reading more is a corrupted sample: rejected.
-        max_accel_m_s2: an accel axis reading more is a corrupted sample: rejected.
+        max_rate_rad_s: a gyro axis reading more is saturated or corrupted: rejected
+            (default: the configured LSM9DS0 full scale, tactex_common.chips).
+        max_accel_m_s2: an accel axis reading more is saturated or corrupted: rejected
+            (default: the configured full scale).
         min_accel_m_s2: a weaker accel (free fall, zero, subnormal) tells no direction:
             rejected.
         recovery_angle_rad: a tilt disagreement between accel and attitude above this ...
@@ -104,8 +103,8 @@ class MadgwickConfig:
     use_mag: bool = False
     min_dip_sin: float = 0.1
     max_dt_s: float = 0.1
-    max_rate_rad_s: float = GYRO_FULL_SCALE_RAD_S
-    max_accel_m_s2: float = ACCEL_FULL_SCALE_M_S2
+    max_rate_rad_s: float = chips.gyro_range().full_scale_si
+    max_accel_m_s2: float = chips.accel_range().full_scale_si
     min_accel_m_s2: float = 0.1 * STANDARD_GRAVITY_M_S2
     recovery_angle_rad: float = math.radians(10.0)
     recovery_s: float = 1.0

@@ -25,12 +25,18 @@ import numpy as np
 
 from tactex_description.geometry import JOINT_STATE_NAMES, OPEN_MANIPULATOR_X
 from tactex_description.mjcf import build_mjcf, IMU_SITE, SENSOR_EDGE_GEOM, SENSOR_GEOM
-from tactex_sim.effects import Effect, effect_class, EFFECTS, Reading
+from tactex_sim.effects import (
+    Effect,
+    effect_class,
+    EFFECTS,
+    Reading,
+    SURFACE_FRICTION,
+    SURFACE_GEOM,
+)
 from tactex_sim.errors import SimError
 from tactex_sim.scene import Scene
 from tactex_sim.textures import texture as find_texture
 
-SURFACE_GEOM = 'surface'
 PRESS_STIFFNESS_N_M = OPEN_MANIPULATOR_X.joint('sensor_press').stiffness
 # The compliant body's travel: no body compresses further, welded or not.
 PRESS_TRAVEL_M = -OPEN_MANIPULATOR_X.joint('sensor_press').lower
@@ -171,7 +177,8 @@ class World:
     def _surface_geoms(self) -> str:
         surface = self.scene.surface
         x, y, z = surface.origin_m
-        common = f'name="{SURFACE_GEOM}" rgba="0.55 0.45 0.35 1" friction="0.5 0.005 0.0001"'
+        common = (f'name="{SURFACE_GEOM}" rgba="0.55 0.45 0.35 1" '
+                  f'friction="{SURFACE_FRICTION} 0.005 0.0001"')
         floor = '<light pos="0 0 1.5" dir="0 0 -1"/>'
         if surface.kind == 'flat':
             # Tilted about y through the top face's centre (slope_rad 0: level).
@@ -305,6 +312,9 @@ class World:
             return self._sample_time_s
         if key == 'sample rate':
             return self.scene.sensor_rate_hz
+        if key == 'sensor filters':  # (accelerometer, gyro) low-pass cut-offs, Hz
+            chip = next((e for e in self.effects if e.name == 'sensor'), None)
+            return (math.inf, math.inf) if chip is None else chip.filters_hz
         raise KeyError(f'no input {key!r}')
 
     def contact(self) -> Contact:

@@ -1,6 +1,6 @@
 # Copyright 2026 The tactex authors
 # SPDX-License-Identifier: Apache-2.0
-"""`tactex sim collect`: synthetic labelled recordings from the MuJoCo scenes."""
+"""`tactex sim collect` (synthetic labelled recordings) and `tactex sim stats` (their channels)."""
 
 from __future__ import annotations
 
@@ -8,7 +8,13 @@ import argparse
 from pathlib import Path
 
 from tactex.errors import CommandError
-from tactex.options import check_output_folder, integer, ray_address, staged_folder
+from tactex.options import (
+    check_input_folder,
+    check_output_folder,
+    integer,
+    ray_address,
+    staged_folder,
+)
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -29,10 +35,49 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     collect.add_argument('--address', type=ray_address, metavar='HOST:PORT',
                          help='run the sweeps on this Ray cluster (every node needs tactex '
                               'installed); --workers then caps the sweeps in flight')
+    stats = sub.add_parser('stats', help='per texture and channel: RMS, p99, max, share at '
+                                         'the rails, dominant frequency; spectra as PNG '
+                                         '(simulated or real recordings)')
+    stats.add_argument('paths', nargs='+', type=Path, metavar='BAG_OR_DIR',
+                       help='recordings, or folders holding recordings')
+    stats.add_argument('--out', type=Path, required=True,
+                       help='folder for stats.md, stats.json and the spectra (new)')
 
 
 def run(args: argparse.Namespace) -> int:
     """Run the action."""
+    return _stats(args) if args.action == 'stats' else _collect(args)
+
+
+def _stats(args: argparse.Namespace) -> int:
+    """Write the channel statistics of the recordings; warn on any beyond full scale."""
+    import json
+    import sys
+
+    from tactex_classify import signal_stats
+
+    check_output_folder(args.out)
+    for path in args.paths:
+        check_input_folder(path, 'BAG_OR_DIR')
+    textures = signal_stats.collect(args.paths, progress=print)
+    if not textures:
+        raise CommandError(f'no recordings in {", ".join(map(str, args.paths))}')
+    limits = signal_stats.Limits.configured()
+    table = signal_stats.statistics(textures, limits)
+    with staged_folder(args.out) as folder:
+        (folder / 'stats.json').write_text(json.dumps(table, indent=1, sort_keys=True) + '\n',
+                                           encoding='utf-8')
+        (folder / 'stats.md').write_text(signal_stats.markdown(table, limits), encoding='utf-8')
+        plots = signal_stats.plot_spectra(textures, folder)
+    for line in signal_stats.warnings(table):
+        print(f'warning: {line}', file=sys.stderr)
+    print(f'wrote {args.out}/stats.md, stats.json and {len(plots)} spectra for '
+          f'{len(table)} texture(s)')
+    return 0
+
+
+def _collect(args: argparse.Namespace) -> int:
+    """Record the sweeps."""
     from tactex_sim.collect import check_collectable, collect
     from tactex_sim.scene import load_scene, resolve_scene
     from tactex_sim.textures import TEXTURES
