@@ -80,3 +80,41 @@ def test_a_rejected_trajectory_stops_the_running_one_and_is_counted(controller):
     assert controller.rejected == 1 and controller.mode is Mode.HOLDING
     assert controller.last_event.startswith('rejected trajectory')
     np.testing.assert_allclose(controller.goal(2.0), midway)
+
+
+def test_a_trajectory_that_arrives_late_runs_from_its_stamp(controller):
+    # The sender started a 1 s move at t = 1.0 and replaced it at t = 1.5 by a hold where
+    # it then was (0.1); the hold arrives 0.2 s late, when this side is at 0.14 of the move.
+    controller.execute(ARM, [0.0, 1.0], [[0.0, 0, 0, 0], [0.2, 0, 0, 0]], [[], []],
+                       now_s=1.0, start_s=1.0)
+    at_stamp = controller.goal(1.5)[0]
+    held = float(controller._trajectory.sample(0.5)[0])
+    controller.execute(ARM, [0.05], [[held, 0, 0, 0]], [[]], now_s=1.7, start_s=1.5)
+    assert controller.goal(1.7)[0] == pytest.approx(at_stamp, abs=1e-9)
+    # A stamp from the future, or older than MAX_LATENESS_S, counts as now.
+    controller.execute(ARM, [1.0], [[held, 0, 0, 0]], [[]], now_s=3.0, start_s=9.0)
+    assert controller.goal(3.0)[0] == pytest.approx(held, abs=1e-9)
+
+
+def test_a_stamped_message_is_judged_where_the_arm_was_commanded_at_its_stamp():
+    from builtin_interfaces.msg import Duration, Time
+    from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
+
+    def moving():
+        arm = ArmController(JointLimits.of_robot())
+        arm.update_measured(np.zeros(5))
+        arm.torque_on(0.0)
+        arm.execute(ARM, [0.0, 1.0], [[0.0, 0, 0, 0], [0.4, 0, 0, 0]], [[], []], now_s=10.0)
+        return arm
+
+    arm = moving()
+    was = float(arm._trajectory.sample(0.3)[0])  # commanded at t = 10.3
+    hold_there = JointTrajectory(joint_names=list(ARM), points=[JointTrajectoryPoint(
+        positions=[was, 0.0, 0.0, 0.0], time_from_start=Duration(nanosec=50_000_000))])
+    # Arriving at 10.7, when this side has moved on by more than the 0.1 rad tolerance:
+    assert float(arm._trajectory.sample(0.7)[0]) - was > 0.1
+    ok, report = arm.execute_message(hold_there, now_s=10.7)
+    assert not ok and 'first point is' in report  # unstamped: judged now, refused
+    hold_there.header.stamp = Time(sec=10, nanosec=300_000_000)
+    ok, report = moving().execute_message(hold_there, now_s=10.7)
+    assert ok, report  # stamped: judged at its stamp, accepted

@@ -16,6 +16,9 @@ import numpy as np
 from tactex_driver.errors import TrajectoryRejected
 from tactex_driver.playback import hold, JointLimits, plan, Trajectory, trajectory_arrays
 
+# A trajectory stamped further back than this is started on arrival instead (s).
+MAX_LATENESS_S = 0.5
+
 
 class Mode(enum.Enum):
     """The controller's state."""
@@ -61,29 +64,49 @@ class ArmController:
         self.mode = Mode.TORQUE_OFF
         self._trajectory = None
 
-    def execute(self, joint_names, times_s, positions, velocities, now_s: float) -> float:
+    def execute(self, joint_names, times_s, positions, velocities, now_s: float,
+                start_s: float | None = None) -> float:
         """Replace whatever runs by a new trajectory; return its duration (s).
+
+        Args:
+            joint_names: the joints the points name.
+            times_s: time of each point from the start.
+            positions: a row per point.
+            velocities: a row per point, or empty rows.
+            now_s: the controller's time now.
+            start_s: when the sender started it (its header stamp, on the same clock), for
+                a trajectory that arrives late: it then continues from where it would be,
+                and must start near where the arm was commanded to be at that time. None,
+                a future stamp or one more than `MAX_LATENESS_S` old: now.
 
         Raises:
             TrajectoryRejected: the trajectory is unsafe, or the arm cannot move now; what
                 ran before stops and holds, and `rejected` counts it.
         """
+        if start_s is None or not now_s - MAX_LATENESS_S <= start_s <= now_s:
+            start_s = now_s
         try:
-            trajectory = self._plan(joint_names, times_s, positions, velocities)
+            trajectory = self._plan(joint_names, times_s, positions, velocities, start_s)
         except TrajectoryRejected as err:
             self.reject(str(err), now_s)
             raise
-        self._trajectory, self._start_s = trajectory, now_s
+        self._trajectory, self._start_s = trajectory, start_s
         self.mode = Mode.EXECUTING
         self.last_event = f'executing a {trajectory.duration_s:.2f} s trajectory'
         return trajectory.duration_s
 
     def execute_message(self, message, now_s: float) -> tuple[bool, str]:
-        """Execute a JointTrajectory message; return (accepted, a line for the log)."""
+        """Execute a JointTrajectory message; return (accepted, a line for the log).
+
+        A non-zero header stamp is the trajectory's start time (the ROS convention), on
+        the controller's clock (`execute`'s `start_s`).
+        """
+        stamp = message.header.stamp
+        stamp_s = stamp.sec + 1e-9 * stamp.nanosec
         try:
             arrays = trajectory_arrays(message)
             duration = self.execute(arrays.joint_names, arrays.times_s, arrays.positions,
-                                    arrays.velocities, now_s)
+                                    arrays.velocities, now_s, stamp_s or None)
         except TrajectoryRejected as err:
             return False, f'trajectory rejected: {err}'
         return True, f'executing {len(arrays.times_s)} points over {duration:.2f} s'
@@ -99,15 +122,19 @@ class ArmController:
             self.stop(now_s, 'new trajectory was rejected')
         self.last_event = f'rejected trajectory: {reason}'
 
-    def _plan(self, joint_names, times_s, positions, velocities) -> Trajectory:
+    def _plan(self, joint_names, times_s, positions, velocities, start_s: float
+              ) -> Trajectory:
         if self.mode is Mode.FAULT:
             raise TrajectoryRejected(f'in fault ({self.fault_reason}); reset first')
         if self.mode is Mode.TORQUE_OFF:
             raise TrajectoryRejected('torque is off; enable it with arm/torque')
         if self.measured is None:
             raise TrajectoryRejected('no joint state read yet')
-        # Start from where the arm is commanded to be, so a replacement is smooth.
+        # Start from where the arm was commanded to be when the trajectory started, so a
+        # replacement is smooth (and one that arrived late is judged where it began).
         start = self._last_goal if self._last_goal is not None else self.measured
+        if self.mode is Mode.EXECUTING and self._trajectory is not None:
+            start = self._trajectory.sample(start_s - self._start_s)
         return plan(joint_names, times_s, positions, velocities, start, self.limits,
                     start_tolerance=self.start_tolerance)
 

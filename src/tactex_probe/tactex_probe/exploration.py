@@ -188,9 +188,10 @@ class ExplorerConfig:
 
 @dataclass(frozen=True)
 class Command:
-    """A joint path for the arm, to replace whatever it executes now."""
+    """A joint path for the arm, to replace whatever it executes, started at `stamp_ns`."""
 
     path: JointPath
+    stamp_ns: int = 0
 
 
 @dataclass(frozen=True)
@@ -852,7 +853,7 @@ class Explorer:
 
     def _command(self, now_ns: int, path: JointPath) -> None:
         self._path, self._path_ns = path, now_ns
-        self._events.append(Command(path))
+        self._events.append(Command(path, now_ns))
 
     def _seed(self) -> np.ndarray:
         """The joints the arm is commanded to hold now: where every new path starts."""

@@ -268,7 +268,7 @@ class ProbeNode(Node):
         records = self._explorer.records
         for event in events:
             if isinstance(event, Command):
-                self._trajectory_pub.publish(trajectory_message(event.path))
+                self._trajectory_pub.publish(trajectory_message(event.path, event.stamp_ns))
             elif isinstance(event, Feedback):
                 self._goal_handle.publish_feedback(feedback_message(event))
             elif isinstance(event, Recorded):
@@ -391,9 +391,14 @@ def feedback_message(feedback: Feedback) -> Probe.Feedback:
     return message
 
 
-def trajectory_message(path) -> JointTrajectory:
-    """The arm trajectory of a joint path (times from now; the driver prepends its goal)."""
-    return JointTrajectory(joint_names=list(ARM_JOINT_NAMES), points=[
+def trajectory_message(path, stamp_ns: int = 0) -> JointTrajectory:
+    """The arm trajectory of a joint path started at `stamp_ns` (0: on arrival).
+
+    The stamp is when the explorer started the path on its clock: a driver that gets it
+    late runs it from there, as the explorer assumes (the driver prepends its goal).
+    """
+    return JointTrajectory(header=Header(stamp=Time(nanoseconds=stamp_ns).to_msg()),
+                           joint_names=list(ARM_JOINT_NAMES), points=[
         JointTrajectoryPoint(positions=[float(q) for q in joints],
                              time_from_start=_duration(int(round(t * 1e9))))
         for t, joints in zip(path.times_s, path.joints, strict=True)])
