@@ -22,6 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
+from tactex_classify.alignment import nearest
 from tactex_classify.bags import read_recording, Recording
 from tactex_classify.dataset import FilterRule, keep_mask, recording_paths
 from tactex_common import chips
@@ -38,10 +39,11 @@ MIN_PEAK_HZ = 3.0
 
 @dataclass(frozen=True)
 class Limits:
-    """The configured full scale and the rails of each channel group (SI)."""
+    """The configured full scale, the rails and one count of each channel group (SI)."""
 
     full_scale: dict[str, float]
     rails: dict[str, tuple[float, float]]
+    count: dict[str, float]
 
     @classmethod
     def configured(cls) -> Limits:
@@ -50,9 +52,11 @@ class Limits:
                   'mag': chips.mag_range()}
         full = {g: r.full_scale_si for g, r in ranges.items()}
         rails = {g: r.rails_si for g, r in ranges.items()}
+        count = {g: r.lsb_si for g, r in ranges.items()}
         full['baro'] = chips.PRESSURE_MAX_PA
         rails['baro'] = (chips.PRESSURE_MIN_PA, chips.PRESSURE_MAX_PA)
-        return cls(full, rails)
+        count['baro'] = chips.PRESSURE_LSB_PA
+        return cls(full, rails, count)
 
 
 @dataclass
@@ -109,9 +113,9 @@ def madgwick_tilt_errors_deg(recording: Recording) -> np.ndarray | None:
     estimate = filter_batch(np.stack([recording.channel(c) for c in GYRO], axis=1),
                             np.stack([recording.channel(c) for c in ACCEL], axis=1), dt,
                             config=MadgwickConfig())
-    nearest = np.clip(np.searchsorted(truth.edge_ns, stamps), 0, truth.edge_ns.size - 1)
+    truth_index = nearest(stamps, truth.edge_ns, math.inf)
     return np.degrees([tilt_between(q, truth.sensor_q[i])
-                       for q, i in zip(estimate, nearest, strict=True)])
+                       for q, i in zip(estimate, truth_index, strict=True)])
 
 
 def channel_row(values: np.ndarray, rate_hz: float, group: str, limits: Limits) -> dict:
@@ -121,8 +125,7 @@ def channel_row(values: np.ndarray, rate_hz: float, group: str, limits: Limits) 
         return {'samples': 0}
     magnitude = np.abs(values)
     low, high = limits.rails[group]
-    # A reading within half a count of a rail sits on it.
-    tolerance = 0.5 * (high - low) / 65535 if group != 'baro' else chips.PRESSURE_LSB_PA / 2
+    tolerance = 0.5 * limits.count[group]  # a reading within half a count sits on the rail
     at_rails = (values <= low + tolerance) | (values >= high - tolerance)
     beyond = magnitude > limits.full_scale[group] if group != 'baro' else (
         (values < chips.PRESSURE_MIN_PA) | (values > chips.PRESSURE_MAX_PA))
