@@ -176,7 +176,7 @@ def measure(listener: Listener, checkpoint: Path, runtime: str, estimates: int,
             'node_p50_ms': float(values.get('latency_p50_ms', 'nan')),
             'node_p99_ms': float(values.get('latency_p99_ms', 'nan')),
             'dropped': int(values.get('windows_dropped', -1)),
-            'overflow': int(values.get('samples_overflow', -1)),
+            'overflow': int(values.get('faults_overflow', -1)),
             'runtime_used': values.get('runtime', '?')}
 
 

@@ -5,12 +5,17 @@
 `launch/system.launch.py sim:=true` runs through the launcher with a checkpoint (given,
 or trained first from a few `tactex sim collect` sweeps), as `tactex demo` runs it, and
 this script drives it only through its interfaces: each loop probes a short line, then
-sweeps it once recording a bag while classifier_node classifies live. Every period
-(default 60 s) one fault is injected, in rotation: sensor unplug (the tactile topics
-stop), CRC burst (NaN tactile samples), servo silence (joint_states stop), each for
-FAULT_S seconds through the bridge's `fault` parameter, and madgwick_node killed with
-SIGKILL (the launcher respawns it). A fault is recovered from when the silenced stream
-carries a finite sample again, or the killed node runs again and is back on the graph.
+sweeps it once recording a bag while classifier_node classifies live (a loop whose probe
+fails sweeps the last probed pathway). Every period
+(default 60 s) one fault is injected, in rotation (`--faults` picks the kinds): sensor
+unplug (the tactile topics stop), CRC burst (NaN tactile samples), servo silence
+(joint_states stop), each for FAULT_S seconds through the bridge's `fault` parameter,
+madgwick_node killed with SIGKILL (the launcher respawns it), then the live stream's
+faults (tactex_sim.faults: overflow, clock jump, burst, stamp jitter, frozen, saturated),
+those that spoil windows played while a sweep runs. A fault is recovered from when the
+silenced stream carries a finite sample again, the killed node runs again and is back on
+the graph, or, for a live-stream fault, classifier_node has counted it and its
+diagnostics are OK again.
 
 Reported: windows expected (cut by classifier_node) / classified / counted as dropped,
 summed over the classifier's lives, beside the windows `tactex convert` cuts from the
@@ -40,7 +45,7 @@ import time
 import numpy as np
 
 from tactex import soak
-from tactex.cli import CommandParser, describe, USER_ERRORS
+from tactex.cli import CommandParser, guarded
 from tactex.cli import main as tactex
 from tactex.commands.demo import (
     DEFAULT,
@@ -54,6 +59,7 @@ from tactex.commands.demo import (
 from tactex.errors import CommandError
 from tactex.options import check_output_folder, number, staged_folder
 from tactex_common import topics
+from tactex_common.stopping import raise_on_stop_signals
 
 KILLED = 'madgwick_node'  # restarted by the launcher (respawn) after SIGKILL
 PROBE_SPAN_M = 0.04  # five probe points: a sweep long enough for a few 1 s windows
@@ -67,6 +73,13 @@ PROBE_TIMEOUT_S = 300.0
 SWEEP_TIMEOUT_S = 120.0
 SILENCED = {'sensor_unplug': topics.IMU_RAW, 'crc_burst': topics.IMU_RAW,
             'servo_silence': topics.JOINT_STATES}
+# Live-stream faults: the classifier counters that count each (any one of them).
+COUNTED_BY = {'overflow': ('faults_invalid',),
+              'clock_jump': ('faults_resyncs', 'faults_off_timeline'),
+              'burst': ('faults_refused', 'faults_resyncs'), 'stamp_jitter': (),
+              'frozen': ('faults_frozen',), 'saturated': ('faults_saturated',)}
+IN_SWEEP = ('burst', 'frozen', 'saturated')  # spoil windows: played while a sweep runs
+SWEEP_WAIT_S = 240.0  # two loops
 
 
 def parse(argv: list[str] | None) -> argparse.Namespace:
@@ -82,17 +95,31 @@ def parse(argv: list[str] | None) -> argparse.Namespace:
                              '(default: train one first from 4 simulated sweeps)')
     parser.add_argument('--fault-period', type=number(at_least=10.0), default=60.0,
                         help='seconds between faults (default 60)')
+    parser.add_argument('--faults', type=fault_kinds, default=soak.FAULTS,
+                        help=f'comma-separated kinds, in rotation (default all: '
+                             f'{",".join(soak.FAULTS)})')
     parser.add_argument('--rate-factor', type=number(at_most=10.0), default=1.0,
                         help='simulated seconds per wall second (default 1)')
     return parser.parse_args(argv)
 
 
+def fault_kinds(text: str) -> tuple[str, ...]:
+    """`--faults`: known kinds, comma-separated (argparse turns ValueError into an error)."""
+    kinds = tuple(kind.strip() for kind in text.split(','))
+    unknown = [kind for kind in kinds if kind not in soak.FAULTS]
+    if unknown or not kinds:
+        raise argparse.ArgumentTypeError(f'unknown fault {", ".join(unknown)!s}; the kinds are '
+                                         f'{",".join(soak.FAULTS)}')
+    return kinds
+
+
 class Soak:
     """One soak run inside `demo`'s folder."""
 
-    def __init__(self, demo: Demo, minutes: float, period_s: float) -> None:
+    def __init__(self, demo: Demo, minutes: float, period_s: float,
+                 kinds: tuple[str, ...] = soak.FAULTS) -> None:
         self.demo, self.minutes = demo, minutes
-        self.schedule = soak.fault_schedule(minutes * 60, period_s)
+        self.schedule = soak.fault_schedule(minutes * 60, period_s, kinds)
         self.faults: list[soak.FaultRecord] = []
         self.memory: dict[str, list[tuple[float, int]]] = {}
         self.counts = dict.fromkeys(('loops', 'probes_sent', 'probes_ok', 'sweeps_sent',
@@ -135,9 +162,10 @@ class Soak:
             workers[1].join()
             self._settle(client)
             windows, lives = client.windows()
+            decisions = [t - self.started for t in client.decisions]
             self.done.set()
             workers[0].join()
-        return self._summary(windows, lives) | self._windows_in_bags()
+        return self._summary(windows, lives, decisions) | self._windows_in_bags()
 
     def _windows_in_bags(self) -> dict:
         """What `tactex convert` cuts from the recordings: a cross-check, not accounted.
@@ -159,13 +187,19 @@ class Soak:
         line = ProbeLine(PROBE_START_X_M, PROBE_SPAN_M, DEFAULT.probe_step_m,
                          start_z_m=PROBE_START_Z_M)
         rng = np.random.default_rng(self.demo.scene.seed)
+        pathway = None  # the newest probed pathway: swept again when a probe fails
         while self.elapsed() < self.minutes * 60:
             loop = self.counts['loops'] = self.counts['loops'] + 1
-            note, pathway = '', None
+            note, probe_note = '', ''
             try:
                 self.counts['probes_sent'] += 1
-                _, pathway, _ = client.probe(line, PROBE_TIMEOUT_S, alive)
-                self.counts['probes_ok'] += 1
+                try:
+                    _, pathway, _ = client.probe(line, PROBE_TIMEOUT_S, alive)
+                    self.counts['probes_ok'] += 1
+                except CommandError as err:
+                    if pathway is None or not alive():
+                        raise
+                    probe_note = f'probe failed ({err}), the last pathway swept; '
                 texture = TEXTURES[loop % len(TEXTURES)]
                 client.set_texture(texture, alive)
                 drawn = SweepParameters.draw(self.demo.scene, rng)
@@ -176,7 +210,7 @@ class Soak:
                                    record=True, timeout_s=SWEEP_TIMEOUT_S, alive=alive,
                                    pathway=pathway)
                 self.counts['sweeps_ok'] += run.status_ok
-                note = (f'sweep {texture}: ' + (run.result.message or
+                note = probe_note + (f'sweep {texture}: ' + (run.result.message or
                         f'{100 * run.result.contact_fraction:.0f} % in contact') +
                         f', {len(run.estimates)} estimates')
             except CommandError as err:  # an aborted or lost goal: the next loop tries again
@@ -197,6 +231,8 @@ class Soak:
             self.demo.say(f'fault at {self.elapsed():.0f} s: {fault}')
             try:
                 record = (self._kill(client, at_s) if fault == 'node_kill'
+                          else self._live_fault(client, alive, at_s, fault)
+                          if fault in COUNTED_BY
                           else self._stream_fault(client, alive, at_s, fault))
             except CommandError as err:
                 record = soak.FaultRecord(at_s, fault, False, str(err))
@@ -214,6 +250,28 @@ class Soak:
                                 f'{SILENCED[fault]} silent or bad for {FAULT_S:g} s; ' +
                                 (f'back {back:.1f} s after' if back is not None else
                                  f'still silent {RECOVERY_S:g} s after'))
+
+    def _live_fault(self, client, alive, at_s: float, fault: str) -> soak.FaultRecord:
+        if fault in IN_SWEEP and _within(SWEEP_WAIT_S, client.sweeping) is None:
+            return soak.FaultRecord(at_s, fault, False, f'no sweep ran within {SWEEP_WAIT_S:g} '
+                                    's to play it in')
+        before, _ = client.windows()
+        client.set_bridge_parameter('fault', fault, alive)
+        time.sleep(FAULT_S)
+        client.set_bridge_parameter('fault', '', alive)
+        cleared = time.monotonic()
+        counters = COUNTED_BY[fault]
+
+        def counted() -> str:
+            after, _ = client.windows()
+            return ', '.join(f'{after[c] - before[c]} {c.removeprefix("faults_")}'
+                             for c in counters if after[c] > before[c])
+        back = _within(RECOVERY_S, lambda: (counted() or not counters)
+                       and client.classifier_ok_since(cleared))
+        return soak.FaultRecord(at_s, fault, back is not None, (
+            f'played {FAULT_S:g} s; counted: {counted() or "nothing"}; ' +
+            (f'diagnostics OK {back:.1f} s after' if back is not None else
+             f'not counted and OK {RECOVERY_S:g} s after')))
 
     def _kill(self, client, at_s: float) -> soak.FaultRecord:
         launcher = self.demo.launcher
@@ -239,16 +297,18 @@ class Soak:
         """Wait for the classifier's counters to agree (its windows in flight), up to 10 s."""
         def agreed() -> bool:
             w, _ = client.windows()
-            return w['windows_cut'] == w['windows_classified'] + w['windows_dropped']
+            return w['windows_cut'] == soak.windows_accounted(w)
         time.sleep(2.0)  # a diagnostics period after the last sweep
         _within(10.0, agreed)
 
-    def _summary(self, windows: dict, lives: int) -> dict:
+    def _summary(self, windows: dict, lives: int, decisions: list[float]) -> dict:
         bags = sorted(p for p in (self.demo.folder / 'bags').glob('*') if p.is_dir())
         unreadable = {p.name: why for p in bags if (why := soak.read_back(p))}
         memory = soak.memory_report(self.memory, warmup_s=WARMUP_S)
         summary = {'minutes': self.minutes, **self.counts, 'windows': windows,
                    'classifier_lives': lives, 'bags_written': len(bags),
+                   'decisions_per_10_min': soak.per_period(decisions, 600.0,
+                                                           self.minutes * 60),
                    'bags_readable': len(bags) - len(unreadable), 'unreadable': unreadable,
                    'faults': [vars(f) for f in self.faults],
                    'faults_scheduled': len(self.schedule), 'memory': memory,
@@ -278,7 +338,7 @@ def run(args: argparse.Namespace) -> int:
     started = time.monotonic()
     with staged_folder(out) as folder, demo_environment(folder):
         demo = Demo(folder, out, replace(DEFAULT, rate_factor=args.rate_factor), started)
-        job = Soak(demo, args.minutes, args.fault_period)
+        job = Soak(demo, args.minutes, args.fault_period, args.faults)
         summary = job.run(checkpoint.resolve() if checkpoint else job.checkpoint())
         (folder / 'summary.json').write_text(json.dumps(summary, indent=2) + '\n',
                                              encoding='utf-8')
@@ -290,13 +350,10 @@ def run(args: argparse.Namespace) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Entry point: one `error:` line and exit code 1 on bad input."""
+    """Entry point: one `error:` line and exit code 1 on bad input, 128+n on a signal."""
+    raise_on_stop_signals()
     args = parse(argv)
-    try:
-        return run(args)
-    except USER_ERRORS as error:
-        print(f'error: {describe(error)}', file=sys.stderr)
-        return 1
+    return guarded(lambda: run(args))
 
 
 if __name__ == '__main__':

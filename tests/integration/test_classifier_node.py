@@ -4,124 +4,18 @@
 
 import os
 from pathlib import Path
-import subprocess
-import sys
+import threading
 import time
 
-import numpy as np
+from livestream import CLASSES, SensorStandIn, start_node, stop, write_checkpoints
 import pytest
 
-from tactex.ros_env import ros_environment
-from tactex_classify.baselines import MiniRocketRidge
-from tactex_classify.classifier import DeepClassifier, TrainingConfig
-from tactex_classify.runtime import export_onnx
-
 pytestmark = [pytest.mark.ros, pytest.mark.slow]
-BIN = Path(sys.executable).parent
-RATE_HZ = 120.0
-CLASSES = ['smooth', 'ridged']
-
-
-def windows(count, window, rng):
-    """Class 1 has a 20 Hz vibration on ax, class 0 none; gravity on az, 101 kPa."""
-    X = rng.normal(0, 0.05, (count, window, 10))
-    t = np.arange(window) / RATE_HZ
-    y = np.arange(count) % 2
-    X[y == 1, :, 0] += np.sin(2 * np.pi * 20 * t)
-    X[:, :, 2] += 9.8
-    X[:, :, 9] += 101_000
-    return X.astype(np.float32), y
 
 
 @pytest.fixture(scope='module')
 def checkpoints(tmp_path_factory):
-    folder = tmp_path_factory.mktemp('checkpoints')
-    rng = np.random.default_rng(0)
-    X, y = windows(40, 32, rng)
-    MiniRocketRidge(dilations=3).fit(X, y, CLASSES).save(folder / 'minirocket', hop=16,
-                                                         sampling_rate_hz=RATE_HZ)
-    X, y = windows(40, 96, rng)
-    deep = DeepClassifier(TrainingConfig(model='cnn_3', epochs=2)).fit(X, y, CLASSES)
-    export_onnx(deep.save(folder / 'cnn', hop=48, sampling_rate_hz=RATE_HZ))
-    return folder
-
-
-def start_node(checkpoint, *params):
-    args = [BIN / 'classifier_node', '--ros-args', '-p', f'checkpoint:={checkpoint}',
-            '-p', 'contact:=always', '-p', 'diagnostics_period_s:=0.3',
-            '-p', 'wait_warn_period_s:=0.5']
-    for param in params:
-        args += ['-p', param]
-    return subprocess.Popen(args, env=ros_environment(), stdout=subprocess.PIPE,
-                            stderr=subprocess.STDOUT, text=True)
-
-
-class SensorStandIn:
-    """Publishes the raw tactile topics as teensy_node does (ax carries the texture)."""
-
-    def __init__(self, context):
-        from diagnostic_msgs.msg import DiagnosticArray
-        import rclpy
-        from rclpy.qos import qos_profile_sensor_data
-        from sensor_msgs.msg import FluidPressure, Imu, MagneticField
-
-        from tactex_msgs.msg import TextureEstimate
-        self.node = rclpy.create_node('classifier_test', context=context)
-        self.imu = self.node.create_publisher(Imu, 'tactile/imu/data_raw', qos_profile_sensor_data)
-        self.mag = self.node.create_publisher(MagneticField, 'tactile/imu/mag',
-                                              qos_profile_sensor_data)
-        self.pressure = self.node.create_publisher(FluidPressure, 'tactile/pressure',
-                                                   qos_profile_sensor_data)
-        self.estimates, self.diagnostics = [], []
-        self.node.create_subscription(TextureEstimate, 'texture/estimate', self.estimates.append,
-                                      10)
-        self.node.create_subscription(DiagnosticArray, 'diagnostics',
-                                      lambda m: self.diagnostics.extend(m.status), 10)
-        self.executor = rclpy.executors.SingleThreadedExecutor(context=context)
-        self.executor.add_node(self.node)
-        self.sample = 0
-        self.classes = (Imu, MagneticField, FluidPressure)
-
-    def publish(self, seconds, ridged):
-        """Stream `seconds` of signal at RATE_HZ, paced in real time."""
-        Imu, MagneticField, FluidPressure = self.classes
-        start = time.monotonic()
-        for k in range(int(seconds * RATE_HZ)):
-            i, self.sample = self.sample, self.sample + 1
-            stamp = self.node.get_clock().now().to_msg()
-            imu = Imu()
-            imu.header.stamp, imu.header.frame_id = stamp, 'sensor_link'
-            imu.linear_acceleration.x = float(np.sin(2 * np.pi * 20 * i / RATE_HZ)) * ridged
-            imu.linear_acceleration.z = 9.8
-            mag = MagneticField()
-            mag.header = imu.header
-            pressure = FluidPressure(fluid_pressure=101_000.0)
-            pressure.header = imu.header
-            for publisher, message in ((self.imu, imu), (self.mag, mag),
-                                       (self.pressure, pressure)):
-                publisher.publish(message)
-            self.executor.spin_once(timeout_sec=0)
-            delay = start + (k + 1) / RATE_HZ - time.monotonic()
-            if delay > 0:
-                time.sleep(delay)
-
-    def spin_until(self, condition, timeout_s):
-        deadline = time.monotonic() + timeout_s
-        while not condition() and time.monotonic() < deadline:
-            self.executor.spin_once(timeout_sec=0.05)
-        return condition()
-
-    def values(self):
-        return {kv.key: kv.value for kv in self.diagnostics[-1].values}
-
-
-def stop(process):
-    process.terminate()
-    try:
-        return process.communicate(timeout=10)[0]
-    except subprocess.TimeoutExpired:
-        process.kill()
-        return process.communicate()[0]
+    return write_checkpoints(tmp_path_factory.mktemp('checkpoints'))
 
 
 def run_stream(context, process, *, smooth_s=2.0, ridged_s=4.0):
@@ -202,3 +96,23 @@ def test_a_malicious_checkpoint_is_refused_and_nothing_in_it_runs(checkpoints, t
     output = process.communicate(timeout=60)[0]
     assert process.returncode == 1 and 'refused weights.pt' in output, output
     assert not marker.exists()
+
+
+def test_the_demo_waits_until_the_classifier_is_ready_and_says_why_it_is_not(checkpoints,
+                                                                             ros_context):
+    from tactex.demo_session import SystemClient
+    from tactex.errors import CommandError
+    process = start_node(checkpoints / 'minirocket')
+    try:
+        sensor = SensorStandIn(ros_context)
+        assert sensor.spin_until(lambda: sensor.diagnostics, 60.0), 'the node never came up'
+        with SystemClient() as client:
+            with pytest.raises(CommandError, match=r'classifier_node was not ready within 3 s;'
+                                                   r'.*its diagnostics: no samples on'):
+                client.wait_classifier_ready(3.0)
+            streaming = threading.Thread(target=sensor.publish, args=(6.0, 0.0))
+            streaming.start()
+            client.wait_classifier_ready(5.0)
+            streaming.join()
+    finally:
+        stop(process)

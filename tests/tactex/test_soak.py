@@ -9,12 +9,14 @@ import numpy as np
 import pytest
 
 from tactex.soak import (
+    COUNTERS,
     fault_schedule,
     FaultRecord,
     FAULTS,
     losses,
     memory_growth_mb_per_hour,
     memory_report,
+    per_period,
     plot_memory,
     read_back,
     rss_bytes,
@@ -23,15 +25,18 @@ from tactex.soak import (
 )
 
 
-def counters(cut, classified, dropped):
-    return {'windows_cut': cut, 'windows_classified': classified, 'windows_dropped': dropped}
+def counters(cut, classified, dropped, **faults):
+    """The ledger's counters: these windows, and every fault zero but those given."""
+    return {**dict.fromkeys(COUNTERS, 0), 'windows_cut': cut, 'windows_classified': classified,
+            'windows_dropped': dropped, **faults}
 
 
 def test_faults_rotate_once_a_period_inside_the_run():
     schedule = fault_schedule(5 * 60, 60)
     assert schedule == [(60, 'sensor_unplug'), (120, 'crc_burst'), (180, 'servo_silence'),
                         (240, 'node_kill')]
-    assert [f for _, f in fault_schedule(9 * 60, 60)][4:] == list(FAULTS[:4])
+    every = [f for _, f in fault_schedule((2 * len(FAULTS) + 1) * 60, 60)]
+    assert every == list(FAULTS) * 2
     assert fault_schedule(60, 60) == []
 
 
@@ -66,6 +71,11 @@ def test_memory_slope_is_the_least_squares_growth_per_hour():
     assert memory_report(start_up, warmup_s=7200.0)['c']['growth_mb_per_hour'] is None
 
 
+def test_decisions_are_counted_per_period_the_last_one_short():
+    assert per_period([1.0, 599.0, 600.0, 1250.0, 1300.0], 600.0, 1300.0) == [2, 1, 2]
+    assert per_period([], 600.0, 0.0) == [0]
+
+
 def test_rss_of_this_process_and_none_for_a_gone_one():
     assert rss_bytes(os.getpid()) > 1e6
     assert rss_bytes(2**22 + 12345) is None
@@ -74,8 +84,10 @@ def test_rss_of_this_process_and_none_for_a_gone_one():
 def test_losses_name_every_unaccounted_loss():
     ok = [FaultRecord(60, 'crc_burst', True)]
     assert losses(counters(10, 7, 3), 2, 2, ok, 1) == []
+    assert losses(counters(10, 5, 3, faults_frozen=1, faults_refused=1), 2, 2, ok, 1) == []
     found = losses(counters(10, 7, 2), 3, 2, [FaultRecord(60, 'node_kill', False, 'gone')], 2)
-    assert found == ['10 windows expected but 9 classified or counted as dropped',
+    assert found == ['10 windows expected but 9 classified, counted as dropped or skipped '
+                     'for a fault',
                      '1 of 3 bags unreadable', '1 of 2 faults injected',
                      'no recovery from node_kill at 60 s: gone']
 
@@ -94,6 +106,8 @@ def test_table_and_plot_of_a_summary(tmp_path):
     rows = {line[:32].strip(): line[32:].strip() for line in table(summary).splitlines()}
     assert rows['windows expected'] == '10' and rows['faults injected / recovered'] == '2 / 1'
     assert rows['sweep_node RSS MB (growth MB/h)'] == '100 (+0.0)'
+    assert rows['windows skipped for a fault'] == ('0 refused, 0 frozen, 0 saturated, '
+                                                   '0 model_errors')
     assert rows['verdict'] == 'FAIL: no recovery from node_kill at 60 s'
     plot_memory(tmp_path / 'memory.png', {'sweep_node': [(0, 1e8), (60, 1.1e8)]}, faults)
     assert (tmp_path / 'memory.png').stat().st_size > 1000

@@ -99,7 +99,8 @@ def test_live_windows_equal_the_converters_window_by_window(recorded, window, ho
     # Each of the two segments ends in a contact loss.
     assert [e.reason for e in events if isinstance(e, ContactLost)] == ['sweep/active fell'] * 2
     assert core.counts['late'] == 0 and core.counts['overflow'] == 0
-    assert core.counts['dropped'] >= 2  # the NaN sample and the repeated stamp
+    assert core.counts['invalid'] == 1  # the NaN sample
+    assert core.counts['dropped'] >= 1  # the repeated stamp
 
 
 def test_samples_arriving_out_of_order_are_waited_for_or_counted_late(recorded):
@@ -133,12 +134,17 @@ def test_a_burst_after_a_stall_gives_every_window_without_waiting_for_more(recor
     np.testing.assert_array_equal(np.array([w.values for w in windows], np.float32), data.X)
 
 
+def chip_noise(i):
+    """A gyro reading that changes every sample, as a live chip's does (never frozen)."""
+    return 1e-3 * ((i * 7) % 5 - 2)
+
+
 def stream_of(kind_of_sample, count, *, start=START_NS):
     """(role, stamp, values) of a synthetic 10-channel stream; ax carries the texture."""
     for i in range(count):
         stamp = start + i * PERIOD_NS
         ax = kind_of_sample(i)
-        yield 'imu', stamp, (ax, 0.0, 9.8, 0.0, 0.0, 0.0)
+        yield 'imu', stamp, (ax, 0.0, 9.8, chip_noise(i), 0.0, 0.0)
         yield 'mag', stamp, (1e-5, 0.0, 0.0)
         yield 'pressure', stamp, (103_000.0,)
 
@@ -205,7 +211,7 @@ def test_evidence_is_reset_when_contact_is_lost_and_sums_while_in_contact():
 
     for i in range(700):
         stamp = START_NS + i * PERIOD_NS
-        for role, values in (('imu', (0.0, 0, 9.8, 0, 0, 0)), ('mag', (0.0, 0, 0)),
+        for role, values in (('imu', (0.0, 0, 9.8, chip_noise(i), 0, 0)), ('mag', (0.0, 0, 0)),
                              ('pressure', (pressure(i),))):
             classifier.windows.add(role, stamp, values, stamp)
         results += classifier.step()
@@ -235,7 +241,7 @@ def test_nan_samples_and_a_missing_channel_topic_drop_samples_never_raise():
     windows = [e for e in events if isinstance(e, Window)]
     assert windows and all(np.all(np.isfinite(w.values)) for w in windows)
     assert all(w.values.shape == (32, 7) for w in windows)
-    assert core.counts['dropped'] == 6  # the NaN samples
+    assert core.counts['invalid'] == 6 and core.counts['dropped'] == 0  # the NaN samples
 
 
 def test_duplicated_messages_and_a_stall_then_burst_are_harmless():

@@ -1,14 +1,21 @@
 # Copyright 2026 The tactex authors
 # SPDX-License-Identifier: Apache-2.0
-"""Simulated faults: which topics each silences, and the NaN samples of a CRC burst."""
+"""Simulated faults: which topics each silences, and what each does to the tactile samples."""
 
 import math
 
 import numpy as np
 import pytest
 
-from tactex_common import topics
-from tactex_sim.faults import faulty_sample, muted_topics
+from tactex_common import chips, topics
+from tactex_sim.faults import (
+    BURST_STEP_NS,
+    CLOCK_JUMP_NS,
+    FaultPlayer,
+    faulty_sample,
+    JITTER_NS,
+    muted_topics,
+)
 from tactex_sim.scene import load_scene, resolve_scene
 from tactex_sim.world import World
 
@@ -35,3 +42,53 @@ def test_a_crc_burst_makes_every_tactile_value_nan_and_keeps_the_truth(sample):
     assert np.isnan(np.concatenate([bad.accel, bad.gyro, bad.mag])).all()
     assert math.isnan(bad.pressure) and bad.truth is sample.truth
     assert faulty_sample('sensor_unplug', sample) is sample
+
+
+PERIOD_NS = 8_333_333
+
+
+def played(player, samples, start_ns=10**12):
+    """What the tactile topics carry for each of `samples`, one period apart."""
+    return [player.tactile(sample, start_ns + i * PERIOD_NS) for i, sample in enumerate(samples)]
+
+
+def test_no_fault_lets_each_sample_out_once_with_its_stamp(sample):
+    assert played(FaultPlayer(), [sample]) == [[(sample, 10**12)]]
+
+
+def test_overflow_and_saturated_change_one_channel_beyond_what_float32_or_the_chip_holds(
+        sample):
+    over = faulty_sample('overflow', sample)
+    assert over.accel[0] == 1e300 and np.array_equal(over.accel[1:], sample.accel[1:])
+    saturated = faulty_sample('saturated', sample)
+    assert saturated.gyro[1] == chips.gyro_range(245).rails_si[1]
+
+
+def test_clock_jump_and_jitter_move_only_the_stamps(sample):
+    player = FaultPlayer()
+    player.play('clock_jump')
+    assert played(player, [sample]) == [[(sample, 10**12 + CLOCK_JUMP_NS)]]
+    player.play('stamp_jitter')
+    stamps = [out[0][1] - 10**12 - i * PERIOD_NS
+              for i, out in enumerate(played(player, [sample] * 200))]
+    assert max(map(abs, stamps)) <= JITTER_NS and len(set(stamps)) > 100
+
+
+def test_a_burst_withholds_then_sends_every_sample_stamped_as_it_arrives(sample):
+    player = FaultPlayer()
+    player.play('burst')
+    assert played(player, [sample] * 5) == [[]] * 5
+    player.play('')
+    out = player.tactile(sample, 10**12)
+    assert [stamp - 10**12 for _, stamp in out] == [k * BURST_STEP_NS for k in range(6)]
+
+
+def test_frozen_repeats_the_sample_the_fault_began_with(sample):
+    world = World(load_scene(resolve_scene('probe')), seed=0)
+    samples = [world.next_sample() for _ in range(4)]
+    player = FaultPlayer()
+    player.play('frozen')
+    out = [o[0][0] for o in played(player, samples)]
+    assert all(np.array_equal(o.gyro, samples[0].gyro) and o.pressure == samples[0].pressure
+               for o in out)
+    assert out[3].truth is samples[3].truth

@@ -79,8 +79,16 @@ def main(argv: list[str] | None = None) -> int:
     """
     raise_on_stop_signals()
     args = build_parser().parse_args(argv)
+    return guarded(lambda: args.run(args))
+
+
+def guarded(run) -> int:
+    """`run()`'s exit code; a stop signal or a user error as one `error:` line and its code.
+
+    The caller has installed `raise_on_stop_signals()`.
+    """
     try:
-        return int(args.run(args))
+        return int(run())
     except Stopped as stopped:
         print(f'error: stopped by {stopped}', file=sys.stderr)
         return stopped.exit_code

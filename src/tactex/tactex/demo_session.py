@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 import threading
 import time
 
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from geometry_msgs.msg import Point, PoseArray, Vector3
 from rcl_interfaces.msg import Parameter, ParameterType, ParameterValue
 from rcl_interfaces.srv import SetParameters
@@ -32,6 +33,7 @@ from tactex_msgs.msg import Pathway, TextureEstimate
 
 # The bridge's parameter service (the simulator stands in for the robot under this name).
 BRIDGE_PARAMETERS = 'mujoco_bridge/set_parameters'
+CLASSIFIER_STATUS = 'tactex_classify: classifier_node'  # its diagnostics status name
 
 
 class ProbeAborted(CommandError):
@@ -86,10 +88,13 @@ class SystemClient:
         self._pathway: Pathway | None = None
         self._contacts: PoseArray | None = None
         self._estimates: list[Estimate] | None = None
+        self._classifier: DiagnosticStatus | None = None  # its newest diagnostics
         node = self._node
         node.create_subscription(Pathway, topics.PROBE_PATHWAY, self._on_pathway, LATCHED)
         node.create_subscription(PoseArray, topics.PROBE_CONTACTS, self._on_contacts, LATCHED)
         node.create_subscription(TextureEstimate, topics.TEXTURE_ESTIMATE, self._on_estimate,
+                                 COMMAND)
+        node.create_subscription(DiagnosticArray, topics.DIAGNOSTICS, self._on_diagnostics,
                                  COMMAND)
         self._probe = ActionClient(node, Probe, topics.PROBE_ACTION)
         self._sweep = ActionClient(node, Sweep, topics.SWEEP_ACTION)
@@ -127,6 +132,12 @@ class SystemClient:
             if self._estimates is not None and msg.class_id >= 0:
                 self._estimates.append(Estimate(msg.label, msg.decided, msg.contact_seconds))
 
+    def _on_diagnostics(self, msg: DiagnosticArray) -> None:
+        for status in msg.status:
+            if status.name == CLASSIFIER_STATUS:
+                with self._lock:
+                    self._classifier = status
+
     # -- waiting --------------------------------------------------------------------------
     @staticmethod
     def _wait(condition, timeout_s: float, what: str, alive=lambda: True) -> None:
@@ -149,6 +160,25 @@ class SystemClient:
             ready.append(('the simulator', self._parameters.service_is_ready))
         for what, check in ready:
             self._wait(check, timeout_s, f'{what} did not come up', alive)
+
+    def wait_classifier_ready(self, timeout_s: float, alive=lambda: True) -> None:
+        """Wait for classifier_node's diagnostics to say OK.
+
+        Then its model is loaded and every topic it reads is arriving. CommandError with
+        its last diagnostics after `timeout_s`.
+        """
+        try:
+            self._wait(self._classifier_ready, timeout_s, 'classifier_node was not ready',
+                       alive)
+        except CommandError as err:
+            with self._lock:
+                said = self._classifier.message if self._classifier else 'no diagnostics'
+            raise CommandError(f'{err} (its diagnostics: {said})') from None
+
+    def _classifier_ready(self) -> bool:
+        with self._lock:
+            return self._classifier is not None and self._classifier.level == \
+                DiagnosticStatus.OK
 
     def _send(self, client: ActionClient, goal, timeout_s: float, what: str, alive,
               feedback=None):

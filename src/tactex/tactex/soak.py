@@ -16,12 +16,18 @@ from pathlib import Path
 
 import numpy as np
 
-FAULTS = ('sensor_unplug', 'crc_burst', 'servo_silence', 'node_kill')
-COUNTERS = ('windows_cut', 'windows_classified', 'windows_dropped')
+# The system's faults, then the live stream's (played on the tactile topics during a sweep).
+FAULTS = ('sensor_unplug', 'crc_burst', 'servo_silence', 'node_kill', 'overflow',
+          'clock_jump', 'burst', 'stamp_jitter', 'frozen', 'saturated')
+# classifier_node's windows not classified for a fault (each is also cut).
+SKIPPED = ('faults_refused', 'faults_frozen', 'faults_saturated', 'faults_model_errors')
+COUNTERS = ('windows_cut', 'windows_classified', 'windows_dropped', *SKIPPED,
+            'faults_invalid', 'faults_off_timeline', 'faults_resyncs')
 
 
-def fault_schedule(duration_s: float, period_s: float) -> list[tuple[float, str]]:
-    """(seconds after the start, fault) every `period_s` within `duration_s`, in rotation.
+def fault_schedule(duration_s: float, period_s: float, kinds: tuple[str, ...] = FAULTS
+                   ) -> list[tuple[float, str]]:
+    """(seconds after the start, fault) every `period_s` within `duration_s`, `kinds` in turn.
 
     Raises:
         ValueError: a period that is not finite and > 0.
@@ -29,7 +35,7 @@ def fault_schedule(duration_s: float, period_s: float) -> list[tuple[float, str]
     if not (math.isfinite(period_s) and period_s > 0):
         raise ValueError(f'the fault period must be finite and > 0 s, got {period_s!r}')
     count = max(0, math.ceil(duration_s / period_s) - 1) if math.isfinite(duration_s) else 0
-    return [((i + 1) * period_s, FAULTS[i % len(FAULTS)]) for i in range(count)]
+    return [((i + 1) * period_s, kinds[i % len(kinds)]) for i in range(count)]
 
 
 @dataclass
@@ -119,14 +125,29 @@ class FaultRecord:
     detail: str = ''
 
 
+def per_period(times_s: list[float], period_s: float, duration_s: float) -> list[int]:
+    """How many of `times_s` fall in each `period_s` of `duration_s` (the last may be short)."""
+    bins = max(1, math.ceil(duration_s / period_s))
+    counts = [0] * bins
+    for t in times_s:
+        counts[min(bins - 1, max(0, int(t // period_s)))] += 1
+    return counts
+
+
+def windows_accounted(windows: dict[str, int]) -> int:
+    """Windows classified, dropped (newer ones queued) or skipped for a fault."""
+    return windows['windows_classified'] + windows['windows_dropped'] + sum(
+        windows[key] for key in SKIPPED)
+
+
 def losses(windows: dict[str, int], bags: int, readable: int, faults: list[FaultRecord],
            scheduled: int) -> list[str]:
     """Every unaccounted loss, in words (empty: the soak passed)."""
     found = []
-    accounted = windows['windows_classified'] + windows['windows_dropped']
+    accounted = windows_accounted(windows)
     if windows['windows_cut'] != accounted:
-        found.append(f'{windows["windows_cut"]} windows expected but {accounted} classified '
-                     'or counted as dropped')
+        found.append(f'{windows["windows_cut"]} windows expected but {accounted} classified, '
+                     'counted as dropped or skipped for a fault')
     if readable != bags:
         found.append(f'{bags - readable} of {bags} bags unreadable')
     if len(faults) != scheduled:
@@ -145,8 +166,14 @@ def table(summary: dict) -> str:
             ('windows expected', w['windows_cut']),
             ('windows classified', w['windows_classified']),
             ('windows dropped', w['windows_dropped']),
+            ('windows skipped for a fault', ', '.join(
+                f'{w[key]} {key.removeprefix("faults_")}' for key in SKIPPED)),
+            ('samples invalid / off timeline', f'{w["faults_invalid"]} / '
+             f'{w["faults_off_timeline"]} ({w["faults_resyncs"]} resyncs)'),
             ('windows in the bags (converter)', summary.get('windows_in_bags', 'n/a')),
             ('classifier lives', summary['classifier_lives']),
+            ('decisions per 10 min', ' '.join(map(str, summary.get('decisions_per_10_min',
+                                                                   [])))),
             ('bags written / readable',
              f'{summary["bags_written"]} / {summary["bags_readable"]}'),
             ('faults injected / recovered',

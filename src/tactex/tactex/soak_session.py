@@ -2,9 +2,10 @@
 # SPDX-License-Identifier: Apache-2.0
 """The soak test's client of a launched system: the demo's, plus what recovery is judged by.
 
-Besides the demo's goals and parameters it hears classifier_node's diagnostics (its
-window counters), the raw IMU and joint_states (when each last carried a finite sample)
-and which nodes are on the graph.
+Besides the demo's goals and parameters it adds up classifier_node's counters from its
+diagnostics, hears the raw IMU, joint_states and texture/estimate (when each last carried
+a finite sample), when each decided texture estimate came, and which nodes are on the
+graph.
 """
 
 from __future__ import annotations
@@ -12,15 +13,15 @@ from __future__ import annotations
 import math
 import time
 
-from diagnostic_msgs.msg import DiagnosticArray
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from sensor_msgs.msg import Imu, JointState
+from std_msgs.msg import Bool
 
-from tactex.demo_session import SystemClient
+from tactex.demo_session import CLASSIFIER_STATUS, SystemClient
 from tactex.soak import COUNTERS, WindowLedger
 from tactex_common import topics
 from tactex_common.ros import COMMAND, SENSOR_DATA
-
-CLASSIFIER_STATUS = 'tactex_classify: classifier_node'
+from tactex_msgs.msg import TextureEstimate
 
 
 class SoakClient(SystemClient):
@@ -30,16 +31,23 @@ class SoakClient(SystemClient):
         super().__init__()
         self.ledger = WindowLedger()
         self._heard = {topics.IMU_RAW: 0.0, topics.JOINT_STATES: 0.0}
+        self.decisions: list[float] = []  # when each decided estimate was heard (monotonic)
         node = self._node
-        node.create_subscription(DiagnosticArray, topics.DIAGNOSTICS, self._on_diagnostics,
-                                 COMMAND)
         node.create_subscription(Imu, topics.IMU_RAW, self._on_imu, SENSOR_DATA)
         node.create_subscription(JointState, topics.JOINT_STATES, self._on_joints,
                                  SENSOR_DATA)
+        node.create_subscription(TextureEstimate, topics.TEXTURE_ESTIMATE, self._on_any_estimate,
+                                 COMMAND)
+        node.create_subscription(Bool, topics.SWEEP_ACTIVE, self._on_active, COMMAND)
+        self._sweeping = False
+        self._classifier_ok_at = 0.0  # when its diagnostics last said OK
 
     def _on_diagnostics(self, msg: DiagnosticArray) -> None:
+        super()._on_diagnostics(msg)
         for status in msg.status:
             if status.name == CLASSIFIER_STATUS:
+                if status.level == DiagnosticStatus.OK:
+                    self._classifier_ok_at = time.monotonic()
                 values = {kv.key: kv.value for kv in status.values}
                 with self._lock:
                     self.ledger.update({key: int(values[key]) for key in COUNTERS})
@@ -51,12 +59,27 @@ class SoakClient(SystemClient):
     def _on_joints(self, msg: JointState) -> None:
         self._heard[topics.JOINT_STATES] = time.monotonic()
 
+    def _on_any_estimate(self, msg: TextureEstimate) -> None:
+        if msg.decided:
+            self.decisions.append(time.monotonic())
+
+    def _on_active(self, msg: Bool) -> None:
+        self._sweeping = msg.data
+
+    def sweeping(self) -> bool:
+        """Whether a sweep is in contact now (sweep/active)."""
+        return self._sweeping
+
+    def classifier_ok_since(self, since: float) -> bool:
+        """Whether classifier_node's diagnostics said OK after monotonic time `since`."""
+        return self._classifier_ok_at > since
+
     def heard_since(self, topic: str, since: float) -> bool:
         """Whether `topic` carried a finite sample after monotonic time `since`."""
         return self._heard[topic] > since
 
     def windows(self) -> tuple[dict[str, int], int]:
-        """The classifier's window counters over all its lives, and how many lives."""
+        """The classifier's counters over all its lives, and how many lives."""
         with self._lock:
             return self.ledger.totals(), self.ledger.lives
 

@@ -5,6 +5,12 @@
 Subscription callbacks only queue samples; a worker thread aligns them, cuts windows,
 runs the model and publishes, so a slow model never delays the sensor callbacks: when
 windows queue up, only the newest is classified and the others are counted as dropped.
+
+Nothing stops it quietly. The queue is bounded (overflow counted); the worker survives
+any exception (counted, its samples skipped), is restarted if its thread ends, and is
+reported stalled when it stops draining the queue. Stream faults (live.py,
+stream_health.py) are counted; diagnostics are WARN while any count grew in the last
+`degraded_s`, ERROR while the stream's rate is off the model's or the worker is stalled.
 """
 
 from __future__ import annotations
@@ -44,6 +50,11 @@ from tactex_msgs.msg import TextureEstimate
 ROLE_TOPICS = {'imu': (Imu, topics.IMU_RAW), 'mag': (MagneticField, topics.MAG),
                'pressure': (FluidPressure, topics.PRESSURE)}
 LATENCIES_KEPT = 2000  # the p50/p99 of diagnostics are over the newest this many windows
+QUEUE_LIMIT = 32_768  # samples queued for the worker (30 s of three 350 Hz topics)
+# What counts as a fault in diagnostics (each a count of its own): the worker's, the
+# stream's (LiveWindows.counts) and the windows' (OnlineClassifier.faults).
+NODE_FAULTS = ('queue_overflow', 'worker_errors', 'worker_restarts', 'metadata_invalid')
+STREAM_FAULTS = ('invalid', 'off_timeline', 'resyncs', 'overflow')
 # The worker and the executor share the GIL: a woken worker would wait up to Python's
 # default 5 ms switch interval while callbacks run; 0.5 ms bounds that wait.
 GIL_SWITCH_INTERVAL_S = 0.0005
@@ -91,22 +102,28 @@ class ClassifierNode(Node):
             self._refuse(f'{info.model_id} does not fit the stream: ' + '; '.join(mismatches))
         try:
             live = LiveSettings(hop=p['hop'], contact=p['contact'], contact_pa=p['contact_pa'],
-                                reorder_s=p['reorder_s'], max_lag_s=p['max_lag_s'])
+                                reorder_s=p['reorder_s'], max_lag_s=p['max_lag_s'],
+                                jump_s=p['jump_s'])
             self._classifier = OnlineClassifier(
                 self._predictor.predict_proba, info.stream, len(info.classes), live=live,
-                evidence=EvidenceSettings(p['threshold'], p['min_windows'], p['change_nats']))
+                evidence=EvidenceSettings(p['threshold'], p['min_windows'], p['change_nats']),
+                rate_tolerance=p['rate_tolerance'])
         except ValueError as err:
             self._refuse(f'{info.model_id}: {err}')
         self._frame_id = p['frame_id']
-        self._rate_tolerance = p['rate_tolerance']
-        self._queue: deque = deque()  # (role, stamp_ns, values, arrival_ns) from callbacks
+        self._stall_s, self._degraded_s = p['stall_s'], p['degraded_s']
+        # (role, stamp_ns, values, arrival_ns) from callbacks; full: the oldest are dropped.
+        self._queue: deque = deque(maxlen=QUEUE_LIMIT)
         self._wake = threading.Event()
         self._latencies: deque[float] = deque(maxlen=LATENCIES_KEPT)
         self._lock = threading.Lock()  # guards what diagnostics read from the worker
         self._arrivals: dict[str, int] = dict.fromkeys(self._classifier.windows.needed_roles, 0)
         self._started = time.monotonic()
         self._last_diagnostics = (time.monotonic(), 0)
-        self._refusal = ''
+        self._node_faults = dict.fromkeys(NODE_FAULTS, 0)
+        self._fault_history: deque[tuple[float, dict[str, int]]] = deque()
+        self._last_error = ''
+        self._beat = time.monotonic()  # the worker's last pass
         self._last_estimate = None
         self._classified = 0
         self._estimate_pub = self.create_publisher(TextureEstimate, topics.TEXTURE_ESTIMATE,
@@ -125,8 +142,7 @@ class ClassifierNode(Node):
         self.add_on_set_parameters_callback(self._on_set_parameters)
         self._running = True
         sys.setswitchinterval(GIL_SWITCH_INTERVAL_S)
-        self._worker = threading.Thread(target=self._work, name='classifier', daemon=True)
-        self._worker.start()
+        self._start_worker()
         self.get_logger().info(
             f'{info.model_id} ({self._predictor.runtime}): {len(info.classes)} classes, '
             f'{info.stream.window}-sample windows at {info.stream.sampling_rate_hz:g} Hz, hop '
@@ -168,6 +184,13 @@ class ClassifierNode(Node):
                                  low=0.0, high=10.0),
             'max_lag_s': declare('max_lag_s', 0.25, 'stop waiting for a silent topic after '
                                  'this much IMU signal (s)', low=0.01, high=10.0),
+            'jump_s': declare('jump_s', 0.5, "a stamp further than this from the stream's "
+                              'newest is off its timeline; three in a row restart it (s)',
+                              low=0.05, high=3600.0),
+            'stall_s': declare('stall_s', 5.0, 'the worker is stalled when it leaves queued '
+                               'samples this long (s)', low=0.5, high=3600.0),
+            'degraded_s': declare('degraded_s', 5.0, 'diagnostics stay WARN this long after a '
+                                  'fault (s)', low=0.1, high=3600.0),
             'rate_hz': declare('rate_hz', 0.0, "the stream's rate, checked against the "
                                "checkpoint's at start (0: measured only)", low=0.0, high=1e5),
             'rate_tolerance': declare('rate_tolerance', 0.05, 'relative rate difference '
@@ -187,33 +210,30 @@ class ClassifierNode(Node):
         self.get_logger().fatal(message)
         raise StartError(message)
 
-    def _callback(self, role: str):
-        queue, wake = self._queue, self._wake
+    def _enqueue(self, item: tuple) -> None:
+        """Queue an item for the worker (a full queue drops its oldest, counted)."""
+        if len(self._queue) == QUEUE_LIMIT:
+            self._node_faults['queue_overflow'] += 1
+        self._queue.append(item)
+        self._wake.set()
 
+    def _callback(self, role: str):
         def on_sample(message) -> None:
-            queue.append((role, stamp_ns(message.header.stamp), _values(role, message),
-                          time.monotonic_ns()))
-            wake.set()
+            self._enqueue((role, stamp_ns(message.header.stamp), _values(role, message),
+                           time.monotonic_ns()))
         return on_sample
 
     def _on_active(self, message: Bool) -> None:
-        self._queue.append(('active', self.get_clock().now().nanoseconds, message.data, 0))
-        self._wake.set()
+        self._enqueue(('active', self.get_clock().now().nanoseconds, message.data, 0))
 
     def _on_metadata(self, message: String) -> None:
         try:
-            rate = json.loads(message.data).get('sensor_rate_hz')
-        except (ValueError, AttributeError):
+            stated = json.loads(message.data)
+        except ValueError:
+            stated = None
+        if not isinstance(stated, dict) or 'sensor_rate_hz' not in stated:
             return
-        if isinstance(rate, (int, float)) and math.isfinite(rate):
-            self._check_rate(float(rate), 'recording/metadata')
-
-    def _check_rate(self, rate_hz: float, source: str) -> None:
-        lines = self._info.stream.mismatches(sampling_rate_hz=rate_hz,
-                                             rate_tolerance=self._rate_tolerance)
-        if lines and not self._refusal:
-            self._refusal = f'not classifying: {lines[0]} ({source})'
-            self.get_logger().error(f'{self._info.model_id}: {self._refusal}')
+        self._enqueue(('rate', 0, stated['sensor_rate_hz'], 0))
 
     def _on_set_parameters(self, parameters) -> SetParametersResult:
         for parameter in parameters:
@@ -224,30 +244,47 @@ class ClassifierNode(Node):
                                                      evidence.settings.change_nats)
         return SetParametersResult(successful=True)
 
+    def _start_worker(self) -> None:
+        self._worker = threading.Thread(target=self._work, name='classifier', daemon=True)
+        self._worker.start()
+
     def _work(self) -> None:
         """Drain the queue, classify, publish; never inside a subscription callback."""
-        windows = self._classifier.windows
         while self._running:
+            self._beat = time.monotonic()
             self._wake.wait(0.1)
             self._wake.clear()
-            while self._queue:
-                role, stamp, values, arrival = self._queue.popleft()
-                if self._refusal:
-                    continue
-                if role == 'active':
-                    windows.set_active(values, stamp)
-                else:
-                    windows.add(role, stamp, values, arrival)
-                    self._arrivals[role] += 1
-            if self._refusal:
-                continue
-            for result in self._classifier.step():
-                self._publish(result)
-                with self._lock:
-                    self._latencies.append((time.monotonic_ns() - result.window.completed_ns)
-                                           * 1e-6)
-                    self._classified += 1
-                    self._last_estimate = result.estimate
+            try:
+                self._drain()
+            except Exception as err:  # noqa: BLE001 - the worker outlives any one failure
+                self._node_faults['worker_errors'] += 1
+                self._last_error = f'{type(err).__name__}: {err}'
+                self.get_logger().error(f'skipped a pass of the classifier: {self._last_error}',
+                                        throttle_duration_sec=5.0)
+
+    def _drain(self) -> None:
+        """One pass: the queued samples into the live core, its windows classified."""
+        windows = self._classifier.windows
+        while self._queue:
+            self._beat = time.monotonic()
+            role, stamp, values, arrival = self._queue.popleft()
+            if role == 'active':
+                windows.set_active(values, stamp)
+            elif role == 'rate':
+                error = self._classifier.rate.stated(values)
+                if error:
+                    self._node_faults['metadata_invalid'] += 1
+                    self.get_logger().error(f'recording/metadata: {error}')
+            else:
+                windows.add(role, stamp, values, arrival)
+                self._arrivals[role] += 1
+        for result in self._classifier.step():
+            self._publish(result)
+            with self._lock:
+                self._latencies.append((time.monotonic_ns() - result.window.completed_ns)
+                                       * 1e-6)
+                self._classified += 1
+                self._last_estimate = result.estimate
 
     def _publish(self, result) -> None:
         estimate, info = result.estimate, self._info
@@ -303,9 +340,9 @@ class ClassifierNode(Node):
             estimate, classified = self._last_estimate, self._classified
         p50, p99 = (np.percentile(latencies, [50, 99]) if latencies.size
                     else (math.nan, math.nan))
-        stream_rate = self._classifier.windows.stream_rate_hz()
-        if stream_rate is not None:
-            self._check_rate(stream_rate, 'median step of the header stamps')
+        faults = self._fault_totals()
+        grown = self._grown_faults(now, faults)
+        stalled = self._stalled(now)
         silent = self._silent_roles()
         evidence = self._classifier.evidence
         if estimate is None or not evidence.windows:
@@ -315,11 +352,18 @@ class ClassifierNode(Node):
             state = (f'{"decided" if estimate.decided else "leading"} {label} '
                      f'{100 * estimate.probabilities[estimate.class_id]:.1f} % after '
                      f'{estimate.contact_seconds:.2f} s ({evidence.windows} windows)')
-        if self._refusal:
-            level, summary = DiagnosticStatus.ERROR, self._refusal
+        refusal = self._classifier.rate.refusal
+        if stalled or refusal:
+            level, summary = DiagnosticStatus.ERROR, stalled or f'not classifying: {refusal}'
         elif silent:
             level, summary = DiagnosticStatus.WARN, 'no samples on ' + ', '.join(
                 ROLE_TOPICS[r][1] for r in silent)
+        elif grown:
+            last = self._classifier.last_fault or self._last_error
+            level, summary = DiagnosticStatus.WARN, (
+                f'degraded in the last {self._degraded_s:g} s: '
+                + ', '.join(f'{count} {name}' for name, count in grown.items())
+                + (f' ({last})' if last else ''))
         else:
             level, summary = DiagnosticStatus.OK, state
         values = {'model': self._info.model_id, 'runtime': self._predictor.runtime,
@@ -329,15 +373,44 @@ class ClassifierNode(Node):
                   'windows_dropped': str(self._classifier.skipped),
                   'samples_late': str(counts['late']),
                   'samples_dropped': str(counts['dropped']),
-                  'samples_overflow': str(counts['overflow']), 'evidence': state,
+                  'evidence': state,
                   'resets': json.dumps(self._classifier.resets, sort_keys=True),
-                  'queued': str(len(self._queue))}
+                  'queued': str(len(self._queue)),
+                  **{f'faults_{name}': str(count) for name, count in faults.items()}}
         status = DiagnosticStatus(level=level, name=f'tactex_classify: {self.get_name()}',
                                   message=summary, hardware_id=self._info.model_id,
                                   values=[KeyValue(key=k, value=v) for k, v in values.items()])
         array = DiagnosticArray(status=[status])
         array.header.stamp = self.get_clock().now().to_msg()
         self._diagnostics_pub.publish(array)
+
+    def _fault_totals(self) -> dict[str, int]:
+        """Every fault count: the worker's, the stream's and the windows'."""
+        counts = self._classifier.windows.counts
+        return {**self._node_faults, **{name: counts[name] for name in STREAM_FAULTS},
+                **self._classifier.faults}
+
+    def _grown_faults(self, now: float, totals: dict[str, int]) -> dict[str, int]:
+        """The faults counted in the last `degraded_s`, by name (empty: none)."""
+        history = self._fault_history
+        history.append((now, totals))
+        while len(history) > 1 and history[1][0] <= now - self._degraded_s:
+            history.popleft()
+        before = history[0][1]
+        return {name: count - before[name] for name, count in totals.items()
+                if count > before[name]}
+
+    def _stalled(self, now: float) -> str:
+        """Why the worker is not working ('' when it is); a thread that ended is restarted."""
+        if not self._worker.is_alive() and self._running:
+            self._node_faults['worker_restarts'] += 1
+            self.get_logger().error('the classifier worker ended; restarted it')
+            self._start_worker()
+        waited = now - self._beat
+        if self._queue and waited > self._stall_s:
+            return (f'the classifier worker is stalled: {len(self._queue)} samples queued, '
+                    f'no progress for {waited:.1f} s')
+        return ''
 
     def destroy_node(self) -> None:
         """Stop the worker."""

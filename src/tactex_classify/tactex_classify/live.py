@@ -12,6 +12,11 @@ while the IMU delivered `max_lag_s` worth of samples is not waited for (its miss
 samples drop the IMU samples as unaligned, as the converter drops them). A sample
 arriving after later ones were final is late: dropped and counted.
 
+Faults are survived, never latched (`stream_health`): a sample that does not fit float32
+is dropped and counted; a stamp far off its stream's timeline is held back and dropped,
+and when a few consecutive stamps agree on a new timeline (the simulator restarted, a
+clock was set) every buffer is dropped, counted as a resync, and the evidence restarts.
+
 Kept samples are those in contact: inside `sweep/active` (the converter's segment rule,
 on the receive stamps of its messages, as the recorder logs them), or, by the pressure
 rule, pressure `contact_pa` above a baseline that follows the barometer while out of
@@ -19,7 +24,9 @@ contact (hysteresis: released below half of that). `auto` uses sweep/active once
 been seen, the pressure rule before. Leaving contact resets the evidence.
 
 `OnlineClassifier` adds the model and `evidence.Evidence`: each window's probabilities,
-skipping (and counting) all but the newest windows when they queue up.
+skipping (and counting) all but the newest windows when they queue up. It classifies no
+window while the stream's rate is off the model's, and none that is frozen or saturated;
+a window whose model call raises is skipped; each is counted in `faults`.
 """
 
 from __future__ import annotations
@@ -36,6 +43,15 @@ from tactex_classify.bags import inside, ROLE_CHANNELS, segments
 from tactex_classify.checkpoint import StreamSpec
 from tactex_classify.dataset import FilterRule
 from tactex_classify.evidence import Estimate, Evidence, EvidenceSettings
+from tactex_classify.stream_health import (
+    CONTINUES,
+    fits_float32,
+    HELD,
+    RateJudge,
+    RESTARTED,
+    Timeline,
+    window_fault,
+)
 from tactex_common.channels import CHANNELS
 from tactex_common.stamps import gaps
 
@@ -43,7 +59,9 @@ CONTACT_SOURCES = ('auto', 'sweep_active', 'pressure', 'always')
 REFERENCE = 'imu'  # the stream every other is joined onto, as in the converter
 LOOKBACK = 64  # finalised reference samples re-aligned each poll (medians, duplicates)
 RECENT_STAMPS = 256  # aligned stamps behind the gap rule's median
-RATE_STAMPS = 64  # aligned stamps before the stream's rate is judged
+RATE_STAMPS = 64  # IMU stamps before the stream's rate is judged
+RATE_SPAN = 256  # the rate is judged over the newest this many IMU stamps
+RATE_STEP = 8  # the rate is judged on steps over this many samples (jitter averages out)
 WARMUP = 8  # IMU samples before the first is made final (periods need a few steps)
 MEDIAN_OF = 3  # the pressure rule reads the median of this many latest readings
 
@@ -61,6 +79,7 @@ class LiveSettings:
         max_lag_s: a stream silent while the IMU delivers this many seconds of samples is
             not waited for (s).
         capacity: samples held per stream.
+        jump_s: a stamp further than this from its stream's newest is off the timeline (s).
     """
 
     hop: int = 0
@@ -70,6 +89,7 @@ class LiveSettings:
     reorder_s: float = 0.0
     max_lag_s: float = 0.25
     capacity: int = 4096
+    jump_s: float = 0.5
 
     def __post_init__(self) -> None:
         """Check the ranges.
@@ -82,7 +102,7 @@ class LiveSettings:
                              f'{self.contact!r}')
         if not isinstance(self.hop, int) or self.hop < 0:
             raise ValueError(f'hop must be an integer >= 0, got {self.hop!r}')
-        for name in ('contact_pa', 'baseline_tau_s', 'max_lag_s'):
+        for name in ('contact_pa', 'baseline_tau_s', 'max_lag_s', 'jump_s'):
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0):
                 raise ValueError(f'{name} must be finite and > 0, got {value!r}')
@@ -112,7 +132,7 @@ class Window:
 
 @dataclass(frozen=True)
 class ContactLost:
-    """The sensor left contact (or the sweep ended) at `stamp_ns`."""
+    """The sensor left contact (the sweep ended, or the stamps jumped) at `stamp_ns`."""
 
     stamp_ns: int
     reason: str
@@ -220,22 +240,31 @@ class LiveWindows:
             self.roles.append('pressure')
         joined = [c for role in self.aligned_roles for c in ROLE_CHANNELS[role]]
         self._order = [joined.index(c) for c in stream.channels]
-        self._buffers = {role: RingBuffer(settings.capacity, len(ROLE_CHANNELS[role]))
-                         for role in self.roles}
         self._period_ns = 1e9 / stream.sampling_rate_hz
+        self._timeline = Timeline(int(settings.jump_s * 1e9))
+        self._run = np.zeros((self.window, len(stream.channels)))
+        self._run_stamps = np.zeros(self.window, dtype=np.int64)
+        self._active: list[tuple[int, bool]] = []
+        self.active_seen = False
+        self._pending: list[ContactLost] = []  # resyncs, handed out by the next poll
+        self.counts = {'samples': 0, 'late': 0, 'overflow': 0, 'dropped': 0, 'windows': 0,
+                       'invalid': 0, 'off_timeline': 0, 'resyncs': 0}
+        self._reset_streams()
+
+    def _reset_streams(self) -> None:
+        """Empty every buffer and forget what was final: a fresh start of the streams."""
+        self._buffers = {role: RingBuffer(self.settings.capacity, len(ROLE_CHANNELS[role]))
+                         for role in self.roles}
         self._final_ns: int | None = None  # stamps up to here are final
+        self._reference_count = 0  # IMU samples since the start
         # IMU samples added since each other stream's last sample (how far it lags).
         self._ahead = dict.fromkeys(self.roles[1:], 0)
         self._recent = np.zeros(0, dtype=np.int64)  # newest aligned stamps
-        self._run = np.zeros((self.window, len(stream.channels)))
-        self._run_stamps = np.zeros(self.window, dtype=np.int64)
+        self._rate_stamps: deque[int] = deque(maxlen=RATE_SPAN)  # newest IMU stamps, late too
         self._run_count = 0
         self._kept_before = False
-        self._active: list[tuple[int, bool]] = []
-        self.active_seen = False
-        self._pressure = PressureContact(settings.contact_pa, settings.baseline_tau_s)
+        self._pressure = PressureContact(self.settings.contact_pa, self.settings.baseline_tau_s)
         self._pressure_done: int | None = None
-        self.counts = {'samples': 0, 'late': 0, 'overflow': 0, 'dropped': 0, 'windows': 0}
 
     @property
     def needed_roles(self) -> list[str]:
@@ -243,10 +272,17 @@ class LiveWindows:
         return list(self.roles)
 
     def stream_rate_hz(self) -> float | None:
-        """The stream's rate from the median step of recent stamps (None: too few yet)."""
-        if self._recent.size < RATE_STAMPS:
+        """The stream's rate from the newest IMU stamps (None: too few yet).
+
+        The median RATE_STEP-sample step of the stamps in order, each counted once: robust
+        to gaps, repeats, late samples and jitter of a few periods.
+        """
+        stamps = np.unique(np.fromiter(self._rate_stamps, dtype=np.int64))
+        if stamps.size < RATE_STAMPS:
             return None
-        return 1e9 / float(np.median(np.diff(self._recent)))
+        steps = stamps[RATE_STEP:] - stamps[:-RATE_STEP]
+        median = float(np.median(steps))
+        return RATE_STEP * 1e9 / median if median > 0 else math.inf
 
     def latest_ns(self, role: str) -> int | None:
         """Newest stamp seen on a stream (None before its first sample)."""
@@ -254,21 +290,41 @@ class LiveWindows:
 
     def add(self, role: str, stamp_ns: int, values: Sequence[float], arrival_ns: int) -> None:
         """One sample of a stream (ignored if the model does not read it)."""
-        buffer = self._buffers.get(role)
-        if buffer is None:
+        if role not in self._buffers:
             return
+        if not fits_float32(values):
+            self.counts['invalid'] += 1
+            return
+        verdict = (self._timeline.judge(stamp_ns) if role == REFERENCE
+                   else CONTINUES if self._timeline.near(stamp_ns) else HELD)
+        if verdict == HELD:
+            self.counts['off_timeline'] += 1
+            return
+        if verdict == RESTARTED:
+            self._restart(int(stamp_ns))
+        if role == REFERENCE:
+            self._rate_stamps.append(int(stamp_ns))
         if self._final_ns is not None and stamp_ns <= self._final_ns:
             self.counts['late'] += 1
             return
-        overwritten = buffer.append(int(stamp_ns), values, int(arrival_ns))
+        overwritten = self._buffers[role].append(int(stamp_ns), values, int(arrival_ns))
         if role == REFERENCE:
             self.counts['samples'] += 1
+            self._reference_count += 1
             for other in self._ahead:
                 self._ahead[other] += 1
         else:
             self._ahead[role] = 0
         if overwritten is not None and (self._final_ns is None or overwritten > self._final_ns):
             self.counts['overflow'] += 1
+
+    def _restart(self, stamp_ns: int) -> None:
+        """The IMU's stamps moved to a new timeline at `stamp_ns`: start again from there."""
+        self.counts['resyncs'] += 1
+        jump = self.settings.jump_s * 1e9
+        self._active = [t for t in self._active if abs(t[0] - stamp_ns) <= jump]
+        self._reset_streams()
+        self._pending.append(ContactLost(stamp_ns, 'stamps jumped'))
 
     def set_active(self, active: bool, stamp_ns: int) -> None:
         """A sweep/active message received at `stamp_ns` (the clock the sensor stamps use).
@@ -282,7 +338,7 @@ class LiveWindows:
     def horizon_ns(self) -> int | None:
         """Stamp up to which samples can be made final now (None: nothing yet)."""
         horizon = self._buffers[REFERENCE].latest_ns
-        if self.counts['samples'] < WARMUP:
+        if self._reference_count < WARMUP:
             return None  # align's tolerance needs the streams' periods
         stalled = self.settings.max_lag_s * self.stream.sampling_rate_hz
         for role in self.roles[1:]:
@@ -298,9 +354,11 @@ class LiveWindows:
 
     def poll(self) -> list[Window | ContactLost]:
         """Make final what can be; return the windows and contact losses it completes."""
+        events: list[Window | ContactLost] = self._pending
+        self._pending = []
         horizon = self.horizon_ns()
         if horizon is None or (self._final_ns is not None and horizon <= self._final_ns):
-            return []
+            return events
         final = -np.inf if self._final_ns is None else self._final_ns
         lookback = LOOKBACK * self._period_ns
         streams = []
@@ -316,7 +374,7 @@ class LiveWindows:
         self._final_ns = horizon
         stamps, values = aligned.stamps_ns[new], aligned.values[new][:, self._order]
         self._update_pressure(horizon)
-        return self._cut(stamps, values)
+        return events + self._cut(stamps, values)
 
     def _update_pressure(self, horizon: int) -> None:
         if 'pressure' not in self._buffers:
@@ -405,38 +463,58 @@ class OnlineClassifier:
         live: how the stream is cut and gated.
         evidence: the decision and change rules.
         newest_only: classify only the newest pending window (skip and count the rest).
+        rate_tolerance: relative difference from the checkpoint's rate accepted.
+
+    Attributes:
+        faults: windows not classified, by cause: 'refused' (the stream's rate is off),
+            'frozen', 'saturated', 'model_errors' (the model call raised or returned
+            something other than finite probabilities).
+        last_fault: what the newest unclassified window had ('' once one is classified).
     """
 
     def __init__(self, predict: Callable[[np.ndarray], np.ndarray], stream: StreamSpec,
                  classes: int, *, live: LiveSettings = LiveSettings(),
                  evidence: EvidenceSettings | None = None,
-                 newest_only: bool = True) -> None:
+                 newest_only: bool = True, rate_tolerance: float = 0.05) -> None:
         self.predict = predict
+        self.classes = classes
         self.windows = LiveWindows(stream, live)
         self.evidence = Evidence(classes, int(round(1e9 / stream.sampling_rate_hz)),
                                  evidence or EvidenceSettings())
+        self.rate = RateJudge(stream, rate_tolerance)
         self.newest_only = newest_only
         self.skipped = 0
         self.resets: dict[str, int] = {}
+        self.faults = dict.fromkeys(('refused', 'frozen', 'saturated', 'model_errors'), 0)
+        self.last_fault = ''
 
     def step(self) -> list[Classified]:
         """Classify what the samples added so far complete, in stamp order."""
         events = self.windows.poll()
         self.windows.prune_active()
+        if any(isinstance(e, ContactLost) and e.reason == 'stamps jumped' for e in events):
+            self.rate.forget()
+        self.rate.measured(self.windows.stream_rate_hz())
         windows = [e for e in events if isinstance(e, Window)]
         chosen = windows[-1:] if self.newest_only else windows
         self.skipped += len(windows) - len(chosen)
-        if not chosen:
-            for event in events:
-                self._reset(event.reason)
-            return []
-        probabilities = dict(zip(map(id, chosen), self.predict(
-            np.stack([w.values for w in chosen])), strict=True))
+        if chosen and self.rate.refusal:
+            self.faults['refused'] += len(chosen)
+            self.last_fault = self.rate.refusal
+            events, chosen = [ContactLost(chosen[-1].end_ns, 'rate off')], []
+        faulty = {id(w): fault for w in chosen
+                  if (fault := window_fault(w.values, self.windows.stream.channels))}
+        probabilities = self._predict([w for w in chosen if id(w) not in faulty])
         results = []
         for event in events:
             if isinstance(event, ContactLost):
                 self._reset(event.reason)
+            elif id(event) in faulty:
+                self.faults[faulty[id(event)].split()[0]] += 1
+                self.last_fault = f'{faulty[id(event)]} window'
+                self._reset(faulty[id(event)].split()[0])
             elif id(event) in probabilities:
+                self.last_fault = ''
                 proba = probabilities[id(event)]
                 estimate = self.evidence.add(proba, event.start_ns, event.end_ns)
                 if estimate.restarted:
@@ -444,6 +522,21 @@ class OnlineClassifier:
                                                                       0) + 1
                 results.append(Classified(estimate, event, proba))
         return results
+
+    def _predict(self, windows: list[Window]) -> dict[int, np.ndarray]:
+        """The model's probabilities of each window by id ({} when the model fails)."""
+        if not windows:
+            return {}
+        try:
+            proba = np.asarray(self.predict(np.stack([w.values for w in windows])), dtype=float)
+            if proba.shape != (len(windows), self.classes) or not np.all(np.isfinite(proba)):
+                raise ValueError(f'the model returned {proba.shape} values, not finite '
+                                 f'probabilities of {self.classes} classes per window')
+        except Exception as err:  # noqa: BLE001 - whatever the model raises skips its windows
+            self.faults['model_errors'] += len(windows)
+            self.last_fault = f'model error: {type(err).__name__}: {err}'
+            return {}
+        return dict(zip(map(id, windows), proba, strict=True))
 
     def _reset(self, reason: str) -> None:
         if self.evidence.windows:

@@ -33,8 +33,8 @@ from tactex_driver.arm import ArmController
 from tactex_driver.playback import JointLimits
 from tactex_sensor.messages import TACTILE_TOPICS
 from tactex_sim.errors import SimError
-from tactex_sim.faults import FAULTS, faulty_sample, muted_topics
-from tactex_sim.recording import sample_messages, SAMPLE_TOPICS
+from tactex_sim.faults import FaultPlayer, FAULTS
+from tactex_sim.recording import sample_messages, SAMPLE_TOPICS, tactile_messages
 from tactex_sim.scene import load_scene, resolve_scene
 from tactex_sim.world import Sample, World
 
@@ -68,10 +68,11 @@ class MujocoBridgeNode(Node):
         texture = self.declare_parameter('patch_texture', '', describe(
             description='texture of every patch ("" keeps the scene\'s); settable while '
                         'running (the next sample feels it)')).value
-        self._fault = self.declare_parameter('fault', '', describe(
+        fault = self.declare_parameter('fault', '', describe(
             description=f'fault played until set back to "": one of {", ".join(FAULTS[1:])} '
                         '(soak tests; settable while running)')).value
-        self._muted = muted_topics(self._fault)
+        self._faults = FaultPlayer()
+        self._faults.play(fault)
         if self._rate_factor < 0 or not math.isfinite(self._rate_factor):
             raise ValueError(f'rate_factor must be >= 0, got {self._rate_factor!r}')
         scene = load_scene(resolve_scene(scene_name))
@@ -112,10 +113,9 @@ class MujocoBridgeNode(Node):
                 self.get_logger().info(f'patch texture {parameter.value or "of the scene"!r}')
             elif parameter.name == 'fault':
                 try:
-                    self._muted = muted_topics(parameter.value)
+                    self._faults.play(parameter.value)
                 except ValueError as err:
                     return SetParametersResult(successful=False, reason=str(err))
-                self._fault = parameter.value
                 self.get_logger().warn(f'fault {parameter.value!r}' if parameter.value
                                        else 'fault cleared')
         return SetParametersResult(successful=True)
@@ -139,10 +139,13 @@ class MujocoBridgeNode(Node):
     def _publish(self, sample: Sample) -> None:
         time_ns = int(round(sample.time_s * 1e9))
         self._clock_pub.publish(Clock(clock=rclpy.time.Time(nanoseconds=time_ns).to_msg()))
-        for topic, data in sample_messages(faulty_sample(self._fault, sample), time_ns,
-                                           self._world.joint_positions(),
-                                           self._world.joint_velocities()):
-            if topic not in self._muted:
+        muted = self._faults.muted
+        emitted = [message for played, stamp in self._faults.tactile(sample, time_ns)
+                   for message in tactile_messages(played, stamp)]
+        emitted += sample_messages(sample, time_ns, self._world.joint_positions(),
+                                   self._world.joint_velocities(), tactile=False)
+        for topic, data in emitted:
+            if topic not in muted:
                 self._publishers_by_topic[topic].publish(data)
 
     def _on_trajectory(self, msg: JointTrajectory) -> None:

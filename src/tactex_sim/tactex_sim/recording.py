@@ -60,15 +60,22 @@ def quaternion_z_to(normal) -> np.ndarray:
     return np.array([w, -x, -y, -z])
 
 
-def sample_messages(sample: Sample, time_ns: int, joints: np.ndarray,
-                    joint_velocities: np.ndarray) -> list[tuple[str, bytes]]:
-    """(topic, CDR bytes) of everything one simulated sample emits, stamped `time_ns`.
-
-    The contact ground truth is emitted only while the sensor touches the surface.
-    """
-    emitted = list(zip((topic for topic, _ in TACTILE_TOPICS), tactile_cdr(
+def tactile_messages(sample: Sample, time_ns: int) -> list[tuple[str, bytes]]:
+    """(topic, CDR bytes) of the raw tactile topics of one sample, stamped `time_ns`."""
+    return list(zip((topic for topic, _ in TACTILE_TOPICS), tactile_cdr(
         time_ns, FRAME, sample.accel, sample.gyro, sample.mag, sample.pressure,
         sample.temperature, NOISE), strict=True))
+
+
+def sample_messages(sample: Sample, time_ns: int, joints: np.ndarray,
+                    joint_velocities: np.ndarray, *, tactile: bool = True
+                    ) -> list[tuple[str, bytes]]:
+    """(topic, CDR bytes) of everything one simulated sample emits, stamped `time_ns`.
+
+    The contact ground truth is emitted only while the sensor touches the surface;
+    `tactile=False` leaves out the tactile topics (the bridge plays faults on them).
+    """
+    emitted = tactile_messages(sample, time_ns) if tactile else []
     emitted.append((topics.JOINT_STATES, serialize(_T[JOINT_STATE_TYPE](
         header=header(time_ns, ''), name=list(JOINT_STATE_NAMES),
         position=np.asarray(joints, dtype=float),

@@ -238,6 +238,8 @@ class Demo:
             try:
                 with (client_type or SystemClient)() as client:
                     client.wait_ready(NODE_START_S, alive=watcher.is_alive)
+                    if checkpoint is not None:
+                        client.wait_classifier_ready(NODE_START_S, alive=watcher.is_alive)
                     yield client, watcher.is_alive
             except CommandError as err:
                 raise CommandError(f'{err} ({_node_failure(log_path)})') from None
