@@ -35,6 +35,8 @@ PRESS_STIFFNESS_N_M = OPEN_MANIPULATOR_X.joint('sensor_press').stiffness
 # The compliant body's travel: no body compresses further, welded or not.
 PRESS_TRAVEL_M = -OPEN_MANIPULATOR_X.joint('sensor_press').lower
 # MuJoCo's warnings that the state went non-finite or huge (it resets the state then).
+# The most simulated seconds per wall second the bridge is asked for (0: as fast as it can).
+MAX_RATE_FACTOR = 1000.0
 _DIVERGED = (mujoco.mjtWarning.mjWARN_BADQPOS, mujoco.mjtWarning.mjWARN_BADQVEL,
              mujoco.mjtWarning.mjWARN_BADQACC)
 
