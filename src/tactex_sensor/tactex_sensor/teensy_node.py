@@ -24,8 +24,8 @@ VARIANCE_UNITS = {'accel': '(m/s^2)^2', 'gyro': '(rad/s)^2', 'mag': 'T^2', 'pres
 class TeensyNode(TactexNode):
     """Serial reader thread -> tactile/imu/data_raw, imu/mag, pressure, temperature."""
 
-    def __init__(self) -> None:
-        super().__init__('teensy_node')
+    def __init__(self, **kwargs) -> None:
+        super().__init__('teensy_node', **kwargs)
         port = self.declare_parameter(
             'port', '/dev/ttyACM0',
             ParameterDescriptor(description='serial device of the Teensy', read_only=True)).value

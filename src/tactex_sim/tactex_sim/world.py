@@ -201,6 +201,8 @@ class World:
         Raises:
             SimError: no texture of that name (the message names the known ones).
         """
+        if name is not None:  # checked even where the scene has no patch to give it
+            find_texture(name)
         patches = self.scene.patches if name is None else tuple(
             type(p)(name, p.x_m, p.y_m) for p in self.scene.patches)
         for patch in patches:
