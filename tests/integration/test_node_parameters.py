@@ -26,7 +26,7 @@ START_GUARD_S = 60
 
 # (executable, -p arguments, the one error line, as a regex)
 REFUSED_AT_START = [
-    ('madgwick_node', ['gain:=-1.0'], r"madgwick_node: parameter gain:=-1\.0 is out of range; "
+    ('madgwick_node', ['gain:=-1.0'], r'madgwick_node: parameter gain:=-1\.0 is out of range; '
                                       r'allowed: a float from 0\.0 to 10\.0$'),
     ('probe_node', ['control_rate_hz:=0.0'], r'probe_node: parameter control_rate_hz:=0\.0 is '
                                              r'out of range; allowed: a float from 5\.0 to 500'),
