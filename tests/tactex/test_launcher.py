@@ -3,6 +3,7 @@
 """Launch files as data, and `tactex launch`: the node sets, supervision and clean shutdown."""
 
 import importlib.util
+import io
 import os
 from pathlib import Path
 import re
@@ -252,22 +253,14 @@ def test_probe_launch_in_simulation_broadcasts_contacts_with_the_surface_normals
 
 @pytest.mark.ros
 def test_a_node_that_fails_at_start_stops_the_others_cleanly_with_one_line():
-    lines = []
-
-    class Lines:
-        def write(self, text):
-            lines.append(text)
-
-        def flush(self):
-            pass
-
     # The bridge and probe_node are still starting (or just up) when madgwick_node fails.
     refused = NodeSpec('tactex_sensor', 'madgwick_node', 'madgwick_node',
                        parameters=({'gain': -1.0},))
     nodes = [NodeSpec('tactex_sim', 'mujoco_bridge', 'mujoco_bridge'), refused,
              NodeSpec('tactex_probe', 'probe_node', 'probe_node')]
-    assert run_launch(nodes, {}, out=Lines()) == 1
-    output = ''.join(lines)
+    out = io.StringIO()
+    assert run_launch(nodes, {}, out=out) == 1
+    output = out.getvalue()
     assert [line for line in output.splitlines() if 'error' in line] == [
         '[madgwick_node] error: madgwick_node: parameter gain:=-1.0 is out of range; allowed: '
         'a float from 0.0 to 10.0',
