@@ -374,6 +374,29 @@ BAD_INPUTS = {
         Case('launch {w}/broken.launch.py', 'broken.launch.py cannot be loaded: SyntaxError'),
         Case('launch sim nope', "launch argument 'nope' is not NAME:=VALUE"),
         Case('launch sim nope:=1 --print', r"unknown launch argument\(s\) \['nope'\]"),
+        Case('launch sim scen:=probe --print', r"\['scen'\] \('scen': did you mean 'scene'\?\)"),
+        Case('launch sim scene:=no_such_scene --print', "scene:='no_such_scene': no scene file "
+             '.*; give a scene under config/scenes/ or a .toml path'),
+        Case('launch sim scene:={w}/scenes/binary.toml --print', 'scene:=.*not valid TOML'),
+        Case('launch sim rate_factor:=-1 --print', "rate_factor:='-1' must be from 0 to 1000"),
+        Case('launch sim rate_factor:=fast --print', "rate_factor:='fast' is not a finite "
+             'number'),
+        Case('launch sim namespace:=left-arm --print', "namespace:='left-arm' is not a ROS "
+             'namespace: .*e.g. left_arm'),
+        Case('launch sim patch_texture:=velvet --print', "patch_texture:='velvet': unknown "
+             "texture 'velvet'; known: .*wood.*; or '' for the scene's"),
+        Case('launch system sim:=true checkpoint:={w}/folder --print', 'checkpoint:=.*folder: '
+             'missing checkpoint.json'),
+        Case('launch classify source:=sim checkpoint:={w}/corrupt_checkpoint --print',
+             'checkpoint:=.*corrupt_checkpoint: refused checkpoint.json'),
+        Case('launch system threshold:=2 --print', r"threshold:='2': threshold must be in "
+             r'\[0, 1\]'),
+        Case('launch system recording_root:={w}/text.txt --print', 'recording_root .*text.txt is '
+             'a file; give a folder'),
+        Case('launch probe pathway_file:={w}/folder --print', 'pathway_file .*folder is a folder; '
+             'give a file path'),
+        Case('launch sensor port:={w}/text.txt --print', "port:='.*text.txt' is not a serial "
+             'device'),
     ],
     'demo': [
         Case('demo --out {w}/text.txt', r'--out .*text.txt is a file; give a folder',

@@ -3,6 +3,7 @@
 """Launch files as data, and `tactex launch`: the node sets, supervision and clean shutdown."""
 
 import importlib.util
+import io
 import os
 from pathlib import Path
 import re
@@ -22,7 +23,7 @@ from tactex.launch_spec import (
     NodeSpec,
     visualisation_nodes,
 )
-from tactex.launcher import Launcher, node_command
+from tactex.launcher import Launcher, node_command, run_launch
 
 ROOT = Path(__file__).resolve().parents[2]
 LAUNCH_NAMES = sorted(p.name.removesuffix('.launch.py') for p in launch_directory().glob(
@@ -251,13 +252,32 @@ def test_probe_launch_in_simulation_broadcasts_contacts_with_the_surface_normals
 
 
 @pytest.mark.ros
-def test_a_node_that_dies_stops_the_launch_with_its_name(tmp_path):
-    log = tmp_path / 'launch.log'
-    launcher = _start_launch('sim', 'scene:=no_such_scene', log=log)
-    assert launcher.wait(timeout=30) == 1
-    output = log.read_text()
-    assert 'error: node mujoco_bridge exited with code' in output
+def test_a_node_that_fails_at_start_stops_the_others_cleanly_with_one_line():
+    # The bridge and probe_node are still starting (or just up) when madgwick_node fails.
+    refused = NodeSpec('tactex_sensor', 'madgwick_node', 'madgwick_node',
+                       parameters=({'gain': -1.0},))
+    nodes = [NodeSpec('tactex_sim', 'mujoco_bridge', 'mujoco_bridge'), refused,
+             NodeSpec('tactex_probe', 'probe_node', 'probe_node')]
+    out = io.StringIO()
+    assert run_launch(nodes, {}, out=out) == 1
+    output = out.getvalue()
+    assert [line for line in output.splitlines() if 'error' in line] == [
+        '[madgwick_node] error: madgwick_node: parameter gain:=-1.0 is out of range; allowed: '
+        'a float from 0.0 to 10.0',
+        '[launch] error: node madgwick_node exited with code 1; stopped the others']
+    assert not any(trace in output for trace in ('Traceback', 'KeyboardInterrupt', 'RCLError'))
     assert not [name for name, pid in _pids(output).items() if alive(pid)]
+
+
+@pytest.mark.parametrize('arguments', [['sim', 'rate_factor:=-1'],
+                                       ['system', 'sim:=true', 'checkpoint:=/no/such/model']],
+                         ids=['bad rate_factor', 'checkpoint that cannot load'])
+def test_a_bad_launch_argument_starts_no_node(tmp_path, arguments):
+    run = subprocess.run(TACTEX + ['launch', *arguments], capture_output=True, text=True,
+                         timeout=60)
+    assert run.returncode == 1
+    assert run.stdout == ''
+    assert len(run.stderr.splitlines()) == 1 and run.stderr.startswith('error: '), run.stderr
 
 
 @pytest.mark.ros

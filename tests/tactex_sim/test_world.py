@@ -183,6 +183,13 @@ def test_changing_the_patch_texture_while_running_equals_starting_with_it():
         world.set_patch_texture('velvet')
 
 
+def test_an_unknown_patch_texture_is_refused_even_in_a_scene_without_patches():
+    world = World(SCENE['probe'])
+    assert not world.scene.patches
+    with pytest.raises(KeyError, match="unknown texture 'velvet'; known: .*wood"):
+        world.set_patch_texture('velvet')
+
+
 def test_a_scene_without_contact_does_not_collide():
     scene = parse_scene({'name': 'ghost', 'seed': 1, 'effects': ['compliance'],
                          'surface': {'kind': 'flat'}})

@@ -20,6 +20,7 @@ import math
 from pathlib import Path
 from typing import Any
 
+from tactex_common.naming import closest_name
 from tactex_common.share import share_directory
 
 
@@ -101,8 +102,11 @@ class LaunchFile:
         known = {argument.name: argument for argument in self.all_arguments}
         unknown = sorted(set(overrides) - set(known))
         if unknown:
-            raise LaunchError(f'unknown launch argument(s) {unknown}; this launch file takes: '
-                              f'{", ".join(sorted(known))}')
+            hints = [f'{name!r}: did you mean {closest!r}?' for name in unknown
+                     if (closest := closest_name(name, known))]
+            hint = f' ({"; ".join(hints)})' if hints else ''
+            raise LaunchError(f'unknown launch argument(s) {unknown}{hint}; this launch file '
+                              f'takes: {", ".join(sorted(known))}')
         values = {name: argument.default for name, argument in known.items()}
         values.update(overrides)
         for name, value in values.items():

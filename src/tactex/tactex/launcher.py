@@ -86,10 +86,18 @@ def node_command(spec: NodeSpec, namespace: str = '') -> list[str]:
     return command
 
 
-def _die_with_parent() -> None:
-    """In the child: the kernel sends SIGTERM when the launcher dies, even by SIGKILL."""
+def _prepare_child() -> None:
+    """In the child: die with the launcher; ignore SIGINT until the node takes it over.
+
+    The kernel sends SIGTERM when the launcher dies, even by SIGKILL. A node still
+    importing when the launch stops (another node failed at start) would print a
+    KeyboardInterrupt traceback on SIGINT; ignored, the SIGTERM that follows `grace_s`
+    later ends it quietly. A node's own handlers (tactex_common.ros.spin, rclcpp) take
+    SIGINT over once it runs.
+    """
     libc = ctypes.CDLL(None, use_errno=True)
     libc.prctl(_PR_SET_PDEATHSIG, signal.SIGTERM)
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
 @dataclass
@@ -148,7 +156,7 @@ class Launcher:
         process = subprocess.Popen(self._commands[spec.name], env=self._env,
                                    stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
                                    stderr=subprocess.STDOUT, text=True, errors='replace',
-                                   preexec_fn=_die_with_parent)
+                                   preexec_fn=_prepare_child)
         reader = threading.Thread(target=self._copy_output, args=(spec.name, process),
                                   daemon=True)
         reader.start()

@@ -31,7 +31,6 @@ from rcl_interfaces.msg import (
     ParameterDescriptor,
     SetParametersResult,
 )
-from rclpy.node import Node
 from rclpy.qos import QoSProfile
 from sensor_msgs.msg import FluidPressure, Imu, MagneticField
 from std_msgs.msg import Bool, String
@@ -43,7 +42,7 @@ from tactex_classify.evidence import EvidenceSettings
 from tactex_classify.live import CONTACT_SOURCES, LiveSettings, OnlineClassifier
 from tactex_classify.runtime import load_predictor, RUNTIMES
 from tactex_common import topics
-from tactex_common.ros import COMMAND, SENSOR_DATA, spin
+from tactex_common.ros import COMMAND, SENSOR_DATA, spin, TactexNode
 from tactex_common.stamps import stamp_ns
 from tactex_msgs.msg import TextureEstimate
 
@@ -83,7 +82,7 @@ def _time(ns: int) -> Time:
     return Time(sec=sec, nanosec=nanosec)
 
 
-class ClassifierNode(Node):
+class ClassifierNode(TactexNode):
     """Tactile topics -> texture/estimate, texture/markers, diagnostics."""
 
     def __init__(self, **kwargs) -> None:

@@ -8,13 +8,12 @@ import json
 from pathlib import Path
 
 from rcl_interfaces.msg import ParameterDescriptor
-from rclpy.node import Node
 
 from tactex_classify.recorder import RECORDED_TOPICS, SplitRecorder
-from tactex_common.ros import message_class, RECORDING, spin
+from tactex_common.ros import message_class, RECORDING, spin, TactexNode
 
 
-class RecorderNode(Node):
+class RecorderNode(TactexNode):
     """Subscribe with raw=True and write the bytes as they come."""
 
     def __init__(self, **kwargs) -> None:
@@ -36,10 +35,13 @@ class RecorderNode(Node):
         compress = self.declare_parameter('compress', False, describe(
             description='zstd-compress messages', read_only=True)).value
         if not out:
-            raise ValueError('parameter output (the recording directory) is required')
-        metadata = json.loads(extra)
+            raise self.refused_parameter('output', 'the recording directory to create')
+        try:
+            metadata = json.loads(extra)
+        except ValueError:
+            metadata = None
         if not isinstance(metadata, dict):
-            raise ValueError(f'metadata must be a JSON object, got {extra!r}')
+            raise self.refused_parameter('metadata', 'a JSON object')
         metadata.update({k: v for k, v in (('label', label), ('surface', surface)) if v})
         if trial >= 0:
             metadata['trial'] = trial

@@ -1,6 +1,6 @@
 # Copyright 2026 The tactex authors
 # SPDX-License-Identifier: Apache-2.0
-"""Errors of the shared plumbing: unreadable tables, links that are not ours to replace."""
+"""Errors of the shared plumbing: unreadable tables, foreign links, refused node parameters."""
 
 
 class CommonError(Exception):
@@ -17,3 +17,7 @@ class LinkError(CommonError, OSError):
 
 class ClusterError(CommonError):
     """Ray cannot be started or reached, or is asked for something it cannot give."""
+
+
+class NodeParameterError(CommonError, ValueError):
+    """A node parameter has a value the node refuses; the message says what is allowed."""

@@ -1,10 +1,11 @@
 # Copyright 2026 The tactex authors
 # SPDX-License-Identifier: Apache-2.0
-"""Natural order of names (`mat2` before `mat10`), the one sort of classes and files."""
+"""Names: natural order (`mat2` before `mat10`), and the known name closest to a misspelt one."""
 
 from __future__ import annotations
 
 from collections.abc import Iterable
+import difflib
 from pathlib import Path
 import re
 
@@ -25,3 +26,9 @@ def natural_key(name: str | Path) -> tuple:
 def natural_sorted(names: Iterable) -> list:
     """`names` in natural order (see `natural_key`)."""
     return sorted(names, key=natural_key)
+
+
+def closest_name(name: str, known: Iterable[str]) -> str | None:
+    """The name of `known` most like `name` (a typo's intended name), or None if none is close."""
+    matches = difflib.get_close_matches(name, list(known), n=1)
+    return matches[0] if matches else None

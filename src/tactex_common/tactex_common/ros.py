@@ -1,6 +1,6 @@
 # Copyright 2026 The tactex authors
 # SPDX-License-Identifier: Apache-2.0
-"""ROS-facing helpers every tactex node shares: QoS profiles and the node `main`.
+"""ROS-facing helpers every tactex node shares: QoS profiles, the node base and `main`.
 
 This module imports rclpy; only nodes (and the launcher) import it.
 """
@@ -9,11 +9,20 @@ from __future__ import annotations
 
 from collections.abc import Callable
 import importlib
+import sys
 import threading
+from typing import Any
 
+from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor, ParameterType
 import rclpy
+from rclpy.exceptions import (
+    InvalidParameterTypeException,
+    InvalidParameterValueException,
+    ParameterException,
+)
 from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 from rclpy.node import Node
+from rclpy.parameter import Parameter
 from rclpy.qos import (
     DurabilityPolicy,
     HistoryPolicy,
@@ -23,6 +32,8 @@ from rclpy.qos import (
 )
 from rclpy.signals import SignalHandlerOptions
 
+from tactex_common.errors import NodeParameterError
+from tactex_common.naming import closest_name
 from tactex_common.stopping import on_stop_signals
 
 # Sensor streams: best effort, keep last 5 (a late sample is worth less than a new one).
@@ -43,6 +54,91 @@ RECORDING = {'sensor': QoSProfile(depth=500, reliability=ReliabilityPolicy.BEST_
              'command': COMMAND, 'latched': LATCHED}
 # How often the main thread of a node looks for a stop signal (s).
 STOP_CHECK_S = 0.1
+# The range of every node's diagnostics_period_s (s).
+DIAGNOSTICS_PERIOD_RANGE = FloatingPointRange(from_value=0.05, to_value=60.0)
+# A parameter type as an error line says it.
+TYPE_WORDS = {ParameterType.PARAMETER_BOOL: 'true or false',
+              ParameterType.PARAMETER_INTEGER: 'an integer',
+              ParameterType.PARAMETER_DOUBLE: 'a float',
+              ParameterType.PARAMETER_STRING: 'text',
+              ParameterType.PARAMETER_BYTE_ARRAY: 'a list of bytes',
+              ParameterType.PARAMETER_BOOL_ARRAY: 'a list of true or false',
+              ParameterType.PARAMETER_INTEGER_ARRAY: 'a list of integers',
+              ParameterType.PARAMETER_DOUBLE_ARRAY: 'a list of floats',
+              ParameterType.PARAMETER_STRING_ARRAY: 'a list of texts'}
+
+
+class TactexNode(Node):
+    """The base of every tactex node: a parameter value it refuses is one NodeParameterError.
+
+    rclpy refuses a value (from --params-file or -p) that breaks the type or the range of a
+    declared parameter with an exception naming neither the node nor what is allowed;
+    this base names both, and `spin` turns it into one error line and exit code 1.
+    """
+
+    def declare_parameter(self, name: str, value: Any = None,
+                          descriptor: ParameterDescriptor | None = None,
+                          ignore_override: bool = False) -> Parameter:
+        """Declare as rclpy does; a given value it refuses raises NodeParameterError."""
+        descriptor = ParameterDescriptor() if descriptor is None else descriptor
+        try:
+            return super().declare_parameter(name, value, descriptor, ignore_override)
+        except (InvalidParameterTypeException, InvalidParameterValueException) as err:
+            # The given values: rclpy has no public accessor for them (Kilted).
+            given = self._parameter_overrides.get(name)
+            if given is None:  # the node's own default is refused: a bug, not bad input
+                raise
+            problem = (f'is {_type_words(given.value)}'
+                       if isinstance(err, InvalidParameterTypeException) else 'is out of range')
+            raise self._refusal(name, given.value, problem, allowed(descriptor)) from None
+
+    def refused_parameter(self, name: str, allowed_values: str) -> NodeParameterError:
+        """The error to raise for declared parameter `name`, whose value the node refuses."""
+        return self._refusal(name, self.get_parameter(name).value, 'is refused', allowed_values)
+
+    def _refusal(self, name: str, value: Any, problem: str,
+                 allowed_values: str) -> NodeParameterError:
+        """The error; the node, refused in its constructor, is destroyed as a plain rclpy node.
+
+        rclpy destroys the nodes of a context at shutdown, with their own destroy_node,
+        which expects a node whose constructor finished.
+        """
+        error = NodeParameterError(f'{self.get_name()}: parameter {name}:={value!r} {problem}; '
+                                   f'allowed: {allowed_values}')
+        Node.destroy_node(self)
+        return error
+
+
+def allowed(descriptor: ParameterDescriptor) -> str:
+    """What a parameter of this descriptor may be: its type and range ('a float from 0 to 10')."""
+    words = TYPE_WORDS.get(descriptor.type, 'a value of its type')
+    for bounds in (*descriptor.floating_point_range, *descriptor.integer_range):
+        step = f' in steps of {bounds.step}' if bounds.step not in (0, 1) else ''
+        words += f' from {bounds.from_value} to {bounds.to_value}{step}'
+    return words
+
+
+def _type_words(value: Any) -> str:
+    return TYPE_WORDS.get(Parameter.Type.from_parameter_value(value).value, 'unset')
+
+
+def warn_unknown_parameters(node: Node) -> list[str]:
+    """Warn once for each parameter given to `node` that it does not declare (a typo?).
+
+    rcl hands a node the values of --params-file and -p under any name; rclpy ignores the
+    names nobody declares. Each gets one warning naming the closest declared name.
+
+    Returns:
+        the unknown names, sorted.
+    """
+    declared = node.list_parameters([], 0).names  # 0: every depth
+    # The given values: rclpy has no public accessor for them (Kilted).
+    unknown = sorted(set(node._parameter_overrides) - set(declared))
+    for name in unknown:
+        closest = closest_name(name, declared)
+        hint = f'did you mean {closest!r}?' if closest else 'no parameter of it is close'
+        node.get_logger().warning(f'unknown parameter {name!r} ignored; {hint}')
+    return unknown
 
 
 def spin(make_node: Callable[[], Node], args: list[str] | None = None) -> None:
@@ -59,6 +155,9 @@ def spin(make_node: Callable[[], Node], args: list[str] | None = None) -> None:
     running callbacks (RCLError tracebacks) or raise KeyboardInterrupt inside one, and
     they ignore SIGHUP and an inherited ignored SIGINT (tactex_common.stopping).
 
+    A parameter value the node refuses at construction is one `error:` line on stderr and
+    SystemExit(1), no traceback; each given parameter it does not declare, one warning.
+
     Args:
         make_node: builds the node (after rclpy.init).
         args: command-line arguments (ROS arguments included).
@@ -68,7 +167,13 @@ def spin(make_node: Callable[[], Node], args: list[str] | None = None) -> None:
     node = None
     with on_stop_signals(lambda _signum: stop.set()):
         try:
-            node = make_node()
+            try:
+                node = make_node()
+            except (NodeParameterError, ParameterException) as err:
+                # ParameterException: a node not built on TactexNode, in rclpy's words.
+                print(f'error: {err}', file=sys.stderr)
+                raise SystemExit(1) from None
+            warn_unknown_parameters(node)
             executor = SingleThreadedExecutor()
             executor.add_node(node)
             failures: list[BaseException] = []

@@ -5,19 +5,19 @@
 from __future__ import annotations
 
 from collections import deque
+import math
 import time
 
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 import numpy as np
-from rcl_interfaces.msg import ParameterDescriptor
-from rclpy.node import Node
+from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor
 from sensor_msgs.msg import JointState
 from std_srvs.srv import SetBool, Trigger
 from trajectory_msgs.msg import JointTrajectory
 
 from tactex_common import topics
 from tactex_common.constants import SERVO_IDS
-from tactex_common.ros import COMMAND, spin
+from tactex_common.ros import COMMAND, spin, TactexNode
 from tactex_driver import control_table as ct
 from tactex_driver.arm import ArmController, Mode
 from tactex_driver.bus import DEFAULT_BAUD, ServoBus
@@ -28,7 +28,7 @@ from tactex_driver.playback import JointLimits
 TORQUE_POLICIES = ('hold', 'release')
 
 
-class ArmDriverNode(Node):
+class ArmDriverNode(TactexNode):
     """100 Hz loop: read servos -> joint_states; controller goal -> servos."""
 
     def __init__(self, **kwargs) -> None:
@@ -41,9 +41,12 @@ class ArmDriverNode(Node):
         ids = self.declare_parameter('servo_ids', list(SERVO_IDS), describe(
             description='IDs of joint1..joint4 and the gripper', read_only=True)).value
         rate = self.declare_parameter('control_rate_hz', 100.0, describe(
-            description='control loop and joint_states rate (Hz)', read_only=True)).value
+            description='control loop and joint_states rate (Hz)', read_only=True,
+            floating_point_range=[FloatingPointRange(from_value=1.0, to_value=1000.0)])).value
         start_tolerance = self.declare_parameter('start_tolerance', 0.1, describe(
-            description='largest distance of a trajectory first point from the state')).value
+            description='largest distance of a trajectory first point from the state (rad)',
+            read_only=True,
+            floating_point_range=[FloatingPointRange(from_value=0.0, to_value=math.pi)])).value
         gripper_ratio = self.declare_parameter('gripper_m_per_rad', 0.015, describe(
             description='gripper travel per servo radian (m/rad)', read_only=True)).value
         self._profile_velocity = self.declare_parameter('profile_velocity', 2.0, describe(
@@ -62,18 +65,14 @@ class ArmDriverNode(Node):
             description='longest wait between reconnection attempts (s)',
             read_only=True)).value
         if self._torque_on_exit not in TORQUE_POLICIES:
-            raise ValueError(f'torque_on_exit must be one of {TORQUE_POLICIES}, got '
-                             f'{self._torque_on_exit!r}')
-        if not 1.0 <= rate <= 1000.0:
-            raise ValueError(f'control_rate_hz must be in [1, 1000], got {rate!r}')
+            raise self.refused_parameter('torque_on_exit', ' or '.join(TORQUE_POLICIES))
 
         self._limits = JointLimits.of_robot()
-        if len(self._operating_modes) != len(ids):
-            raise ValueError(f'operating_modes needs one mode per servo, got '
-                             f'{self._operating_modes!r}')
         if len(ids) != len(self._limits.names):
-            raise ValueError(f'servo_ids needs {len(self._limits.names)} IDs '
-                             f'({", ".join(self._limits.names)}), got {ids!r}')
+            raise self.refused_parameter('servo_ids', f'{len(self._limits.names)} IDs, of '
+                                                      f'{", ".join(self._limits.names)}')
+        if len(self._operating_modes) != len(ids):
+            raise self.refused_parameter('operating_modes', f'one mode per servo ({len(ids)})')
         self._joints = JointMap(gripper_ratio)
         self._bus = ServoBus(port, baud=baud, ids=ids)
         self._controller = ArmController(self._limits, start_tolerance=start_tolerance)

@@ -21,7 +21,6 @@ from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from geometry_msgs.msg import Point, Pose, PoseArray, Quaternion, Vector3
 from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
 from rclpy.action import ActionClient, ActionServer, CancelResponse, GoalResponse
-from rclpy.node import Node
 from rclpy.qos import QoSProfile
 from rclpy.task import Future
 from rclpy.time import Time
@@ -31,7 +30,7 @@ from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 from visualization_msgs.msg import Marker, MarkerArray
 
 from tactex_common import topics
-from tactex_common.ros import COMMAND, LATCHED, SENSOR_DATA, spin
+from tactex_common.ros import COMMAND, LATCHED, SENSOR_DATA, spin, TactexNode
 from tactex_common.stamps import stamp_ns
 from tactex_description.geometry import ARM_JOINT_NAMES
 from tactex_msgs.action import Probe
@@ -66,7 +65,7 @@ def _float_range(low: float, high: float) -> list[FloatingPointRange]:
     return [FloatingPointRange(from_value=float(low), to_value=float(high), step=0.0)]
 
 
-class ProbeNode(Node):
+class ProbeNode(TactexNode):
     """Serves the probe action; one goal at a time."""
 
     def __init__(self, **kwargs) -> None:
@@ -145,8 +144,7 @@ class ProbeNode(Node):
         try:
             method = Method(method)
         except ValueError:
-            raise ValueError(f'method must be one of {[m.value for m in Method]}, got '
-                             f'{method!r}') from None
+            raise self.refused_parameter('method', ' or '.join(m.value for m in Method)) from None
         detector = DetectorConfig(pa_per_newton=number(
             'pa_per_newton', DEFAULT_PA_PER_NEWTON, 'barometer rise per newton of contact '
             'force (Pa/N): the force proxy calibration', 10.0, 1e6))

@@ -8,15 +8,13 @@ Diagnostics count the samples fused and those the filter rejected, by kind.
 from __future__ import annotations
 
 import dataclasses
-import math
 
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor, SetParametersResult
-from rclpy.node import Node
 from sensor_msgs.msg import Imu, MagneticField
 
 from tactex_common import topics
-from tactex_common.ros import COMMAND, SENSOR_DATA, spin
+from tactex_common.ros import COMMAND, DIAGNOSTICS_PERIOD_RANGE, SENSOR_DATA, spin, TactexNode
 from tactex_sensor.madgwick import MadgwickConfig, MadgwickFilter, REJECTED_GYRO
 
 
@@ -24,7 +22,7 @@ def _stamp_s(msg) -> float:
     return msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
 
 
-class MadgwickNode(Node):
+class MadgwickNode(TactexNode):
     """Fuse each raw IMU message as it comes, with the latest magnetometer sample if fresh.
 
     Unlike an exact-time synchroniser, output never waits for the magnetometer: an IMU
@@ -47,13 +45,14 @@ class MadgwickNode(Node):
         world_frame = self.declare_parameter('world_frame', 'enu', ParameterDescriptor(
             description='world frame of the output; only enu (REP-145)', read_only=True)).value
         self._mag_timeout = self.declare_parameter('mag_timeout_s', 0.1, ParameterDescriptor(
-            description='oldest magnetometer sample still fused (s)')).value
+            description='oldest magnetometer sample still fused (s)',
+            floating_point_range=[FloatingPointRange(from_value=0.0, to_value=10.0)])).value
         diagnostics_period = self.declare_parameter(
             'diagnostics_period_s', 1.0, ParameterDescriptor(
                 description='diagnostics period (s)', read_only=True,
-                floating_point_range=[FloatingPointRange(from_value=0.05, to_value=60.0)])).value
+                floating_point_range=[DIAGNOSTICS_PERIOD_RANGE])).value
         if world_frame != 'enu':
-            raise ValueError(f'world_frame must be "enu", got {world_frame!r}')
+            raise self.refused_parameter('world_frame', "'enu' only (REP-145)")
         self._filter = MadgwickFilter(MadgwickConfig(gain=gain, use_mag=use_mag,
                                                      max_rate_rad_s=max_rate))
         self._last_stamp: float | None = None
@@ -73,12 +72,9 @@ class MadgwickNode(Node):
 
     def _on_set_parameters(self, parameters) -> SetParametersResult:
         for parameter in parameters:
-            if parameter.name == 'gain':
-                value = float(parameter.value)
-                if not math.isfinite(value) or value < 0.0:
-                    return SetParametersResult(successful=False,
-                                               reason=f'gain must be >= 0, got {value!r}')
-                self._filter.config = dataclasses.replace(self._filter.config, gain=value)
+            if parameter.name == 'gain':  # its descriptor's range is checked before this
+                self._filter.config = dataclasses.replace(self._filter.config,
+                                                          gain=float(parameter.value))
             elif parameter.name == 'mag_timeout_s':
                 self._mag_timeout = float(parameter.value)
         return SetParametersResult(successful=True)

@@ -8,11 +8,10 @@ import threading
 
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor
-from rclpy.node import Node
 from sensor_msgs.msg import FluidPressure, Imu, MagneticField, Temperature
 
 from tactex_common import topics
-from tactex_common.ros import COMMAND, SENSOR_DATA, spin
+from tactex_common.ros import COMMAND, DIAGNOSTICS_PERIOD_RANGE, SENSOR_DATA, spin, TactexNode
 from tactex_sensor.link import SerialLink
 from tactex_sensor.messages import NoiseVariances, tactile_cdr, TACTILE_TOPICS
 from tactex_sensor.protocol import DEFAULT_BAUD
@@ -22,11 +21,11 @@ VARIANCE_UNITS = {'accel': '(m/s^2)^2', 'gyro': '(rad/s)^2', 'mag': 'T^2', 'pres
                   'temperature': 'degC^2'}
 
 
-class TeensyNode(Node):
+class TeensyNode(TactexNode):
     """Serial reader thread -> tactile/imu/data_raw, imu/mag, pressure, temperature."""
 
-    def __init__(self) -> None:
-        super().__init__('teensy_node')
+    def __init__(self, **kwargs) -> None:
+        super().__init__('teensy_node', **kwargs)
         port = self.declare_parameter(
             'port', '/dev/ttyACM0',
             ParameterDescriptor(description='serial device of the Teensy', read_only=True)).value
@@ -38,7 +37,8 @@ class TeensyNode(Node):
                                                            read_only=True)).value
         diagnostics_period = self.declare_parameter(
             'diagnostics_period_s', 1.0,
-            ParameterDescriptor(description='diagnostics period (s)', read_only=True)).value
+            ParameterDescriptor(description='diagnostics period (s)', read_only=True,
+                                floating_point_range=[DIAGNOSTICS_PERIOD_RANGE])).value
         # One `<channel>_variance` parameter per covariance the messages carry.
         self._noise = NoiseVariances(**{
             channel: self.declare_parameter(

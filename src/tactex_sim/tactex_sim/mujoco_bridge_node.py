@@ -18,9 +18,8 @@ import time
 
 from geometry_msgs.msg import PoseStamped
 import numpy as np
-from rcl_interfaces.msg import ParameterDescriptor, SetParametersResult
+from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor, SetParametersResult
 import rclpy
-from rclpy.node import Node
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import FluidPressure, Imu, JointState, MagneticField, Temperature
 from std_msgs.msg import String
@@ -28,7 +27,7 @@ from std_srvs.srv import SetBool, Trigger
 from trajectory_msgs.msg import JointTrajectory
 
 from tactex_common import topics
-from tactex_common.ros import COMMAND, SENSOR_DATA, spin
+from tactex_common.ros import COMMAND, SENSOR_DATA, spin, TactexNode
 from tactex_driver.arm import ArmController
 from tactex_driver.playback import JointLimits
 from tactex_sensor.messages import TACTILE_TOPICS
@@ -36,7 +35,8 @@ from tactex_sim.errors import SimError
 from tactex_sim.faults import FaultPlayer, FAULTS
 from tactex_sim.recording import sample_messages, SAMPLE_TOPICS, tactile_messages
 from tactex_sim.scene import load_scene, resolve_scene
-from tactex_sim.world import Sample, World
+from tactex_sim.textures import texture as find_texture
+from tactex_sim.world import MAX_RATE_FACTOR, Sample, World
 
 MAX_SAMPLES_PER_TICK = 50
 
@@ -49,7 +49,12 @@ MESSAGE_CLASSES = {'sensor_msgs/msg/Imu': Imu, 'sensor_msgs/msg/MagneticField': 
                    'geometry_msgs/msg/PoseStamped': PoseStamped, 'std_msgs/msg/String': String}
 
 
-class MujocoBridgeNode(Node):
+def _reason(error: SimError) -> str:
+    """The message of `error` (str() of an UnknownNameError, a KeyError, adds quotes)."""
+    return ' '.join(map(str, error.args))
+
+
+class MujocoBridgeNode(TactexNode):
     """Steps a scene and serves it as if it were the robot."""
 
     def __init__(self, **kwargs) -> None:
@@ -62,7 +67,8 @@ class MujocoBridgeNode(Node):
             description="random seed (-1: the scene's)", read_only=True)).value
         self._rate_factor = self.declare_parameter('rate_factor', 1.0, describe(
             description='simulated seconds per wall second (0: as fast as possible)',
-            read_only=True)).value
+            read_only=True, floating_point_range=[FloatingPointRange(
+                from_value=0.0, to_value=MAX_RATE_FACTOR)])).value
         start = self.declare_parameter('initial_joints', [0.0, -0.3, 0.3, 1.2, 0.0], describe(
             description='joint1..joint4 (rad) and gripper (m) at start', read_only=True)).value
         texture = self.declare_parameter('patch_texture', '', describe(
@@ -72,10 +78,22 @@ class MujocoBridgeNode(Node):
             description=f'fault played until set back to "": one of {", ".join(FAULTS[1:])} '
                         '(soak tests; settable while running)')).value
         self._faults = FaultPlayer()
-        self._faults.play(fault)
-        if self._rate_factor < 0 or not math.isfinite(self._rate_factor):
-            raise ValueError(f'rate_factor must be >= 0, got {self._rate_factor!r}')
-        scene = load_scene(resolve_scene(scene_name))
+        try:
+            self._faults.play(fault)
+        except ValueError:
+            raise self.refused_parameter('fault', f'one of {", ".join(map(repr, FAULTS))}'
+                                         ) from None
+        try:
+            scene = load_scene(resolve_scene(scene_name))
+        except SimError as err:
+            raise self.refused_parameter('scene', f'a scene under config/scenes/ or a .toml '
+                                                  f'path ({_reason(err)})') from None
+        if texture:
+            try:
+                find_texture(texture)
+            except SimError as err:
+                raise self.refused_parameter('patch_texture',
+                                             f"'' or a texture ({_reason(err)})") from None
         self._world = World(scene, seed=None if seed < 0 else seed,
                             patch_texture=texture or None)
         self._controller = ArmController(JointLimits.of_robot())
@@ -108,8 +126,7 @@ class MujocoBridgeNode(Node):
                 try:
                     self._world.set_patch_texture(parameter.value or None)
                 except SimError as err:
-                    reason = ' '.join(map(str, err.args))
-                    return SetParametersResult(successful=False, reason=reason)
+                    return SetParametersResult(successful=False, reason=_reason(err))
                 self.get_logger().info(f'patch texture {parameter.value or "of the scene"!r}')
             elif parameter.name == 'fault':
                 try:

@@ -35,6 +35,8 @@ PRESS_STIFFNESS_N_M = OPEN_MANIPULATOR_X.joint('sensor_press').stiffness
 # The compliant body's travel: no body compresses further, welded or not.
 PRESS_TRAVEL_M = -OPEN_MANIPULATOR_X.joint('sensor_press').lower
 # MuJoCo's warnings that the state went non-finite or huge (it resets the state then).
+# The most simulated seconds per wall second the bridge is asked for (0: as fast as it can).
+MAX_RATE_FACTOR = 1000.0
 _DIVERGED = (mujoco.mjtWarning.mjWARN_BADQPOS, mujoco.mjtWarning.mjWARN_BADQVEL,
              mujoco.mjtWarning.mjWARN_BADQACC)
 
@@ -199,6 +201,8 @@ class World:
         Raises:
             SimError: no texture of that name (the message names the known ones).
         """
+        if name is not None:  # checked even where the scene has no patch to give it
+            find_texture(name)
         patches = self.scene.patches if name is None else tuple(
             type(p)(name, p.x_m, p.y_m) for p in self.scene.patches)
         for patch in patches:

@@ -31,7 +31,6 @@ import numpy as np
 from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor
 from rclpy.action import ActionServer, CancelResponse, GoalResponse
 from rclpy.clock import Clock, ClockType
-from rclpy.node import Node
 from rclpy.task import Future
 from sensor_msgs.msg import FluidPressure, JointState
 from std_msgs.msg import Bool, ColorRGBA, String
@@ -41,7 +40,15 @@ from visualization_msgs.msg import Marker, MarkerArray
 
 from tactex_classify.recorder import RECORDED_TOPICS, SplitRecorder
 from tactex_common import topics
-from tactex_common.ros import COMMAND, LATCHED, message_class, RECORDING, SENSOR_DATA, spin
+from tactex_common.ros import (
+    COMMAND,
+    LATCHED,
+    message_class,
+    RECORDING,
+    SENSOR_DATA,
+    spin,
+    TactexNode,
+)
 from tactex_common.stamps import stamp_ns
 from tactex_description.geometry import ARM_JOINT_NAMES
 from tactex_msgs.action import Sweep
@@ -83,7 +90,7 @@ def _positive(description: str, *, high: float = 1e9) -> ParameterDescriptor:
                                                                         to_value=high)])
 
 
-class SweepNode(Node):
+class SweepNode(TactexNode):
     """The sweep action server."""
 
     def __init__(self, **kwargs) -> None:

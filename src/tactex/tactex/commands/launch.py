@@ -1,6 +1,6 @@
 # Copyright 2026 The tactex authors
 # SPDX-License-Identifier: Apache-2.0
-"""`tactex launch NAME [arg:=value ...]`: run a launch file's nodes without ROS 2 launch."""
+"""`tactex launch NAME [arg:=value ...]`: check every argument, then run the nodes."""
 
 from __future__ import annotations
 
@@ -36,6 +36,7 @@ def _overrides(items: list[str], args: argparse.Namespace) -> dict[str, str]:
 
 def run(args: argparse.Namespace) -> int:
     """List, print or run."""
+    from tactex.launch_checks import check_arguments
     from tactex.launch_spec import launch_directory, LaunchError, load_launch_file
     from tactex.launcher import node_command, run_launch
 
@@ -55,6 +56,7 @@ def run(args: argparse.Namespace) -> int:
                 print(f'{argument.name}:={argument.default!r}{choices}  {argument.description}')
             return 0
         values = launch.resolve(overrides)
+        check_arguments(launch, values)
         nodes = launch.node_specs(values)
         if args.print_only:
             for spec in nodes:

@@ -1,0 +1,54 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""Every launch argument is checked before any node starts (tactex.launch_checks).
+
+The bad value of each argument, through `tactex launch`, is in badinputs.py; here: that
+no argument goes unchecked, that the defaults pass, and that the namespace rule is ROS's.
+"""
+
+import pytest
+
+from tactex.launch_checks import check_arguments, CHECKS, NAMESPACE_MAX_LENGTH
+from tactex.launch_spec import launch_directory, LaunchError, load_launch_file
+
+LAUNCH_NAMES = sorted(p.name.removesuffix('.launch.py')
+                      for p in launch_directory().glob('*.launch.py'))
+
+
+@pytest.mark.parametrize('name', LAUNCH_NAMES)
+def test_every_argument_has_choices_or_a_check(name):
+    unchecked = [argument.name for argument in load_launch_file(name).all_arguments
+                 if not argument.choices and argument.name not in CHECKS]
+    assert not unchecked
+
+
+@pytest.mark.parametrize('name', LAUNCH_NAMES)
+def test_the_defaults_of_every_launch_file_pass(name, tmp_path, monkeypatch):
+    monkeypatch.setenv('HOME', str(tmp_path))  # pathway_file and recording_root lie in it
+    monkeypatch.chdir(tmp_path)
+    launch = load_launch_file(name)
+    check_arguments(launch, launch.resolve({}))
+
+
+NAMESPACES = ['', 'left_arm', '/left_arm', 'left_arm/', 'robots/left_arm', '_private', 'a1',
+              'left-arm', '1arm', 'robots//left', 'robots/1', 'left arm', '~', 'a.b', 'ä',
+              'x' * (NAMESPACE_MAX_LENGTH - 1), 'x' * NAMESPACE_MAX_LENGTH]
+
+
+@pytest.mark.ros
+@pytest.mark.parametrize('namespace', NAMESPACES, ids=[n[:20] or "''" for n in NAMESPACES])
+def test_the_namespace_rule_is_the_one_of_ros(namespace):
+    from rclpy.exceptions import InvalidNamespaceException
+    from rclpy.validate_namespace import validate_namespace
+    try:
+        validate_namespace('/' + namespace.strip('/') if namespace.strip('/') else '/')
+        valid = True
+    except InvalidNamespaceException:
+        valid = False
+    launch = load_launch_file('sim')
+    values = launch.resolve({'namespace': namespace})
+    if valid:
+        check_arguments(launch, values)
+    else:
+        with pytest.raises(LaunchError, match=r'namespace:=.* is not a ROS namespace'):
+            check_arguments(launch, values)
