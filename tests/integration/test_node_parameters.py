@@ -53,6 +53,10 @@ REFUSED_AT_START = [
     ('recorder_node', ['output:=/tmp/never', 'metadata:=not json'], r'allowed: a JSON object$'),
     ('teensy_node', ['diagnostics_period_s:=0.0'], r'teensy_node: parameter '
                                                    r'diagnostics_period_s:=0\.0 is out of range'),
+    ('classifier_node', ['threshold:=5.0'], r'classifier_node: parameter threshold:=5\.0 is out '
+                                            r'of range; allowed: a float from 0\.0 to 1\.0$'),
+    ('classifier_node', ['stall_s:=0.0'], r'classifier_node: parameter stall_s:=0\.0 is out of '
+                                          r'range'),
 ]
 
 
