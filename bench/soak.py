@@ -5,8 +5,9 @@
 `launch/system.launch.py sim:=true` runs through the launcher with a checkpoint (given,
 or trained first from a few `tactex sim collect` sweeps), as `tactex demo` runs it, and
 this script drives it only through its interfaces: each loop probes a short line, then
-sweeps it once recording a bag while classifier_node classifies live (a loop whose probe
-fails sweeps the last probed pathway). Every period
+sweeps it SWEEPS_PER_PROBE times recording bags while classifier_node classifies live (a
+loop whose probe fails sweeps the last probed pathway). It loops for --minutes and on
+until every scheduled fault was played (at most half as long again). Every period
 (default 60 s) one fault is injected, in rotation (`--faults` picks the kinds): sensor
 unplug (the tactile topics stop), CRC burst (NaN tactile samples), servo silence
 (joint_states stop), each for FAULT_S seconds through the bridge's `fault` parameter,
@@ -80,6 +81,10 @@ COUNTED_BY = {'overflow': ('faults_invalid',),
               'frozen': ('faults_frozen',), 'saturated': ('faults_saturated',)}
 IN_SWEEP = ('burst', 'frozen', 'saturated')  # spoil windows: played while a sweep runs
 SWEEP_WAIT_S = 240.0  # two loops
+SWEEPS_PER_PROBE = 3  # sweeps of each probed pathway, the textures in turn
+# The loop runs on past --minutes until every scheduled fault was played (a fault that
+# spoils windows waits for a sweep), up to this factor of the minutes.
+MAX_OVERRUN = 1.5
 
 
 def parse(argv: list[str] | None) -> argparse.Namespace:
@@ -188,9 +193,9 @@ class Soak:
                          start_z_m=PROBE_START_Z_M)
         rng = np.random.default_rng(self.demo.scene.seed)
         pathway = None  # the newest probed pathway: swept again when a probe fails
-        while self.elapsed() < self.minutes * 60:
+        while self.elapsed() < self.minutes * 60 or self._faults_to_come():
             loop = self.counts['loops'] = self.counts['loops'] + 1
-            note, probe_note = '', ''
+            notes = []
             try:
                 self.counts['probes_sent'] += 1
                 try:
@@ -199,20 +204,23 @@ class Soak:
                 except CommandError as err:
                     if pathway is None or not alive():
                         raise
-                    probe_note = f'probe failed ({err}), the last pathway swept; '
-                texture = TEXTURES[loop % len(TEXTURES)]
-                client.set_texture(texture, alive)
-                drawn = SweepParameters.draw(self.demo.scene, rng)
-                self.counts['sweeps_sent'] += 1
-                run = client.sweep(SweepRun(texture, loop, drawn.speed_m_s),
-                                   edge_offset_rad=drawn.edge_offset_rad,
-                                   press_depth_m=max(drawn.press_depth_m, MIN_PRESS_M),
-                                   record=True, timeout_s=SWEEP_TIMEOUT_S, alive=alive,
-                                   pathway=pathway)
-                self.counts['sweeps_ok'] += run.status_ok
-                note = probe_note + (f'sweep {texture}: ' + (run.result.message or
+                    notes.append(f'probe failed ({err}), the last pathway swept')
+                for _ in range(SWEEPS_PER_PROBE):
+                    trial = self.counts['sweeps_sent'] = self.counts['sweeps_sent'] + 1
+                    texture = TEXTURES[trial % len(TEXTURES)]
+                    client.set_texture(texture, alive)
+                    drawn = SweepParameters.draw(self.demo.scene, rng)
+                    run = client.sweep(SweepRun(texture, trial, drawn.speed_m_s),
+                                       edge_offset_rad=drawn.edge_offset_rad,
+                                       press_depth_m=max(drawn.press_depth_m, MIN_PRESS_M),
+                                       record=True, timeout_s=SWEEP_TIMEOUT_S, alive=alive,
+                                       pathway=pathway)
+                    self.counts['sweeps_ok'] += run.status_ok
+                    notes.append(f'sweep {texture}: ' + (
+                        run.result.message or
                         f'{100 * run.result.contact_fraction:.0f} % in contact') +
                         f', {len(run.estimates)} estimates')
+                note = '; '.join(notes)
             except CommandError as err:  # an aborted or lost goal: the next loop tries again
                 if not alive():
                     raise
@@ -223,6 +231,11 @@ class Soak:
                           f'{windows["windows_classified"]} classified, '
                           f'{windows["windows_dropped"]} dropped; faults '
                           f'{len(self.faults)}/{len(self.schedule)}')
+
+    def _faults_to_come(self) -> bool:
+        """Whether scheduled faults are still to be played (within the overrun allowed)."""
+        return (len(self.faults) < len(self.schedule)
+                and self.elapsed() < self.minutes * 60 * MAX_OVERRUN)
 
     def _inject_faults(self, client, alive) -> None:
         for at_s, fault in self.schedule:
@@ -308,7 +321,7 @@ class Soak:
         summary = {'minutes': self.minutes, **self.counts, 'windows': windows,
                    'classifier_lives': lives, 'bags_written': len(bags),
                    'decisions_per_10_min': soak.per_period(decisions, 600.0,
-                                                           self.minutes * 60),
+                                                           self.elapsed()),
                    'bags_readable': len(bags) - len(unreadable), 'unreadable': unreadable,
                    'faults': [vars(f) for f in self.faults],
                    'faults_scheduled': len(self.schedule), 'memory': memory,
