@@ -50,6 +50,19 @@ def test_stop_holds_where_the_arm_is_commanded(controller):
     assert controller.mode is Mode.HOLDING
 
 
+def test_an_empty_trajectory_message_stops_where_the_arm_is_commanded_when_it_arrives(
+        controller):
+    # A sender cannot know where a moving arm is commanded when its message arrives; an
+    # empty trajectory (ROS's stop) holds exactly there, neither refused nor counted.
+    from trajectory_msgs.msg import JointTrajectory
+    controller.execute(ARM, [0.0, 1.0], [[0, 0, 0, 0], [0.2, 0, 0, 0]], [[], []], now_s=0.0)
+    arrived = controller.goal(0.7)
+    ok, report = controller.execute_message(JointTrajectory(joint_names=ARM), now_s=0.7)
+    assert ok and 'stopping' in report
+    np.testing.assert_allclose(controller.goal(3.0), arrived)
+    assert controller.mode is Mode.HOLDING and controller.rejected == 0
+
+
 def test_a_new_trajectory_replaces_the_running_one_from_the_commanded_pose(controller):
     controller.execute(ARM, [0.0, 1.0], [[0, 0, 0, 0], [0.2, 0, 0, 0]], [[], []], now_s=0.0)
     midway = controller.goal(0.5)

@@ -79,7 +79,15 @@ class ArmController:
         return trajectory.duration_s
 
     def execute_message(self, message, now_s: float) -> tuple[bool, str]:
-        """Execute a JointTrajectory message; return (accepted, a line for the log)."""
+        """Execute a JointTrajectory message; return (accepted, a line for the log).
+
+        A message without points stops the arm where it is commanded now (`stop`), as an
+        empty trajectory stops ROS's joint_trajectory_controller: a sender that cannot
+        know where a moving arm is commanded when its message arrives stops it this way.
+        """
+        if not message.points:
+            self.stop(now_s, 'an empty trajectory asked to stop')
+            return True, 'stopping: an empty trajectory (holding where commanded now)'
         try:
             arrays = trajectory_arrays(message)
             duration = self.execute(arrays.joint_names, arrays.times_s, arrays.positions,

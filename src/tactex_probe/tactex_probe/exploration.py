@@ -5,7 +5,15 @@
 The caller feeds it joint states, IMU samples (accel with the Madgwick attitude) and
 barometer samples, all stamped, and calls `step(now_ns)` at its control rate; `step`
 returns events: a `Command` (a joint path to send to the arm, replacing what runs), a
-`Feedback`, a `Recorded` probe outcome, and at the end `Finished` with the pathway.
+`Stop` (the arm is to hold where its driver commands it), a `Feedback`, a `Recorded`
+probe outcome, and at the end `Finished` with the pathway.
+
+Commands reach the arm late, by an amount that varies (the bus, a loaded machine, a
+simulator catching up), so this core never knows exactly where a moving arm is commanded.
+A path that follows one that ended starts where that one ended; one that must cut a
+faster motion than a press short (a contact, a cancel) follows a `Stop`, and starts
+where the joint states then show the arm standing. So every path starts where the driver
+commands the arm, within its start tolerance, however late the commands arrive.
 The same core drives the simulator (`tactex_probe.simulation`) and the real arm
 (`probe_node`).
 
@@ -90,6 +98,10 @@ MOVING_CONTACT_N = 0.3
 MAX_BLOCKED_RETRIES = 2
 # After the arm stopped on a located contact, the contact must still hold this long (s).
 CONFIRM_S = 0.1
+# After a stop the arm stands still once no joint moved more than REST_MOTION_RAD in the
+# joint states of the last REST_S (s); the next path starts from there.
+REST_S = 0.2
+REST_MOTION_RAD = 0.0025
 # The tip touched first only if the tool leaned at least this far past the surface's tilt;
 # a point located with less lead (the measured normal tells) is located again.
 MIN_TIP_LEAD_RAD = math.radians(5.0)
@@ -191,6 +203,11 @@ class Command:
     """A joint path for the arm, to replace whatever it executes now."""
 
     path: JointPath
+
+
+@dataclass(frozen=True)
+class Stop:
+    """Stop the arm where its driver commands it when this arrives, and hold there."""
 
 
 @dataclass(frozen=True)
@@ -323,8 +340,10 @@ class Explorer:
         self._started_ns: int | None = None
         self._now_ns = 0
         self._stage_ns = 0
-        self._path: JointPath | None = None
+        self._path: JointPath | None = None  # None: the arm stands where it was stopped
         self._path_ns = 0
+        self._stop_ns: int | None = None  # a stop was sent then; the arm is not at rest yet
+        self._after_stop = None  # what to do once the arm stands still after that stop
         self._touch: _Touch | None = None
         self._touches: list[TouchResult] = []
         self._touch_events: list[ContactEvent] = []
@@ -393,13 +412,21 @@ class Explorer:
         self._events = []
         if not self._healthy(now_ns):
             return self._events
-        if self._cancel_requested and self._stage not in (_Stage.CANCELING, _Stage.START):
-            self._lift_to(now_ns, self._approach_height(), _Stage.CANCELING)
-        elif self._cancel_requested and self._stage is _Stage.START:
-            self._finish(now_ns, Outcome.CANCELED, 'canceled before the arm moved')
-            return self._events
         try:
-            getattr(self, f'_on_{self._stage.name.lower()}')(now_ns)
+            if self._stop_ns is not None:
+                if not self._at_rest():
+                    return self._events
+                after, self._stop_ns, self._after_stop = self._after_stop, None, None
+                if after is not None:
+                    after(now_ns)
+                    return self._events
+            if self._cancel_requested and self._stage not in (_Stage.CANCELING, _Stage.START):
+                self._stop(now_ns, lambda now: self._lift_to(now, self._approach_height(),
+                                                             _Stage.CANCELING))
+            elif self._cancel_requested and self._stage is _Stage.START:
+                self._finish(now_ns, Outcome.CANCELED, 'canceled before the arm moved')
+            else:
+                getattr(self, f'_on_{self._stage.name.lower()}')(now_ns)
         except PathUnreachable as err:
             self._finish(now_ns, Outcome.ABORTED, f'no way to move on: {err}')
         return self._events
@@ -411,6 +438,12 @@ class Explorer:
         if silent_s > self.config.joint_timeout_s * (1 if latest else 4):
             self._finish(now_ns, Outcome.ABORTED, f'no joint state for {silent_s:.2f} s (a '
                                                   'servo or the driver dropped out)')
+            return False
+        if self._stop_ns is not None and latest is not None and \
+                (now_ns - self._stop_ns) * 1e-9 > self.config.motion_timeout_s:
+            self._finish(now_ns, Outcome.ABORTED,
+                         f'the arm does not stop: it still moved '
+                         f'{(now_ns - self._stop_ns) * 1e-9:.1f} s after the stop was sent')
             return False
         if self._path is not None and latest is not None:
             late_s = (now_ns - self._path_ns) * 1e-9 - self._path.duration_s
@@ -442,7 +475,7 @@ class Explorer:
 
     def _on_moving(self, now_ns: int) -> None:
         if self._force_since(self._stage_ns) >= MOVING_CONTACT_N:
-            self._hold(now_ns)
+            self._stop(now_ns)
             self._set_stage(_Stage.BLOCKED, now_ns)
         elif self._motion_done(now_ns):
             self._hold(now_ns)
@@ -491,10 +524,10 @@ class Explorer:
     def _on_descending(self, now_ns: int) -> None:
         touch = self._touch
         if touch.event is not None and self._locating:
-            self._hold(now_ns)
+            self._stop(now_ns)
             self._set_stage(_Stage.CONFIRMING, now_ns)
         elif touch.event is not None:
-            self._press(now_ns)
+            self._stop(now_ns, self._press)
         elif self._motion_done(now_ns):
             if self._touches:
                 self._record_contact(now_ns, 'lost the surface on a repeated touch')
@@ -527,6 +560,9 @@ class Explorer:
                                  self._face_point())
             self._retract(now_ns)
         elif self._last_force_n >= target or self._motion_done(now_ns):
+            # At press speed a late command moves the arm too little to matter (4 mm/s
+            # for 1 s turns no joint by 0.1 rad), and pressed into the surface the joint
+            # states lag the commanded pose: hold where this core commanded it.
             self._hold(now_ns)
             self._set_stage(_Stage.SETTLING, now_ns)
 
@@ -783,8 +819,25 @@ class Explorer:
         self._set_stage(_Stage.PRESSING, now_ns)
 
     def _hold(self, now_ns: int) -> None:
-        """Stay where the arm is commanded to be now."""
+        """Stay where this core commands the arm now: its last path ended, or a press."""
         self._command(now_ns, hold_path(self._commanded_pose(now_ns), self._seed()))
+
+    def _stop(self, now_ns: int, after=None) -> None:
+        """Stop the arm where its driver commands it; `after(now_ns)` once it stands still.
+
+        Meanwhile no stage runs; from then on paths start where the joint states show the
+        arm (this core's model of a cut motion may be off by however late it arrived).
+        """
+        self._path, self._stop_ns, self._after_stop = None, now_ns, after
+        self._events.append(Stop())
+
+    def _at_rest(self) -> bool:
+        """True when the joint states of the last REST_S, all after the stop, stand still."""
+        latest = self.history.latest_joints
+        if latest is None or latest[0] - int(REST_S * 1e9) < self._stop_ns:
+            return False
+        joints = self.history.joints_between(latest[0] - int(REST_S * 1e9), latest[0])
+        return float(np.max(np.ptp(joints, axis=0))) < REST_MOTION_RAD
 
     def _lift_and_turn(self, now_ns: int, estimate: NormalEstimate, tilt: float) -> None:
         """Back off along the tool axis, turn to `tilt` about the contact, touch again."""

@@ -112,6 +112,10 @@ class SampleHistory:
         stream = self._joints
         return (stream.stamps[-1], stream.values[-1]) if stream.stamps else None
 
+    def joints_between(self, start_ns: int, end_ns: int) -> np.ndarray:
+        """The arm joints stamped within [start_ns, end_ns], (n, 4)."""
+        return np.asarray(self._joints.between(start_ns, end_ns)[1], dtype=float).reshape(-1, 4)
+
     def joints_at(self, stamps_ns) -> np.ndarray:
         """Arm joints linearly interpolated to `stamps_ns` (held beyond the ends), (n, 4)."""
         stamps = np.atleast_1d(np.asarray(stamps_ns, dtype=np.int64))

@@ -47,6 +47,7 @@ from tactex_probe.exploration import (
     Method,
     Outcome,
     Recorded,
+    Stop,
 )
 from tactex_probe.normals import quaternion_z_to
 from tactex_probe.pathway import (
@@ -267,6 +268,8 @@ class ProbeNode(TactexNode):
         for event in events:
             if isinstance(event, Command):
                 self._trajectory_pub.publish(trajectory_message(event.path))
+            elif isinstance(event, Stop):
+                self._trajectory_pub.publish(stop_message())
             elif isinstance(event, Feedback):
                 self._goal_handle.publish_feedback(feedback_message(event))
             elif isinstance(event, Recorded):
@@ -387,6 +390,11 @@ def feedback_message(feedback: Feedback) -> Probe.Feedback:
     if feedback.last_record is not None:
         message.last_contact = contact_message(feedback.last_record)
     return message
+
+
+def stop_message() -> JointTrajectory:
+    """The arm trajectory without points: the driver stops where it commands the arm now."""
+    return JointTrajectory(joint_names=list(ARM_JOINT_NAMES))
 
 
 def trajectory_message(path) -> JointTrajectory:

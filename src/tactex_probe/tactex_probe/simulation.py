@@ -5,15 +5,17 @@
 `run_probe` wires an `Explorer` to a `tactex_sim` world the way the nodes wire it to the
 robot: the world's samples go through the Madgwick filter (as madgwick_node does), its
 joints through the driver's `ArmController` (the trajectory semantics of the driver and
-the simulator bridge), and every `Command` replaces the running trajectory. Faults
-(NaN samples, noise bursts, a servo dropping out) are injected on the way. The result
-holds the pathway and the ground truth it is scored against (`score`).
+the simulator bridge), every `Command` replaces the running trajectory and a `Stop`
+stops it. Faults (NaN samples, noise bursts, a servo dropping out, commands that reach
+the arm late) are injected on the way. The result holds the pathway and the ground truth
+it is scored against (`score`).
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
+import itertools
 import math
 
 import numpy as np
@@ -29,6 +31,7 @@ from tactex_probe.exploration import (
     Feedback,
     Finished,
     Phase,
+    Stop,
 )
 from tactex_probe.motion import PathUnreachable, solve, ToolPose
 from tactex_probe.normals import angle_between
@@ -56,12 +59,16 @@ class Faults:
         cancel_in_phase: the goal is canceled once the explorer has been in this phase
             for `cancel_delay_s` (None: never).
         cancel_delay_s: see `cancel_in_phase`.
+        command_delays_s: how late the arm takes each command, in turn (cycled, never
+            before a command sent earlier): the latency of the way to the arm, which
+            varies; (): at once.
     """
 
     perturb: Callable[[Sample], Sample] | None = None
     servo_dropout_s: float = math.inf
     cancel_in_phase: Phase | None = None
     cancel_delay_s: float = 0.0
+    command_delays_s: tuple[float, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -144,6 +151,8 @@ def run_probe(scene: Scene, parameters: ProbeParameters,
     previous_s = None
     canceled = False
     phase_since_s = 0.0
+    pending: list = []  # (when the arm takes it, command), in the order sent
+    delays = itertools.cycle(faults.command_delays_s or (0.0,))
     while explorer.finished is None:
         sample = world.next_sample()
         now_s = sample.time_s
@@ -167,15 +176,13 @@ def run_probe(scene: Scene, parameters: ProbeParameters,
             explorer.cancel()
             canceled = True
         for event in explorer.step(now_ns):
-            if isinstance(event, Command):
-                path = event.path
-                try:
-                    controller.execute(ARM_JOINT_NAMES, path.times_s.tolist(),
-                                       path.joints.tolist(), [], now_s)
-                except TrajectoryRejected as err:
-                    rejected.append(f'{now_s:.3f} s: {err}')
+            if isinstance(event, Command | Stop):
+                due_s = max(now_s + next(delays), pending[-1][0] if pending else 0.0)
+                pending.append((due_s, event))
             elif isinstance(event, Feedback):
                 feedback.append(event)
+        while pending and pending[0][0] <= now_s + 1e-9:
+            _take(controller, pending.pop(0)[1], now_s, rejected)
         truth = sample.truth
         trace.append((now_s, *truth.edge_position, sample.pressure, *truth.sensor_quaternion,
                       float(truth.contact.touching)))
@@ -186,6 +193,20 @@ def run_probe(scene: Scene, parameters: ProbeParameters,
     return ProbeRun(explorer.finished, world.time_s - start_s, tuple(feedback), scene.surface,
                     tuple(rejected), world.joint_positions()[:len(ARM_JOINT_NAMES)],
                     dict(explorer.measurements), np.asarray(trace))
+
+
+def _take(controller: ArmController, command: Command | Stop, now_s: float,
+          rejected: list[str]) -> None:
+    """The arm takes a command at `now_s`; a refusal is kept in `rejected`."""
+    if isinstance(command, Stop):
+        controller.stop(now_s)
+        return
+    path = command.path
+    try:
+        controller.execute(ARM_JOINT_NAMES, path.times_s.tolist(), path.joints.tolist(), [],
+                           now_s)
+    except TrajectoryRejected as err:
+        rejected.append(f'{now_s:.3f} s: {err}')
 
 
 @dataclass(frozen=True)

@@ -38,9 +38,6 @@ from tactex_sim.scene import load_scene, resolve_scene
 from tactex_sim.textures import texture as find_texture
 from tactex_sim.world import MAX_RATE_FACTOR, Sample, World
 
-MAX_SAMPLES_PER_TICK = 50
-
-
 # The rclpy classes of the types the simulator emits.
 MESSAGE_CLASSES = {'sensor_msgs/msg/Imu': Imu, 'sensor_msgs/msg/MagneticField': MagneticField,
                    'sensor_msgs/msg/FluidPressure': FluidPressure,
@@ -115,8 +112,10 @@ class MujocoBridgeNode(TactexNode):
         self.create_service(Trigger, 'arm/stop', self._on_stop)
         self.create_service(SetBool, 'arm/torque', self._on_torque)
         self._wall_start = time.monotonic()
-        period = self._world.period_s / self._rate_factor if self._rate_factor else 0.001
-        self.create_timer(min(period, 0.01), self._tick)
+        # Twice the sample rate, one sample a tick: a simulator that fell behind catches up
+        # at up to twice the rate, and an arm command waits at most one sample.
+        period = self._world.period_s / self._rate_factor if self._rate_factor else 0.0
+        self.create_timer(period / 2, self._tick)
         self.get_logger().info(f'scene {scene.name!r}, effects {list(scene.effects)}, '
                                f'{scene.sensor_rate_hz:g} Hz, rate factor {self._rate_factor}')
 
@@ -142,13 +141,17 @@ class MujocoBridgeNode(TactexNode):
         return self._world.joint_positions() if goal is None else goal
 
     def _tick(self) -> None:
+        """Take the next sample when it is due (one a tick, so commands apply in between).
+
+        A burst of samples in one callback would run the arm on its old trajectory through
+        all of them while a newer command waits: 50 samples were 0.42 s of simulated time,
+        which put the probe node's model of the commanded arm out by as much.
+        """
         if self._rate_factor:
             target = (time.monotonic() - self._wall_start) * self._rate_factor
         else:
             target = math.inf
-        for _ in range(MAX_SAMPLES_PER_TICK):
-            if self._world.time_s + self._world.period_s > target:
-                break
+        if self._world.time_s + self._world.period_s <= target:
             sample = self._world.next_sample()
             self._controller.update_measured(self._world.joint_positions())
             self._publish(sample)
