@@ -24,6 +24,9 @@ import shutil
 import sys
 
 from tactex.errors import CommandError
+from tactex_classify.catalog import MAX_EPOCHS
+from tactex_classify.checkpoint import MAX_WINDOW
+from tactex_common.constants import MAX_SEED
 
 
 def integer(minimum: int, maximum: int | None = None) -> Callable[[str], int]:
@@ -65,6 +68,15 @@ def number(*, above: float | None = 0.0, at_least: float | None = None,
     parse.__name__ = 'number'
     return parse
 
+
+# Whole numbers that size memory or time, each bounded (the limit is in the error).
+seed_value = integer(0, MAX_SEED)
+epoch_count = integer(1, MAX_EPOCHS)
+patience_epochs = integer(0, MAX_EPOCHS)
+window_samples = integer(2, MAX_WINDOW)
+hop_samples = integer(1, MAX_WINDOW)
+fold_count = integer(2, 1000)
+trial_id = integer(0, 2**32 - 1)  # uint32, as the Sweep goal carries it
 
 RAY_ADDRESS = re.compile(r'^(ray://)?[A-Za-z0-9_.\-\[\]:]+:\d{1,5}$')
 

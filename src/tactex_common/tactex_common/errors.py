@@ -1,6 +1,6 @@
 # Copyright 2026 The tactex authors
 # SPDX-License-Identifier: Apache-2.0
-"""Errors of the shared plumbing: unreadable tables, links that are not ours to replace."""
+"""Errors of the shared plumbing: unreadable tables and files, links not ours to replace."""
 
 
 class CommonError(Exception):
@@ -9,6 +9,10 @@ class CommonError(Exception):
 
 class TableError(CommonError, ValueError):
     """A text table (CSV) cannot be read; the message names the file and, where known, line."""
+
+
+class RefusedFileError(CommonError, OSError):
+    """A path given as a file is no regular file (a FIFO, device, folder) or is too large."""
 
 
 class LinkError(CommonError, OSError):
