@@ -282,7 +282,7 @@ BAD_INPUTS = {
              '{w}/bagsout'),
         Case('sim collect --out {w}/bagsout --scene {w}/scenes/binary.toml', 'not valid TOML',
              '{w}/bagsout'),
-        Case('sim collect --out {w}/bagsout --scene {w}/folder', 'is a folder; give a .toml',
+        Case('sim collect --out {w}/bagsout --scene {w}/folder', 'is a folder, not a regular file',
              '{w}/bagsout'),
         Case('sim collect --out {w}/bagsout --scene {w}/scenes/standing.toml',
              'speed_m_s and contact_s must be > 0', '{w}/bagsout'),

@@ -97,11 +97,10 @@ def test_a_checkpoint_with_a_foreign_pickle_payload_is_refused(tmp_path):
 
 
 def rehash(folder, change=None):
-    """Make checkpoint.json's checksums fit again: to the model file as it is now, or to
-    checkpoint.json with `change` applied.
+    """Make checkpoint.json's checksums fit the model file, or checkpoint.json changed.
 
-    What an attacker would do: whatever gets past the checksums must still be refused by
-    the loader itself.
+    With `change`, checkpoint.json is rewritten as `change(meta)`. What an attacker would
+    do: whatever gets past the checksums must still be refused by the loader itself.
     """
     meta = json.loads((folder / 'checkpoint.json').read_text())
     if change is None:

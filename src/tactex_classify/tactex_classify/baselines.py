@@ -24,10 +24,11 @@ from sklearn.ensemble import ExtraTreesClassifier
 from sklearn.linear_model import RidgeClassifierCV
 from sklearn.preprocessing import StandardScaler
 
-from tactex_classify.checkpoint import Deployable, restore_fitted
+from tactex_classify.checkpoint import Deployable, MAX_MODEL_BYTES, restore_fitted
 from tactex_classify.classifier import channel_names, ChannelScaler, check_windows, softmax
 from tactex_classify.errors import CheckpointError, NotFittedError
 from tactex_common.constants import MAX_SEED
+from tactex_common.files import check_npz_sizes, open_regular
 
 KERNELS = np.array(list(combinations(range(9), 3)))  # positions of the +2 weights
 GOLDEN = (np.sqrt(5.0) - 1.0) / 2.0
@@ -300,7 +301,9 @@ def read_arrays(info, names: tuple[str, ...]) -> dict[str, np.ndarray]:
     """
     import zipfile
     try:
-        with np.load(info.model_file, allow_pickle=False) as npz:
+        with open_regular(info.model_file, max_bytes=MAX_MODEL_BYTES) as handle, \
+                np.load(handle, allow_pickle=False) as npz:
+            check_npz_sizes(npz, MAX_MODEL_BYTES, info.model_file)
             arrays = {name: npz[name] for name in names}
     except KeyError as err:
         raise CheckpointError(f'{info.folder}: {info.model_file.name} lacks {err}') from None

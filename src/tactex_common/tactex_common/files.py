@@ -6,12 +6,15 @@ Opening a FIFO for reading blocks until a writer comes, and a device or a folder
 file: `open_regular` looks at what a path is before opening it (and again at what it
 opened), and refuses anything but a regular file of at most `max_bytes`. The readers
 below all go through it; `load_json` also refuses nesting deeper than `max_depth`
-before parsing (Python's parser would recurse once per level).
+before parsing (Python's parser would recurse once per level), and `check_npz_sizes`
+refuses arrays of an .npz whose headers promise more than `max_bytes` before any is read
+(a compressed member can expand a thousandfold).
 """
 
 from __future__ import annotations
 
 import json
+import math
 import os
 from pathlib import Path
 import re
@@ -109,6 +112,27 @@ def json_depth(text: str) -> int:
         elif mark in (']', '}'):
             depth -= 1
     return deepest
+
+
+def check_npz_sizes(npz, max_bytes: int, source: Path | str) -> None:
+    """Refuse an open `numpy.load` .npz whose arrays would take more than `max_bytes`.
+
+    Raises:
+        ValueError: a member is not an .npy array.
+        RefusedFileError: the arrays' headers add up to more than `max_bytes`.
+    """
+    import numpy as np
+    total = 0
+    for member in npz.zip.infolist():
+        with npz.zip.open(member) as stream:
+            version = np.lib.format.read_magic(stream)
+            read_header = (np.lib.format.read_array_header_1_0 if version == (1, 0)
+                           else np.lib.format.read_array_header_2_0)
+            shape, _, dtype = read_header(stream)
+        total += math.prod(shape) * dtype.itemsize
+    if total > max_bytes:
+        raise RefusedFileError(f'{source}: its arrays would take {total} bytes, more than the '
+                               f'{max_bytes} bytes read: refused')
 
 
 def _check_mode_and_size(path, info: os.stat_result, max_bytes: int | None) -> None:
