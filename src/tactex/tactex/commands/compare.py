@@ -94,6 +94,9 @@ def run(args: argparse.Namespace) -> int:
     if args.address and args.cpus:
         raise CommandError("--cpus caps a local Ray instance; a cluster's cores are set where "
                            'its nodes start (ray start --num-cpus): drop --cpus or --address')
+    if args.address:
+        from tactex_common.cluster import check_reachable
+        check_reachable(args.address)  # before anything is written
     store = GridStore(args.out)
     check_grid_folder(store)
     settings = GridSettings(folds=args.folds, epochs=args.epochs,
