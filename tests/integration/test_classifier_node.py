@@ -81,7 +81,7 @@ def test_a_malicious_checkpoint_is_refused_and_nothing_in_it_runs(checkpoints, t
 
     import torch
 
-    from tactex_classify.checkpoint import sha256
+    from tactex_classify.checkpoint import CHECKSUM_FIELD, metadata_sha256, sha256
     folder = shutil.copytree(checkpoints / 'cnn', tmp_path / 'cnn')
     marker = tmp_path / 'pwned'
 
@@ -91,6 +91,7 @@ def test_a_malicious_checkpoint_is_refused_and_nothing_in_it_runs(checkpoints, t
     torch.save({'weights': Payload()}, folder / 'weights.pt')
     meta = json.loads((folder / 'checkpoint.json').read_text())
     meta['files'] = {'weights.pt': sha256(folder / 'weights.pt')}
+    meta[CHECKSUM_FIELD] = metadata_sha256(meta)
     (folder / 'checkpoint.json').write_text(json.dumps(meta))
     process = start_node(folder)
     output = process.communicate(timeout=60)[0]

@@ -148,6 +148,18 @@ def test_sweep_slides_in_contact_and_records_one_labelled_bag(harness):
     assert len(recording.stamps_ns) > 100
 
 
+def test_a_goal_that_cannot_be_executed_is_aborted_with_the_reason(harness):
+    from action_msgs.msg import GoalStatus
+    handle = harness.send(pathway=pathway_message(0.10, 0.11), sliding_speed=0.015,
+                          edge_offset_angle=0.35, press_depth=0.0015, label='wood', trial=1)
+    assert handle.accepted
+    outcome = wait(handle.get_result_async(), 30)
+    assert outcome.status == GoalStatus.STATUS_ABORTED
+    assert outcome.result.message.startswith('not planned: the path is')
+    assert 'probe a longer pathway or slide slower' in outcome.result.message
+    assert not harness.metadata, 'a refused goal must not start a recording'
+
+
 def test_cancel_mid_sweep_lifts_the_edge_off_before_stopping(harness):
     from action_msgs.msg import GoalStatus
     handle = harness.send(pathway=pathway_message(0.10, 0.20), sliding_speed=0.015,

@@ -9,8 +9,10 @@ binary and empty files, datasets good and bad, bags, CSV and MUN trees, scenes.
 """
 
 import json
+import os
 from pathlib import Path
 import pickle
+import shutil
 
 from bagfactory import ramp, write_bag
 import numpy as np
@@ -106,7 +108,37 @@ def make_workspace(w: Path) -> Path:
         w / 'minirocket', hop=16, sampling_rate_hz=100.0)
     (w / 'corrupt_checkpoint').mkdir()
     (w / 'corrupt_checkpoint' / 'checkpoint.json').write_bytes(b'\xff\xfe\x00garbage')
+    make_lying_files(w)
     return w
+
+
+def make_lying_files(w: Path) -> None:
+    """Special files where files are expected, links as outputs, files that lie."""
+    for name in ('fifo.npz', 'fifo.toml', 'fifo.urdf', 'fifo.csv'):
+        os.mkfifo(w / name)  # opening one for reading would wait for a writer
+    shutil.copy(w / 'data.json', w / 'fifo.json')
+    shutil.copy(w / 'data.npz', w / 'fifo_sidecar.npz')
+    os.mkfifo(w / 'fifo_sidecar.json')
+    (w / 'fifocsv' / 'wood').mkdir(parents=True)
+    os.mkfifo(w / 'fifocsv' / 'wood' / 'a.csv')
+    shutil.copytree(w / 'bags' / 'wood_0000', w / 'fifobag' / 'wood_0000')
+    (w / 'fifobag' / 'wood_0000' / 'wood_0000.mcap').unlink()
+    os.mkfifo(w / 'fifobag' / 'wood_0000' / 'wood_0000.mcap')
+    shutil.copytree(w / 'minirocket', w / 'fifo_checkpoint')
+    (w / 'fifo_checkpoint' / 'weights.npz').unlink()
+    os.mkfifo(w / 'fifo_checkpoint' / 'weights.npz')
+    shutil.copytree(w / 'minirocket', w / 'swapped_checkpoint')
+    meta = json.loads((w / 'minirocket' / 'checkpoint.json').read_text())
+    meta['classes'][:2] = meta['classes'][1::-1]
+    (w / 'swapped_checkpoint' / 'checkpoint.json').write_text(json.dumps(meta))
+    shutil.copytree(w / 'minirocket', w / 'nested_checkpoint')
+    (w / 'nested_checkpoint' / 'checkpoint.json').write_text('[' * 100_000 + ']' * 100_000)
+    (w / 'link').symlink_to(w / 'folder')
+    (w / 'dangling.onnx').symlink_to(w / 'nowhere.onnx')
+    scene = STANDING_SCENE.replace('speed_m_s = 0.0', 'speed_m_s = 0.015')
+    (w / 'scenes' / 'huge_cells.toml').write_text(
+        scene.replace('kind = "flat"', 'kind = "flat"\ncells = [100000, 100000]'))
+    (w / 'scenes' / 'long_contact.toml').write_text(scene + 'contact_s = 1e7\n')
 
 
 OUT_NPZ = '{w}/o.npz'
@@ -129,9 +161,9 @@ BAD_INPUTS = {
         Case('convert {w}/bags --out {w}/readonly/o.npz', '--out .*is not writable',
              '{w}/readonly/o.npz', needs_non_root=True),
         Case('convert {w}/bags --out {w}/o.npz --window 0', 'argument --window: must be a '
-             'whole number >= 2', OUT_NPZ),
+             'whole number in 2..65536', OUT_NPZ),
         Case('convert {w}/bags --out {w}/o.npz --window ten', 'argument --window: must be a '
-             "whole number >= 2, got 'ten'", OUT_NPZ),
+             "whole number in 2..65536, got 'ten'", OUT_NPZ),
         Case('convert {w}/bags --out {w}/o.npz --hop 0', 'argument --hop', OUT_NPZ),
         Case('convert {w}/bags --out {w}/o.npz --window 10 --hop 20', '--hop 20 is longer than '
              '--window 10', OUT_NPZ),
@@ -152,6 +184,12 @@ BAD_INPUTS = {
              'be non-empty text', OUT_NPZ),
         Case('convert {w}/bags --out {w}/o.npz --window 1000', 'no windows: .*shorter than '
              'one window', OUT_NPZ),
+        Case('convert {w}/bags --out {w}/o.npz --window 1000000000000', 'argument --window: '
+             'must be a whole number in 2..65536', OUT_NPZ),
+        Case('convert {w}/bags --out {w}/o.npz --trial 100000000000', 'argument --trial: must '
+             'be a whole number in 0..4294967295', OUT_NPZ),
+        Case('convert {w}/fifobag --out {w}/o.npz', r'wood_0000.mcap is a FIFO \(named pipe\), '
+             'not a regular file', OUT_NPZ),
     ],
     'train': [
         Case('train {w}/nothing.npz --out {w}/run', 'need .*nothing.npz and its sidecar',
@@ -159,7 +197,7 @@ BAD_INPUTS = {
         Case('train {w}/garbage.npz --out {w}/run', 'garbage.npz is not a tactex dataset',
              '{w}/run'),
         Case('train {w}/data.npz --out {w}/run --epochs 0', 'argument --epochs: must be a whole '
-             'number >= 1', '{w}/run'),
+             'number in 1..100000', '{w}/run'),
         Case('train {w}/data.npz --out {w}/run --folds 1', 'argument --folds', '{w}/run'),
         Case('train {w}/data.npz --out {w}/run --folds 50', '--folds 50 needs at least 50 '
              'recordings.*lower --folds', '{w}/run'),
@@ -176,6 +214,18 @@ BAD_INPUTS = {
              'folder', '{w}/text.txt'),
         Case('train {w}/data.npz --out {w}/full', '--out .*full already holds files; choose a '
              'new folder', '{w}/full'),
+        Case('train {w}/data.npz --out {w}/link', '--out .*link is a symbolic link .*give the '
+             'path itself', '{w}/link'),
+        Case('train {w}/data.npz --out /sys/tactex-run', r'--out /sys/tactex-run: /sys is not '
+             r'writable \(Operation not permitted\)'),
+        Case('train {w}/data.npz --out {w}/run --seed 100000000000000000000', 'argument --seed: '
+             'must be a whole number in 0..4294967295', '{w}/run'),
+        Case('train {w}/data.npz --out {w}/run --epochs 1000000000', 'argument --epochs: must '
+             'be a whole number in 1..100000', '{w}/run'),
+        Case('train {w}/fifo.npz --out {w}/run', r'fifo.npz is a FIFO \(named pipe\), not a '
+             'regular file', '{w}/run'),
+        Case('train {w}/fifo_sidecar.npz --out {w}/run', 'fifo_sidecar.json is a FIFO',
+             '{w}/run'),
     ],
     'compare': [
         Case('compare --out {w}/g', 'the following arguments are required: DATA'),
@@ -197,6 +247,10 @@ BAD_INPUTS = {
              'whole number in 2', '{w}/g'),
         Case('compare {w}/data.npz --out {w}/g --windows 32,32', 'names a window twice',
              '{w}/g'),
+        Case('compare {w}/data.npz --out {w}/g --windows 1000000000000', 'argument --windows: '
+             'must be a whole number in 2..65536', '{w}/g'),
+        Case('compare {w}/data.npz --out {w}/link', '--out .*link is a symbolic link',
+             '{w}/link'),
         Case('compare {w}/data.npz --out {w}/g --windows 64', '--windows 64: no dataset of that '
              r'window in DATA \(they have 32\)', '{w}/g'),
         Case('compare {w}/data.npz --out {w}/g --folds 1', 'argument --folds', '{w}/g'),
@@ -217,6 +271,9 @@ BAD_INPUTS = {
              'no usable GPU', '{w}/g'),
         Case('compare {w}/data.npz --out {w}/g --address nohost', 'argument --address: must be '
              'HOST:PORT', '{w}/g'),
+        Case('compare {w}/data.npz --out {w}/g --address 127.0.0.1:1', 'cannot reach Ray at '
+             '127.0.0.1:1: Connection refused; start the head with `ray start --head`',
+             '{w}/g'),
         Case('compare {w}/data.npz --out {w}/g --address 10.0.0.1:6379 --cpus 2', '--cpus caps '
              'a local Ray instance', '{w}/g'),
         Case('compare {w}/data.npz --out {w}/grid --folds 2 --epochs 4', r'grid was started '
@@ -242,6 +299,14 @@ BAD_INPUTS = {
              '{w}/folder'),
         Case('export {w}/minirocket --onnx --out {w}/m.txt', '--out .*must end in .onnx',
              '{w}/m.txt'),
+        Case('export {w}/minirocket --onnx --out {w}/dangling.onnx', '--out .*dangling.onnx is a '
+             'symbolic link', '{w}/dangling.onnx'),
+        Case('export {w}/swapped_checkpoint --onnx', 'checkpoint.json does not match its '
+             'metadata_sha256: edited or corrupt', '{w}/swapped_checkpoint/model.onnx'),
+        Case('export {w}/nested_checkpoint --onnx', 'JSON nested 100000 levels deep; at most 16',
+             '{w}/nested_checkpoint/model.onnx'),
+        Case('export {w}/fifo_checkpoint --onnx', r'refused weights.npz: .*is a FIFO \(named '
+             r'pipe\), not a regular file', '{w}/fifo_checkpoint/model.onnx'),
     ],
     'import': [
         Case('import csv {w}/good --out {w}/o.npz', 'csv needs --rate HZ', OUT_NPZ),
@@ -275,6 +340,10 @@ BAD_INPUTS = {
         Case('import mun {w}/folder --out {w}/o.npz', r'no pickles_\*/texture_', OUT_NPZ),
         Case('import mun {w}/mun --out {w}/folder', '--out .*folder is a folder', '{w}/folder'),
         Case('import xls {w}/good --out {w}/o.npz', 'argument kind: invalid choice', OUT_NPZ),
+        Case('import csv {w}/fifocsv --out {w}/o.npz --rate 9 --columns pdc',
+             r'a.csv is a FIFO \(named pipe\), not a regular file', OUT_NPZ),
+        Case('import csv {w}/good --out {w}/o.npz --rate 9 --columns pdc --window 70000',
+             'argument --window: must be a whole number in 2..65536', OUT_NPZ),
     ],
     'sim': [
         Case('sim collect --out {w}/bagsout --sweeps 0', 'argument --sweeps', '{w}/bagsout'),
@@ -282,7 +351,7 @@ BAD_INPUTS = {
              '{w}/bagsout'),
         Case('sim collect --out {w}/bagsout --scene {w}/scenes/binary.toml', 'not valid TOML',
              '{w}/bagsout'),
-        Case('sim collect --out {w}/bagsout --scene {w}/folder', 'is a folder; give a .toml',
+        Case('sim collect --out {w}/bagsout --scene {w}/folder', 'is a folder, not a regular file',
              '{w}/bagsout'),
         Case('sim collect --out {w}/bagsout --scene {w}/scenes/standing.toml',
              'speed_m_s and contact_s must be > 0', '{w}/bagsout'),
@@ -292,6 +361,14 @@ BAD_INPUTS = {
         Case('sim collect --out {w}/full', '--out .*already holds files', '{w}/full'),
         Case('sim', 'the following arguments are required: ACTION'),
         Case('sim collect --out {w}/bagsout --workers 0', 'argument --workers', '{w}/bagsout'),
+        Case('sim collect --out {w}/bagsout --scene {w}/fifo.toml', r'fifo.toml is a FIFO '
+             r'\(named pipe\), not a regular file', '{w}/bagsout'),
+        Case('sim collect --out {w}/bagsout --scene {w}/scenes/huge_cells.toml', 'cells '
+             r'\[100000, 100000\] make 10000000000 heightfield cells; at most 1000000',
+             '{w}/bagsout'),
+        Case('sim collect --out {w}/bagsout --scene {w}/scenes/long_contact.toml',
+             'contact_s must be <= 60 s, got 10000000.0', '{w}/bagsout'),
+        Case('sim collect --out {w}/link', '--out .*link is a symbolic link', '{w}/link'),
         Case('sim collect --out {w}/bagsout --address nohost', 'argument --address: must be '
              'HOST:PORT', '{w}/bagsout'),
     ],
@@ -301,6 +378,7 @@ BAD_INPUTS = {
         Case('record --out {w}/rec --split-s 0', 'argument --split-s', '{w}/rec'),
         Case('record --out {w}/rec --split-s nan', 'argument --split-s', '{w}/rec'),
         Case('record --out {w}/rec --trial -5', 'argument --trial', '{w}/rec'),
+        Case('record --out {w}/link', '--out .*link is a symbolic link', '{w}/link'),
         Case('record --out {w}/rec --meta novalue', "--meta 'novalue' is not KEY=VALUE",
              '{w}/rec'),
         Case('record --out {w}/rec --meta label=x', 'give label with --label', '{w}/rec'),
@@ -328,6 +406,10 @@ BAD_INPUTS = {
              '{w}/l'),
         Case('emulate teensy --link {w}/l --replay {w}/folder', '--replay .*folder is a folder',
              '{w}/l'),
+        Case('emulate teensy --link {w}/l --replay {w}/fifo.csv', r'--replay .*fifo.csv is a '
+             r'FIFO \(named pipe\), not a regular file', '{w}/l'),
+        Case('emulate teensy --link {w}/l --seed 100000000000', 'argument --seed: must be a '
+             'whole number in 0..4294967295', '{w}/l'),
         Case('emulate teensy --link {w}/l --replay {w}/good/wood/a.csv', '--replay: .*missing '
              'column', '{w}/l'),
         Case('emulate dynamixel --link {w}/l --fault silence@1:99', r'servo\(s\) \[99\], not '
@@ -346,6 +428,10 @@ BAD_INPUTS = {
         Case('description --check-urdf {w}/nothing.urdf', '--check-urdf .*does not exist'),
         Case('description --check-urdf {w}/binary.bin', '--check-urdf .*not a text file'),
         Case('description --check-urdf {w}/folder', '--check-urdf .*folder is a folder'),
+        Case('description --check-urdf {w}/fifo.urdf', r'--check-urdf .*fifo.urdf is a FIFO '
+             r'\(named pipe\), not a regular file'),
+        Case('description --write-urdf {w}/dangling.onnx', '--write-urdf .*dangling.onnx is a '
+             'symbolic link', '{w}/dangling.onnx'),
         Case('description --check-urdf {w}/text.txt', 'is stale; regenerate it with `make '
              'urdf`'),
     ],
@@ -362,6 +448,12 @@ BAD_INPUTS = {
         Case('report accuracy-time --out {w}/report --threads 0', 'argument --threads',
              '{w}/report'),
         Case('report accuracy-time --out {w}/report --seed -1', 'argument --seed', '{w}/report'),
+        Case('report accuracy-time --out {w}/report --seed 100000000000000000000', 'argument '
+             '--seed: must be a whole number in 0..4294967295', '{w}/report'),
+        Case('report accuracy-time --out {w}/report --epochs 1000000000', 'argument --epochs: '
+             'must be a whole number in 1..100000', '{w}/report'),
+        Case('report accuracy-time --out {w}/link --quick', '--out .*link is a symbolic link',
+             '{w}/link'),
         Case('report accuracy-time --out {w}/report --epochs 0', 'argument --epochs',
              '{w}/report'),
         Case('report accuracy-time --out {w}/report --quick=yes', 'ignored explicit argument',

@@ -13,7 +13,7 @@ import re
 import subprocess
 import sys
 
-from badinputs import BAD_INPUTS, make_workspace
+from badinputs import BAD_INPUTS, make_workspace, toy_dataset
 import pytest
 
 from tactex.cli import main
@@ -131,3 +131,18 @@ def run_console_script(argv):
     result = subprocess.run([str(TACTEX), *argv], capture_output=True, text=True, timeout=120,
                             stdin=subprocess.DEVNULL)
     return result.returncode, result.stdout, result.stderr
+
+
+def test_compare_with_an_address_nothing_answers_at_ends_in_one_error(tmp_path):
+    # It used to wait more than 180 s inside Ray's client, deaf to SIGTERM; the timeout
+    # only guards the test.
+    data = toy_dataset(3).save(tmp_path / 'data.npz')
+    result = subprocess.run([str(TACTEX), 'compare', str(data),
+                             '--out', str(tmp_path / 'grid'), '--address', '127.0.0.1:1'],
+                            capture_output=True, text=True, timeout=120,
+                            stdin=subprocess.DEVNULL)
+    assert result.returncode == 1, result.stderr
+    assert result.stderr.strip() == ('error: cannot reach Ray at 127.0.0.1:1: Connection '
+                                     'refused; start the head with `ray start --head` and give '
+                                     'the address it prints')
+    assert not (tmp_path / 'grid').exists()

@@ -153,8 +153,7 @@ def test_a_skops_file_with_foreign_types_is_refused_before_anything_runs(saved, 
 def test_a_malformed_baseline_checkpoint_names_what_is_wrong(saved, tmp_path, change, message):
     import shutil
     folder = shutil.copytree(saved[2]['minirocket'], tmp_path / 'mr')
-    meta = json.loads((folder / 'checkpoint.json').read_text())
-    (folder / 'checkpoint.json').write_text(json.dumps(change(meta)))
+    rehash(folder, change)
     with pytest.raises(CheckpointError, match=message):
         load_checkpoint(folder)
 
@@ -178,3 +177,109 @@ def test_train_keeps_a_deployable_baseline_and_export_writes_its_onnx(tmp_path, 
         assert 'runtime:=onnxruntime' in capsys.readouterr().out
     else:
         assert code == 1 and 'no ONNX form' in capsys.readouterr().err
+
+
+def swap_first_two_classes(meta):
+    return {**meta, 'classes': [meta['classes'][1], meta['classes'][0], *meta['classes'][2:]]}
+
+
+EDITS = {  # each would change what the model does, and each used to load
+    'swapped class names': swap_first_two_classes,
+    'one class more': lambda meta: {**meta, 'classes': [*meta['classes'], 'extra']},
+    'window 64': lambda meta: {**meta, 'window': 64},
+    'rate 1e300': lambda meta: {**meta, 'sampling_rate_hz': 1e300},
+    'another scaler': lambda meta: {**meta, 'config': {**meta['config'], 'seed': 5}},
+}
+
+
+@pytest.mark.parametrize('edit', EDITS.values(), ids=EDITS.keys())
+@pytest.mark.parametrize('kind', ['deep', 'extratrees'])
+def test_any_edit_of_checkpoint_json_fails_its_checksum(saved, tmp_path, kind, edit):
+    import shutil
+    folder = shutil.copytree(saved[2][kind], tmp_path / kind)
+    meta = json.loads((folder / 'checkpoint.json').read_text())
+    (folder / 'checkpoint.json').write_text(json.dumps(edit(meta), indent=2))
+    with pytest.raises(CheckpointError, match='checkpoint.json does not match its '
+                                              'metadata_sha256: edited or corrupt'):
+        load_checkpoint(folder)
+
+
+def test_export_of_a_checkpoint_with_swapped_classes_fails(saved, tmp_path, capsys):
+    import shutil
+    folder = shutil.copytree(saved[2]['extratrees'], tmp_path / 'et')
+    meta = json.loads((folder / 'checkpoint.json').read_text())
+    (folder / 'checkpoint.json').write_text(json.dumps(swap_first_two_classes(meta)))
+    assert main(['export', str(folder), '--onnx', '--out', str(tmp_path / 'm.onnx')]) == 1
+    assert 'does not match its metadata_sha256' in capsys.readouterr().err
+    assert not (tmp_path / 'm.onnx').exists()
+
+
+def test_a_checkpoint_of_format_2_is_refused_with_what_to_do(saved, tmp_path):
+    import shutil
+    folder = shutil.copytree(saved[2]['minirocket'], tmp_path / 'mr')
+    rehash(folder, lambda meta: {k: v for k, v in {**meta, 'format_version': 2}.items()
+                                 if k != 'metadata_sha256'})
+    with pytest.raises(CheckpointError, match='format version 3 .*got 2.*before checkpoint.json '
+                                              'carried its own checksum; retrain with `tactex '
+                                              'train`'):
+        load_checkpoint(folder)
+
+
+@pytest.mark.parametrize('kind, change, message', [
+    ('extratrees', lambda m: {**m, 'sampling_rate_hz': 1e300},
+     r'sampling_rate_hz must be a finite number in 0.01..100000 Hz, got 1e\+300'),
+    ('extratrees', lambda m: {**m, 'window': 10**12}, 'window must be <= 65536 samples'),
+    ('minirocket', lambda m: {**m, 'channels': [f'c{i}' for i in range(65)]},
+     'channels must be at most 64'),
+    ('minirocket', lambda m: {**m, 'classes': [f'c{i}' for i in range(1001)]},
+     'classes must be at most 1000'),
+    ('extratrees', lambda m: {**m, 'classes': m['classes'][:2]}, 'not a forest of 20 trees '
+                                                                 'over .* of 2 classes'),
+    ('extratrees', lambda m: {**m, 'config': {'trees': 21, 'seed': 0}}, 'not a forest of 21'),
+    ('extratrees', lambda m: {**m, 'config': {'trees': 10**9, 'seed': 0}},
+     r'config trees must be a whole number in 1..100000'),
+    ('extratrees', lambda m: {**m, 'config': {'trees': 20, 'seed': 2**40}},
+     r'config seed must be a whole number in 0..4294967295'),
+    ('minirocket', lambda m: {**m, 'config': {**m['config'], 'biases_per_kernel': 5}},
+     'do not fit each other'),
+    ('minirocket', lambda m: {**m, 'config': {**m['config'], 'dilations': 'many'}},
+     'config dilations must be a whole number'),
+    ('deep', lambda m: {**m, 'config': {**m['config'], 'seed': 10**20}},
+     r'seed must be an integer in 0..4294967295'),
+    ('deep', lambda m: {**m, 'config': {**m['config'], 'learning_rate': 1e300}},
+     'learning_rate must be finite, > 0 and <= 1e6'),
+])
+def test_every_field_past_the_checksum_is_checked(saved, tmp_path, kind, change, message):
+    import shutil
+    folder = shutil.copytree(saved[2][kind], tmp_path / kind)
+    rehash(folder, change)
+    with pytest.raises(CheckpointError, match=message):
+        load_checkpoint(folder)
+
+
+def test_checkpoint_json_nested_deeper_than_read_is_refused_before_parsing(saved, tmp_path):
+    import shutil
+    folder = shutil.copytree(saved[2]['minirocket'], tmp_path / 'mr')
+    (folder / 'checkpoint.json').write_text('[' * 100_000 + ']' * 100_000)
+    with pytest.raises(CheckpointError, match='nested 100000 levels deep; at most 16 are read'):
+        load_checkpoint(folder)
+
+
+@pytest.mark.parametrize('name', ['checkpoint.json', 'weights.npz'])
+@pytest.mark.parametrize('special', ['fifo', 'folder', 'device'])
+def test_a_special_file_in_a_checkpoint_is_refused_without_waiting(saved, tmp_path, name,
+                                                                    special):
+    import os
+    import shutil
+    folder = shutil.copytree(saved[2]['minirocket'], tmp_path / 'mr')
+    (folder / name).unlink()
+    if special == 'fifo':
+        os.mkfifo(folder / name)  # opening it for reading would wait for a writer
+    elif special == 'folder':
+        (folder / name).mkdir()
+    else:
+        (folder / name).symlink_to('/dev/zero')  # endless
+    kinds = {'fifo': r'FIFO \(named pipe\)', 'folder': 'folder', 'device': 'character device'}
+    with pytest.raises(CheckpointError, match=f'{name} is a {kinds[special]}, not a regular '
+                                              'file'):
+        load_checkpoint(folder)

@@ -11,7 +11,7 @@ import pytest
 import torch
 
 from tactex_classify.baselines import MiniRocketRidge, StatsExtraTrees
-from tactex_classify.checkpoint import sha256
+from tactex_classify.checkpoint import CHECKSUM_FIELD, metadata_sha256, sha256
 from tactex_classify.classifier import (
     ChannelScaler,
     DeepClassifier,
@@ -96,10 +96,19 @@ def test_a_checkpoint_with_a_foreign_pickle_payload_is_refused(tmp_path):
         DeepClassifier.load(folder)
 
 
-def rehash(folder):
-    """Update checkpoint.json's checksum to the model file as it is now."""
+def rehash(folder, change=None):
+    """Make checkpoint.json's checksums fit the model file, or checkpoint.json changed.
+
+    With `change`, checkpoint.json is rewritten as `change(meta)`. What an attacker would
+    do: whatever gets past the checksums must still be refused by the loader itself.
+    """
     meta = json.loads((folder / 'checkpoint.json').read_text())
-    meta['files'] = {name: sha256(folder / name) for name in meta['files']}
+    if change is None:
+        meta['files'] = {name: sha256(folder / name) for name in meta['files']}
+    else:
+        meta = change(meta)
+    if isinstance(meta, dict):
+        meta[CHECKSUM_FIELD] = metadata_sha256(meta)
     (folder / 'checkpoint.json').write_text(json.dumps(meta))
 
 
@@ -312,8 +321,7 @@ def test_early_stopping_on_one_recording_is_refused():
 def test_a_malformed_checkpoint_json_is_a_checkpoint_error(tmp_path, change, field):
     data = toy()
     folder = DeepClassifier(FAST).fit(data.X, data.y, CLASSES).save(tmp_path / 'ckpt', **STREAM)
-    meta = json.loads((folder / 'checkpoint.json').read_text())
-    (folder / 'checkpoint.json').write_text(json.dumps(change(meta)))
+    rehash(folder, change)
     with pytest.raises(CheckpointError, match=field):
         DeepClassifier.load(folder)
 

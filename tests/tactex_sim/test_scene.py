@@ -2,6 +2,7 @@
 # SPDX-License-Identifier: Apache-2.0
 """Scene files: every shipped scene loads; every mistake is named."""
 
+import os
 from pathlib import Path
 
 import pytest
@@ -44,6 +45,34 @@ def test_unknown_section_key_lists_the_known_ones():
 def test_bad_values_fail_with_the_key(change, match):
     with pytest.raises(SceneError, match=match):
         parse_scene({**MINIMAL, **change})
+
+
+@pytest.mark.parametrize('change, match', [
+    ({'surface': {'kind': 'flat', 'cells': [100_000, 100_000]}},
+     r'cells \[100000, 100000\] make 10000000000 heightfield cells; at most 1000000'),
+    ({'sweep': {'contact_s': 1e7}}, r'contact_s must be <= 60 s, got 10000000.0'),
+    ({'timestep_s': 1e-12}, r'timestep_s must be in 0.0001..0.02 s, got 1e-12'),
+    ({'seed': 10**20}, r'seed must be a whole number in 0..4294967295'),
+    ({'sensor_rate_hz': 'fast'}, 'sensor_rate_hz must be a finite number'),
+    ({'patches': [{'texture': 'wood', 'x_m': [0.1, 0.2], 'y_m': [0.0, 0.1]}] * 65},
+     '65 patches; at most 64'),
+])
+def test_numbers_that_size_memory_or_time_are_bounded(change, match):
+    with pytest.raises(SceneError, match=match):
+        parse_scene({**MINIMAL, **change})
+
+
+@pytest.mark.parametrize('make, match', [
+    (lambda path: os.mkfifo(path), r'is a FIFO \(named pipe\), not a regular file'),
+    (lambda path: path.symlink_to('/dev/zero'), 'is a character device, not a regular file'),
+    (lambda path: path.write_bytes(b'x = ' + b'[' * 200_000), 'nested too deep|not valid TOML'),
+    (lambda path: path.write_bytes(b'#' * (1024 * 1024 + 1)), 'larger than the 1048576 bytes'),
+])
+def test_a_scene_file_that_is_no_scene_is_refused_without_waiting(tmp_path, make, match):
+    path = tmp_path / 'scene.toml'
+    make(path)
+    with pytest.raises(SceneError, match=match):
+        load_scene(path)
 
 
 def test_missing_file_and_bad_toml(tmp_path):

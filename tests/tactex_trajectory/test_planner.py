@@ -11,7 +11,7 @@ import pytest
 from tactex_description.mjcf import EDGE_TIP_RADIUS_M
 from tactex_driver.playback import JointLimits, plan
 from tactex_trajectory.errors import PathError, SweepRefused
-from tactex_trajectory.planner import plan_sweep, retract, SweepSettings
+from tactex_trajectory.planner import MIN_CONTACT_S, plan_sweep, retract, SweepSettings
 from tactex_trajectory.poses import ARM, PoseSettings
 from tactex_trajectory.timing import ACCELERATION_LIMITS, VELOCITY_LIMITS
 
@@ -114,6 +114,26 @@ def test_a_path_too_short_for_the_ramps_is_refused():
     with pytest.raises(SweepRefused, match='mm long; ramping to 15 mm/s'):
         plan_sweep([[0.15, 0.0, 0.0265], [0.1525, 0.0, 0.0265]], [[0, 0, 1.0], [0, 0, 1.0]],
                    None, START_JOINTS)
+
+
+def two_contacts(apart_m):
+    """A pathway of two probed contacts `apart_m` apart on the uneven scene's wave."""
+    points, normals = wave_pathway(start=0.10, end=0.10 + apart_m, step=apart_m,
+                                   position_sd=0.0, normal_sd=0.0)
+    return points[:2], normals[:2]
+
+
+def test_a_two_contact_pathway_too_short_to_measure_the_speed_is_refused():
+    # 10 mm: the constant-speed segment would last 0.23 s, less than one speed window,
+    # so the sweep would end with no measured speed (it used to succeed with NaN).
+    with pytest.raises(SweepRefused, match=f'at least {MIN_CONTACT_S:g} s .*probe a longer '
+                                           'pathway or slide slower'):
+        plan_sweep(*two_contacts(0.010), None, START_JOINTS)
+
+
+def test_a_two_contact_pathway_long_enough_slides_at_least_the_shortest_contact():
+    sweep = plan_sweep(*two_contacts(0.020), None, START_JOINTS)
+    assert sweep.contact_end_s - sweep.contact_start_s >= MIN_CONTACT_S
 
 
 def test_a_speed_the_joints_cannot_follow_is_refused():

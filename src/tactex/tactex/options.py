@@ -4,9 +4,13 @@
 
 Value types for argparse (`integer`, `number`) refuse by value with the rule in the
 message; path checks (`check_output_file`, `check_output_folder`, `check_input_file`,
-`check_input_folder`) raise `CommandError` naming the option and the fix, without
-creating anything. `staged_folder` builds an output folder beside its final path and
-moves it into place only when the work succeeded, so a failure leaves nothing behind.
+`check_input_folder`) raise `CommandError` naming the option and the fix, and leave
+nothing behind: an output is never a symbolic link (it would be written through or
+replaced), and its folder is proven writable by making and removing a folder there, so
+a run fails before its work, not after. An input file must be a regular file (a FIFO
+would block the reader, a device never end). `staged_folder` builds an output folder
+beside its final path and moves it into place only when the work succeeded, so a failure
+leaves nothing behind.
 """
 
 from __future__ import annotations
@@ -22,8 +26,14 @@ import re
 import secrets
 import shutil
 import sys
+import tempfile
 
 from tactex.errors import CommandError
+from tactex_classify.catalog import MAX_EPOCHS
+from tactex_classify.checkpoint import MAX_WINDOW
+from tactex_common.constants import MAX_SEED
+from tactex_common.errors import RefusedFileError
+from tactex_common.files import check_regular
 
 
 def integer(minimum: int, maximum: int | None = None) -> Callable[[str], int]:
@@ -66,6 +76,15 @@ def number(*, above: float | None = 0.0, at_least: float | None = None,
     return parse
 
 
+# Whole numbers that size memory or time, each bounded (the limit is in the error).
+seed_value = integer(0, MAX_SEED)
+epoch_count = integer(1, MAX_EPOCHS)
+patience_epochs = integer(0, MAX_EPOCHS)
+window_samples = integer(2, MAX_WINDOW)
+hop_samples = integer(1, MAX_WINDOW)
+fold_count = integer(2, 1000)
+trial_id = integer(0, 2**32 - 1)  # uint32, as the Sweep goal carries it
+
 RAY_ADDRESS = re.compile(r'^(ray://)?[A-Za-z0-9_.\-\[\]:]+:\d{1,5}$')
 
 
@@ -94,9 +113,22 @@ def _writable_parent(path: Path, option: str) -> None:
     if not ancestor.is_dir():
         raise CommandError(f'{option} {path}: {ancestor} is a file, not a folder; choose a '
                            'path inside a folder')
-    if not os.access(ancestor, os.W_OK | os.X_OK):
-        raise CommandError(f'{option} {path}: {ancestor} is not writable; choose a folder you '
-                           'can write to')
+    _check_writable(ancestor, f'{option} {path}: {ancestor}')
+
+
+def _check_writable(folder: Path, what: str) -> None:
+    """Make and remove a folder in `folder` (os.access says yes to root on any folder)."""
+    try:
+        os.rmdir(tempfile.mkdtemp(prefix='.tactex-writable-', dir=folder))
+    except OSError as err:
+        raise CommandError(f'{what} is not writable ({err.strerror}); choose a folder you can '
+                           'write to') from None
+
+
+def _check_not_a_link(path: Path, option: str) -> None:
+    if path.is_symlink():
+        raise CommandError(f'{option} {path} is a symbolic link (to {os.readlink(path)}); give '
+                           'the path itself: an output never writes through or replaces a link')
 
 
 def check_output_file(path: Path, option: str = '--out', *, suffix: str | None = None,
@@ -115,6 +147,7 @@ def check_output_file(path: Path, option: str = '--out', *, suffix: str | None =
             raise CommandError(f'{option} {path}: must end in {suffix}')
         path = path.with_suffix(suffix)
     for item in (given, path, *(path.with_suffix(s) for s in companions)):
+        _check_not_a_link(item, option)
         if item.is_dir():
             raise CommandError(f'{option} {item} is a folder; give a file path such as '
                                f'{item / ("data" + (suffix or ""))}')
@@ -129,25 +162,29 @@ def check_output_folder(path: Path, option: str = '--out') -> Path:
         CommandError: a file is there, the folder holds files, or it cannot be written.
     """
     path = Path(path)
+    _check_not_a_link(path, option)
     if path.exists() and not path.is_dir():
         raise CommandError(f'{option} {path} is a file; give a folder path')
     if path.is_dir() and any(path.iterdir()):
         raise CommandError(f'{option} {path} already holds files; choose a new folder (or '
                            'empty this one)')
-    if path.is_dir() and not os.access(path, os.W_OK | os.X_OK):
-        raise CommandError(f'{option} {path} is not writable; choose a folder you can write '
-                           'to')
+    if path.is_dir():
+        _check_writable(path, f'{option} {path}')
     _writable_parent(path, option)
     return path
 
 
 def check_input_file(path: Path, option: str) -> Path:
-    """`path` is an existing, readable file."""
+    """`path` is an existing, readable regular file (never opened here)."""
     path = Path(path)
     if not path.exists():
         raise CommandError(f'{option} {path} does not exist')
     if path.is_dir():
         raise CommandError(f'{option} {path} is a folder; give a file')
+    try:
+        check_regular(path)
+    except RefusedFileError as err:
+        raise CommandError(f'{option} {err}') from None
     if not os.access(path, os.R_OK):
         raise CommandError(f'{option} {path} is not readable')
     return path

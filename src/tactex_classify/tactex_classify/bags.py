@@ -29,11 +29,14 @@ from tactex_classify.alignment import align, Stream
 from tactex_classify.errors import BagError
 from tactex_common import topics
 from tactex_common.channels import ACCEL, BARO, CHANNELS, GYRO, MAG
+from tactex_common.errors import RefusedFileError
+from tactex_common.files import check_regular
 from tactex_common.interfaces import typestore
 from tactex_common.naming import natural_sorted
 from tactex_common.stamps import gaps, stamp_ns
 
 PART_PREFIX = 'part_'
+MAX_METADATA_BYTES = 16 * 1024**2  # a bag's metadata.yaml
 # Role -> (topic relative to the recording's namespace, message type).
 TOPIC_ROLES = {
     'imu': (topics.IMU_RAW, 'sensor_msgs/msg/Imu'),
@@ -266,9 +269,29 @@ class _Collected:
                       np.frombuffer(self.values[role]).reshape(-1, len(channels)))
 
 
+def _check_bag_files(part: Path) -> None:
+    """Refuse a part bag whose metadata or storage file is no regular file.
+
+    A FIFO would block the reader; metadata.yaml is also bounded by MAX_METADATA_BYTES.
+
+    Raises:
+        RefusedFileError: naming the file and what it is.
+    """
+    for item in part.iterdir():
+        if item.name == 'metadata.yaml':
+            check_regular(item, max_bytes=MAX_METADATA_BYTES)
+        elif item.suffix in ('.mcap', '.db3'):
+            check_regular(item)
+
+
 def _inventory(part: Path) -> dict[str, str]:
-    """Topic -> message type of one part bag, for topics holding messages."""
+    """Topic -> message type of one part bag, for topics holding messages.
+
+    Raises:
+        RefusedFileError: a file of the bag is no regular file (see `_check_bag_files`).
+    """
     from rosbags.rosbag2 import Reader
+    _check_bag_files(part)
     with Reader(part) as reader:
         return {c.topic: c.msgtype for c in reader.connections if c.msgcount != 0}
 
@@ -414,6 +437,8 @@ def inside(stamps_ns: np.ndarray, spans: Sequence[tuple[int, int]]) -> np.ndarra
 
 
 def _why(err: Exception, part: Path) -> str:
+    if isinstance(err, RefusedFileError):
+        return str(err)
     if not (part / 'metadata.yaml').is_file():
         return 'truncated or corrupt bag (no metadata.yaml)'
     text = str(err).replace(str(part), '').strip(' :') or type(err).__name__

@@ -24,9 +24,11 @@ from sklearn.ensemble import ExtraTreesClassifier
 from sklearn.linear_model import RidgeClassifierCV
 from sklearn.preprocessing import StandardScaler
 
-from tactex_classify.checkpoint import Deployable, restore_fitted
+from tactex_classify.checkpoint import Deployable, MAX_MODEL_BYTES, restore_fitted
 from tactex_classify.classifier import channel_names, ChannelScaler, check_windows, softmax
 from tactex_classify.errors import CheckpointError, NotFittedError
+from tactex_common.constants import MAX_SEED
+from tactex_common.files import check_npz_sizes, open_regular
 
 KERNELS = np.array(list(combinations(range(9), 3)))  # positions of the +2 weights
 GOLDEN = (np.sqrt(5.0) - 1.0) / 2.0
@@ -147,22 +149,19 @@ class MiniRocketRidge(Deployable):
             KeyError, TypeError, ValueError: a malformed field.
             CheckpointError: the arrays are refused (objects, NaN, shapes that disagree).
         """
-        config = info.fields['config']
-        if not isinstance(config, dict) or set(config) != {'dilations', 'biases_per_kernel',
-                                                           'seed'}:
-            raise ValueError(f'config must hold dilations, biases_per_kernel, seed; got '
-                             f'{config!r}')
-        self = cls(**config)
+        self = cls(**read_config(info, {'dilations': 64, 'biases_per_kernel': 64,
+                                        'seed': MAX_SEED}))
         restore_fitted(self, info)
         self.scaler_ = ChannelScaler.from_state(info.fields['scaler'], self.n_channels_)
         arrays = read_arrays(info, cls.ARRAYS)
         for name, value in arrays.items():
             setattr(self, name, value)
-        d, c, b = len(self.dilations_), self.n_channels_, self.biases_.shape[-1:] or (0,)
-        features = d * len(KERNELS) * b[0]
+        d, c, b = len(self.dilations_), self.n_channels_, self.biases_per_kernel
+        features = d * len(KERNELS) * b
         seen = self.seen_classes_
         shapes_fit = (self.masks_.shape == (d, len(KERNELS), c)
-                      and self.biases_.shape == (d, len(KERNELS), b[0])
+                      and self.biases_.shape == (d, len(KERNELS), b)
+                      and self.dilations_.shape == (d,) and d <= self.dilations
                       and self.feature_mean_.shape == self.feature_scale_.shape == (features,)
                       and self.coef_.shape[1:] == (features,)
                       and self.intercept_.shape == self.coef_.shape[:1]
@@ -246,10 +245,7 @@ class StatsExtraTrees(Deployable):
                 unreadable, or the forest does not fit the channels and classes.
         """
         import skops.io
-        config = info.fields['config']
-        if not isinstance(config, dict) or set(config) != {'trees', 'seed'}:
-            raise ValueError(f'config must hold trees, seed; got {config!r}')
-        self = cls(**config)
+        self = cls(**read_config(info, {'trees': 100_000, 'seed': MAX_SEED}))
         restore_fitted(self, info)
         try:
             untrusted = set(skops.io.get_untrusted_types(file=info.model_file))
@@ -265,9 +261,11 @@ class StatsExtraTrees(Deployable):
                                   f'{type(err).__name__}: {err}') from None
         features = self.features(np.zeros((1, self.window_, self.n_channels_))).shape[1]
         if not isinstance(forest, ExtraTreesClassifier) or forest.n_features_in_ != features \
-                or not np.all(np.isin(forest.classes_, np.arange(len(self.classes_)))):
-            raise CheckpointError(f'{info.folder}: {cls.MODEL_FILE} is not a forest over '
-                                  f'{features} features of {len(self.classes_)} classes')
+                or len(forest.estimators_) != self.trees or not np.all(
+                    np.isin(forest.classes_, np.arange(len(self.classes_)))):
+            raise CheckpointError(f'{info.folder}: {cls.MODEL_FILE} is not a forest of '
+                                  f'{self.trees} trees over {features} features of '
+                                  f'{len(self.classes_)} classes')
         self.forest_ = forest
         return self
 
@@ -275,6 +273,24 @@ class StatsExtraTrees(Deployable):
 # What an ExtraTreesClassifier saved by skops is made of; anything else is refused.
 TRUSTED_FOREST_TYPES = ('sklearn.ensemble._forest.ExtraTreesClassifier',
                         'sklearn.tree._classes.ExtraTreeClassifier', 'sklearn.tree._tree.Tree')
+
+
+def read_config(info, maxima: dict[str, int]) -> dict[str, int]:
+    """A baseline's `config` field: exactly the named whole numbers, each in 0..its maximum.
+
+    Raises:
+        ValueError: another set of names, or a value out of its range (named).
+    """
+    config = info.fields['config']
+    if not isinstance(config, dict) or set(config) != set(maxima):
+        raise ValueError(f'config must hold {", ".join(maxima)}; got {config!r}')
+    for name, maximum in maxima.items():
+        value = config[name]
+        low = 0 if name == 'seed' else 1
+        if not isinstance(value, int) or isinstance(value, bool) or not low <= value <= maximum:
+            raise ValueError(f'config {name} must be a whole number in {low}..{maximum}, got '
+                             f'{value!r}')
+    return config
 
 
 def read_arrays(info, names: tuple[str, ...]) -> dict[str, np.ndarray]:
@@ -285,7 +301,9 @@ def read_arrays(info, names: tuple[str, ...]) -> dict[str, np.ndarray]:
     """
     import zipfile
     try:
-        with np.load(info.model_file, allow_pickle=False) as npz:
+        with open_regular(info.model_file, max_bytes=MAX_MODEL_BYTES) as handle, \
+                np.load(handle, allow_pickle=False) as npz:
+            check_npz_sizes(npz, MAX_MODEL_BYTES, info.model_file)
             arrays = {name: npz[name] for name in names}
     except KeyError as err:
         raise CheckpointError(f'{info.folder}: {info.model_file.name} lacks {err}') from None

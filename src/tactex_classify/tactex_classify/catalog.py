@@ -1,6 +1,6 @@
 # Copyright 2026 The tactex authors
 # SPDX-License-Identifier: Apache-2.0
-"""Names of every classifier tactex trains, importable without torch (for command lines)."""
+"""Names of every classifier tactex trains and bounds of training, importable without torch."""
 
 # The original's eight deep models, in its table order (tactex_classify.models builds them).
 DEEP_MODELS = ('cnn_bilstm_1', 'cnn_bilstm_2', 'cnn_bilstm_3', 'cnn_1', 'cnn_2', 'cnn_3',
@@ -10,3 +10,5 @@ BASELINES = ('minirocket', 'extratrees')
 ALL_MODELS = DEEP_MODELS + BASELINES
 # Cross-validation schemes: grouped by recording (honest), stratified windows (leaky).
 SCHEMES = ('grouped', 'stratified')
+# Most epochs (and epochs of early-stopping patience) a training may be asked for.
+MAX_EPOCHS = 100_000

@@ -3,12 +3,15 @@
 """Deployable checkpoints of every model `tactex train` trains, in one format.
 
 A checkpoint is a folder: `checkpoint.json` (format version, kind, model name, classes,
-channels, window, hop, sampling rate, the SHA-256 of each model file, and the kind's own
-fields such as the fitted scaler) beside one model file, read without running code from
-it: `weights.pt` (deep models: a state_dict loaded with torch's `weights_only=True`),
-`weights.npz` (MiniRocket: plain arrays, `allow_pickle=False`) or `model.skops`
-(ExtraTrees: skops with an explicit list of trusted types). `tactex export --onnx` adds
-`model.onnx`, which carries the SHA-256 of the model file it came from.
+channels, window, hop, sampling rate, the SHA-256 of each model file, the kind's own
+fields such as the fitted scaler, and `metadata_sha256`: the SHA-256 of all the other
+fields, so no edit of anything that changes behaviour goes unnoticed) beside one model
+file, read without running code from it: `weights.pt` (deep models: a state_dict loaded
+with torch's `weights_only=True`), `weights.npz` (MiniRocket: plain arrays,
+`allow_pickle=False`) or `model.skops` (ExtraTrees: skops with an explicit list of
+trusted types). `tactex export --onnx` adds `model.onnx`, which carries the SHA-256 of
+the model file it came from. Every size a checkpoint gives (window, channels, classes,
+rate) is bounded, so a lying file cannot make a reader allocate or wait without end.
 
 Each estimator class provides `CHECKPOINT_KIND`, `MODEL_FILE`, `model_name`,
 `checkpoint_fields()`, `write_model(path)` and `from_checkpoint(info)` (which raises
@@ -28,17 +31,29 @@ from pathlib import Path
 import secrets
 
 from tactex_classify.errors import CheckpointError
+from tactex_common.files import load_json, open_regular
 
-FORMAT_VERSION = 2
+FORMAT_VERSION = 3
+# Why checkpoints of an older format are refused (each needs `tactex train` again).
+OLD_FORMATS = {1: 'it was saved before hop and sampling rate were kept',
+               2: 'it was saved before checkpoint.json carried its own checksum'}
 METADATA_FILE = 'checkpoint.json'
 ONNX_FILE = 'model.onnx'
 # kind -> (module, class) of the estimator that reads and writes it.
 KINDS = {'deep': ('tactex_classify.classifier', 'DeepClassifier'),
          'minirocket': ('tactex_classify.baselines', 'MiniRocketRidge'),
          'extratrees': ('tactex_classify.baselines', 'StatsExtraTrees')}
+CHECKSUM_FIELD = 'metadata_sha256'
 COMMON_FIELDS = ('format_version', 'kind', 'model', 'classes', 'channels', 'window', 'hop',
-                 'sampling_rate_hz', 'files')
-MAX_JSON_BYTES = 16 * 1024 * 1024
+                 'sampling_rate_hz', 'files', CHECKSUM_FIELD)
+MAX_JSON_BYTES = 1024 * 1024
+MAX_MODEL_BYTES = 512 * 1024 * 1024  # a model file, or its model.onnx
+MAX_JSON_DEPTH = 16
+# What a stream may be; every size that memory or time scales with is bounded.
+MAX_WINDOW = 65536  # samples per window (9 minutes at 120 Hz)
+MAX_CHANNELS = 64
+MAX_CLASSES = 1000
+SAMPLING_RATE_RANGE_HZ = (0.01, 100_000.0)
 
 
 @dataclass(frozen=True)
@@ -67,16 +82,21 @@ class StreamSpec:
         if not isinstance(names, tuple) or not names or not all(
                 isinstance(n, str) and n for n in names) or len(set(names)) != len(names):
             raise ValueError(f'channels must be distinct names, got {names!r}')
+        if len(names) > MAX_CHANNELS:
+            raise ValueError(f'channels must be at most {MAX_CHANNELS}, got {len(names)}')
         for name, low in (('window', 2), ('hop', 1)):
             value = getattr(self, name)
             if not isinstance(value, int) or isinstance(value, bool) or value < low:
                 raise ValueError(f'{name} must be an integer >= {low}, got {value!r}')
+        if self.window > MAX_WINDOW:
+            raise ValueError(f'window must be <= {MAX_WINDOW} samples, got {self.window!r}')
         if self.hop > self.window:
             raise ValueError(f'hop must be <= window ({self.window}), got {self.hop!r}')
-        rate = self.sampling_rate_hz
+        rate, (low, high) = self.sampling_rate_hz, SAMPLING_RATE_RANGE_HZ
         if not isinstance(rate, (int, float)) or isinstance(rate, bool) or not (
-                math.isfinite(rate) and rate > 0):
-            raise ValueError(f'sampling_rate_hz must be finite and > 0, got {rate!r}')
+                math.isfinite(rate) and low <= rate <= high):
+            raise ValueError(f'sampling_rate_hz must be a finite number in {low:g}..{high:g} '
+                             f'Hz, got {rate!r}')
 
     @property
     def window_s(self) -> float:
@@ -140,9 +160,9 @@ class CheckpointInfo:
 
 
 def sha256(path: Path) -> str:
-    """Hex SHA-256 of a file's bytes."""
+    """Hex SHA-256 of a regular file's bytes (at most MAX_MODEL_BYTES)."""
     digest = hashlib.sha256()
-    with open(path, 'rb') as handle:
+    with open_regular(path, max_bytes=MAX_MODEL_BYTES) as handle:
         for block in iter(lambda: handle.read(1 << 20), b''):
             digest.update(block)
     return digest.hexdigest()
@@ -185,8 +205,17 @@ def save_checkpoint(folder: Path, estimator, *, hop: int, sampling_rate_hz: floa
             'model': estimator.model_name, 'classes': list(estimator.classes_),
             'channels': list(stream.channels), 'window': stream.window, 'hop': stream.hop,
             'sampling_rate_hz': stream.sampling_rate_hz, 'files': {name: digest}, **fields}
+    meta = json.loads(json.dumps(meta))  # as it will be read back
+    meta[CHECKSUM_FIELD] = metadata_sha256(meta)
     write_text_atomically(folder / METADATA_FILE, json.dumps(meta, indent=2))
     return folder
+
+
+def metadata_sha256(meta: dict) -> str:
+    """Hex SHA-256 of checkpoint.json's fields but the checksum itself, in canonical JSON."""
+    fields = {k: v for k, v in meta.items() if k != CHECKSUM_FIELD}
+    canonical = json.dumps(fields, sort_keys=True, separators=(',', ':'), ensure_ascii=True)
+    return hashlib.sha256(canonical.encode('ascii')).hexdigest()
 
 
 def write_text_atomically(path: Path, text: str) -> None:
@@ -212,9 +241,7 @@ def read_checkpoint(folder: Path) -> CheckpointInfo:
                               '`tactex train` writes)')
     path = folder / METADATA_FILE
     try:
-        if path.stat().st_size > MAX_JSON_BYTES:
-            raise CheckpointError(f'{path}: larger than {MAX_JSON_BYTES} bytes: refused')
-        meta = json.loads(path.read_text(encoding='utf-8'))
+        meta = load_json(path, max_bytes=MAX_JSON_BYTES, max_depth=MAX_JSON_DEPTH)
     except FileNotFoundError:
         raise CheckpointError(f'{folder}: missing {METADATA_FILE}') from None
     except (UnicodeDecodeError, ValueError, OSError) as err:
@@ -224,10 +251,14 @@ def read_checkpoint(folder: Path) -> CheckpointInfo:
                               f'{", ".join(KINDS)})')
     version = meta.get('format_version')
     if version != FORMAT_VERSION:
-        hint = (': it was saved before hop and sampling rate were kept; retrain with '
-                '`tactex train`' if version == 1 else '')
+        hint = (f': {OLD_FORMATS[version]}; retrain with `tactex train` (and export again)'
+                if version in OLD_FORMATS else '')
         raise CheckpointError(f'{folder}: not a tactex checkpoint of format version '
                               f'{FORMAT_VERSION} (got {version!r}){hint}')
+    if meta.get(CHECKSUM_FIELD) != metadata_sha256(meta):
+        raise CheckpointError(f'{folder}: {METADATA_FILE} does not match its {CHECKSUM_FIELD}: '
+                              'edited or corrupt (classes, stream and settings are part of '
+                              'the model); retrain or copy the whole folder again')
     try:
         info = _info(folder, meta)
     except KeyError as err:
@@ -235,9 +266,13 @@ def read_checkpoint(folder: Path) -> CheckpointInfo:
     except (TypeError, ValueError) as err:
         raise CheckpointError(f'{folder}: malformed {METADATA_FILE}: {err}') from None
     for name, digest in info.files.items():
-        if not (folder / name).is_file():
-            raise CheckpointError(f'{folder}: missing {name}')
-        if sha256(folder / name) != digest:
+        try:
+            actual = sha256(folder / name)
+        except FileNotFoundError:
+            raise CheckpointError(f'{folder}: missing {name}') from None
+        except OSError as err:
+            raise CheckpointError(f'{folder}: refused {name}: {err}') from None
+        if actual != digest:
             raise CheckpointError(f'{folder}: {name} does not match its SHA-256 in '
                                   f'{METADATA_FILE}: corrupt or replaced; retrain or copy the '
                                   'whole folder again')
@@ -269,6 +304,8 @@ def _names(value, field: str) -> list[str]:
     if not isinstance(value, list) or not value or not all(
             isinstance(v, str) and v for v in value) or len(set(value)) != len(value):
         raise ValueError(f'{field} must be a non-empty list of distinct names, got {value!r}')
+    if field == 'classes' and len(value) > MAX_CLASSES:
+        raise ValueError(f'classes must be at most {MAX_CLASSES}, got {len(value)}')
     return value
 
 

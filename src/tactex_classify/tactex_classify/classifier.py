@@ -21,16 +21,18 @@ from pathlib import Path
 
 import numpy as np
 
-from tactex_classify.catalog import DEEP_MODELS
+from tactex_classify.catalog import DEEP_MODELS, MAX_EPOCHS
 from tactex_classify.checkpoint import Deployable, restore_fitted
 from tactex_classify.errors import CheckpointError, NotFittedError
 from tactex_common.channels import CHANNELS
+from tactex_common.constants import MAX_SEED
 
 os.environ.setdefault('OMP_WAIT_POLICY', 'PASSIVE')  # no spinning next to ROS nodes
 CHECKPOINT_VERSION = 1
 SCALINGS = ('minmax', 'standard')
 INITS = ('keras', 'pytorch')
 SCALED_LIMIT = 1e4
+MAX_THREADS = 256
 
 
 @dataclass
@@ -182,15 +184,17 @@ class TrainingConfig:
         """
         if self.model not in DEEP_MODELS:
             raise ValueError(f'unknown model {self.model!r}; known: {", ".join(DEEP_MODELS)}')
-        for name, low in (('epochs', 1), ('batch_size', 2), ('early_stopping', 0),
-                          ('seed', 0), ('threads', 1)):
+        for name, low, high in (('epochs', 1, MAX_EPOCHS), ('batch_size', 2, 65536),
+                                ('early_stopping', 0, MAX_EPOCHS), ('seed', 0, MAX_SEED),
+                                ('threads', 1, MAX_THREADS)):
             value = getattr(self, name)
-            if not isinstance(value, int) or isinstance(value, bool) or value < low:
-                raise ValueError(f'{name} must be an integer >= {low}, got {value!r}')
+            if not isinstance(value, int) or isinstance(value, bool) or not low <= value <= high:
+                raise ValueError(f'{name} must be an integer in {low}..{high}, got {value!r}')
         for name in ('learning_rate', 'clip_norm'):
             value = getattr(self, name)
-            if not isinstance(value, (int, float)) or not (math.isfinite(value) and value > 0):
-                raise ValueError(f'{name} must be finite and > 0, got {value!r}')
+            if not isinstance(value, (int, float)) or isinstance(value, bool) or not (
+                    math.isfinite(value) and 0 < value <= 1e6):
+                raise ValueError(f'{name} must be finite, > 0 and <= 1e6, got {value!r}')
         if self.init not in INITS:
             raise ValueError(f'init must be one of {INITS}, got {self.init!r}')
         if self.scaling not in SCALINGS:

@@ -30,12 +30,18 @@ from tactex_classify.bags import (
     recording_topics,
     ROLE_CHANNELS,
 )
+from tactex_classify.checkpoint import MAX_CHANNELS, MAX_CLASSES, MAX_WINDOW
 from tactex_classify.errors import BagError, DatasetError
 from tactex_common.channels import CHANNELS
+from tactex_common.files import check_npz_sizes, load_json, open_regular
 from tactex_common.naming import natural_key, natural_sorted
 from tactex_common.stamps import gaps
 
 FORMAT_VERSION = 1
+# What a dataset may take in memory, and what its JSON sidecar may be.
+MAX_DATASET_BYTES = 8 * 1024**3
+MAX_SIDECAR_BYTES = 16 * 1024**2
+MAX_SIDECAR_DEPTH = 32
 
 
 @dataclass(frozen=True)
@@ -65,6 +71,8 @@ def check_channel_names(channels: Sequence[str], width: int | None = None) -> li
         DatasetError: saying which rule is broken.
     """
     names = list(channels)
+    if len(names) > MAX_CHANNELS:
+        raise DatasetError(f'{len(names)} channels; at most {MAX_CHANNELS} are read')
     if not names or not all(isinstance(n, str) and n.strip() for n in names):
         raise DatasetError(f'channel names must be non-empty text, got {names!r}')
     repeated = sorted({n for n in names if names.count(n) > 1})
@@ -92,6 +100,10 @@ class Dataset:
         n = len(self.X)
         if self.X.ndim != 3:
             raise DatasetError(f'X must be (n, window, channels), got {self.X.shape}')
+        if not 2 <= self.X.shape[1] <= MAX_WINDOW or len(self.classes) > MAX_CLASSES:
+            raise DatasetError(f'windows of {self.X.shape[1]} samples and {len(self.classes)} '
+                               f'classes: need 2..{MAX_WINDOW} samples and at most '
+                               f'{MAX_CLASSES} classes')
         self.channels = check_channel_names(self.channels, self.X.shape[2])
         for name in ('y', 'trial', 't0'):
             if getattr(self, name).shape != (n,):
@@ -134,12 +146,15 @@ class Dataset:
 
         path = Path(path).with_suffix('.npz')
         sidecar_path = path.with_suffix('.json')
-        if not path.is_file() or not sidecar_path.is_file():
+        if not path.exists() or not sidecar_path.exists():
             raise DatasetError(f'need {path} and its sidecar {sidecar_path}')
         try:
-            with np.load(path, allow_pickle=False) as arrays:
+            sidecar = load_json(sidecar_path, max_bytes=MAX_SIDECAR_BYTES,
+                                max_depth=MAX_SIDECAR_DEPTH)
+            with open_regular(path, max_bytes=MAX_DATASET_BYTES) as handle, \
+                    np.load(handle, allow_pickle=False) as arrays:
+                check_npz_sizes(arrays, MAX_DATASET_BYTES, path)
                 X, y, trial, t0 = (arrays[k] for k in ('X', 'y', 'trial', 't0'))
-            sidecar = json.loads(sidecar_path.read_text(encoding='utf-8'))
         except (ValueError, KeyError, OSError, EOFError, zipfile.BadZipFile) as err:
             raise DatasetError(f'{path} is not a tactex dataset: {err}') from None
         if not isinstance(sidecar, dict) or not isinstance(sidecar.get('classes'), list) \
@@ -200,14 +215,14 @@ class WindowCollector:
 
 
 def check_window(window: int, hop: int) -> None:
-    """Refuse window < 2 or a hop outside 1..window.
+    """Refuse a window outside 2..MAX_WINDOW or a hop outside 1..window.
 
     Raises:
         DatasetError: naming the value and the rule.
     """
-    if window < 2 or not 1 <= hop <= window:
-        raise DatasetError(f'need window >= 2 and 1 <= hop <= window, got window {window}, '
-                           f'hop {hop}')
+    if not 2 <= window <= MAX_WINDOW or not 1 <= hop <= window:
+        raise DatasetError(f'need 2 <= window <= {MAX_WINDOW} and 1 <= hop <= window, got '
+                           f'window {window}, hop {hop}')
 
 
 def keep_mask(recording: Recording, rule: FilterRule, all_samples: bool,

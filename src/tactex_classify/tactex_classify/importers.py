@@ -188,7 +188,7 @@ def import_csv(root: Path, *, window: int, hop: int, columns: Sequence[ChannelSp
     if not root.is_dir():
         raise DatasetError(f'{root} is not a folder; give a folder of CLASS/*.csv files')
     files = natural_sorted(p for p in root.glob('*/*') if p.suffix.lower() == '.csv'
-                           and p.is_file())
+                           and not p.is_dir())  # a FIFO or device is refused when read
     if not files:
         raise DatasetError(f'{root}: no CLASS/*.csv files found (one folder per class, '
                            'one file per trial)')

@@ -18,6 +18,8 @@ import math
 from pathlib import Path
 import pickle
 
+from tactex_common.files import check_regular
+
 MAX_PICKLE_BYTES = 512 * 2**20
 MAX_ROWS = 20_000_000
 MAX_COLUMNS = 10_000
@@ -161,7 +163,7 @@ def load_frame(path: Path):
     """
     import pandas
     path = Path(path)
-    size = path.stat().st_size
+    size = check_regular(path)  # a FIFO would block the read below
     if size > MAX_PICKLE_BYTES:
         raise RefusedPickle(f'{size} bytes is more than the {MAX_PICKLE_BYTES} allowed')
     try:

@@ -31,17 +31,18 @@ import numpy as np
 from tactex_classify.checkpoint import (
     CheckpointInfo,
     load_estimator,
+    MAX_MODEL_BYTES,
     ONNX_FILE,
     read_checkpoint,
 )
 from tactex_classify.classifier import ChannelScaler, check_windows, softmax
 from tactex_classify.errors import CheckpointError, ExportError
+from tactex_common.files import read_bytes
 
 RUNTIMES = ('native', 'onnxruntime')
 ONNX_KINDS = ('deep', 'extratrees')
 SOURCE_KEY = 'tactex_model_sha256'  # ONNX metadata: the model file it was exported from
 COLUMNS_KEY = 'tactex_seen_classes'  # ONNX metadata: class index of each output column
-MAX_ONNX_BYTES = 512 * 1024 * 1024
 OPSET = 17
 EXPORT_TOLERANCE = 1e-4  # largest probability difference accepted between the two runtimes
 
@@ -102,15 +103,17 @@ def _onnx_predictor(info: CheckpointInfo, threads: int, path: Path | None = None
     import onnxruntime
 
     path = path or info.folder / ONNX_FILE
-    if not path.is_file():
+    try:
+        model = read_bytes(path, max_bytes=MAX_MODEL_BYTES)
+    except FileNotFoundError:
         raise CheckpointError(f'{info.folder}: no {ONNX_FILE} for the onnxruntime runtime; '
-                              f'write it with `tactex export {info.folder} --onnx`')
-    if path.stat().st_size > MAX_ONNX_BYTES:
-        raise CheckpointError(f'{path}: larger than {MAX_ONNX_BYTES} bytes: refused')
+                              f'write it with `tactex export {info.folder} --onnx`') from None
+    except OSError as err:
+        raise CheckpointError(f'{path}: refused: {err}') from None
     options = onnxruntime.SessionOptions()
     options.intra_op_num_threads = options.inter_op_num_threads = threads
     try:
-        session = onnxruntime.InferenceSession(path.read_bytes(), options,
+        session = onnxruntime.InferenceSession(model, options,
                                                providers=['CPUExecutionProvider'])
     except Exception as err:  # noqa: BLE001 - onnxruntime raises its own exception types
         raise CheckpointError(f'{path}: refused: {str(err).splitlines()[0]}') from None

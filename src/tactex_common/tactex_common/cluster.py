@@ -8,6 +8,8 @@ detects) or joins a cluster by address, and shuts it down (or leaves it) on exit
 `run_tasks` submits one task per job with its CPU/GPU request and hands each result to
 the caller in the order they finish, in the calling process: whatever node ran a job,
 its result lands where the caller puts it. Ray is imported only here, only when used.
+A cluster's address is tried first with a plain connection (`check_reachable`): Ray's
+own client waits minutes, deaf to signals, for a head that is not there.
 """
 
 from __future__ import annotations
@@ -16,9 +18,12 @@ from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass
 import os
+import socket
 from typing import Any
 
 from tactex_common.errors import ClusterError
+
+CONNECT_TIMEOUT_S = 10.0
 
 
 @dataclass(frozen=True)
@@ -45,6 +50,8 @@ def ray_session(*, address: str | None = None, cpus: int | None = None) -> Itera
     if address is not None and cpus is not None:
         raise ClusterError('the cores of a cluster are set where its nodes start (ray start '
                            '--num-cpus); give no core cap with an address')
+    if address is not None:
+        check_reachable(address)
     os.environ.setdefault('RAY_USAGE_STATS_ENABLED', '0')  # never phone home
     import ray
     options = {'include_dashboard': False, 'log_to_driver': False,
@@ -62,6 +69,24 @@ def ray_session(*, address: str | None = None, cpus: int | None = None) -> Itera
         yield dict(ray.cluster_resources())
     finally:
         ray.shutdown()
+
+
+def check_reachable(address: str, timeout_s: float = CONNECT_TIMEOUT_S) -> None:
+    """Refuse a cluster address (HOST:PORT or ray://HOST:PORT) nothing answers at.
+
+    Raises:
+        ClusterError: the connection is refused, unroutable, or not accepted within
+            `timeout_s`.
+    """
+    host, _, port = address.removeprefix('ray://').rpartition(':')
+    try:
+        with socket.create_connection((host.strip('[]'), int(port)), timeout=timeout_s):
+            pass
+    except (OSError, ValueError) as err:
+        reason = (f'no answer within {timeout_s:g} s' if isinstance(err, TimeoutError)
+                  else getattr(err, 'strerror', None) or str(err))
+        raise ClusterError(f'cannot reach Ray at {address}: {reason}; start the head with '
+                           '`ray start --head` and give the address it prints') from None
 
 
 def run_tasks(function: Callable[..., Any], jobs: Sequence[tuple], *,

@@ -1,6 +1,6 @@
 # Copyright 2026 The tactex authors
 # SPDX-License-Identifier: Apache-2.0
-"""Physical and hardware constants more than one package needs (SI units)."""
+"""Physical, hardware and numeric constants more than one package needs (SI units)."""
 
 STANDARD_GRAVITY_M_S2 = 9.80665
 # Earth's magnetic field in the ENU world frame (T): 20 uT north, 43 uT down (mid-latitude).
@@ -8,3 +8,5 @@ EARTH_FIELD_T = (0.0, 2.0e-5, -4.3e-5)
 SEA_LEVEL_PRESSURE_PA = 101325.0
 # Dynamixel IDs of the OpenMANIPULATOR-X servos, joint1..joint4 then the gripper.
 SERVO_IDS = (11, 12, 13, 14, 15)
+# The largest random seed numpy, scikit-learn and torch all take.
+MAX_SEED = 2**32 - 1

@@ -1,6 +1,7 @@
 # Copyright 2026 The tactex authors
 # SPDX-License-Identifier: Apache-2.0
-"""Errors of the shared plumbing: unreadable tables, foreign links, refused node parameters."""
+"""Errors of the shared plumbing: unreadable tables and files, foreign links, refused node
+parameters."""
 
 
 class CommonError(Exception):
@@ -9,6 +10,10 @@ class CommonError(Exception):
 
 class TableError(CommonError, ValueError):
     """A text table (CSV) cannot be read; the message names the file and, where known, line."""
+
+
+class RefusedFileError(CommonError, OSError):
+    """A path given as a file is no regular file (a FIFO, device, folder) or is too large."""
 
 
 class LinkError(CommonError, OSError):

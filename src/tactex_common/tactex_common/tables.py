@@ -20,7 +20,10 @@ import re
 
 import numpy as np
 
-from tactex_common.errors import TableError
+from tactex_common.errors import RefusedFileError, TableError
+from tactex_common.files import read_bytes
+
+MAX_TABLE_BYTES = 1024**3
 
 DELIMITERS = (',', ';', '\t', '|')
 # Cells read as missing, besides pandas' own list ('', 'NA', 'N/A', 'n/a', 'nan', 'null', ...).
@@ -119,9 +122,9 @@ def read_table(path: Path, *, delimiter: str | None = None) -> Table:
 
 def _decode(path: Path) -> tuple[str, str]:
     try:
-        data = path.read_bytes()
-    except IsADirectoryError:
-        raise TableError(f'{path} is a folder, not a table file') from None
+        data = read_bytes(path, max_bytes=MAX_TABLE_BYTES)
+    except RefusedFileError as err:
+        raise TableError(str(err)) from None
     except OSError as err:
         raise TableError(f'{path}: cannot read: {err.strerror}') from None
     if b'\x00' in data[:65536]:

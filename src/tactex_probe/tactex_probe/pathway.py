@@ -37,6 +37,7 @@ from typing import Any
 
 import numpy as np
 
+from tactex_common.files import load_json
 from tactex_probe.errors import ParameterError, PathwayError
 
 FORMAT = 'tactex-pathway'
@@ -44,6 +45,8 @@ VERSION = 1
 FRAME_ID = 'base_link'
 # A unit vector may be off by this much in length (JSON round trips keep 17 digits).
 UNIT_TOLERANCE = 1e-6
+MAX_PATHWAY_BYTES = 16 * 1024**2
+MAX_PATHWAY_DEPTH = 16
 
 Vector3 = tuple[float, float, float]
 
@@ -311,7 +314,7 @@ class Pathway:
         """
         path = Path(path)
         try:
-            data = json.loads(path.read_text(encoding='utf-8'))
+            data = load_json(path, max_bytes=MAX_PATHWAY_BYTES, max_depth=MAX_PATHWAY_DEPTH)
         except FileNotFoundError:
             raise PathwayError(f'no pathway file {str(path)!r}') from None
         except (OSError, UnicodeDecodeError, json.JSONDecodeError) as err:

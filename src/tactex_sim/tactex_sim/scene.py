@@ -4,6 +4,9 @@
 
 Every key is checked: an unknown key, a missing required one or a bad value raises
 `SceneError` naming the file, the section and the key, with the keys that are known.
+Every number that sizes memory or time (heightfield cells, contact time, physics step,
+patches) is bounded, and the file is read only if it is a regular file of at most
+`MAX_SCENE_BYTES`.
 """
 
 from __future__ import annotations
@@ -16,7 +19,16 @@ from typing import Any
 
 import numpy as np
 
+from tactex_common.constants import MAX_SEED
+from tactex_common.errors import RefusedFileError
+from tactex_common.files import read_bytes
 from tactex_sim.errors import SceneError
+
+MAX_SCENE_BYTES = 1024 * 1024
+MAX_HEIGHTFIELD_CELLS = 1_000_000  # cells[0] x cells[1]
+MAX_CONTACT_S = 60.0
+MAX_PATCHES = 64
+TIMESTEP_RANGE_S = (1e-4, 0.02)
 
 
 @dataclass(frozen=True)
@@ -137,17 +149,18 @@ def load_scene(path: Path | str) -> Scene:
     """
     path = Path(path)
     try:
-        with open(path, 'rb') as handle:
-            raw = tomllib.load(handle)
+        raw = tomllib.loads(read_bytes(path, max_bytes=MAX_SCENE_BYTES).decode('utf-8'))
     except FileNotFoundError:
         known = sorted(p.stem for p in path.parent.glob('*.toml')) if path.parent.is_dir() \
             else []
         raise SceneError(f'no scene file {str(path)!r}' + (
             f'; scenes there: {", ".join(known)}' if known else '')) from None
-    except IsADirectoryError:
-        raise SceneError(f'scene {str(path)!r} is a folder; give a .toml file') from None
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as err:
         raise SceneError(f'{path}: not valid TOML: {err}') from None
+    except RecursionError:
+        raise SceneError(f'{path}: nested too deep to be a scene') from None
+    except RefusedFileError as err:
+        raise SceneError(f'scene {err}') from None
     except OSError as err:
         raise SceneError(f'{path}: cannot read: {err.strerror}') from None
     return parse_scene(raw, str(path))
@@ -165,8 +178,9 @@ def parse_scene(raw: dict[str, Any], source: str = '<scene>') -> Scene:
     if len(set(effects)) != len(effects):
         raise SceneError(f'{source}: effects repeat: {effects!r}')
     seed = raw['seed']
-    if not isinstance(seed, int) or seed < 0:
-        raise SceneError(f'{source}: seed must be a non-negative integer, got {seed!r}')
+    if not isinstance(seed, int) or isinstance(seed, bool) or not 0 <= seed <= MAX_SEED:
+        raise SceneError(f'{source}: seed must be a whole number in 0..{MAX_SEED}, got '
+                         f'{seed!r}')
     surface = _section(Surface, raw['surface'], source, 'surface')
     if surface.kind not in ('flat', 'uneven'):
         raise SceneError(f'{source}: [surface] kind must be "flat" or "uneven", got '
@@ -175,9 +189,15 @@ def parse_scene(raw: dict[str, Any], source: str = '<scene>') -> Scene:
             or surface.amplitude_m < 0 or min(surface.cells) < 2:
         raise SceneError(f'{source}: [surface] sizes, wavelength and thickness must be > 0, '
                          f'amplitude >= 0 and cells >= 2')
+    if math.prod(surface.cells) > MAX_HEIGHTFIELD_CELLS:
+        raise SceneError(f'{source}: [surface] cells {list(surface.cells)} make '
+                         f'{math.prod(surface.cells)} heightfield cells; at most '
+                         f'{MAX_HEIGHTFIELD_CELLS} (e.g. [601, 81], 0.5 mm x 2.5 mm)')
     if surface.slope_rad and (surface.kind != 'flat' or abs(surface.slope_rad) >= 1.4):
         raise SceneError(f'{source}: [surface] slope_rad tilts a flat plate only, by less than '
                          f'1.4 rad, got {surface.slope_rad!r} on a {surface.kind!r} surface')
+    if len(raw.get('patches', [])) > MAX_PATCHES:
+        raise SceneError(f'{source}: {len(raw["patches"])} patches; at most {MAX_PATCHES}')
     patches = tuple(_section(Patch, p, source, f'patches[{i}]')
                     for i, p in enumerate(raw.get('patches', [])))
     for patch in patches:
@@ -185,12 +205,13 @@ def parse_scene(raw: dict[str, Any], source: str = '<scene>') -> Scene:
             raise SceneError(f'{source}: patch {patch.texture!r}: x_m and y_m need 2 numbers')
         if patch.x_m[0] >= patch.x_m[1] or patch.y_m[0] >= patch.y_m[1]:
             raise SceneError(f'{source}: patch {patch.texture!r} has an empty rectangle')
-    rate = float(raw.get('sensor_rate_hz', 120.0))
-    timestep = float(raw.get('timestep_s', 0.002))
+    rate = _coerce(raw.get('sensor_rate_hz', 120.0), 0.0, source, 'top level', 'sensor_rate_hz')
+    timestep = _coerce(raw.get('timestep_s', 0.002), 0.0, source, 'top level', 'timestep_s')
     if not (0 < rate <= 2000 and math.isfinite(rate)):
         raise SceneError(f'{source}: sensor_rate_hz must be in (0, 2000], got {rate!r}')
-    if not (0 < timestep <= 0.02):
-        raise SceneError(f'{source}: timestep_s must be in (0, 0.02], got {timestep!r}')
+    if not (TIMESTEP_RANGE_S[0] <= timestep <= TIMESTEP_RANGE_S[1]):
+        raise SceneError(f'{source}: timestep_s must be in {TIMESTEP_RANGE_S[0]:g}..'
+                         f'{TIMESTEP_RANGE_S[1]:g} s, got {timestep!r}')
     if timestep > 1.0 / rate:
         raise SceneError(f'{source}: timestep_s {timestep} is longer than one sensor period '
                          f'{1.0 / rate:.4f} s')
@@ -201,9 +222,12 @@ def parse_scene(raw: dict[str, Any], source: str = '<scene>') -> Scene:
         if name not in effects:
             raise SceneError(f'{source}: [effect.{name}] configures an effect the scene does '
                              f'not list in effects {effects!r}')
+    sweep = _section(Sweep, raw.get('sweep', {}), source, 'sweep')
+    if not sweep.contact_s <= MAX_CONTACT_S:
+        raise SceneError(f'{source}: [sweep] contact_s must be <= {MAX_CONTACT_S:g} s, got '
+                         f'{sweep.contact_s!r}')
     return Scene(name=str(raw['name']), seed=seed, sensor_rate_hz=rate, timestep_s=timestep,
-                 effects=tuple(effects), surface=surface, patches=patches,
-                 sweep=_section(Sweep, raw.get('sweep', {}), source, 'sweep'),
+                 effects=tuple(effects), surface=surface, patches=patches, sweep=sweep,
                  variability=_section(Variability, raw.get('variability', {}), source,
                                       'variability'),
                  effect_options={k: dict(v) for k, v in options.items()}, path=source)

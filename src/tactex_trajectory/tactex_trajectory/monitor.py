@@ -24,7 +24,7 @@ import numpy as np
 
 from tactex_description.geometry import OPEN_MANIPULATOR_X
 from tactex_description.mjcf import EDGE_TIP_RADIUS_M
-from tactex_trajectory.planner import SweepPlan
+from tactex_trajectory.planner import SPEED_WINDOW_S, SweepPlan
 from tactex_trajectory.poses import ARM
 
 PRESS_STIFFNESS_N_M = OPEN_MANIPULATOR_X.joint('sensor_press').stiffness
@@ -35,8 +35,6 @@ BASELINE_CLEARANCE_M = 0.005
 DEPARTURE_M = 0.001
 # Time constant of the sliding speed shown in the feedback (s).
 SPEED_SMOOTHING_S = 0.2
-# The result's sliding speed is measured over windows this long (s).
-SPEED_WINDOW_S = 0.25
 
 
 @dataclass(frozen=True)

@@ -7,7 +7,9 @@ first path sample; through a lift straight up when the direct move would come cl
 the surface), `descend` (along the first normal until the rim is pressed in), `settle`
 (hold while the body and the pressure settle), `slide` (along the path: ramp up, the
 constant sliding speed, ramp down) and `lift` (along the last normal). The planned
-contact segment is the constant-speed part of the slide. The whole trajectory is
+contact segment is the constant-speed part of the slide; a path too short for it to
+last `MIN_CONTACT_S` is refused (the sweep could not measure its speed). The whole
+trajectory is
 checked by the driver's own validation before it is returned, so the driver and the
 simulator accept what the planner makes.
 """
@@ -53,6 +55,10 @@ MIN_MOVE_S = 0.5
 # Edge positions checked along a move for clearance.
 CLEARANCE_SAMPLES = 60
 LIMITS = JointLimits.of_robot()
+# A sweep's sliding speed is measured over windows this long (s) of its contact segment.
+SPEED_WINDOW_S = 0.25
+# The constant-speed contact segment lasts at least this long (s): two speed windows.
+MIN_CONTACT_S = 2 * SPEED_WINDOW_S
 
 
 @dataclass(frozen=True)
@@ -179,10 +185,13 @@ def plan_sweep(points, normals, ok, start_joints, settings: SweepSettings = Swee
     ramp_s = ramp_duration(slide_path, settings.sliding_speed_m_s,
                            settings.ramp_acceleration_m_s2)
     ramp_m = settings.sliding_speed_m_s * ramp_s / 2.0
-    if path.length_m <= 2.0 * ramp_m:
+    contact_m = settings.sliding_speed_m_s * MIN_CONTACT_S
+    if path.length_m < 2.0 * ramp_m + contact_m:
         raise SweepRefused(f'the path is {path.length_m * 1e3:.1f} mm long; ramping to '
                            f'{settings.sliding_speed_m_s * 1e3:g} mm/s and back takes '
-                           f'{2e3 * ramp_m:.1f} mm: probe a longer pathway or slide slower')
+                           f'{2e3 * ramp_m:.1f} mm, and the contact segment slides at that '
+                           f'speed for at least {MIN_CONTACT_S:g} s ({contact_m * 1e3:.1f} mm) '
+                           'to measure it: probe a longer pathway or slide slower')
     law = ramped_law(path.length_m, settings.sliding_speed_m_s, ramp_s)
     check_duration(law.duration_s, f'sliding {path.length_m * 1e3:.1f} mm at '
                                    f'{settings.sliding_speed_m_s:.3g} m/s')

@@ -10,7 +10,14 @@ import time
 
 from tactex.commands.train import check_folds
 from tactex.errors import CommandError
-from tactex.options import integer, ray_address
+from tactex.options import (
+    epoch_count,
+    fold_count,
+    integer,
+    patience_epochs,
+    ray_address,
+    window_samples,
+)
 from tactex_classify.catalog import ALL_MODELS, BASELINES, SCHEMES
 
 DEFAULT_WINDOWS = (128, 256, 512)
@@ -30,7 +37,7 @@ def names(value: str) -> list[str]:
 
 def windows(value: str) -> list[int]:
     """An argparse type: comma-separated window sizes (samples >= 2), none twice."""
-    parse = integer(2, 1_000_000)
+    parse = window_samples
     items = [parse(item.strip()) for item in value.split(',')]
     if len(set(items)) != len(items):
         raise argparse.ArgumentTypeError(f'{value!r} names a window twice')
@@ -47,14 +54,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('--windows', type=windows, metavar='N,...',
                         help='window sizes (default 128,256,512 for recordings; the '
                              "datasets' own for .npz)")
-    parser.add_argument('--folds', type=integer(2), default=5, help='folds per scheme (5)')
+    parser.add_argument('--folds', type=fold_count, default=5, help='folds per scheme (5)')
     parser.add_argument('--seeds', type=integer(1, 1000), default=1,
                         help='seeds 0..N-1; each draws the folds and the initial weights (1)')
     parser.add_argument('--cv', default='both', choices=[*SCHEMES, 'both'],
                         help='grouped by recording (honest), stratified windows (leaky), or '
                              'both side by side (default)')
-    parser.add_argument('--epochs', type=integer(1), default=250, help='epochs at most (250)')
-    parser.add_argument('--early-stopping', type=integer(0), default=0, metavar='PATIENCE',
+    parser.add_argument('--epochs', type=epoch_count, default=250, help='epochs at most (250)')
+    parser.add_argument('--early-stopping', type=patience_epochs, default=0, metavar='PATIENCE',
                         help='stop a cell when the loss on recordings held out of its '
                              'training fold has not improved for PATIENCE epochs (0: off)')
     parser.add_argument('--threads', type=integer(1, 256), default=1,
@@ -87,6 +94,9 @@ def run(args: argparse.Namespace) -> int:
     if args.address and args.cpus:
         raise CommandError("--cpus caps a local Ray instance; a cluster's cores are set where "
                            'its nodes start (ray start --num-cpus): drop --cpus or --address')
+    if args.address:
+        from tactex_common.cluster import check_reachable
+        check_reachable(args.address)  # before anything is written
     store = GridStore(args.out)
     check_grid_folder(store)
     settings = GridSettings(folds=args.folds, epochs=args.epochs,

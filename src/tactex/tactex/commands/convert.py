@@ -8,7 +8,7 @@ import argparse
 from pathlib import Path
 
 from tactex.errors import CommandError
-from tactex.options import check_output_file, integer, text
+from tactex.options import check_output_file, hop_samples, text, trial_id, window_samples
 from tactex_common.channels import CHANNELS
 
 
@@ -17,13 +17,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('paths', nargs='+', type=Path, metavar='BAG_OR_DIR',
                         help='recordings, or folders holding recordings')
     parser.add_argument('--out', type=Path, required=True, help='dataset path (.npz)')
-    parser.add_argument('--window', type=integer(2), default=128,
+    parser.add_argument('--window', type=window_samples, default=128,
                         help='samples per window (128)')
-    parser.add_argument('--hop', type=integer(1), help='samples between window starts '
+    parser.add_argument('--hop', type=hop_samples, help='samples between window starts '
                         '(window/2)')
     parser.add_argument('--label', type=text,
                         help='class of the recordings that carry no label (never replaces one)')
-    parser.add_argument('--trial', type=integer(0), help='recording id of a single recording')
+    parser.add_argument('--trial', type=trial_id, help='recording id of a single recording')
     parser.add_argument('--all-samples', action='store_true',
                         help='keep every sample, not only "sliding in contact"')
     parser.add_argument('--channels', metavar='NAME,...',

@@ -9,6 +9,9 @@ from pathlib import Path
 
 from tactex.errors import CommandError
 from tactex.options import check_input_file, check_output_file
+from tactex_common.files import read_text
+
+MAX_URDF_BYTES = 16 * 1024**2
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -34,7 +37,7 @@ def run(args: argparse.Namespace) -> int:
     if args.check_urdf is not None:
         check_input_file(args.check_urdf, '--check-urdf')
         try:
-            current = args.check_urdf.read_text(encoding='utf-8')
+            current = read_text(args.check_urdf, max_bytes=MAX_URDF_BYTES)
         except UnicodeDecodeError:
             raise CommandError(f'--check-urdf {args.check_urdf} is not a text file; give the '
                                'URDF (XML)') from None

@@ -12,7 +12,7 @@ from pathlib import Path
 import tempfile
 
 from tactex.errors import CommandError
-from tactex.options import check_input_file, integer, number
+from tactex.options import check_input_file, integer, number, seed_value
 from tactex_common.stopping import Stopped
 
 
@@ -40,7 +40,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('--duration', type=number(), default=math.inf,
                         help='stop after this many seconds, stalls and disconnects included '
                              '(default: run until Ctrl-C)')
-    parser.add_argument('--seed', type=integer(0), default=0, help='noise seed')
+    parser.add_argument('--seed', type=seed_value, default=0, help='noise seed')
     parser.add_argument('--start-time-us', type=integer(0, 2**32 - 1), default=0,
                         help='device clock at start (e.g. 4294000000 to cross the wrap)')
 

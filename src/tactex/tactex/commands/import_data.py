@@ -8,7 +8,14 @@ import argparse
 from pathlib import Path
 
 from tactex.errors import CommandError
-from tactex.options import check_input_folder, check_output_file, integer, number, text
+from tactex.options import (
+    check_input_folder,
+    check_output_file,
+    hop_samples,
+    number,
+    text,
+    window_samples,
+)
 
 DELIMITER_NAMES = {'tab': '\t', '\\t': '\t', 'comma': ',', 'semicolon': ';', 'pipe': '|'}
 
@@ -19,9 +26,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help='mun: the public MUN tactile texture pickles; csv: CLASS/*.csv')
     parser.add_argument('root', type=Path, help='folder holding the data')
     parser.add_argument('--out', type=Path, required=True, help='dataset path (.npz)')
-    parser.add_argument('--window', type=integer(2), default=1050,
+    parser.add_argument('--window', type=window_samples, default=1050,
                         help='samples per window (1050: 3 s at 350 Hz)')
-    parser.add_argument('--hop', type=integer(1), help='samples between window starts '
+    parser.add_argument('--hop', type=hop_samples, help='samples between window starts '
                         '(window/2)')
     parser.add_argument('--rate', type=number(), help='csv: sampling rate (Hz), unless --time '
                         'gives it')

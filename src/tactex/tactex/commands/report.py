@@ -9,7 +9,7 @@ from dataclasses import replace
 from pathlib import Path
 import time
 
-from tactex.options import check_output_folder, integer, staged_folder
+from tactex.options import check_output_folder, epoch_count, integer, seed_value, staged_folder
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -21,10 +21,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     accuracy.add_argument('--out', type=Path, required=True, help='report folder (new)')
     accuracy.add_argument('--quick', action='store_true',
                           help='the small size (a few minutes; a test), not the default')
-    accuracy.add_argument('--epochs', type=integer(1),
+    accuracy.add_argument('--epochs', type=epoch_count,
                           help='epochs of the deep models (default: 3 quick, 15 default; '
                                'cnn_3 needs about 80 to learn the 12 textures)')
-    accuracy.add_argument('--seed', type=integer(0), default=0)
+    accuracy.add_argument('--seed', type=seed_value, default=0)
     accuracy.add_argument('--threads', type=integer(1, 256), default=1,
                           help='torch threads while training (1)')
 

@@ -14,7 +14,15 @@ from pathlib import Path
 import time
 
 from tactex.errors import CommandError
-from tactex.options import check_output_folder, integer, staged_folder
+from tactex.options import (
+    check_output_folder,
+    epoch_count,
+    fold_count,
+    integer,
+    patience_epochs,
+    seed_value,
+    staged_folder,
+)
 from tactex_classify.catalog import ALL_MODELS, BASELINES, SCHEMES
 
 
@@ -26,13 +34,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('--cv', default='both', choices=[*SCHEMES, 'both'],
                         help='grouped by recording (honest), stratified windows (the '
                              "original's, leaky), or both side by side (default)")
-    parser.add_argument('--folds', type=integer(2), default=5, help='folds per scheme (5)')
-    parser.add_argument('--epochs', type=integer(1), default=250, help='epochs (250)')
-    parser.add_argument('--early-stopping', type=integer(0), default=0, metavar='PATIENCE',
+    parser.add_argument('--folds', type=fold_count, default=5, help='folds per scheme (5)')
+    parser.add_argument('--epochs', type=epoch_count, default=250, help='epochs (250)')
+    parser.add_argument('--early-stopping', type=patience_epochs, default=0, metavar='PATIENCE',
                         help='stop when the validation loss has not improved for PATIENCE '
                              'epochs (validation: recordings held out of the training fold)')
     parser.add_argument('--scaling', default='minmax', choices=['minmax', 'standard'])
-    parser.add_argument('--seed', type=integer(0), default=0)
+    parser.add_argument('--seed', type=seed_value, default=0)
     parser.add_argument('--threads', type=integer(1, 256), default=1,
                         help='torch threads (1)')
     parser.add_argument('--out', type=Path, required=True, help='run folder')
