@@ -1,7 +1,6 @@
 # Copyright 2026 The tactex authors
 # SPDX-License-Identifier: Apache-2.0
-"""Errors of the shared plumbing: unreadable tables and files, foreign links, refused node
-parameters."""
+"""Errors of the shared plumbing: bad tables and files, foreign links, refused parameters."""
 
 
 class CommonError(Exception):
