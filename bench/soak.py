@@ -7,26 +7,28 @@ or trained first from a few `tactex sim collect` sweeps), as `tactex demo` runs 
 this script drives it only through its interfaces: each loop probes a short line, then
 sweeps it SWEEPS_PER_PROBE times recording bags while classifier_node classifies live (a
 loop whose probe fails sweeps the last probed pathway). It loops for --minutes and on
-until every scheduled fault was played (at most half as long again). Every period
-(default 60 s) one fault is injected, in rotation (`--faults` picks the kinds): sensor
-unplug (the tactile topics stop), CRC burst (NaN tactile samples), servo silence
-(joint_states stop), each for FAULT_S seconds through the bridge's `fault` parameter,
-madgwick_node killed with SIGKILL (the launcher respawns it), then the live stream's
-faults (tactex_sim.faults: overflow, clock jump, burst, stamp jitter, frozen, saturated),
-those that spoil windows played while a sweep runs. A fault is recovered from when the
-silenced stream carries a finite sample again, the killed node runs again and is back on
-the graph, or, for a live-stream fault, classifier_node has counted it and its
-diagnostics are OK again.
+until every scheduled fault was played (at most half as long again).
 
-Reported: windows expected (cut by classifier_node) / classified / counted as dropped,
-summed over the classifier's lives, beside the windows `tactex convert` cuts from the
-recordings afterwards (a cross-check); bags written / readable (every message of every
-recording read back and decoded); resident memory of every node, sampled every 5 s, and
-its growth per hour (least squares, each process's first minute left out). Exit 1 on
-any unaccounted loss: expected != classified + dropped, an unreadable bag, a fault not
-injected or not recovered from, or a node that died for good. Writes --out (default
-out/soak; an existing non-empty folder is refused): summary.json, table.txt, memory.png,
-the node logs and the recordings.
+Every period (default 60 s) one fault is injected, in rotation (`--faults` picks the
+kinds): sensor unplug (the tactile topics stop), CRC burst (NaN tactile samples), servo
+silence (joint_states stop), each for FAULT_S seconds through the bridge's `fault`
+parameter, madgwick_node killed with SIGKILL (the launcher respawns it), then the live
+stream's faults (tactex_sim.faults: overflow, clock jump, burst, stamp jitter, frozen,
+saturated), those that spoil windows played over a whole sweep (from its goal to its
+result). A fault is recovered from when the silenced stream carries a finite sample
+again, the killed node runs again and is back on the graph, or, for a live-stream fault,
+classifier_node has counted it and its diagnostics are OK again.
+
+Reported: windows expected (cut by classifier_node) / classified / counted as dropped /
+skipped for a fault, summed over the classifier's lives, beside the windows `tactex
+convert` cuts from the recordings afterwards (a cross-check); decided estimates per 10
+minutes; bags written / readable (every message of every recording read back and
+decoded); resident memory of every node, sampled every 5 s, and its growth per hour
+(least squares, each process's first minute left out). Exit 1 on any unaccounted loss:
+expected != classified + dropped + skipped, an unreadable bag, a fault not injected or
+not recovered from, or a node that died for good. Writes --out (default out/soak; an
+existing non-empty folder is refused): summary.json, table.txt, memory.png, the node
+logs and the recordings.
 
     nice .venv/bin/python bench/soak.py --minutes 60
 """
@@ -34,10 +36,12 @@ the node logs and the recordings.
 from __future__ import annotations
 
 import argparse
+from contextlib import contextmanager
 from dataclasses import replace
 import json
 import os
 from pathlib import Path
+import queue
 import signal
 import sys
 import threading
@@ -79,7 +83,7 @@ COUNTED_BY = {'overflow': ('faults_invalid',),
               'clock_jump': ('faults_resyncs', 'faults_off_timeline'),
               'burst': ('faults_refused', 'faults_resyncs'), 'stamp_jitter': (),
               'frozen': ('faults_frozen',), 'saturated': ('faults_saturated',)}
-IN_SWEEP = ('burst', 'frozen', 'saturated')  # spoil windows: played while a sweep runs
+IN_SWEEP = ('burst', 'frozen', 'saturated')  # spoil windows: played over a whole sweep
 SWEEP_WAIT_S = 240.0  # two loops
 SWEEPS_PER_PROBE = 3  # sweeps of each probed pathway, the textures in turn
 # The loop runs on past --minutes until every scheduled fault was played (a fault that
@@ -130,6 +134,10 @@ class Soak:
         self.counts = dict.fromkeys(('loops', 'probes_sent', 'probes_ok', 'sweeps_sent',
                                      'sweeps_ok'), 0)
         self.done = threading.Event()
+        # A fault that spoils windows, handed from the injector to the loop's next sweep,
+        # and back: when it was cleared and how long it played.
+        self._sweep_fault: queue.Queue[str] = queue.Queue()
+        self._sweep_fault_played: queue.Queue[tuple[float, str]] = queue.Queue()
         self.started = 0.0
 
     def elapsed(self) -> float:
@@ -210,11 +218,13 @@ class Soak:
                     texture = TEXTURES[trial % len(TEXTURES)]
                     client.set_texture(texture, alive)
                     drawn = SweepParameters.draw(self.demo.scene, rng)
-                    run = client.sweep(SweepRun(texture, trial, drawn.speed_m_s),
-                                       edge_offset_rad=drawn.edge_offset_rad,
-                                       press_depth_m=max(drawn.press_depth_m, MIN_PRESS_M),
-                                       record=True, timeout_s=SWEEP_TIMEOUT_S, alive=alive,
-                                       pathway=pathway)
+                    with self._fault_over_sweep(client, alive):
+                        run = client.sweep(SweepRun(texture, trial, drawn.speed_m_s),
+                                           edge_offset_rad=drawn.edge_offset_rad,
+                                           press_depth_m=max(drawn.press_depth_m,
+                                                             MIN_PRESS_M),
+                                           record=True, timeout_s=SWEEP_TIMEOUT_S,
+                                           alive=alive, pathway=pathway)
                     self.counts['sweeps_ok'] += run.status_ok
                     notes.append(f'sweep {texture}: ' + (
                         run.result.message or
@@ -231,6 +241,23 @@ class Soak:
                           f'{windows["windows_classified"]} classified, '
                           f'{windows["windows_dropped"]} dropped; faults '
                           f'{len(self.faults)}/{len(self.schedule)}')
+
+    @contextmanager
+    def _fault_over_sweep(self, client, alive):
+        """Play a fault the injector handed over (if any) from goal to result of a sweep."""
+        try:
+            fault = self._sweep_fault.get_nowait()
+        except queue.Empty:
+            yield
+            return
+        client.set_bridge_parameter('fault', fault, alive)
+        started = time.monotonic()
+        try:
+            yield
+        finally:
+            client.set_bridge_parameter('fault', '', alive)
+            cleared = time.monotonic()
+            self._sweep_fault_played.put((cleared, f'{cleared - started:.1f} s over a sweep'))
 
     def _faults_to_come(self) -> bool:
         """Whether scheduled faults are still to be played (within the overrun allowed)."""
@@ -265,14 +292,20 @@ class Soak:
                                  f'still silent {RECOVERY_S:g} s after'))
 
     def _live_fault(self, client, alive, at_s: float, fault: str) -> soak.FaultRecord:
-        if fault in IN_SWEEP and _within(SWEEP_WAIT_S, client.sweeping) is None:
-            return soak.FaultRecord(at_s, fault, False, f'no sweep ran within {SWEEP_WAIT_S:g} '
-                                    's to play it in')
         before, _ = client.windows()
-        client.set_bridge_parameter('fault', fault, alive)
-        time.sleep(FAULT_S)
-        client.set_bridge_parameter('fault', '', alive)
-        cleared = time.monotonic()
+        if fault in IN_SWEEP:  # the loop plays it over its next sweep
+            self._sweep_fault.put(fault)
+            try:
+                cleared, played = self._sweep_fault_played.get(timeout=SWEEP_WAIT_S)
+            except queue.Empty:
+                self._sweep_fault.get_nowait()  # not taken: withdrawn
+                return soak.FaultRecord(at_s, fault, False, f'no sweep ran within '
+                                        f'{SWEEP_WAIT_S:g} s to play it in')
+        else:
+            client.set_bridge_parameter('fault', fault, alive)
+            time.sleep(FAULT_S)
+            client.set_bridge_parameter('fault', '', alive)
+            cleared, played = time.monotonic(), f'{FAULT_S:g} s'
         counters = COUNTED_BY[fault]
 
         def counted() -> str:
@@ -282,7 +315,7 @@ class Soak:
         back = _within(RECOVERY_S, lambda: (counted() or not counters)
                        and client.classifier_ok_since(cleared))
         return soak.FaultRecord(at_s, fault, back is not None, (
-            f'played {FAULT_S:g} s; counted: {counted() or "nothing"}; ' +
+            f'played {played}; counted: {counted() or "nothing"}; ' +
             (f'diagnostics OK {back:.1f} s after' if back is not None else
              f'not counted and OK {RECOVERY_S:g} s after')))
 

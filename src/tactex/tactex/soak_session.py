@@ -15,7 +15,6 @@ import time
 
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from sensor_msgs.msg import Imu, JointState
-from std_msgs.msg import Bool
 
 from tactex.demo_session import CLASSIFIER_STATUS, SystemClient
 from tactex.soak import COUNTERS, WindowLedger
@@ -38,8 +37,6 @@ class SoakClient(SystemClient):
                                  SENSOR_DATA)
         node.create_subscription(TextureEstimate, topics.TEXTURE_ESTIMATE, self._on_any_estimate,
                                  COMMAND)
-        node.create_subscription(Bool, topics.SWEEP_ACTIVE, self._on_active, COMMAND)
-        self._sweeping = False
         self._classifier_ok_at = 0.0  # when its diagnostics last said OK
 
     def _on_diagnostics(self, msg: DiagnosticArray) -> None:
@@ -62,13 +59,6 @@ class SoakClient(SystemClient):
     def _on_any_estimate(self, msg: TextureEstimate) -> None:
         if msg.decided:
             self.decisions.append(time.monotonic())
-
-    def _on_active(self, msg: Bool) -> None:
-        self._sweeping = msg.data
-
-    def sweeping(self) -> bool:
-        """Whether a sweep is in contact now (sweep/active)."""
-        return self._sweeping
 
     def classifier_ok_since(self, since: float) -> bool:
         """Whether classifier_node's diagnostics said OK after monotonic time `since`."""

@@ -62,6 +62,7 @@ RECENT_STAMPS = 256  # aligned stamps behind the gap rule's median
 RATE_STAMPS = 64  # IMU stamps before the stream's rate is judged
 RATE_SPAN = 256  # the rate is judged over the newest this many IMU stamps
 RATE_STEP = 8  # the rate is judged on steps over this many samples (jitter averages out)
+RATE_EVERY = 16  # IMU samples between judgements of the rate while no window is cut
 WARMUP = 8  # IMU samples before the first is made final (periods need a few steps)
 MEDIAN_OF = 3  # the pressure rule reads the median of this many latest readings
 
@@ -485,6 +486,7 @@ class OnlineClassifier:
         self.newest_only = newest_only
         self.skipped = 0
         self.resets: dict[str, int] = {}
+        self._rate_judged_at = 0  # IMU samples when the rate was last judged
         self.faults = dict.fromkeys(('refused', 'frozen', 'saturated', 'model_errors'), 0)
         self.last_fault = ''
 
@@ -494,8 +496,11 @@ class OnlineClassifier:
         self.windows.prune_active()
         if any(isinstance(e, ContactLost) and e.reason == 'stamps jumped' for e in events):
             self.rate.forget()
-        self.rate.measured(self.windows.stream_rate_hz())
         windows = [e for e in events if isinstance(e, Window)]
+        samples = self.windows.counts['samples']
+        if windows or samples - self._rate_judged_at >= RATE_EVERY:
+            self._rate_judged_at = samples
+            self.rate.measured(self.windows.stream_rate_hz())
         chosen = windows[-1:] if self.newest_only else windows
         self.skipped += len(windows) - len(chosen)
         if chosen and self.rate.refusal:

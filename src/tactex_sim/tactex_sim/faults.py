@@ -10,9 +10,10 @@ The live stream's faults, played on the tactile topics only: `overflow` puts 1e3
 ax (beyond float32), `clock_jump` stamps the samples 30 s back (a sensor clock set back;
 clearing it jumps forward again), `burst` withholds the samples and, when cleared, sends
 them all at once stamped 0.1 ms apart (a driver stamping a buffered burst on arrival),
-`stamp_jitter` moves each stamp up to 10 ms either way, `frozen` repeats the sample the
-fault began with (a chip that stopped converting), `saturated` holds the gyro's y axis
-at the rail of its finest range. '' is no fault.
+`stamp_jitter` moves each stamp up to 10 ms either way, `frozen` repeats the LSM9DS0's
+sample the fault began with (accelerometer, gyro and magnetometer: a chip that stopped
+converting; the barometer, another chip, goes on), `saturated` holds the gyro's y axis at
+the rail of its finest range. '' is no fault.
 """
 
 from __future__ import annotations
@@ -98,6 +99,5 @@ class FaultPlayer:
         if self.fault == 'frozen':
             self._frozen = self._frozen or sample
             frozen = self._frozen
-            sample = replace(sample, accel=frozen.accel, gyro=frozen.gyro, mag=frozen.mag,
-                             pressure=frozen.pressure, temperature=frozen.temperature)
+            sample = replace(sample, accel=frozen.accel, gyro=frozen.gyro, mag=frozen.mag)
         return out + [(faulty_sample(self.fault, sample), stamp)]
