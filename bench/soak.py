@@ -134,6 +134,7 @@ class Soak:
         self.counts = dict.fromkeys(('loops', 'probes_sent', 'probes_ok', 'sweeps_sent',
                                      'sweeps_ok'), 0)
         self.done = threading.Event()
+        self.looped = threading.Event()  # the loop has ended: no sweep will come
         # A fault that spoils windows, handed from the injector to the loop's next sweep,
         # and back: when it was cleared and how long it played.
         self._sweep_fault: queue.Queue[str] = queue.Queue()
@@ -171,7 +172,10 @@ class Soak:
                                         daemon=True)]
             for worker in workers:
                 worker.start()
-            self._loop(client, alive)
+            try:
+                self._loop(client, alive)
+            finally:
+                self.looped.set()
             workers[1].join()
             self._settle(client)
             windows, lives = client.windows()
@@ -295,12 +299,14 @@ class Soak:
         before, _ = client.windows()
         if fault in IN_SWEEP:  # the loop plays it over its next sweep
             self._sweep_fault.put(fault)
+            # Taken by a sweep (the queue is empty again), or no sweep will come.
+            _within(SWEEP_WAIT_S, lambda: self._sweep_fault.empty() or self.looped.is_set())
             try:
-                cleared, played = self._sweep_fault_played.get(timeout=SWEEP_WAIT_S)
-            except queue.Empty:
-                self._sweep_fault.get_nowait()  # not taken: withdrawn
+                self._sweep_fault.get_nowait()  # not taken by a sweep: withdrawn
                 return soak.FaultRecord(at_s, fault, False, f'no sweep ran within '
                                         f'{SWEEP_WAIT_S:g} s to play it in')
+            except queue.Empty:  # taken: played over the sweep under way
+                cleared, played = self._sweep_fault_played.get(timeout=SWEEP_TIMEOUT_S + 30)
         else:
             client.set_bridge_parameter('fault', fault, alive)
             time.sleep(FAULT_S)
