@@ -30,8 +30,12 @@ PLOTS = ('pathway.png', 'sweep.png', 'confusion.png', 'accuracy_vs_contact_time.
 # ('first point is 0.13 from the current joint3; start within 0.1'), the goal aborts ('the
 # arm does not follow'), the retry meets the same, or gives 2-3 of 7 contacts. Issue 24;
 # non-strict, so a passing run still shows as XPASS.
-@pytest.mark.xfail(reason='probe stage fails most runs on this machine (issue 24)',
-                   strict=False)
+# Passed in the fresh-clone CI run of 2026-11-25 after the bridge and probe fix (one
+# sample a tick; cut motions stopped, next path from the reported joints); a run on a
+# machine loaded by other jobs still found 3 of 7 contacts and the sweep could not be
+# planned. Kept non-strict until it passes repeatedly.
+@pytest.mark.xfail(reason='on a loaded 2-core machine the probe stage may find too few '
+                          'contacts for the sweep', strict=False)
 def test_quick_demo_runs_every_stage_through_the_nodes_and_meets_its_thresholds(tmp_path):
     from rosbags.highlevel import AnyReader
 
