@@ -50,8 +50,8 @@ _RAILS = {**dict.fromkeys(ACCEL, (-_smallest_rail(chips.ACCEL_RANGES),
 
 def fits_float32(values: Sequence[float]) -> bool:
     """Every value finite and within float32's range (the models' input type)."""
-    array = np.asarray(values, dtype=float)
-    return bool(np.all(np.abs(array) <= FLOAT32_MAX))  # False for NaN too
+    # Plain floats: a handful per sample, on the live path; abs(NaN) <= x is False.
+    return all(abs(float(v)) <= FLOAT32_MAX for v in values)
 
 
 class Timeline:
@@ -118,13 +118,9 @@ class RateJudge:
         """The rate measured from the stamps (None: too few yet)."""
         if rate_hz is None:
             return
-        expected = self.stream.sampling_rate_hz
         allowed = self.tolerance if not self._measured else self.tolerance / 2
-        if abs(rate_hz - expected) <= allowed * expected:
-            self._measured = ''
-        else:
-            self._measured = (f'rate: the model was trained at {expected:g} Hz, the stream '
-                              f'runs at {rate_hz:.4g} Hz (median step of the header stamps)')
+        lines = self.stream.mismatches(sampling_rate_hz=rate_hz, rate_tolerance=allowed)
+        self._measured = f'{lines[0]} (median step of the header stamps)' if lines else ''
 
     def forget(self) -> None:
         """Start measuring again (the timeline restarted)."""
