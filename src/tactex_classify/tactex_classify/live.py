@@ -64,6 +64,7 @@ RATE_SPAN = 256  # the rate is judged over the newest this many IMU stamps
 RATE_STEP = 8  # the rate is judged on steps over this many samples (jitter averages out)
 RATE_EVERY = 16  # IMU samples between judgements of the rate while no window is cut
 WARMUP = 8  # IMU samples before the first is made final (periods need a few steps)
+RESYNC = 'stamps jumped'  # why the evidence restarts when the timeline restarts
 MEDIAN_OF = 3  # the pressure rule reads the median of this many latest readings
 
 
@@ -322,10 +323,10 @@ class LiveWindows:
     def _restart(self, stamp_ns: int) -> None:
         """The IMU's stamps moved to a new timeline at `stamp_ns`: start again from there."""
         self.counts['resyncs'] += 1
-        jump = self.settings.jump_s * 1e9
-        self._active = [t for t in self._active if abs(t[0] - stamp_ns) <= jump]
+        self._active = [t for t in self._active
+                        if abs(t[0] - stamp_ns) <= self._timeline.jump_ns]
         self._reset_streams()
-        self._pending.append(ContactLost(stamp_ns, 'stamps jumped'))
+        self._pending.append(ContactLost(stamp_ns, RESYNC))
 
     def set_active(self, active: bool, stamp_ns: int) -> None:
         """A sweep/active message received at `stamp_ns` (the clock the sensor stamps use).
@@ -494,7 +495,7 @@ class OnlineClassifier:
         """Classify what the samples added so far complete, in stamp order."""
         events = self.windows.poll()
         self.windows.prune_active()
-        if any(isinstance(e, ContactLost) and e.reason == 'stamps jumped' for e in events):
+        if any(isinstance(e, ContactLost) and e.reason == RESYNC for e in events):
             self.rate.forget()
         windows = [e for e in events if isinstance(e, Window)]
         samples = self.windows.counts['samples']
@@ -515,9 +516,10 @@ class OnlineClassifier:
             if isinstance(event, ContactLost):
                 self._reset(event.reason)
             elif id(event) in faulty:
-                self.faults[faulty[id(event)].split()[0]] += 1
+                kind = faulty[id(event)].split()[0]  # 'frozen' or 'saturated'
+                self.faults[kind] += 1
                 self.last_fault = f'{faulty[id(event)]} window'
-                self._reset(faulty[id(event)].split()[0])
+                self._reset(kind)
             elif id(event) in probabilities:
                 self.last_fault = ''
                 proba = probabilities[id(event)]
