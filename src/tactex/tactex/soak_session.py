@@ -19,7 +19,7 @@ from sensor_msgs.msg import Imu, JointState
 from tactex.demo_session import CLASSIFIER_STATUS, SystemClient
 from tactex.soak import COUNTERS, WindowLedger
 from tactex_common import topics
-from tactex_common.ros import COMMAND, SENSOR_DATA
+from tactex_common.ros import SENSOR_DATA
 from tactex_msgs.msg import TextureEstimate
 
 
@@ -27,17 +27,17 @@ class SoakClient(SystemClient):
     """SystemClient that also watches the streams, the classifier's counters and the graph."""
 
     def __init__(self) -> None:
-        super().__init__()
+        # Before SystemClient starts spinning: its diagnostics and estimate callbacks,
+        # overridden here, read these.
         self.ledger = WindowLedger()
         self._heard = {topics.IMU_RAW: 0.0, topics.JOINT_STATES: 0.0}
         self.decisions: list[float] = []  # when each decided estimate was heard (monotonic)
+        self._classifier_ok_at = 0.0  # when its diagnostics last said OK
+        super().__init__()
         node = self._node
         node.create_subscription(Imu, topics.IMU_RAW, self._on_imu, SENSOR_DATA)
         node.create_subscription(JointState, topics.JOINT_STATES, self._on_joints,
                                  SENSOR_DATA)
-        node.create_subscription(TextureEstimate, topics.TEXTURE_ESTIMATE, self._on_any_estimate,
-                                 COMMAND)
-        self._classifier_ok_at = 0.0  # when its diagnostics last said OK
 
     def _on_diagnostics(self, msg: DiagnosticArray) -> None:
         super()._on_diagnostics(msg)
@@ -56,7 +56,8 @@ class SoakClient(SystemClient):
     def _on_joints(self, msg: JointState) -> None:
         self._heard[topics.JOINT_STATES] = time.monotonic()
 
-    def _on_any_estimate(self, msg: TextureEstimate) -> None:
+    def _on_estimate(self, msg: TextureEstimate) -> None:
+        super()._on_estimate(msg)
         if msg.decided:
             self.decisions.append(time.monotonic())
 
