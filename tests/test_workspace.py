@@ -29,6 +29,7 @@ ROS_FACING = frozenset({
     'tactex.demo_session',
     'tactex.ros_launch',
     'tactex.soak_session',
+    'tactex_common.goals',
     'tactex_common.ros',
     'tactex_classify.classifier_node',
     'tactex_classify.recorder_node',

@@ -46,10 +46,10 @@ def goal(x, span, approach=0.02):
 def test_probe_goal_in_simulation_broadcasts_the_pathway(ros_context, tmp_path):
     from geometry_msgs.msg import PoseArray
     import rclpy
-    from rclpy.action import ActionClient
     from transforms3d.quaternions import quat2mat
 
     from tactex.ros_env import ros_environment
+    from tactex_common.goals import GoalSender
     from tactex_common.ros import LATCHED
     from tactex_msgs.action import Probe
     from tactex_msgs.msg import Pathway as PathwayMsg
@@ -71,15 +71,15 @@ def test_probe_goal_in_simulation_broadcasts_the_pathway(ros_context, tmp_path):
     client_node = rclpy.create_node('probe_client', context=ros_context)
     poses, late = [], []
     client_node.create_subscription(PoseArray, 'probe/contacts', poses.append, LATCHED)
-    client = ActionClient(client_node, Probe, 'probe')
+    sender = GoalSender(client_node, Probe, 'probe')
     executor, thread = spin_in_background(ros_context, [client_node])
     try:
-        assert client.wait_for_server(timeout_sec=30.0)
+        assert sender.client.wait_for_server(timeout_sec=30.0)
         feedback = []
         # The node refuses goals until the simulator listens for arm commands.
         deadline = time.monotonic() + 30.0
         while True:
-            sent = client.send_goal_async(goal(0.185, 0.01), feedback_callback=feedback.append)
+            sent = sender.send_goal_async(goal(0.185, 0.01), feedback_callback=feedback.append)
             assert wait_for(sent.done, 30)  # a hang guard on a loaded machine
             if sent.result().accepted or time.monotonic() > deadline:
                 break

@@ -19,13 +19,13 @@ from geometry_msgs.msg import Point, PoseArray, Vector3
 from rcl_interfaces.msg import Parameter, ParameterType, ParameterValue
 from rcl_interfaces.srv import SetParameters
 import rclpy
-from rclpy.action import ActionClient
 from rclpy.context import Context
 from rclpy.executors import SingleThreadedExecutor
 
 from tactex.demo_report import Estimate
 from tactex.errors import CommandError
 from tactex_common import topics
+from tactex_common.goals import GoalSender
 from tactex_common.ros import COMMAND, LATCHED
 from tactex_common.stamps import stamp_ns
 from tactex_msgs.action import Probe, Sweep
@@ -34,6 +34,9 @@ from tactex_msgs.msg import Pathway, TextureEstimate
 # The bridge's parameter service (the simulator stands in for the robot under this name).
 BRIDGE_PARAMETERS = 'mujoco_bridge/set_parameters'
 CLASSIFIER_STATUS = 'tactex_classify: classifier_node'  # its diagnostics status name
+# Seconds to wait for a goal's answer before sending it again (an answer lost in discovery
+# is found in the action's status within this time; see tactex_common.goals).
+GOAL_ANSWER_S = 10.0
 
 
 class ProbeAborted(CommandError):
@@ -96,8 +99,8 @@ class SystemClient:
                                  COMMAND)
         node.create_subscription(DiagnosticArray, topics.DIAGNOSTICS, self._on_diagnostics,
                                  COMMAND)
-        self._probe = ActionClient(node, Probe, topics.PROBE_ACTION)
-        self._sweep = ActionClient(node, Sweep, topics.SWEEP_ACTION)
+        self._probe = GoalSender(node, Probe, topics.PROBE_ACTION)
+        self._sweep = GoalSender(node, Sweep, topics.SWEEP_ACTION)
         self._parameters = node.create_client(SetParameters, BRIDGE_PARAMETERS)
         self._executor = SingleThreadedExecutor(context=self._context)
         self._executor.add_node(node)
@@ -153,9 +156,9 @@ class SystemClient:
     def wait_ready(self, timeout_s: float, *, sweep: bool = True, bridge: bool = True,
                    alive=lambda: True) -> None:
         """Wait for the probe (and sweep) action servers (and the bridge's parameters)."""
-        ready = [('the probe action server', self._probe.server_is_ready)]
+        ready = [('the probe action server', self._probe.client.server_is_ready)]
         if sweep:
-            ready.append(('the sweep action server', self._sweep.server_is_ready))
+            ready.append(('the sweep action server', self._sweep.client.server_is_ready))
         if bridge:
             ready.append(('the simulator', self._parameters.service_is_ready))
         for what, check in ready:
@@ -180,13 +183,19 @@ class SystemClient:
             return self._classifier is not None and self._classifier.level == \
                 DiagnosticStatus.OK
 
-    def _send(self, client: ActionClient, goal, timeout_s: float, what: str, alive,
+    def _send(self, sender: GoalSender, goal, timeout_s: float, what: str, alive,
               feedback=None):
-        """Send a goal (retrying while refused: the nodes wait for the arm); its result."""
+        """Send a goal, again while refused or unanswered (nodes wait for the arm); its result."""
         deadline = time.monotonic() + timeout_s
         while True:
-            sent = client.send_goal_async(goal, feedback_callback=feedback)
-            self._wait(sent.done, 30.0, f'{what}: the goal was not answered', alive)
+            sent = sender.send_goal_async(goal, feedback_callback=feedback)
+            try:
+                self._wait(sent.done, GOAL_ANSWER_S, f'{what}: the goal was not answered', alive)
+            except CommandError:
+                sender.forget(sent)
+                if time.monotonic() > deadline or not alive():
+                    raise
+                continue
             if sent.result().accepted:
                 break
             if time.monotonic() > deadline:

@@ -1,0 +1,85 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""GoalSender: a goal is answered by the server's response or, if that is lost, by its status."""
+
+import threading
+
+from processes import wait_for
+import pytest
+
+pytest.importorskip('tactex_msgs', reason='tactex_msgs is not built in this environment')
+
+pytestmark = pytest.mark.ros
+
+
+@pytest.fixture
+def action_pair(ros_context):
+    """A Probe action server that accepts goals with span > 0, and a GoalSender to it."""
+    from rclpy.action import ActionServer, GoalResponse
+    from rclpy.executors import SingleThreadedExecutor
+    import rclpy.node
+
+    from tactex_common.goals import GoalSender
+    from tactex_msgs.action import Probe
+
+    server_node = rclpy.node.Node('goals_test_server', context=ros_context)
+    client_node = rclpy.node.Node('goals_test_client', context=ros_context)
+
+    def execute(handle):
+        handle.succeed()
+        return Probe.Result(message=f'span {handle.request.span:g}')
+
+    server = ActionServer(server_node, Probe, 'probe', execute_callback=execute,
+                          goal_callback=lambda goal: (GoalResponse.ACCEPT if goal.span > 0
+                                                      else GoalResponse.REJECT))
+    sender = GoalSender(client_node, Probe, 'probe')
+    executor = SingleThreadedExecutor(context=ros_context)
+    for node in (server_node, client_node):
+        executor.add_node(node)
+    thread = threading.Thread(target=executor.spin, daemon=True)
+    thread.start()
+    assert sender.client.wait_for_server(timeout_sec=10.0)
+    yield sender, Probe
+    executor.shutdown(timeout_sec=5.0)
+    thread.join(timeout=5.0)
+    server.destroy()
+    for node in (server_node, client_node):
+        node.destroy_node()
+
+
+def result_message(handle):
+    result = handle.get_result_async()
+    assert wait_for(result.done, 10)
+    return result.result().result.message
+
+
+def test_an_answered_goal_is_accepted_and_its_result_arrives(action_pair):
+    sender, Probe = action_pair
+    sent = sender.send_goal_async(Probe.Goal(span=0.05))
+    assert wait_for(sent.done, 10)
+    assert sent.result().accepted
+    assert result_message(sent.result()) == 'span 0.05'
+
+
+def test_a_refused_goal_is_answered_as_refused(action_pair):
+    sender, Probe = action_pair
+    sent = sender.send_goal_async(Probe.Goal(span=0.0))
+    assert wait_for(sent.done, 10)
+    assert not sent.result().accepted
+
+
+def test_a_goal_whose_answer_is_lost_is_found_by_its_status_and_its_result_arrives(
+        action_pair, monkeypatch):
+    from rclpy.task import Future
+
+    sender, Probe = action_pair
+    send = sender.client.send_goal_async
+    # The server accepts and runs the goal, but its answer never reaches the client, as
+    # when the server answers before discovery has matched the client's reader.
+    monkeypatch.setattr(sender.client, 'send_goal_async',
+                        lambda *args, **kwargs: (send(*args, **kwargs), Future())[1])
+    sent = sender.send_goal_async(Probe.Goal(span=0.07))
+    assert wait_for(sent.done, 10)
+    assert sent.result().accepted
+    assert result_message(sent.result()) == 'span 0.07'
+
