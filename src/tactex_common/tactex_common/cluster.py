@@ -8,8 +8,10 @@ detects) or joins a cluster by address, and shuts it down (or leaves it) on exit
 `run_tasks` submits one task per job with its CPU/GPU request and hands each result to
 the caller in the order they finish, in the calling process: whatever node ran a job,
 its result lands where the caller puts it. Ray is imported only here, only when used.
-A cluster's address is tried first with a plain connection (`check_reachable`): Ray's
-own client waits minutes, deaf to signals, for a head that is not there.
+A cluster's address is tried first (`check_reachable`): a connection, then the HTTP/2
+greeting every gRPC server (Ray's head and its client server) answers with its settings.
+Ray's own client waits minutes, deaf to signals, for a head that is not there or for an
+answer from a program that is not Ray.
 """
 
 from __future__ import annotations
@@ -24,6 +26,11 @@ from typing import Any
 from tactex_common.errors import ClusterError
 
 CONNECT_TIMEOUT_S = 10.0
+# The HTTP/2 client preface and an empty SETTINGS frame (RFC 9113, 3.4 and 6.5); a gRPC
+# server answers with a frame header whose type byte (the fourth) is SETTINGS, 0x4.
+HTTP2_GREETING = b'PRI * HTTP/2.0\r\n\r\nSM\r\n\r\n' + bytes([0, 0, 0, 4, 0, 0, 0, 0, 0])
+HTTP2_SETTINGS = 4
+FRAME_HEADER_BYTES = 9
 
 
 @dataclass(frozen=True)
@@ -72,21 +79,37 @@ def ray_session(*, address: str | None = None, cpus: int | None = None) -> Itera
 
 
 def check_reachable(address: str, timeout_s: float = CONNECT_TIMEOUT_S) -> None:
-    """Refuse a cluster address (HOST:PORT or ray://HOST:PORT) nothing answers at.
+    """Refuse a cluster address (HOST:PORT or ray://HOST:PORT) where no gRPC server answers.
 
     Raises:
-        ClusterError: the connection is refused, unroutable, or not accepted within
-            `timeout_s`.
+        ClusterError: the connection is refused, unroutable or not accepted within
+            `timeout_s`, or what answers there does not speak HTTP/2 (not a Ray head).
     """
     host, _, port = address.removeprefix('ray://').rpartition(':')
+    hint = 'start the head with `ray start --head` and give the address it prints'
     try:
-        with socket.create_connection((host.strip('[]'), int(port)), timeout=timeout_s):
-            pass
+        with socket.create_connection((host.strip('[]'), int(port)), timeout=timeout_s) as link:
+            link.settimeout(timeout_s)
+            link.sendall(HTTP2_GREETING)
+            header = _read_up_to(link, FRAME_HEADER_BYTES)
     except (OSError, ValueError) as err:
         reason = (f'no answer within {timeout_s:g} s' if isinstance(err, TimeoutError)
                   else getattr(err, 'strerror', None) or str(err))
-        raise ClusterError(f'cannot reach Ray at {address}: {reason}; start the head with '
-                           '`ray start --head` and give the address it prints') from None
+        raise ClusterError(f'cannot reach Ray at {address}: {reason}; {hint}') from None
+    if len(header) < FRAME_HEADER_BYTES or header[3] != HTTP2_SETTINGS:
+        raise ClusterError(f'what answers at {address} is not a Ray head (no gRPC greeting); '
+                           f'{hint}')
+
+
+def _read_up_to(link: socket.socket, size: int) -> bytes:
+    """Up to `size` bytes from `link`: fewer when the other side closes first."""
+    received = b''
+    while len(received) < size:
+        chunk = link.recv(size - len(received))
+        if not chunk:
+            break
+        received += chunk
+    return received
 
 
 def run_tasks(function: Callable[..., Any], jobs: Sequence[tuple], *,
