@@ -11,7 +11,7 @@
 namespace tactex {
 namespace ranges {
 
-constexpr lsm9ds0::AccelRange kAccel = lsm9ds0::AccelRange::k2G;
+constexpr lsm9ds0::AccelRange kAccel = lsm9ds0::AccelRange::k4G;
 constexpr lsm9ds0::GyroRange kGyro = lsm9ds0::GyroRange::k245Dps;
 constexpr lsm9ds0::MagRange kMag = lsm9ds0::MagRange::k2Gauss;
 

@@ -34,6 +34,8 @@ PERIOD_NS = int(1e9 / RATE_HZ)
 BASE_PA = 101325.0
 GRAVITY = np.array([0.0, 0.0, -9.81])
 CONFIG = DetectorConfig()
+# An ideal barometer (2 Pa noise, no 10-bit steps): the touches below rise 12.5 Pa a sample.
+IDEAL = DetectorConfig(resolution_pa=0.0)
 # Free-air samples after a bad burst within which a detector has left contact: the
 # median of MEDIAN_OF readings is back at the baseline, then `debounce` samples below.
 RELEASE_SAMPLES = MEDIAN_OF - 1 + CONFIG.debounce
@@ -47,7 +49,7 @@ bad_samples = st.tuples(stamp_steps, anything(),
 
 def armed_detector(seed: int, pressure: bool = True) -> ContactDetector:
     rng = np.random.default_rng(seed)
-    detector = ContactDetector()
+    detector = ContactDetector(IDEAL)
     for _ in range(CONFIG.baseline_samples):
         detector.learn(BASE_PA + rng.normal(0.0, 2.0) if pressure else math.nan,
                        GRAVITY + rng.normal(0.0, 0.02, 3))
@@ -112,7 +114,7 @@ def test_an_accel_detector_leaves_contact_after_bad_samples_stop(start, bad, see
 @given(st.lists(st.tuples(anything(), st.one_of(st.none(), vectors(anything()))),
                 min_size=1, max_size=3), st.booleans())
 def test_a_few_wild_free_air_samples_do_not_blind_the_detector(wild, pressure):
-    detector = ContactDetector()
+    detector = ContactDetector(IDEAL)
     for pressure_pa, accel in wild:
         detector.learn(pressure_pa if pressure else math.nan, accel)
     rng = np.random.default_rng(1)

@@ -53,6 +53,8 @@ def world_inputs(draw):
             'sensor rotation': euler2mat(*draw(vectors(st.floats(-math.pi, math.pi)))),
             'sensor position': np.array(draw(vectors(finite()))),
             'sample rate': draw(st.floats(1.0, 2000.0)),
+            'sensor filters': draw(st.one_of(st.just((math.inf, math.inf)),
+                                             st.tuples(st.floats(1.0, 1e4), st.floats(1.0, 1e4)))),
             'compression': draw(st.floats(0.0, PRESS_TRAVEL_M)),
             'time': draw(st.floats(0.0, 1e9))}
 

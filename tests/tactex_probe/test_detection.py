@@ -19,6 +19,8 @@ def stamp(i):
 
 
 def armed(rng, samples=60, **config):
+    """A detector armed in free air on an ideal barometer (2 Pa noise, no quantisation)."""
+    config.setdefault('resolution_pa', 0.0)
     detector = ContactDetector(DetectorConfig(**config))
     for _ in range(samples):
         detector.learn(BASE_PA + rng.normal(0.0, 2.0), GRAVITY + rng.normal(0.0, 0.02, 3))
@@ -45,6 +47,47 @@ def test_light_touch_is_a_contact_with_its_onset():
     assert len(events) == 1 and events[0].channel is Channel.PRESSURE
     assert abs(events[0].onset_ns - stamp(onset)) < stamp(1.5)
     assert events[0].detected_ns > events[0].onset_ns
+
+
+def test_an_mpl115a2_repeating_one_code_gives_no_false_contact():
+    # Its 10-bit codes 63.5 Pa apart, one code of noise: most free-air readings repeat the
+    # median code, so the median absolute deviation is 0; the spread must not follow it.
+    from tactex_common import chips
+    rng = np.random.default_rng(5)
+
+    def reading(pa):
+        return float(chips.quantise_pressure(pa + rng.normal(0.0, 0.5 * chips.PRESSURE_LSB_PA)))
+    detector = ContactDetector(DetectorConfig(resolution_pa=chips.PRESSURE_LSB_PA))
+    for _ in range(60):
+        detector.learn(reading(BASE_PA), GRAVITY)
+    assert detector.spread_pa >= chips.PRESSURE_LSB_PA
+    events = []
+    for i in range(1200):  # 10 s in free air
+        event = detector.update(stamp(i), reading(BASE_PA), None)
+        events += [event] if event is not None else []
+    assert events == []
+    # A real press (0.5 N, 1250 Pa) is still found.
+    pressed = feed(detector, [reading(BASE_PA + min(1250.0, 25.0 * i)) for i in range(120)])
+    assert len(pressed) == 1
+
+
+@pytest.mark.parametrize('seed', range(8))
+def test_the_onset_of_a_touch_read_through_10_bit_codes_with_a_code_of_noise_is_found(seed):
+    # A 5 mm/s descent rises 62.5 Pa a sample at 120 Hz: one MPL115A2 code, as much as
+    # its noise. The onset is fitted through the whole rise, not the three samples that
+    # crossed the threshold, so it is found within a few samples (0.1 mm of descent).
+    from tactex_common import chips
+    rng = np.random.default_rng(seed)
+
+    def reading(pa):
+        return float(chips.quantise_pressure(pa + rng.normal(0.0, chips.PRESSURE_LSB_PA)))
+    detector = ContactDetector()
+    for _ in range(60):
+        detector.learn(reading(BASE_PA), GRAVITY)
+    onset = 100
+    events = feed(detector, [reading(BASE_PA + 62.5 * max(0, i - onset)) for i in range(200)])
+    assert len(events) == 1
+    assert abs(events[0].onset_ns - stamp(onset)) <= stamp(3)
 
 
 def test_acceleration_bump_in_free_air_is_not_a_contact():
@@ -95,7 +138,7 @@ def test_nothing_is_detected_before_the_baseline_is_learnt():
 
 def test_baseline_spread_ignores_a_burst_while_learning():
     rng = np.random.default_rng(6)
-    detector = ContactDetector()
+    detector = ContactDetector(DetectorConfig(resolution_pa=0.0))
     for i in range(60):
         detector.learn(BASE_PA + rng.normal(0.0, 2.0) + (5000.0 if i == 30 else 0.0))
     assert detector.spread_pa < 4.0

@@ -12,17 +12,20 @@ from tactex_common import chips
 from tactex_sim.collect import record_sweep
 from tactex_sim.effects import EFFECTS, Reading
 from tactex_sim.scene import load_scene, resolve_scene
+from tactex_sim.sweep import plan_sweep, play, SweepParameters
+from tactex_sim.textures import TEXTURES
 from tactex_sim.world import World
 
 
-def with_chips(name: str):
-    """A shipped scene with the chip model declared.
+def shipped(name: str):
+    """A shipped scene (each declares the chip model)."""
+    return load_scene(resolve_scene(name))
 
-    The shipped scenes declare it once the texture model stays within the chips' ranges
-    and the probe copes with the 10-bit barometer (issue 25).
-    """
-    scene = load_scene(resolve_scene(name))
-    return dataclasses.replace(scene, effects=(*scene.effects, 'sensor'))
+
+def without_chips(name: str):
+    """A shipped scene with its `sensor` declaration taken out: the physics alone."""
+    scene = shipped(name)
+    return dataclasses.replace(scene, effects=tuple(e for e in scene.effects if e != 'sensor'))
 
 
 def chip(**options):
@@ -40,9 +43,8 @@ def reported(effect, accel=(0.0, 0.0, 9.81), gyro=(0.0, 0.0, 0.0), mag=(2e-5, 0.
 
 @pytest.mark.parametrize('scene', ['uneven_texture', 'even_texture', 'probe'])
 def test_a_scene_gets_the_chips_only_when_it_declares_them(scene):
-    plain = World(load_scene(resolve_scene(scene)))
-    assert 'sensor' not in [e.name for e in plain.effects]
-    assert [e.name for e in World(with_chips(scene)).effects][-1] == 'sensor'
+    assert [e.name for e in World(shipped(scene)).effects][-1] == 'sensor'
+    assert 'sensor' not in [e.name for e in World(without_chips(scene)).effects]
 
 
 def test_a_245_dps_gyro_clips_a_fast_rocking_at_its_rail_and_none_without_the_chip():
@@ -89,11 +91,32 @@ def test_a_missing_channel_stays_missing():
 
 
 @pytest.mark.slow
+def test_no_texture_of_the_default_scene_drives_a_channel_past_its_full_scale():
+    scene = shipped('uneven_texture')
+    limits = {'accel': chips.accel_range().full_scale_si, 'gyro': chips.gyro_range().full_scale_si}
+    at_rails = total = 0
+    for name in TEXTURES:
+        parameters = SweepParameters.draw(scene, np.random.default_rng(3))
+        plan = plan_sweep(scene, parameters)
+        world = World(scene, seed=3, patch_texture=name,
+                      texture_heading_rad=parameters.heading_rad)
+        samples = []
+        play(world, plan, samples.append)
+        for channel, limit in limits.items():
+            values = np.abs(np.array([getattr(s, channel) for s in samples]))
+            assert values.max() <= limit, (name, channel, values.max())
+        rails = chips.gyro_range().rails_si[1]
+        at_rails += int((np.abs([s.gyro for s in samples]) >= rails).any(axis=1).sum())
+        total += len(samples)
+    assert at_rails < 0.001 * total
+
+
+@pytest.mark.slow
 def test_a_recording_carries_whole_counts_with_the_chips_and_the_physics_alone_without(
         tmp_path):
     from tactex_classify.bags import read_recording
-    scene = with_chips('uneven_texture')
-    bare = load_scene(resolve_scene('uneven_texture'))
+    scene = shipped('uneven_texture')
+    bare = without_chips('uneven_texture')
     lsb = chips.gyro_range().lsb_si
     whole = {}
     for name, variant in (('chips', scene), ('bare', bare)):

@@ -115,38 +115,37 @@ def test_sensor_pressed_to_its_prismatic_limit_holds():
     assert press >= low - 0.002 and np.all(np.isfinite(world.data.qpos))
 
 
-def test_zero_velocity_contact_has_no_texture_signal():
+def test_zero_velocity_contact_has_no_texture_vibration():
     scene = SCENE['uneven_texture']
-    loud = dataclasses.replace(scene, effects=('contact', 'compliance', 'texture'))
-    quiet = dataclasses.replace(scene, effects=('contact', 'compliance'))
-    pose = pose_at(scene, 0.15, 0.0015)
-    readings = {}
-    for name, variant in (('with', loud), ('without', quiet)):
-        world = World(variant, patch_texture='ridged polymer')
-        world.place_arm(pose)
-        readings[name] = run(world, 3.0)[-60:]  # settled: the edge no longer creeps
-    assert readings['with'][-1].truth.contact.touching
-    difference = np.array([a.accel - b.accel for a, b in zip(readings['with'],
-                                                              readings['without'],
-                                                              strict=True)])
-    assert np.abs(difference).max() < 1e-9
+    still = dataclasses.replace(scene, effects=('contact', 'compliance', 'texture'))
+    world = World(still, patch_texture='ridged polymer')
+    world.place_arm(pose_at(scene, 0.15, 0.0015))
+    settled = run(world, 3.0)[-60:]  # the edge barely creeps (below the sliding speed)
+    assert settled[-1].truth.contact.touching
+    accel = np.array([s.accel for s in settled])
+    # Sliding over these ridges vibrates by about 0.1 m/s^2 (next test); still, nothing.
+    assert np.ptp(accel, axis=0).max() < 1e-3
 
 
-def test_sliding_over_a_texture_adds_vibration():
+def test_sliding_over_a_texture_adds_vibration_within_what_physics_allows():
     scene = SCENE['uneven_texture']
     parameters = SweepParameters(0.10, 0.015, 0.0015, 0.5, 0.0, 0.0, 0.0)
     plan = plan_sweep(scene, parameters, duration_s=3.0)
     streams = {}
     for effects in (('contact', 'compliance', 'texture'), ('contact', 'compliance')):
-        world = World(dataclasses.replace(scene, effects=effects), patch_texture='silicone mesh')
+        world = World(dataclasses.replace(scene, effects=effects), patch_texture='ridged polymer')
         world.place_arm(plan.joints[0])
         world.controller = plan.targets
         streams[len(effects)] = np.array([s.accel for s in run(world, plan.times_s[-1])
                                           if plan.slide_start_s + 0.5 < s.time_s
                                           < plan.slide_end_s])
-    # The texture does not change the physics: the difference is the texture's signal.
-    texture_signal = streams[3] - streams[2]
-    assert 0.1 < np.sqrt(np.mean(texture_signal ** 2)) < 3.0
+    # Above 3 Hz (the texture's friction also tilts the body, slowly): the vibration.
+    from scipy.signal import butter, sosfiltfilt
+    high_pass = butter(4, 3.0, 'high', fs=scene.sensor_rate_hz, output='sos')
+    texture, plain = (sosfiltfilt(high_pass, streams[n], axis=0) for n in (3, 2))
+    rms = [float(np.sqrt(np.mean(x ** 2))) for x in (texture, plain)]
+    # 1.8 mm ridges 190 um high at 15 mm/s through a 1.5 mm footprint: about 0.1 m/s^2.
+    assert rms[0] > 1.5 * rms[1] and 0.03 < rms[0] < 1.0
 
 
 def test_same_seed_gives_bit_identical_streams():

@@ -73,15 +73,25 @@ MAG_RANGES = {2: Range(2, GAUSS, 0.08, 0), 4: Range(4, GAUSS, 0.16, 1),
               8: Range(8, GAUSS, 0.32, 2), 12: Range(12, GAUSS, 0.48, 3)}
 
 # The ranges this module is run with: the firmware selects them (tactex_ranges.h is
-# written from these) and the simulator's `sensor` effect defaults to them: the finest,
-# for slow sweeps and texture vibration.
-ACCEL_RANGE_G = 2
+# written from these), the Madgwick filter trusts readings within them, and the
+# simulator's `sensor` effect defaults to them. +-4 g: at +-2 g a lift-off transient of
+# the compliant body reaches the rail (one sample in a thousand in simulation); the
+# sweeps' rates stay within +-245 dps (tactex sim stats).
+ACCEL_RANGE_G = 4
 GYRO_RANGE_DPS = 245
 MAG_RANGE_GAUSS = 2
 
-# The magnetometer's output data rate as the firmware configures it (LSM9DS0 Table 87);
-# the gyro (380 Hz) and accelerometer (400 Hz) run faster than any stream rate.
+# Output data rates and filters as the firmware configures them (LSM9DS0 Tables 21, 83,
+# 84, 87): gyro 380 Hz with a 100 Hz cut-off, accelerometer 400 Hz behind a 194 Hz
+# anti-alias filter, magnetometer 100 Hz.
+GYRO_ODR_HZ, GYRO_CUTOFF_HZ = 380.0, 100.0
+ACCEL_ODR_HZ, ACCEL_BANDWIDTH_HZ = 400.0, 194.0
 MAG_ODR_HZ = 100.0
+# Gyro rate noise density (Table 3), dps/sqrt(Hz), and the white noise it gives behind
+# the 100 Hz cut-off (a first-order filter's noise bandwidth is pi/2 times its cut-off).
+GYRO_NOISE_DPS_PER_SQRT_HZ = 0.03
+GYRO_NOISE_SD_RAD_S = math.radians(GYRO_NOISE_DPS_PER_SQRT_HZ
+                                   * math.sqrt(math.pi / 2 * GYRO_CUTOFF_HZ))
 
 # MPL115A2: 10-bit pressure code over 50-115 kPa (the compensated value's scale).
 PRESSURE_MIN_PA, PRESSURE_MAX_PA = 50e3, 115e3
@@ -123,9 +133,11 @@ def to_counts(values, lsb_si: float, low: int = COUNTS_MIN, high: int = COUNTS_M
 
     NaN stays NaN (a chip that did not answer); +-inf goes to the rail of its sign.
     """
-    with np.errstate(over='ignore'):  # beyond float range: +-inf, then the rail
-        scaled = np.asarray(values, dtype=float) / lsb_si
-    return np.where(np.isnan(scaled), np.nan, np.clip(np.rint(scaled), low, high))
+    # Held a count beyond the rails before scaling (no overflow, +-inf included); clip
+    # and rint keep NaN.
+    held = np.minimum(np.maximum(np.asarray(values, dtype=float), (low - 1) * lsb_si),
+                      (high + 1) * lsb_si)
+    return np.minimum(np.maximum(np.rint(held / lsb_si), low), high)
 
 
 def quantise(values, lsb_si: float, low: int = COUNTS_MIN, high: int = COUNTS_MAX
@@ -139,3 +151,12 @@ def quantise_pressure(pascal) -> np.ndarray:
     counts = to_counts(np.asarray(pascal, dtype=float) - PRESSURE_MIN_PA, PRESSURE_LSB_PA, 0,
                        PRESSURE_COUNTS)
     return PRESSURE_MIN_PA + counts * PRESSURE_LSB_PA
+
+
+def first_order_gain(frequency_hz, cutoff_hz: float):
+    """Magnitude response of a first-order low-pass at `frequency_hz` (1 at DC).
+
+    Plain arithmetic: a float for a float (the per-sample path), an array for an array.
+    """
+    ratio = frequency_hz / cutoff_hz
+    return 1.0 / (1.0 + ratio * ratio) ** 0.5

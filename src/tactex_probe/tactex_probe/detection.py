@@ -29,6 +29,7 @@ import sys
 
 import numpy as np
 
+from tactex_common import chips
 from tactex_description.geometry import OPEN_MANIPULATOR_X
 from tactex_sensor.orientation import unit_direction
 
@@ -36,8 +37,12 @@ from tactex_sensor.orientation import unit_direction
 # compression over the body's press stiffness (calibrate a real module by pressing it
 # on a scale).
 DEFAULT_PA_PER_NEWTON = 1.5e6 / OPEN_MANIPULATOR_X.joint('sensor_press').stiffness
-# The onset is never put further back than this before the first sample above threshold.
+# The onset is never put further back than this before the sample that confirmed contact.
 MAX_ONSET_BACKTRACK_S = 0.5
+# Latest samples kept for the onset's fit (0.5 s at up to 1 kHz), and the largest rise
+# the fit takes at its value (a wilder one counts as this much).
+ONSET_SAMPLES = 512
+MAX_FITTED_RISE_PA = 1e9
 # Contact is judged on the median of this many of the latest valid pressure readings.
 MEDIAN_OF = 3
 
@@ -50,6 +55,12 @@ class DetectorConfig:
         baseline_samples: valid free-air samples needed before detection is armed.
         sigmas: contact threshold in baseline standard deviations of the pressure.
         min_rise_pa: smallest contact threshold (Pa), whatever the spread.
+        resolution_pa: the barometer's step (Pa): no spread is taken as finer. A quantised
+            reading that mostly repeats one code has a median absolute deviation of 0,
+            which would put the threshold within a code of the noise. Default: the
+            MPL115A2's 10-bit code (`chips.PRESSURE_LSB_PA`, 63.5 Pa), as the real module
+            and the simulated one (scenes declaring `sensor`) report; 0 for an ideal
+            barometer.
         release_fraction: contact ends below this fraction of the threshold.
         debounce: consecutive samples beyond a threshold to change state.
         pa_per_newton: barometer rise per newton of contact force (force proxy).
@@ -60,6 +71,7 @@ class DetectorConfig:
     baseline_samples: int = 12
     sigmas: float = 8.0
     min_rise_pa: float = 25.0
+    resolution_pa: float = chips.PRESSURE_LSB_PA
     release_fraction: float = 0.5
     debounce: int = 3
     pa_per_newton: float = DEFAULT_PA_PER_NEWTON
@@ -72,6 +84,9 @@ class DetectorConfig:
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int) or value < 1:
                 raise ValueError(f'{name} must be an integer >= 1, got {value!r}')
+        if not (math.isfinite(self.resolution_pa) and self.resolution_pa >= 0):
+            raise ValueError(f'resolution_pa must be finite and >= 0, got '
+                             f'{self.resolution_pa!r}')
         for name in ('sigmas', 'min_rise_pa', 'pa_per_newton', 'accel_threshold_rad'):
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0):
@@ -122,6 +137,8 @@ class ContactDetector:
         self.in_contact = False
         self._recent: deque[float] = deque(maxlen=MEDIAN_OF)
         self._run: deque[tuple[int, float]] = deque()
+        # (stamp, rise) of the latest samples: the onset is fitted through them.
+        self._approach: deque[tuple[int, float]] = deque(maxlen=ONSET_SAMPLES)
         self._accel_run = 0
         self._accel_start = 0
         self._release_run = 0
@@ -141,8 +158,10 @@ class ContactDetector:
         if self._pressures:
             values = np.asarray(self._pressures)
             self.baseline_pa = float(np.median(values))
-            # Robust spread: 1.4826 * median absolute deviation (a burst cannot inflate it).
-            self.spread_pa = float(1.4826 * np.median(np.abs(values - self.baseline_pa)))
+            # Robust spread: 1.4826 * median absolute deviation (a burst cannot inflate it),
+            # never finer than the barometer resolves.
+            self.spread_pa = max(float(1.4826 * np.median(np.abs(values - self.baseline_pa))),
+                                 self.config.resolution_pa)
         if self._accels:
             # Per-axis median of the directions: a few wild readings cannot turn it.
             median = np.median(self._accels, axis=0)
@@ -187,6 +206,7 @@ class ContactDetector:
         if not math.isfinite(pressure_pa):
             return None
         self._recent.append(pressure_pa)
+        self._approach.append((stamp_ns, pressure_pa - self.baseline_pa))
         rise = float(np.median(self._recent)) - self.baseline_pa
         config = self.config
         if self.in_contact:
@@ -196,6 +216,7 @@ class ContactDetector:
                 self.in_contact = False
                 self._release_run = 0
                 self._run.clear()
+                self._approach.clear()
             return None
         if rise < self.threshold_pa:
             self._run.clear()
@@ -208,21 +229,32 @@ class ContactDetector:
         return ContactEvent(self._onset(), stamp_ns, Channel.PRESSURE, rise / spread)
 
     def _onset(self) -> int:
-        """The rise's line through the run's samples, extrapolated back to zero rise."""
-        stamps = np.array([s for s, _ in self._run], dtype=np.int64)
-        rises = np.array([r for _, r in self._run])
-        t = (stamps - stamps[0]) * 1e-9
-        t -= t.mean()
-        spread = float(t @ t)
-        if not spread > 0:  # every sample at one stamp: no rate to fit
-            return int(stamps[0])
-        with np.errstate(over='ignore', invalid='ignore'):  # wild rises: no slope
-            slope = float(t @ (rises - rises.mean())) / spread  # least squares
-        if not (math.isfinite(slope) and slope > 0):
-            return int(stamps[0])
-        # At the fitted rate the first sample's rise took rises[0] / slope to build up.
-        back_s = min(rises[0] / slope, MAX_ONSET_BACKTRACK_S)
-        return int(stamps[0] - round(back_s * 1e9))
+        """The instant the rise began: a hinge fitted through the approach's latest samples.
+
+        Flat (no rise) before the onset, a straight rise after it; the onset is the sample
+        of the last `MAX_ONSET_BACKTRACK_S` whose hinge leaves the least absolute error,
+        each hinge's slope the median of the rises over the time since it (a wild sample
+        moves neither much). Fitted through every sample of the rise, not only the few
+        above the threshold: a barometer with a whole 10-bit code of noise (63.5 Pa) rises
+        about one code per sample at 5 mm/s, so a line through three samples could put
+        the onset anywhere.
+        """
+        stamps = np.array([s for s, _ in self._approach], dtype=np.int64)
+        rises = np.clip([r for _, r in self._approach], -MAX_FITTED_RISE_PA, MAX_FITTED_RISE_PA)
+        keep = stamps >= stamps[-1] - int(MAX_ONSET_BACKTRACK_S * 1e9)
+        stamps, rises = stamps[keep], rises[keep]
+        t = (stamps - stamps[-1]) * 1e-9
+        best_error, onset = math.inf, int(self._run[0][0])
+        for hinge in range(t.size):
+            after = t > t[hinge]
+            if np.count_nonzero(after) < 2:
+                continue
+            lever = t[after] - t[hinge]
+            slope = max(float(np.median(rises[after] / lever)), 0.0)
+            error = float(np.abs(rises[~after]).sum() + np.abs(rises[after] - slope * lever).sum())
+            if error < best_error:
+                best_error, onset = error, int(stamps[hinge])
+        return onset
 
     def _update_accel(self, stamp_ns: int, accel) -> ContactEvent | None:
         direction = _direction(accel)

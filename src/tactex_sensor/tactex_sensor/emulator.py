@@ -19,6 +19,7 @@ import time
 
 import numpy as np
 
+from tactex_common import chips
 from tactex_common.channels import CHANNELS
 from tactex_common.constants import (
     EARTH_FIELD_T,
@@ -118,6 +119,15 @@ class SignalSource:
 
 
 REPLAY_COLUMNS = ('t',) + CHANNELS
+
+
+def reported(accel, gyro, mag, pressure: float, temperature: float
+             ) -> tuple[tuple, tuple, tuple, float, float]:
+    """A sample as the firmware reports it: each chip's configured range and resolution."""
+    return (tuple(chips.quantise(accel, chips.accel_range().lsb_si)),
+            tuple(chips.quantise(gyro, chips.gyro_range().lsb_si)),
+            tuple(chips.quantise(mag, chips.mag_range().lsb_si)),
+            float(chips.quantise_pressure(pressure)), temperature)
 
 
 class ReplaySource:
@@ -236,7 +246,7 @@ class TeensyEmulator:
                     if not pause(fault.arg):
                         return
                     self.open()
-            accel, gyro, mag, pressure, temperature = self.source.sample(t_s)
+            accel, gyro, mag, pressure, temperature = reported(*self.source.sample(t_s))
             device_us = (self._start_time_us + int(round(t_s * 1e6))) % (1 << 32)
             frame = encode(Sample(sequence, device_us, accel, gyro, mag, pressure,
                                   temperature))

@@ -30,12 +30,17 @@ TACTILE_TOPICS = ((topics.IMU_RAW, IMU_TYPE), (topics.MAG, MAG_TYPE),
 
 @dataclass(frozen=True)
 class NoiseVariances:
-    """Diagonal covariances of the channels (REP-145), defaults for the LSM9DS0 + MPL115A2."""
+    """Diagonal covariances of the channels (REP-145), defaults for the LSM9DS0 + MPL115A2.
+
+    Gyro: the datasheet's rate noise density behind the 100 Hz cut-off; pressure: one
+    10-bit code of noise plus its rounding (tactex_common.chips); accelerometer (2 mg),
+    magnetometer and temperature: assumptions, the datasheets state no noise for them.
+    """
 
     accel: float = 4e-4  # (m/s^2)^2
-    gyro: float = 4e-6  # (rad/s)^2
+    gyro: float = 4.3e-5  # (rad/s)^2
     mag: float = 4e-14  # T^2
-    pressure: float = 4.0  # Pa^2
+    pressure: float = 4.4e3  # Pa^2
     temperature: float = 0.25  # degC^2
 
 

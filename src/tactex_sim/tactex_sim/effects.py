@@ -25,6 +25,8 @@ import numpy as np
 
 from tactex_common import chips
 from tactex_common.constants import EARTH_FIELD_T, SEA_LEVEL_PRESSURE_PA
+from tactex_description import edge
+from tactex_sim import vibration
 from tactex_sim.errors import SceneError, UnknownNameError
 from tactex_sim.textures import Texture
 
@@ -140,39 +142,55 @@ SLIDING_SPEED_M_S = 1e-4
 # The texture model holds up to this sliding speed; faster (a diverging or flung arm)
 # vibrates as at this speed, so the channels stay finite.
 MAX_SLIDING_SPEED_M_S = 2.0
-
-
-def transmissibility(frequency_hz, resonance_hz: float, damping_ratio: float):
-    """Acceleration transmissibility of a base-excited damped oscillator."""
-    r = np.asarray(frequency_hz, dtype=float) / resonance_hz
-    damping = (2.0 * damping_ratio * r) ** 2
-    return np.sqrt((1.0 + damping) / ((1.0 - r * r) ** 2 + damping))
+# The footprint follows the contact force within these bounds (N); beyond, as at them.
+FOOTPRINT_FORCE_RANGE_N = (0.01, 100.0)
 
 
 class TextureVibration(Effect):
-    """Vibration from sliding over the texture under the edge.
+    """Vibration and rocking of the body as its edge slides over the texture.
 
-    The texture's periodic parts are plane waves of height; sliding at v along d, a wave
-    of wavevector k appears at temporal frequency v (k . d) / 2 pi, and the edge's normal
-    acceleration is v^2 times the height's second derivative along d, passed through the
-    compliant body's resonance. Roughness adds a random second derivative along the
-    travelled distance. Tangential vibration follows friction, with stick-slip on
-    sticky materials (a sawtooth every `slip_length_m` of travel, stronger the higher
-    the friction); the body rocks about n x d at v times the same curvature. `gain` is
-    the amplification from the edge to the MARG chip (lever arm and body resonance): a
-    calibration, set so texture vibration is a few tenths of m/s^2 at 15 mm/s. No
-    contact or no sliding: no signal.
+    The edge rides the texture's height as its footprint feels it (tactex_sim.vibration:
+    periodic waves through the footprint's sinc, roughness through a moving mean), and
+    the body answers through its own dynamics (tactex_description.edge):
+    - normal acceleration: the second time derivative of that height, v^2 times its
+      curvature along the path, through the normal resonance (`resonance_hz`,
+      `damping_ratio`);
+    - rocking: a rise of the edge pitches the body about n x d by `rocking_per_m` rad per
+      metre (the share of the rise its pitch compliance takes, over the pivot-to-edge
+      distance), so the gyro reads that times v times the footprint-averaged slope,
+      through the rocking resonance (`rocking_resonance_hz`, `rocking_damping_ratio`);
+    - tangential acceleration: friction follows the normal force (Amontons), so the
+      normal acceleration times the friction coefficient, plus stick-slip on sticky
+      materials (a sawtooth every `slip_length_m` of travel, `stick_slip_accel` at the
+      reference force, growing with force and friction).
+    Every factor is dimensionless or converts between the units it says; nothing carries
+    an acceleration gain onto an angular rate. The footprint grows with force as
+    force^(1/3) (Hertz). With the `sensor` effect, each wave is also attenuated by the
+    chip's digital low-pass at its frequency. A soft material (`softness` < 1) passes on
+    less. No contact or no sliding: no signal.
+
+    Not modelled: the phase of the resonances (magnitudes only), lateral (across-path)
+    rocking, force-dependence of the roughness's footprint (taken at the reference force),
+    friction-induced rocking, and material damping beyond `softness`. Checked for order
+    of magnitude against rigid-tool recordings (Romano and Kuchenbecker 2012) and
+    fingertip-sensor recordings (Fishel and Loeb 2012), which grow with speed and force
+    as this does; a compliant cast body passes on less than a rigid tool. `tactex sim
+    stats` compares the result with a real module's recordings channel by channel.
     """
 
     name = 'texture'
-    reads = frozenset({'contact', 'edge velocity', 'texture', 'sensor rotation', 'sample rate'})
+    reads = frozenset({'contact', 'edge velocity', 'texture', 'sensor rotation', 'sample rate',
+                       'sensor filters'})
     writes = frozenset({'accel', 'gyro'})
-    defaults = {'resonance_hz': Option(85.0, 1.0, 1e4),
-                'damping_ratio': Option(0.12, 0.01, 10.0),
-                'rocking_gain': Option(0.6, 0.0, 1e3),
-                'reference_force_n': Option(1.0, 1e-3, 1e3),
+    defaults = {'resonance_hz': Option(edge.normal_resonance_hz(), 1.0, 1e4),
+                'damping_ratio': Option(edge.SKIN_DAMPING_RATIO, 0.01, 10.0),
+                'rocking_resonance_hz': Option(edge.rocking_resonance_hz(), 1.0, 1e4),
+                'rocking_damping_ratio': Option(edge.SKIN_DAMPING_RATIO, 0.01, 10.0),
+                'rocking_per_m': Option(edge.rocking_per_metre(), 0.0, 1e3),
+                'contact_length_m': Option(edge.footprint_m()[0], 1e-6, 0.1),
+                'contact_width_m': Option(edge.footprint_m()[1], 1e-6, 0.1),
+                'reference_force_n': Option(edge.REFERENCE_FORCE_N, 1e-3, 1e3),
                 'heading_rad': Option(0.0),
-                'gain': Option(20.0, 0.0, 1e4),
                 'slip_length_m': Option(0.0004, 1e-6, 1.0),
                 'stick_slip_accel': Option(1.5, 0.0, 1e3)}
 
@@ -180,24 +198,33 @@ class TextureVibration(Effect):
         super().__init__(rng, noise_scale, **options)
         self.heading_rad = float(self.options['heading_rad'])
         self._travelled = 0.0
-        self._roughness: dict[str, np.ndarray] = {}
+        self._roughness: dict[str, tuple[np.ndarray, np.ndarray]] = {}
+        self._wave_terms: dict[str, list[tuple[float, float, float, float]]] = {}
+        self._mass_kg = edge.body_mass_kg()
 
-    def _roughness_curvature(self, surface: Texture) -> np.ndarray:
-        """Second derivative of a 1 m random roughness profile, 20 um apart (cached)."""
+    def _waves(self, surface: Texture) -> list[tuple[float, float, float, float]]:
+        """The texture's height waves as floats: (amplitude m, k_u, k_v rad/m, phase rad)."""
+        if surface.name not in self._wave_terms:
+            self._wave_terms[surface.name] = [(float(a), float(k[0]), float(k[1]), float(p))
+                                              for a, k, p in surface.waves()]
+        return self._wave_terms[surface.name]
+
+    def _footprint_roughness(self, surface: Texture) -> tuple[np.ndarray, np.ndarray]:
+        """(slope, curvature) of a 1 m random profile as the footprint feels it (cached)."""
         if surface.name not in self._roughness:
-            step = 2e-5
+            step = vibration.ROUGHNESS_STEP_M
             rough_only = Texture(surface.name, roughness_rms=surface.roughness_rms,
                                  roughness_length=surface.roughness_length)
             heights = rough_only.profile((0.0, 0.0), 0.0, 1.0, step, self.rng)
-            self._roughness[surface.name] = np.gradient(np.gradient(heights, step), step)
+            self._roughness[surface.name] = vibration.footprint_roughness(
+                heights, step, self.options['contact_length_m'],
+                self.options['contact_width_m'], surface.roughness_length)
         return self._roughness[surface.name]
 
     def apply(self, reading: Reading, inputs: Mapping[str, Any]) -> None:
-        """Add the texture's vibration while the edge slides on a patch."""
+        """Add the texture's vibration and rocking while the edge slides on a patch."""
         contact = inputs['contact']
-        if not contact.touching:
-            return
-        surface = inputs['texture']
+        surface = inputs['texture'] if contact.touching else None
         if surface is None:
             return
         velocity = inputs['edge velocity']
@@ -212,41 +239,67 @@ class TextureVibration(Effect):
         direction = tangential / speed
         speed = min(speed, MAX_SLIDING_SPEED_M_S)
         self._travelled += speed / inputs['sample rate']
+        options = self.options
+        force = min(max(contact.force, FOOTPRINT_FORCE_RANGE_N[0]), FOOTPRINT_FORCE_RANGE_N[1])
+        relative_force = force / options['reference_force_n']
+        grow = relative_force ** (1.0 / 3.0)
+        length, width = options['contact_length_m'] * grow, options['contact_width_m'] * grow
+        accel_cutoff, gyro_cutoff = inputs['sensor filters']
         cos_h, sin_h = math.cos(self.heading_rad), math.sin(self.heading_rad)
-        uv = np.array([cos_h * contact.point[0] + sin_h * contact.point[1],
-                       -sin_h * contact.point[0] + cos_h * contact.point[1]])
-        d_uv = np.array([cos_h * direction[0] + sin_h * direction[1],
-                         -sin_h * direction[0] + cos_h * direction[1]])
-        curvature = 0.0
-        for amplitude, k, phase in surface.waves():
-            kappa = float(np.dot(k, d_uv))
-            gain = transmissibility(speed * abs(kappa) / (2 * math.pi),
-                                    self.options['resonance_hz'],
-                                    self.options['damping_ratio'])
-            curvature -= gain * amplitude * kappa * kappa * math.cos(float(np.dot(k, uv))
-                                                                     + phase)
-        rough = self._roughness_curvature(surface)
-        curvature += rough[int(self._travelled / 2e-5) % rough.size]
-        pressing = surface.softness * min(
-            2.0, math.sqrt(max(contact.force, 0.0) / self.options['reference_force_n']))
-        coupling = self.options['gain'] * pressing
-        normal_accel = coupling * speed * speed * curvature
+        x, y = float(contact.point[0]), float(contact.point[1])
+        u, v = cos_h * x + sin_h * y, -sin_h * x + cos_h * y
+        dx, dy = float(direction[0]), float(direction[1])
+        du, dv = cos_h * dx + sin_h * dy, -sin_h * dx + cos_h * dy
+        curvature_term = slope_term = 0.0  # through the normal and rocking dynamics
+        for amplitude, ku, kv, phase in self._waves(surface):
+            k_along, k_across = ku * du + kv * dv, kv * du - ku * dv
+            felt = amplitude * vibration.footprint_gain(k_along, k_across, length, width)
+            frequency = speed * abs(k_along) / (2 * math.pi)
+            angle = ku * u + kv * v + phase
+            curvature_term -= (felt * k_along * k_along * math.cos(angle)
+                               * vibration.transmissibility(frequency, options['resonance_hz'],
+                                                            options['damping_ratio'])
+                               * chips.first_order_gain(frequency, accel_cutoff))
+            slope_term -= (felt * k_along * math.sin(angle)
+                           * vibration.transmissibility(frequency,
+                                                        options['rocking_resonance_hz'],
+                                                        options['rocking_damping_ratio'])
+                           * chips.first_order_gain(frequency, gyro_cutoff))
+        rough_slope, rough_curvature = self._footprint_roughness(surface)
+        index = int(self._travelled / vibration.ROUGHNESS_STEP_M) % rough_slope.size
+        curvature_term += float(rough_curvature[index])
+        slope_term += float(rough_slope[index])
+        # The edge follows the texture only while its contact force can pull it down.
+        reach = contact.force / self._mass_kg
+        normal_accel = min(max(surface.softness * speed * speed * curvature_term, -reach), reach)
+        rocking = surface.softness * options['rocking_per_m'] * speed * slope_term
         stickiness = max(0.0, surface.friction - 0.45) * min(1.5, speed / 0.015)
-        slip_phase = (self._travelled / self.options['slip_length_m']) % 1.0
-        tangential_accel = surface.friction * 0.5 * normal_accel + pressing * self.options[
-            'stick_slip_accel'] * stickiness * (slip_phase - 0.5)
-        rocking = coupling * self.options['rocking_gain'] * speed * curvature
+        slip_phase = (self._travelled / options['slip_length_m']) % 1.0
+        tangential_accel = surface.friction * normal_accel + surface.softness * min(
+            2.0, relative_force) * options['stick_slip_accel'] * stickiness * (slip_phase - 0.5)
         rotation = inputs['sensor rotation']  # world <- sensor
         reading.accel += rotation.T @ (normal_accel * normal + tangential_accel * direction)
-        reading.gyro += rotation.T @ (rocking * np.cross(normal, direction))
+        reading.gyro += rotation.T @ (rocking * _cross(normal, direction))
+
+
+def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The cross product of two 3-vectors (np.cross costs far more per sample)."""
+    return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
+                     a[0] * b[1] - a[1] * b[0]])
 
 
 class ImuNoise(Effect):
-    """White noise and a constant bias (drawn per world) on accel and gyro."""
+    """White noise and a constant bias (drawn per world) on accel and gyro.
+
+    The gyro's noise by default is the LSM9DS0's rate noise density behind its 100 Hz
+    cut-off (tactex_common.chips); the datasheet gives no accelerometer noise density,
+    so `accel_sd` (2 mg) is an assumption.
+    """
 
     name = 'imu_noise'
     writes = frozenset({'accel', 'gyro'})
-    defaults = {'accel_sd': Option(0.02, 0.0, 100.0), 'gyro_sd': Option(0.002, 0.0, 10.0),
+    defaults = {'accel_sd': Option(0.02, 0.0, 100.0),
+                'gyro_sd': Option(chips.GYRO_NOISE_SD_RAD_S, 0.0, 10.0),
                 'accel_bias_sd': Option(0.05, 0.0, 100.0),
                 'gyro_bias_sd': Option(0.005, 0.0, 10.0)}
 
@@ -329,13 +382,15 @@ class SensorChips(Effect):
 
     Accelerometer, gyro and magnetometer: the configured full scale, each axis a whole
     16-bit count and held at the rails as the chip saturates; the magnetometer updates at
-    its 100 Hz output data rate (a faster stream repeats its last value). Barometer: the
-    reading belongs to the start of its 1.6 ms conversion (interpolated back from this
-    sample), carries `pressure_noise_pa` of white noise (the datasheet states a 0.15 kPa
-    resolution, about two 10-bit codes, and no noise figure: one code by default) and is
-    a 10-bit code over 50-115 kPa, held at those ends. Not modelled yet: the gyro's
-    100 Hz and the accelerometer's 194 Hz digital low-pass. Channels no other effect
-    simulates stay NaN. A scene gets it only by declaring `sensor`.
+    its 100 Hz output data rate (a faster stream repeats its last value). The gyro's
+    100 Hz digital low-pass and the accelerometer's 194 Hz anti-alias filter act on the
+    texture's vibration (the `texture` effect reads them as `sensor filters`); the
+    380/400 Hz output data rates of those two are faster than any stream rate and not
+    modelled. Barometer: the reading belongs to the start of its 1.6 ms conversion
+    (interpolated back from this sample), carries `pressure_noise_pa` of white noise (the
+    datasheet states a 0.15 kPa resolution, about two 10-bit codes, and no noise figure:
+    one code by default) and is a 10-bit code over 50-115 kPa, held at those ends.
+    Channels no other effect simulates stay NaN. A scene gets it only by declaring `sensor`.
     """
 
     name = 'sensor'
@@ -357,6 +412,11 @@ class SensorChips(Effect):
         self._mag_tick = -1
         self._mag_held = np.full(3, np.nan)
         self._last_pressure: tuple[float, float] | None = None
+
+    @property
+    def filters_hz(self) -> tuple[float, float]:
+        """Cut-offs (accelerometer, gyro) of the chip's filters."""
+        return chips.ACCEL_BANDWIDTH_HZ, chips.GYRO_CUTOFF_HZ
 
     def apply(self, reading: Reading, inputs: Mapping[str, Any]) -> None:
         """Saturate and quantise each channel as the chips report it."""

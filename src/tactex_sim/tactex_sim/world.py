@@ -309,6 +309,9 @@ class World:
             return self._sample_time_s
         if key == 'sample rate':
             return self.scene.sensor_rate_hz
+        if key == 'sensor filters':  # (accelerometer, gyro) low-pass cut-offs, Hz
+            chip = next((e for e in self.effects if e.name == 'sensor'), None)
+            return (math.inf, math.inf) if chip is None else chip.filters_hz
         raise KeyError(f'no input {key!r}')
 
     def contact(self) -> Contact:
