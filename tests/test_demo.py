@@ -81,7 +81,7 @@ def test_quick_demo_runs_every_stage_through_the_nodes_and_meets_its_thresholds(
 PASSING = {'contacts': 3, 'probe_points': 3, 'normal_error_deg_mean': 1.0,
            'position_error_mm_mean': 0.5, 'contact_fraction': 0.95, 'sliding_speed_error': 0.02,
            'cv_accuracy_grouped': 0.8, 'cv_accuracy_stratified': 0.9, 'live_accuracy': 0.75,
-           'time_to_decision_s': 2.0, 'wall_s': 100.0}
+           'time_to_decision_s': 2.0, 'madgwick_rejected': 0.0, 'wall_s': 100.0}
 
 
 @pytest.mark.parametrize('value', [12.0, math.nan])

@@ -85,11 +85,17 @@ def test_nan_never_passes_and_the_contact_limit_is_a_share_of_the_probe_points()
     assert not Check('x', math.nan, 1.0, at_least=True).passed
     summary = {'contacts': 8, 'normal_error_deg_mean': 1.0, 'position_error_mm_mean': 0.2,
                'contact_fraction': 0.95, 'sliding_speed_error': 0.03,
-               'cv_accuracy_grouped': 0.8, 'live_accuracy': 0.7, 'time_to_decision_s': 2.0}
+               'cv_accuracy_grouped': 0.8, 'live_accuracy': 0.7, 'time_to_decision_s': 2.0,
+               'madgwick_rejected': 0.0}
     results = {c.key: c for c in checks(summary, probe_points=11)}
     assert results['contacts'].limit == 9 and not results['contacts'].passed
     assert all(c.passed for key, c in results.items() if key != 'contacts')
     assert results['contacts'].line() == 'contacts 8 (threshold >= 9): FAIL'
+    # A sample the Madgwick filter refused (beyond the chip's full scale), or a filter
+    # whose diagnostics were never heard (NaN), fails the demo.
+    for rejected in (1.0, math.nan):
+        refused = {c.key: c for c in checks(dict(summary, madgwick_rejected=rejected), 11)}
+        assert not refused['madgwick_rejected'].passed
 
 
 def test_plots_are_written_even_from_empty_input(tmp_path):

@@ -28,6 +28,7 @@ MAX_SPEED_ERROR = 0.10  # mean |measured - commanded| / commanded sliding speed
 MIN_CV_ACCURACY = 0.5  # grouped by recording (chance: 1/12, --quick 1/4)
 MIN_LIVE_ACCURACY = 0.5  # decisions of classifier_node on fresh sweeps
 MAX_TIME_TO_DECISION_S = 5.0  # median seconds of contact behind a decision
+MAX_MADGWICK_REJECTED = 0  # samples madgwick_node refused (beyond the chip's full scale)
 
 
 @dataclass(frozen=True)
@@ -145,6 +146,7 @@ def checks(summary: dict, probe_points: int) -> list[Check]:
               at_least=True),
         Check('live_accuracy', summary['live_accuracy'], MIN_LIVE_ACCURACY, at_least=True),
         Check('time_to_decision_s', summary['time_to_decision_s'], MAX_TIME_TO_DECISION_S, 's'),
+        Check('madgwick_rejected', summary['madgwick_rejected'], MAX_MADGWICK_REJECTED),
     ]
 
 

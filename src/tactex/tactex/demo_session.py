@@ -34,6 +34,7 @@ from tactex_msgs.msg import Pathway, TextureEstimate
 # The bridge's parameter service (the simulator stands in for the robot under this name).
 BRIDGE_PARAMETERS = 'mujoco_bridge/set_parameters'
 CLASSIFIER_STATUS = 'tactex_classify: classifier_node'  # its diagnostics status name
+MADGWICK_STATUS = 'tactex_sensor: madgwick'
 # Seconds to wait for a goal's answer before sending it again (an answer lost in discovery
 # is found in the action's status within this time; see tactex_common.goals).
 GOAL_ANSWER_S = 10.0
@@ -92,6 +93,7 @@ class SystemClient:
         self._contacts: PoseArray | None = None
         self._estimates: list[Estimate] | None = None
         self._classifier: DiagnosticStatus | None = None  # its newest diagnostics
+        self._madgwick: DiagnosticStatus | None = None  # madgwick_node's newest
         node = self._node
         node.create_subscription(Pathway, topics.PROBE_PATHWAY, self._on_pathway, LATCHED)
         node.create_subscription(PoseArray, topics.PROBE_CONTACTS, self._on_contacts, LATCHED)
@@ -140,6 +142,17 @@ class SystemClient:
             if status.name == CLASSIFIER_STATUS:
                 with self._lock:
                     self._classifier = status
+            elif status.name == MADGWICK_STATUS:
+                with self._lock:
+                    self._madgwick = status
+
+    def madgwick_rejected(self) -> int | None:
+        """Samples madgwick_node has rejected so far, by its newest diagnostics (None: none)."""
+        with self._lock:
+            status = self._madgwick
+        if status is None:
+            return None
+        return sum(int(kv.value) for kv in status.values if kv.key.startswith('rejected_'))
 
     # -- waiting --------------------------------------------------------------------------
     @staticmethod

@@ -161,6 +161,8 @@ class Demo:
         self.scene = load_scene(resolve_scene(SCENE))
         self.stage = 0
         self.launcher = None  # the running system's (see system())
+        # Samples madgwick_node rejected, per launched system (None: its diagnostics unheard).
+        self.madgwick_rejected: dict[str, int | None] = {}
 
     def say(self, line: str) -> None:
         """A progress line with the elapsed time."""
@@ -241,6 +243,7 @@ class Demo:
                     if checkpoint is not None:
                         client.wait_classifier_ready(NODE_START_S, alive=watcher.is_alive)
                     yield client, watcher.is_alive
+                    self.madgwick_rejected[name] = client.madgwick_rejected()
             except CommandError as err:
                 raise CommandError(f'{err} ({_node_failure(log_path)})') from None
             finally:
@@ -392,6 +395,7 @@ class Demo:
             'live_sweeps': figures['live_sweeps'],
             'live_decided': figures['live_decided'],
             'time_to_decision_s': figures['time_to_decision_s'],
+            'madgwick_rejected': _total(self.madgwick_rejected.values()),
             'sizes': vars(self.sizes) | {'textures': textures, 'model': MODEL},
         }
         report.plot_pathway(self.folder / 'pathway.png', probe['positions'], probe['normals'],
@@ -408,6 +412,12 @@ class Demo:
             report.accuracy_against_contact_time(live_sweeps, times), 1 / len(textures))
         summary['wall_s'] = time.monotonic() - self.started
         return summary
+
+
+def _total(counts) -> float:
+    """The sum of `counts`; NaN when one is unknown (None) or there is none."""
+    counts = list(counts)
+    return math.nan if not counts or None in counts else float(sum(counts))
 
 
 def _accuracy(metrics: dict, scheme: str) -> float:
