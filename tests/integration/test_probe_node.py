@@ -76,16 +76,18 @@ def test_probe_goal_in_simulation_broadcasts_the_pathway(ros_context, tmp_path):
     try:
         assert sender.client.wait_for_server(timeout_sec=30.0)
         feedback = []
-        # The node refuses goals until the simulator listens for arm commands.
+        # The node refuses goals until the simulator listens for arm commands; a goal
+        # sent before discovery settled may get no answer at all (sent again then).
         deadline = time.monotonic() + 30.0
         while True:
-            sent = sender.send_goal_async(goal(0.185, 0.01), feedback_callback=feedback.append)
-            assert wait_for(sent.done, 30)  # a hang guard on a loaded machine
-            if sent.result().accepted or time.monotonic() > deadline:
+            handle = sender.answer(goal(0.185, 0.01), feedback.append, answer_s=5.0,
+                                   timeout_s=30.0)
+            assert handle is not None  # a hang guard on a loaded machine
+            if handle.accepted or time.monotonic() > deadline:
                 break
             time.sleep(1.0)
-        assert sent.result().accepted
-        result_future = sent.result().get_result_async()
+        assert handle.accepted
+        result_future = handle.get_result_async()
         assert wait_for(result_future.done, 240), 'the probe goal did not finish'
         result = result_future.result().result
         saved = Pathway.load(tmp_path / 'pathway.json')

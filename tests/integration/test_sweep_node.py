@@ -199,8 +199,10 @@ def test_a_sweep_without_pressure_is_aborted_and_lifted(ros_context, tmp_path):
     # The probe scene without its barometer: pressure is NaN.
     probe = resolve_scene('probe').read_text(encoding='utf-8')
     no_barometer = tmp_path / 'no_barometer.toml'
-    no_barometer.write_text(probe.split('[effect.barometer]')[0].replace(
-        ', "barometer"]', ']'), encoding='utf-8')
+    head = probe.split('[effect.barometer]')[0]
+    no_barometer.write_text(head.replace('"barometer", ', '').replace(', "barometer"]', ']'),
+                            encoding='utf-8')
+    assert 'barometer' not in load_scene(no_barometer).effects
     harness = Harness(ros_context, tmp_path, scene=str(no_barometer))
     try:
         handle = harness.send(pathway=pathway_message(0.10, 0.17), sliding_speed=0.015,

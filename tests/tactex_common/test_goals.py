@@ -83,3 +83,29 @@ def test_a_goal_whose_answer_is_lost_is_found_by_its_status_and_its_result_arriv
     assert sent.result().accepted
     assert result_message(sent.result()) == 'span 0.07'
 
+
+
+def test_a_goal_whose_request_is_lost_is_sent_again_until_a_copy_is_answered(action_pair):
+    from rclpy.task import Future
+
+    sender, Probe = action_pair
+    send = sender.client.send_goal_async
+    sent = []
+
+    def lose_the_first(*args, **kwargs):
+        # The first request never reaches the server, as when it is written before
+        # discovery matched the server's reader: no answer, nothing in the status.
+        sent.append(args)
+        return send(*args, **kwargs) if len(sent) > 1 else Future()
+    sender.client.send_goal_async = lose_the_first
+    handle = sender.answer(Probe.Goal(span=0.03), answer_s=0.5, timeout_s=10.0)
+    assert handle is not None and handle.accepted and len(sent) == 2
+    assert result_message(handle) == 'span 0.03'
+
+
+def test_no_answer_at_all_is_none_after_the_timeout(action_pair):
+    from rclpy.task import Future
+
+    sender, Probe = action_pair
+    sender.client.send_goal_async = lambda *args, **kwargs: Future()  # every request lost
+    assert sender.answer(Probe.Goal(span=0.03), answer_s=0.2, timeout_s=0.7) is None

@@ -1,3 +1,5 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
 """Action goals answered even when discovery loses the server's answer: by the goal's status.
 
 A server that answers a goal before its response writer has matched the client's reader
@@ -5,12 +7,15 @@ drops the answer: rmw_fastrtps waits 100 ms for the match, and rclpy's server th
 "Failed to send goal response" and runs the goal anyway (ros2/rmw_fastrtps#467). The
 client's future never completes, though the goal executes. An accepted goal also appears
 in the action's status topic, which is latched, so `GoalSender` settles its answer from
-whichever arrives first. A refused goal whose answer was lost leaves no trace: the caller
-times out and sends again.
+whichever arrives first. Its request can be lost the same way (the server never hears it and
+nothing appears in the status): `answer` sends the goal again while none of its copies
+was answered, and takes the first answer any copy gets.
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
+import time
 import uuid
 
 from action_msgs.msg import GoalStatusArray
@@ -20,6 +25,9 @@ from rclpy.node import Node
 from rclpy.qos import qos_profile_action_status_default
 from rclpy.task import Future
 from unique_identifier_msgs.msg import UUID
+
+# How often `answer` looks for an answer (s).
+POLL_S = 0.05
 
 
 class GoalSender:
@@ -46,6 +54,30 @@ class GoalSender:
                                            goal_uuid=goal_id)
         sent.add_done_callback(lambda done: self._settle(key, done.result()))
         return answer
+
+    def answer(self, goal, feedback_callback=None, *, answer_s: float, timeout_s: float,
+               alive: Callable[[], bool] = lambda: True) -> ClientGoalHandle | None:
+        """Send `goal` until a copy is answered; that answer, None after `timeout_s`.
+
+        A copy is sent every `answer_s` while none was answered (its request or its answer
+        lost in discovery); whichever copy is answered first wins, the others are
+        forgotten. None also when `alive()` turns false.
+        """
+        deadline = time.monotonic() + timeout_s
+        copies: list[Future] = []
+        while time.monotonic() < deadline and alive():
+            copies.append(self.send_goal_async(goal, feedback_callback=feedback_callback))
+            resend_at = min(deadline, time.monotonic() + answer_s)
+            while time.monotonic() < resend_at and alive():
+                answered = next((copy for copy in copies if copy.done()), None)
+                if answered is not None:
+                    for copy in copies:
+                        self.forget(copy)
+                    return answered.result()
+                time.sleep(POLL_S)
+        for copy in copies:
+            self.forget(copy)
+        return None
 
     def forget(self, answer: Future) -> None:
         """Stop waiting for `answer` (its goal was given up as unanswered)."""
