@@ -18,24 +18,26 @@ from tactex.commands import demo
 TACTEX = Path(sys.executable).parent / 'tactex'
 SUMMARY_KEYS = {'contacts', 'normal_error_deg_mean', 'position_error_mm_mean',
                 'contact_fraction', 'sliding_speed_error', 'cv_accuracy_grouped',
-                'cv_accuracy_stratified', 'live_accuracy', 'time_to_decision_s', 'wall_s'}
+                'cv_accuracy_stratified', 'live_accuracy', 'time_to_decision_s',
+                'madgwick_rejected', 'wall_s'}
 PLOTS = ('pathway.png', 'sweep.png', 'confusion.png', 'accuracy_vs_contact_time.png')
 
 
 @pytest.mark.slow
 @pytest.mark.ros
 @pytest.mark.timeout(1800)
-# Known failure, not hidden: on this machine the probe stage fails most runs, at e9d5f64
-# (before the stop-signal work) as at main: the simulator refuses the probe's next path
-# ('first point is 0.13 from the current joint3; start within 0.1'), the goal aborts ('the
-# arm does not follow'), the retry meets the same, or gives 2-3 of 7 contacts. Issue 24;
-# non-strict, so a passing run still shows as XPASS.
-# Passed in the fresh-clone CI run of 2026-11-25 after the bridge and probe fix (one
-# sample a tick; cut motions stopped, next path from the reported joints); a run on a
-# machine loaded by other jobs still found 3 of 7 contacts and the sweep could not be
-# planned. Kept non-strict until it passes repeatedly.
-@pytest.mark.xfail(reason='on a loaded 2-core machine the probe stage may find too few '
-                          'contacts for the sweep', strict=False)
+# Known failure, not hidden. Until 2026-11-25 the probe stage failed most runs (the
+# simulator refused the probe's next path); the bridge and probe fix of that day made it
+# pass (XPASS in that day's fresh-clone CI). Since the physical sensor model of
+# 2026-11-26 (issue 25: texture vibration through the edge's footprint, the chips in
+# every scene) the probe, sweep and live figures pass (7 of 7 contacts, 1.7 deg, 0.34 mm,
+# live 3 of 4) but 4 textures x 2 recordings classify at 30 % grouped (chance 25 %),
+# under the 0.5 threshold (features finer than the contact footprint average out).
+# The thresholds and the demo's figures are to be earned again on the new sensor
+# (issue 25); non-strict, so a passing run still shows as XPASS.
+@pytest.mark.xfail(reason="on the physical sensor model (issue 25) the quick demo's 4 "
+                          'textures classify below the 0.5 grouped threshold until its '
+                          'figures are earned again', strict=False)
 def test_quick_demo_runs_every_stage_through_the_nodes_and_meets_its_thresholds(tmp_path):
     from rosbags.highlevel import AnyReader
 
