@@ -84,8 +84,8 @@ def test_a_goal_whose_answer_is_lost_is_found_by_its_status_and_its_result_arriv
     assert result_message(sent.result()) == 'span 0.07'
 
 
-
-def test_a_goal_whose_request_is_lost_is_sent_again_until_a_copy_is_answered(action_pair):
+def test_a_goal_whose_request_is_lost_is_sent_again_until_a_copy_is_answered(action_pair,
+                                                                            monkeypatch):
     from rclpy.task import Future
 
     sender, Probe = action_pair
@@ -97,15 +97,16 @@ def test_a_goal_whose_request_is_lost_is_sent_again_until_a_copy_is_answered(act
         # discovery matched the server's reader: no answer, nothing in the status.
         sent.append(args)
         return send(*args, **kwargs) if len(sent) > 1 else Future()
-    sender.client.send_goal_async = lose_the_first
+    monkeypatch.setattr(sender.client, 'send_goal_async', lose_the_first)
     handle = sender.answer(Probe.Goal(span=0.03), answer_s=0.5, timeout_s=10.0)
     assert handle is not None and handle.accepted and len(sent) == 2
     assert result_message(handle) == 'span 0.03'
 
 
-def test_no_answer_at_all_is_none_after_the_timeout(action_pair):
+def test_no_answer_at_all_is_none_after_the_timeout(action_pair, monkeypatch):
     from rclpy.task import Future
 
     sender, Probe = action_pair
-    sender.client.send_goal_async = lambda *args, **kwargs: Future()  # every request lost
+    # Every request is lost.
+    monkeypatch.setattr(sender.client, 'send_goal_async', lambda *args, **kwargs: Future())
     assert sender.answer(Probe.Goal(span=0.03), answer_s=0.2, timeout_s=0.7) is None
