@@ -16,7 +16,7 @@ from tactex_description.kinematics import inverse_kinematics
 from tactex_sensor.messages import TYPESTORE
 from tactex_sim.recording import SweepBag
 from tactex_sim.scene import load_scene, parse_scene
-from tactex_sim.sweep import plan_sweep, SweepParameters
+from tactex_sim.sweep import plan_sweep, play, SweepParameters
 from tactex_sim.textures import TEXTURES
 from tactex_sim.world import World
 
@@ -99,10 +99,32 @@ def test_sliding_across_heightfield_cells_is_smooth():
                if plan.slide_start_s + 0.3 < s.time_s < plan.slide_end_s]
     cell = scene.surface.size_m[0] / (scene.surface.cells[0] - 1)
     travelled = samples[-1].truth.edge_position[0] - samples[0].truth.edge_position[0]
-    assert travelled > 40 * cell  # crossed many cells (0.5 mm each)
+    assert travelled > 40 * cell  # crossed many cells
     assert all(s.truth.contact.touching for s in samples)
     accel_steps = np.abs(np.diff([s.accel for s in samples], axis=0))
     assert accel_steps.max() < 2.0  # no jolts at cell edges
+
+
+@pytest.mark.slow
+def test_the_plates_cells_put_no_line_into_the_spectrum():
+    # A smooth plate sampled too coarsely makes the edge cross facets at speed / cell: at
+    # 0.5 mm cells a 30 Hz line stood 50-200 times above the noise floor in every texture.
+    scene = SCENE['uneven_texture']
+    smooth = dataclasses.replace(scene, effects=tuple(e for e in scene.effects if e != 'texture'))
+    parameters = SweepParameters.draw(smooth, np.random.default_rng(3))
+    world = World(smooth, seed=3, texture_heading_rad=parameters.heading_rad)
+    samples = []
+    play(world, plan_sweep(smooth, parameters), samples.append)
+    sliding = [s for s in samples if s.truth.contact.touching]
+    assert len(sliding) > 600
+    from scipy.signal import welch
+    for channel in ('gyro', 'accel'):
+        values = np.array([getattr(s, channel) for s in sliding])
+        frequency, power = welch(values - values.mean(axis=0), fs=scene.sensor_rate_hz,
+                                 nperseg=256, axis=0)
+        band = frequency > 20.0  # above the sweep's own motion, up to Nyquist
+        line_over_floor = power[band].max(axis=0) / np.median(power[band], axis=0)
+        assert line_over_floor.max() < 10.0, (channel, line_over_floor)
 
 
 def test_sensor_pressed_to_its_prismatic_limit_holds():

@@ -45,7 +45,7 @@ class Surface:
     amplitude_m: float = 0.0
     wavelength_m: float = 0.12
     thickness_m: float = 0.01
-    cells: tuple[int, int] = (601, 81)
+    cells: tuple[int, int] = (1201, 2)
     slope_rad: float = 0.0
 
     def height(self, x_world):
@@ -192,7 +192,7 @@ def parse_scene(raw: dict[str, Any], source: str = '<scene>') -> Scene:
     if math.prod(surface.cells) > MAX_HEIGHTFIELD_CELLS:
         raise SceneError(f'{source}: [surface] cells {list(surface.cells)} make '
                          f'{math.prod(surface.cells)} heightfield cells; at most '
-                         f'{MAX_HEIGHTFIELD_CELLS} (e.g. [601, 81], 0.5 mm x 2.5 mm)')
+                         f'{MAX_HEIGHTFIELD_CELLS} (e.g. [1201, 2], 0.25 mm along the wave)')
     if surface.slope_rad and (surface.kind != 'flat' or abs(surface.slope_rad) >= 1.4):
         raise SceneError(f'{source}: [surface] slope_rad tilts a flat plate only, by less than '
                          f'1.4 rad, got {surface.slope_rad!r} on a {surface.kind!r} surface')
