@@ -230,6 +230,45 @@ def kinematics() -> str:
     return '- `python bench/bench_kinematics.py`: ' + '; '.join(sentences) + '.\n'
 
 
+def sensor_stats() -> str:
+    run, table = _json('sensor_stats/run.json'), _json('sensor_stats/stats.json')
+    rows = [row for entry in table.values() for row in entry['channels'].values()]
+    rails = max(row['at_rails'] for row in rows)
+    beyond = sum(row['beyond_full_scale'] for row in rows)
+    rocking = [entry['channels']['gy'] for entry in table.values()]
+    accel = max(entry['channels'][axis]['max'] for entry in table.values()
+                for axis in ('ax', 'ay', 'az'))
+    tilts = [entry['madgwick_tilt_deg_median'] for entry in table.values()]
+    strongest = max(table, key=lambda texture: table[texture]['channels']['gy']['rms'])
+    return (f'- Measured by `python bench/bench_sensor_stats.py` ({run["started"]}: '
+            f'`{run["steps"][0]["command"]}` of the shipped `{run["scene"]}` scene, '
+            f'{len(table)} textures, then `tactex sim stats`; `bench/results/sensor_stats/`: '
+            f'the table and the four spectra): {beyond or "no"} samples beyond the full '
+            f'scale, {f"at most {100 * rails:.2f} %" if rails else "none"} of a channel\'s '
+            f'samples at a rail; the rocking axis (gy) at '
+            f'{min(r["rms"] for r in rocking):.2f}-{max(r["rms"] for r in rocking):.2f} rad/s '
+            f'RMS and at most {max(r["max"] for r in rocking):.2f} rad/s (the old model: 456 '
+            f'to 877 of about 900 sliding samples beyond 4.3 rad/s), the most on '
+            f'{strongest}; |accel| at most {accel:.1f} m/s^2 of the +-39 m/s^2 range; Madgwick '
+            f'tilt {min(tilts):.2f}-{max(tilts):.2f} deg median while sliding.\n')
+
+
+def channels() -> str:
+    data = _json('channels/ablation.json')
+    models = sorted({row['model'] for row in data['rows']})
+    groups = list(dict.fromkeys(row['group'] for row in data['rows']))
+    accuracy = {(row['group'], row['model']): row['grouped_accuracy'] for row in data['rows']}
+    table = ['| channels | ' + ' | '.join(TEXTURE_MODELS.get(m, m) for m in models) + ' |',
+             '|---|' + '---|' * len(models)]
+    table += [f'| {group} | ' + ' | '.join(f'{100 * accuracy[group, m]:.1f} %' for m in models)
+              + ' |' for group in groups]
+    return (f'Channel ablation (`{data["command"].strip()}`, {data["seconds"] / 60:.0f} min: 12 '
+            f'textures x {data["sweeps_per_texture"]} simulated sweeps, each channel group '
+            f'alone and all together, grouped {data["folds"]}-fold accuracy by recording, '
+            f'chance {100 * data["chance"]:.1f} %; `bench/results/channels/`, with '
+            f'`ablation.png`):\n\n' + '\n'.join(table) + '\n')
+
+
 def sim_collect() -> str:
     data = _json('sim_collect.json')
     one, two = data['runs']['1'], data['runs']['2']
@@ -495,7 +534,8 @@ SECTIONS: dict[str, Callable[[], str]] = {
     'driver': driver, 'sim': sim, 'convert': convert, 'synthetic_set': synthetic_set,
     'textures': textures, 'init': init, 'kinematics': kinematics, 'sweep': sweep,
     'sim_collect': sim_collect, 'training': training, 'compare': compare,
-    'compare_long': compare_long, 'online_latency': online_latency}
+    'compare_long': compare_long, 'online_latency': online_latency,
+    'sensor_stats': sensor_stats, 'channels': channels}
 
 
 def _wrapped(text: str) -> str:
