@@ -189,7 +189,7 @@ class Soak:
 
         The live count is larger by the windows of probe contacts (not recorded).
         """
-        from tactex_classify.dataset import Dataset
+        from tactex_classify.data.dataset import Dataset
         data = self.demo.folder / 'bag_windows.npz'
         try:
             self.demo.command(['convert', str(self.demo.folder / 'bags'), '--out', str(data),

@@ -41,7 +41,7 @@ PLOTS = ('pathway.png', 'sweep.png', 'confusion.png', 'accuracy_vs_contact_time.
 def test_quick_demo_runs_every_stage_through_the_nodes_and_meets_its_thresholds(tmp_path):
     from rosbags.highlevel import AnyReader
 
-    from tactex_classify.bags import bag_parts
+    from tactex_classify.data.bags import bag_parts
     from tactex_common.interfaces import typestore
 
     out = tmp_path / 'demo'

@@ -31,8 +31,8 @@ ROS_FACING = frozenset({
     'tactex.soak_session',
     'tactex_common.goals',
     'tactex_common.ros',
-    'tactex_classify.classifier_node',
-    'tactex_classify.recorder_node',
+    'tactex_classify.online.classifier_node',
+    'tactex_classify.recording.recorder_node',
     'tactex_driver.arm_driver_node',
     'tactex_probe.probe_node',
     'tactex_sensor.madgwick_node',
@@ -151,6 +151,26 @@ def test_packages_import_only_lower_layers():
         for imported in _imports(path):
             other = imported.split('.')[0]
             if other in LAYERS and other != package and LAYERS[other] >= LAYERS[package]:
+                upward.append(f'{name} imports {imported}')
+    assert not upward
+
+
+# tactex_classify's subpackages, lowest first: each imports only from those before it.
+CLASSIFY_LAYERS = ('errors', 'exports', 'models', 'data', 'recording', 'training', 'online',
+                   'evaluation')
+
+
+def test_classify_subpackages_import_only_those_below():
+    upward = []
+    for name, path in SOURCE_MODULES.items():
+        parts = name.split('.')
+        if parts[0] != 'tactex_classify' or len(parts) < 3:
+            continue
+        level = CLASSIFY_LAYERS.index(parts[1])
+        for imported in _imports(path):
+            other = imported.split('.')
+            if other[0] == 'tactex_classify' and len(other) > 1 and other[1] != parts[1] \
+                    and CLASSIFY_LAYERS.index(other[1]) > level:
                 upward.append(f'{name} imports {imported}')
     assert not upward
 

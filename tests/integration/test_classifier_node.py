@@ -81,7 +81,7 @@ def test_a_malicious_checkpoint_is_refused_and_nothing_in_it_runs(checkpoints, t
 
     import torch
 
-    from tactex_classify.checkpoint import CHECKSUM_FIELD, metadata_sha256, sha256
+    from tactex_classify.models.checkpoint import CHECKSUM_FIELD, metadata_sha256, sha256
     folder = shutil.copytree(checkpoints / 'cnn', tmp_path / 'cnn')
     marker = tmp_path / 'pwned'
 

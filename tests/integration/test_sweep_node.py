@@ -9,7 +9,7 @@ import time
 import numpy as np
 import pytest
 
-from tactex_classify.bags import read_recording
+from tactex_classify.data.bags import read_recording
 from tactex_sim.scene import load_scene, resolve_scene
 from tactex_trajectory.simulation import probe_like_pathway
 

@@ -115,7 +115,7 @@ def test_no_texture_of_the_default_scene_drives_a_channel_past_its_full_scale():
 @pytest.mark.slow
 def test_a_recording_carries_whole_counts_with_the_chips_and_the_physics_alone_without(
         tmp_path):
-    from tactex_classify.bags import read_recording
+    from tactex_classify.data.bags import read_recording
     scene = shipped('uneven_texture')
     bare = without_chips('uneven_texture')
     lsb = chips.gyro_range().lsb_si

@@ -65,8 +65,8 @@ def _patch_texture(name: str, value: str) -> None:
 
 
 def _checkpoint(name: str, value: str) -> None:
-    from tactex_classify.checkpoint import read_checkpoint
     from tactex_classify.errors import ClassifyError
+    from tactex_classify.models.checkpoint import read_checkpoint
     if not value:  # no classifier (classify.launch.py asks for one itself)
         return
     try:
@@ -76,7 +76,7 @@ def _checkpoint(name: str, value: str) -> None:
 
 
 def _threshold(name: str, value: str) -> None:
-    from tactex_classify.evidence import EvidenceSettings
+    from tactex_classify.online.evidence import EvidenceSettings
     try:
         EvidenceSettings(threshold=as_float(name, value))
     except ValueError as err:

@@ -89,7 +89,7 @@ def read_back(recording: Path) -> str:
     """Read every message of a recording and decode it; '' if it reads, else what failed."""
     from rosbags.highlevel import AnyReader
 
-    from tactex_classify.bags import bag_parts
+    from tactex_classify.data.bags import bag_parts
     from tactex_common.interfaces import typestore
     try:
         count = 0

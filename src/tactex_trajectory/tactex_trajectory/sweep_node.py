@@ -38,7 +38,7 @@ from std_srvs.srv import Trigger
 from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 from visualization_msgs.msg import Marker, MarkerArray
 
-from tactex_classify.recorder import RECORDED_TOPICS, SplitRecorder
+from tactex_classify.recording.recorder import RECORDED_TOPICS, SplitRecorder
 from tactex_common import topics
 from tactex_common.ros import (
     COMMAND,

@@ -7,7 +7,7 @@ from __future__ import annotations
 from tactex.accuracy_time.configurations import BUDGET_S, NEAR_BEST
 from tactex.accuracy_time.section_text import data_line, percent
 from tactex.accuracy_time.sections import Section, SECTIONS
-from tactex_classify.catalog import BASELINES
+from tactex_classify.models.registry import BASELINES
 
 
 def command(point: dict, *, epochs: int, folds: int) -> str:

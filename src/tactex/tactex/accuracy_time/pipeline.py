@@ -29,9 +29,9 @@ HELD_OUT_SEED_OFFSET = 1000
 def whole_job(probe_run, scratch: Path, size: Size, model: str, threshold: float,
               log: Callable[[str], None], *, seed: int, threads: int) -> dict:
     """Per stage: wall seconds of this run and simulated (arm) seconds."""
-    from tactex_classify.dataset import convert
-    from tactex_classify.evaluate import decide_recordings
-    from tactex_classify.runtime import load_predictor
+    from tactex_classify.data.dataset import convert
+    from tactex_classify.evaluation.cross_validation import decide_recordings
+    from tactex_classify.online.runtime import load_predictor
     from tactex_sim.collect import collect
     from tactex_sim.scene import load_scene, resolve_scene
     from tactex_sim.textures import TEXTURES

@@ -332,7 +332,7 @@ class Demo:
     def convert(self) -> Path:
         """`tactex convert` the recordings into windows."""
         from tactex.cli import main
-        from tactex_classify.dataset import Dataset
+        from tactex_classify.data.dataset import Dataset
         data = self.folder / 'dataset.npz'
         self.next_stage(f'convert the recordings (tactex convert bags --window {WINDOW})')
         self.command(['convert', str(self.folder / 'bags'), '--out', str(data),

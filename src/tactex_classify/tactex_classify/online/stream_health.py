@@ -21,7 +21,7 @@ import math
 
 import numpy as np
 
-from tactex_classify.checkpoint import StreamSpec
+from tactex_classify.models.checkpoint import StreamSpec
 from tactex_common import chips
 from tactex_common.channels import ACCEL, BARO, GYRO, MAG
 

@@ -18,9 +18,9 @@ import time
 import numpy as np
 from sklearn.model_selection import StratifiedGroupKFold, StratifiedKFold
 
-from tactex_classify.catalog import SCHEMES
-from tactex_classify.dataset import Dataset
-from tactex_classify.evidence import log_probabilities
+from tactex_classify.data.dataset import Dataset
+from tactex_classify.models.registry import SCHEMES
+from tactex_classify.online.evidence import log_probabilities
 
 
 @dataclass
@@ -171,7 +171,7 @@ def decide_recordings(dataset: Dataset, proba_of: Callable[[int], np.ndarray],
         Per recording: correct, contact_s at the decision, earliness (the share of the
         recording's windowed contact used) and wall_s (time spent on its windows).
     """
-    from tactex_classify.evidence import Evidence, EvidenceSettings, union_seconds
+    from tactex_classify.online.evidence import Evidence, EvidenceSettings, union_seconds
     period_ns = int(round(1e9 / rate_hz))
     span_ns = (dataset.X.shape[1] - 1) * period_ns
     settings = EvidenceSettings(threshold=threshold)

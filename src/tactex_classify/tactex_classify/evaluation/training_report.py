@@ -17,8 +17,13 @@ matplotlib.use('Agg')
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from tactex_classify.dataset import Dataset  # noqa: E402
-from tactex_classify.evaluate import confusion, CrossValidation, metrics, sequence_accuracy  # noqa: E402
+from tactex_classify.data.dataset import Dataset  # noqa: E402
+from tactex_classify.evaluation.cross_validation import (  # noqa: E402
+    confusion,
+    CrossValidation,
+    metrics,
+    sequence_accuracy,
+)
 from tactex_common.naming import natural_key, natural_sorted  # noqa: E402
 
 LABELS = {'grouped': 'grouped by recording (honest)',

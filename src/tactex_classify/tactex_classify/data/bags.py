@@ -10,7 +10,7 @@ Topics are found by role (`TOPIC_ROLES`): under any ROS namespace
 (`/left_arm/tactile/imu/data_raw`), with or without the leading slash, or where the
 caller remaps a role to a name of its own (`{'imu': '/my/imu'}`). The IMU stream is
 the reference: magnetometer and pressure samples are joined to each IMU sample by
-`tactex_classify.alignment.align`. A recording without a magnetometer (or barometer)
+`tactex_classify.data.stream_alignment.align`. A recording without a magnetometer (or barometer)
 topic has no such channels, with a note. Metadata whose label is not text or whose
 trial is not an integer is refused by bag and key.
 """
@@ -25,7 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
-from tactex_classify.alignment import align, Stream
+from tactex_classify.data.stream_alignment import align, Stream
 from tactex_classify.errors import BagError
 from tactex_common import topics
 from tactex_common.channels import ACCEL, BARO, CHANNELS, GYRO, MAG

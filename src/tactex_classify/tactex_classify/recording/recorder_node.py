@@ -9,7 +9,7 @@ from pathlib import Path
 
 from rcl_interfaces.msg import ParameterDescriptor
 
-from tactex_classify.recorder import RECORDED_TOPICS, SplitRecorder
+from tactex_classify.recording.recorder import RECORDED_TOPICS, SplitRecorder
 from tactex_common.ros import message_class, RECORDING, spin, TactexNode
 
 

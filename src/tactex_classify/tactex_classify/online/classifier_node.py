@@ -36,11 +36,11 @@ from sensor_msgs.msg import FluidPressure, Imu, MagneticField
 from std_msgs.msg import Bool, String
 from visualization_msgs.msg import Marker, MarkerArray
 
-from tactex_classify.bags import ROLE_CHANNELS
+from tactex_classify.data.bags import ROLE_CHANNELS
 from tactex_classify.errors import ClassifyError
-from tactex_classify.evidence import EvidenceSettings
-from tactex_classify.live import CONTACT_SOURCES, LiveSettings, OnlineClassifier
-from tactex_classify.runtime import load_predictor, RUNTIMES
+from tactex_classify.online.evidence import EvidenceSettings
+from tactex_classify.online.live import CONTACT_SOURCES, LiveSettings, OnlineClassifier
+from tactex_classify.online.runtime import load_predictor, RUNTIMES
 from tactex_common import topics
 from tactex_common.ros import COMMAND, SENSOR_DATA, spin, TactexNode
 from tactex_common.stamps import stamp_ns

@@ -21,8 +21,8 @@ matplotlib.use('Agg')
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from tactex_classify.catalog import ALL_MODELS, BASELINES, SCHEMES  # noqa: E402
-from tactex_classify.evaluate import confusion, metrics  # noqa: E402
+from tactex_classify.evaluation.cross_validation import confusion, metrics  # noqa: E402
+from tactex_classify.models.registry import ALL_MODELS, BASELINES, SCHEMES  # noqa: E402
 
 SCHEME_LABELS = {'grouped': 'grouped by recording (honest)',
                  'stratified': 'stratified windows (leaky)'}

@@ -21,8 +21,7 @@ import sys
 
 import numpy as np
 
-from tactex_classify.alignment import nearest
-from tactex_classify.bags import (
+from tactex_classify.data.bags import (
     inside,
     is_recording,
     read_recording,
@@ -30,8 +29,9 @@ from tactex_classify.bags import (
     recording_topics,
     ROLE_CHANNELS,
 )
-from tactex_classify.checkpoint import MAX_CHANNELS, MAX_CLASSES, MAX_WINDOW
+from tactex_classify.data.stream_alignment import nearest
 from tactex_classify.errors import BagError, DatasetError
+from tactex_classify.models.checkpoint import MAX_CHANNELS, MAX_CLASSES, MAX_WINDOW
 from tactex_common.channels import CHANNELS
 from tactex_common.files import check_npz_sizes, load_json, open_regular
 from tactex_common.naming import natural_key, natural_sorted

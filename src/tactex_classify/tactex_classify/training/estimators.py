@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-from tactex_classify.catalog import ALL_MODELS
+from tactex_classify.models.registry import ALL_MODELS
 
 
 def build_estimator(config, *, progress: Callable[[dict], None] | None = None,
@@ -19,8 +19,8 @@ def build_estimator(config, *, progress: Callable[[dict], None] | None = None,
     Raises:
         ValueError: an unknown model name.
     """
-    from tactex_classify.baselines import MiniRocketRidge, StatsExtraTrees
-    from tactex_classify.classifier import DeepClassifier
+    from tactex_classify.models.baselines import MiniRocketRidge, StatsExtraTrees
+    from tactex_classify.training.deep_classifier import DeepClassifier
     if config.model == 'minirocket':
         return MiniRocketRidge(seed=config.seed)
     if config.model == 'extratrees':

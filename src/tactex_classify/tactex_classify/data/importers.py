@@ -3,7 +3,7 @@
 """Datasets recorded elsewhere: the public MUN tactile texture pickles, and folders of CSV.
 
 Both go through the converter's rules: samples are stamped (a timestamp column or
-index, else row / rate), aligned and cleaned by `tactex_classify.alignment.align`
+index, else row / rate), aligned and cleaned by `tactex_classify.data.stream_alignment.align`
 (NaN rows dropped and counted), and windows never cross a gap, so a dropped row never
 stitches two stretches of signal together and `t0` is the true start of each window.
 """
@@ -18,10 +18,15 @@ import sys
 
 import numpy as np
 
-from tactex_classify.alignment import align, median_period_ns, Stream
-from tactex_classify.dataset import check_channel_names, check_window, Dataset, WindowCollector
+from tactex_classify.data.dataset import (
+    check_channel_names,
+    check_window,
+    Dataset,
+    WindowCollector,
+)
+from tactex_classify.data.pickles import load_frame, RefusedPickle
+from tactex_classify.data.stream_alignment import align, median_period_ns, Stream
 from tactex_classify.errors import DatasetError
-from tactex_classify.pickles import load_frame, RefusedPickle
 from tactex_common.channels import CHANNELS
 from tactex_common.errors import TableError
 from tactex_common.naming import natural_sorted

@@ -28,15 +28,15 @@ import secrets
 
 import numpy as np
 
-from tactex_classify.checkpoint import (
+from tactex_classify.errors import CheckpointError, ExportError
+from tactex_classify.models.checkpoint import (
     CheckpointInfo,
     load_estimator,
     MAX_MODEL_BYTES,
     ONNX_FILE,
     read_checkpoint,
 )
-from tactex_classify.classifier import ChannelScaler, check_windows, softmax
-from tactex_classify.errors import CheckpointError, ExportError
+from tactex_classify.models.windows import ChannelScaler, check_windows, softmax
 from tactex_common.files import read_bytes
 
 RUNTIMES = ('native', 'onnxruntime')
@@ -138,7 +138,7 @@ def _onnx_predictor(info: CheckpointInfo, threads: int, path: Path | None = None
             logits = session.run([output], {inputs.name: scaler.transform(X)})[0]
             return _spread(softmax(logits), columns, classes)
     else:
-        from tactex_classify.baselines import StatsExtraTrees
+        from tactex_classify.models.baselines import StatsExtraTrees
 
         def run(X: np.ndarray) -> np.ndarray:
             features = StatsExtraTrees.features(X).astype(np.float32)

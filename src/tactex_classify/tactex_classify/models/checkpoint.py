@@ -40,9 +40,9 @@ OLD_FORMATS = {1: 'it was saved before hop and sampling rate were kept',
 METADATA_FILE = 'checkpoint.json'
 ONNX_FILE = 'model.onnx'
 # kind -> (module, class) of the estimator that reads and writes it.
-KINDS = {'deep': ('tactex_classify.classifier', 'DeepClassifier'),
-         'minirocket': ('tactex_classify.baselines', 'MiniRocketRidge'),
-         'extratrees': ('tactex_classify.baselines', 'StatsExtraTrees')}
+KINDS = {'deep': ('tactex_classify.training.deep_classifier', 'DeepClassifier'),
+         'minirocket': ('tactex_classify.models.baselines', 'MiniRocketRidge'),
+         'extratrees': ('tactex_classify.models.baselines', 'StatsExtraTrees')}
 CHECKSUM_FIELD = 'metadata_sha256'
 COMMON_FIELDS = ('format_version', 'kind', 'model', 'classes', 'channels', 'window', 'hop',
                  'sampling_rate_hz', 'files', CHECKSUM_FIELD)

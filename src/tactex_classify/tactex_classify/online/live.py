@@ -4,7 +4,7 @@
 
 No ROS and no clock: the caller passes every sample with its header stamp and its
 arrival time. `LiveWindows` keeps a ring buffer per stream (IMU, magnetometer,
-pressure) and cuts windows exactly as the converter does (`tactex_classify.dataset`):
+pressure) and cuts windows exactly as the converter does (`tactex_classify.data.dataset`):
 streams joined on the IMU stamps by `alignment.align`, runs of kept samples split at
 gaps (`tactex_common.stamps.gaps`), a window every hop from each run's start. A sample
 is final once every stream has reached its stamp (minus `reorder_s`); a stream silent
@@ -38,12 +38,12 @@ import math
 
 import numpy as np
 
-from tactex_classify.alignment import align, Stream
-from tactex_classify.bags import inside, ROLE_CHANNELS, segments
-from tactex_classify.checkpoint import StreamSpec
-from tactex_classify.dataset import FilterRule
-from tactex_classify.evidence import Estimate, Evidence, EvidenceSettings
-from tactex_classify.stream_health import (
+from tactex_classify.data.bags import inside, ROLE_CHANNELS, segments
+from tactex_classify.data.dataset import FilterRule
+from tactex_classify.data.stream_alignment import align, Stream
+from tactex_classify.models.checkpoint import StreamSpec
+from tactex_classify.online.evidence import Estimate, Evidence, EvidenceSettings
+from tactex_classify.online.stream_health import (
     CONTINUES,
     fits_float32,
     HELD,

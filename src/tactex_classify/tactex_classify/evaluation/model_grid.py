@@ -26,9 +26,9 @@ import time
 
 import numpy as np
 
-from tactex_classify.catalog import BASELINES, SCHEMES
-from tactex_classify.dataset import Dataset
+from tactex_classify.data.dataset import Dataset
 from tactex_classify.errors import ClassifyError
+from tactex_classify.models.registry import BASELINES, SCHEMES
 
 GRID_FORMAT = 1
 LATENCY_CALLS = 30
@@ -204,11 +204,11 @@ def run_cell(datasets: dict[int, Dataset], cell: Cell, settings: GridSettings, t
     30 calls on test windows), as the live classifier would; throughput is the whole
     test set in one call.
     """
-    from tactex_classify.classifier import TrainingConfig
-    from tactex_classify.estimators import build_estimator
-    from tactex_classify.evaluate import confusion, metrics, splits
+    from tactex_classify.evaluation.cross_validation import confusion, metrics, splits
+    from tactex_classify.training.deep_classifier import TrainingConfig
+    from tactex_classify.training.estimators import build_estimator
     if cell.model not in BASELINES:
-        import tactex_classify.models  # noqa: F401  (torch's import is no training time)
+        import tactex_classify.models.architectures  # noqa: F401  (torch's import is no training time)
     dataset = datasets[cell.window]
     train, test = splits(dataset, cell.scheme, settings.folds, cell.seed)[cell.fold - 1]
     config = TrainingConfig(model=cell.model, epochs=settings.epochs,

@@ -30,6 +30,8 @@ from collections.abc import Callable
 import torch
 from torch import nn
 
+from tactex_classify.models.registry import DEEP_MODELS
+
 
 class _BatchNorm(nn.Module):
     """Keras BatchNormalization on (batch, time, features) or (batch, features)."""
@@ -216,9 +218,9 @@ def bilstm_2(window: int, channels: int, classes: int) -> nn.Sequential:
     return _bilstm(window, channels, classes, 0.5)
 
 
+# The builders by name; the names (and their order) come from the registry alone.
 MODELS: dict[str, Callable[[int, int, int], nn.Sequential]] = {
-    f.__name__: f for f in (cnn_bilstm_1, cnn_bilstm_2, cnn_bilstm_3, cnn_1, cnn_2, cnn_3,
-                            bilstm_1, bilstm_2)}
+    name: globals()[name] for name in DEEP_MODELS}
 
 
 def keras_initialise(model: nn.Module) -> nn.Module:

@@ -24,9 +24,9 @@ from sklearn.ensemble import ExtraTreesClassifier
 from sklearn.linear_model import RidgeClassifierCV
 from sklearn.preprocessing import StandardScaler
 
-from tactex_classify.checkpoint import Deployable, MAX_MODEL_BYTES, restore_fitted
-from tactex_classify.classifier import channel_names, ChannelScaler, check_windows, softmax
 from tactex_classify.errors import CheckpointError, NotFittedError
+from tactex_classify.models.checkpoint import Deployable, MAX_MODEL_BYTES, restore_fitted
+from tactex_classify.models.windows import channel_names, ChannelScaler, check_windows, softmax
 from tactex_common.constants import MAX_SEED
 from tactex_common.files import check_npz_sizes, open_regular
 

@@ -22,9 +22,9 @@ from pathlib import Path
 
 import numpy as np
 
-from tactex_classify.alignment import nearest
-from tactex_classify.bags import read_recording, Recording
-from tactex_classify.dataset import FilterRule, keep_mask, recording_paths
+from tactex_classify.data.bags import read_recording, Recording
+from tactex_classify.data.dataset import FilterRule, keep_mask, recording_paths
+from tactex_classify.data.stream_alignment import nearest
 from tactex_common import chips
 from tactex_common.channels import ACCEL, BARO, GYRO, MAG
 
