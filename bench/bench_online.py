@@ -34,7 +34,7 @@ import time
 
 import numpy as np
 
-from tactex.ros_env import ros_environment
+from tactex.launching.environment import ros_environment
 
 BIN = Path(sys.executable).parent
 RESULTS = Path(__file__).parent / 'results'

@@ -15,7 +15,7 @@ import time
 
 import numpy as np
 
-from tactex.ros_env import ros_environment
+from tactex.launching.environment import ros_environment
 from tactex_classify.models.baselines import MiniRocketRidge
 from tactex_classify.online.runtime import export_onnx
 from tactex_classify.training.deep_classifier import DeepClassifier, TrainingConfig

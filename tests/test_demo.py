@@ -11,9 +11,9 @@ import sys
 
 import pytest
 
-from tactex import demo_report
 from tactex.cli import main
-from tactex.commands import demo
+from tactex.demo import figures as demo_report
+from tactex.demo import pipeline as demo
 
 TACTEX = Path(sys.executable).parent / 'tactex'
 SUMMARY_KEYS = {'contacts', 'normal_error_deg_mean', 'position_error_mm_mean',

@@ -26,9 +26,9 @@ LAUNCH_FILES = sorted((ROOT / 'launch').glob('*.launch.py'))
 # Modules that may import rclpy and ROS message packages: the nodes and the ROS helpers.
 # Everything else under src/ is a pure module (no ROS install needed to import it).
 ROS_FACING = frozenset({
-    'tactex.demo_session',
-    'tactex.ros_launch',
-    'tactex.soak_session',
+    'tactex.demo.session',
+    'tactex.launching.ros_description',
+    'tactex.soak.session',
     'tactex_common.goals',
     'tactex_common.ros',
     'tactex_classify.online.classifier_node',

@@ -17,7 +17,7 @@ import sys
 from processes import wait_for
 import pytest
 
-from tactex.ros_env import ros_environment
+from tactex.launching.environment import ros_environment
 
 pytestmark = pytest.mark.ros
 BIN = Path(sys.executable).parent

@@ -48,7 +48,7 @@ def test_probe_goal_in_simulation_broadcasts_the_pathway(ros_context, tmp_path):
     import rclpy
     from transforms3d.quaternions import quat2mat
 
-    from tactex.ros_env import ros_environment
+    from tactex.launching.environment import ros_environment
     from tactex_common.goals import GoalSender
     from tactex_common.ros import LATCHED
     from tactex_msgs.action import Probe

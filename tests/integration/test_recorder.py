@@ -12,7 +12,7 @@ import time
 
 import pytest
 
-from tactex.ros_env import ros_environment
+from tactex.launching.environment import ros_environment
 from tactex_classify.data.bags import read_recording
 from tactex_classify.data.dataset import convert
 from tactex_sensor.emulator import Motion, SignalSource, TeensyEmulator

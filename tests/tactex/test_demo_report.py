@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from tactex.demo_report import (
+from tactex.demo.figures import (
     accuracy_against_contact_time,
     Check,
     checks,

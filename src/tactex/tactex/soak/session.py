@@ -16,8 +16,8 @@ import time
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from sensor_msgs.msg import Imu, JointState
 
-from tactex.demo_session import CLASSIFIER_STATUS, SystemClient
-from tactex.soak import COUNTERS, WindowLedger
+from tactex.demo.session import CLASSIFIER_STATUS, SystemClient
+from tactex.soak.bookkeeping import COUNTERS, WindowLedger
 from tactex_common import topics
 from tactex_common.ros import SENSOR_DATA
 from tactex_msgs.msg import TextureEstimate

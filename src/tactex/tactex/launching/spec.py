@@ -4,8 +4,9 @@
 
 Each `launch/<name>.launch.py` defines `LAUNCH = LaunchFile(...)`, a description of its
 arguments and a function from the resolved arguments to its nodes. ROS 2 launch builds
-its `LaunchDescription` from it (`tactex.ros_launch`), and `tactex launch` runs the same
-nodes as supervised processes (`tactex.launcher`), so the two cannot drift.
+its `LaunchDescription` from it (`tactex.launching.ros_description`), and `tactex launch`
+runs the same nodes as supervised processes (`tactex.launching.supervisor`), so the two
+cannot drift.
 
 Parameter values given as strings are YAML-typed by both paths (`'1.0'` is a float,
 `'true'` a bool), exactly as `ros2 launch` and `--ros-args -p` do.

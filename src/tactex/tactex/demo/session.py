@@ -22,7 +22,7 @@ import rclpy
 from rclpy.context import Context
 from rclpy.executors import SingleThreadedExecutor
 
-from tactex.demo_report import Estimate
+from tactex.demo.figures import Estimate
 from tactex.errors import CommandError
 from tactex_common import topics
 from tactex_common.goals import GoalSender

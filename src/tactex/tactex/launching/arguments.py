@@ -18,7 +18,7 @@ import re
 import stat
 
 from tactex.errors import CommandError
-from tactex.launch_spec import as_float, LaunchError, LaunchFile
+from tactex.launching.spec import as_float, LaunchError, LaunchFile
 from tactex.options import check_output_file, check_output_folder
 
 # A ROS namespace without its leading slash: tokens of letters, digits and underscores,

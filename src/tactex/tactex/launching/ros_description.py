@@ -19,7 +19,7 @@ from launch.substitutions import LaunchConfiguration
 from launch_ros.actions import Node, PushRosNamespace
 from launch_ros.parameter_descriptions import ParameterValue
 
-from tactex.launch_spec import DISCOVERY_RANGE, LaunchFile
+from tactex.launching.spec import DISCOVERY_RANGE, LaunchFile
 
 
 def launch_description(launch: LaunchFile) -> LaunchDescription:

@@ -26,8 +26,8 @@ import threading
 import time
 from typing import Any, TextIO
 
-from tactex.launch_spec import DISCOVERY_RANGE, LaunchError, NodeSpec
-from tactex.ros_env import ros_environment
+from tactex.launching.environment import ros_environment
+from tactex.launching.spec import DISCOVERY_RANGE, LaunchError, NodeSpec
 from tactex_common.stopping import on_stop_signals
 
 _PR_SET_PDEATHSIG = 1
