@@ -11,7 +11,7 @@ import pytest
 
 from tactex_classify.data.bags import read_recording
 from tactex_sim.scene import load_scene, resolve_scene
-from tactex_trajectory.simulation import probe_like_pathway
+from tactex_trajectory.simulated_sweeps import probe_like_pathway
 
 pytestmark = [pytest.mark.ros, pytest.mark.slow]
 pytest.importorskip('tactex_msgs', reason='the interface package tactex_msgs is not built')

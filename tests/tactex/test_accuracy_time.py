@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from tactex.accuracy_time import configurations, markdown, report, section_text
+from tactex.accuracy_time import configurations, markdown, runner, section_text
 from tactex.accuracy_time.classification import fits, mark_pareto
 from tactex.accuracy_time.physical import spectral_distance_db
 from tactex.accuracy_time.sizes import QUICK
@@ -73,14 +73,14 @@ def test_a_window_too_short_for_a_deep_model_is_found_before_training():
 def test_a_failing_section_leaves_nothing_behind(tmp_path, monkeypatch, capsys):
     def fail(*args, **kwargs):
         raise SimError('the sweep never touched the patch')
-    monkeypatch.setattr(report, 'run_sections', fail)
+    monkeypatch.setattr(runner, 'run_sections', fail)
     assert main(['report', 'accuracy-time', '--quick', '--out', str(tmp_path / 'out')]) == 1
     assert capsys.readouterr().err == 'error: the sweep never touched the patch\n'
     assert list(tmp_path.iterdir()) == []
 
 
 def test_a_section_the_arm_cannot_do_is_reported_and_the_others_still_run(monkeypatch):
-    from tactex.accuracy_time import classification, physical, pipeline, sweep_speed
+    from tactex.accuracy_time import classification, physical, sweep_speed, whole_job
     from tactex_probe.motion import PathUnreachable
 
     class Data:
@@ -97,8 +97,8 @@ def test_a_section_the_arm_cannot_do_is_reported_and_the_others_still_run(monkey
     monkeypatch.setattr(sweep_speed, 'sweep_speed', lambda *a, **k: {'rows': ['measured']})
     monkeypatch.setattr(physical, 'simulation_cost', lambda *a, **k: {'rows': ['measured']})
     monkeypatch.setattr(physical, 'filter_rate', lambda *a, **k: {'rows': ['measured']})
-    monkeypatch.setattr(pipeline, 'whole_job', lambda *a, **k: pytest.fail('ran without 3'))
-    results = report.run_sections(QUICK, seed=0, threads=1, progress=lambda line: None)
+    monkeypatch.setattr(whole_job, 'whole_job', lambda *a, **k: pytest.fail('ran without 3'))
+    results = runner.run_sections(QUICK, seed=0, threads=1, progress=lambda line: None)
     assert results['3'] == {'failed': 'PathUnreachable: the probe line leaves the workspace '
                                       'at x = 0.4 m'}
     assert results['7'] == {'failed': 'it starts from section 3, which was not measured'}

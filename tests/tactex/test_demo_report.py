@@ -21,7 +21,7 @@ from tactex.demo.figures import (
     plot_pathway,
     plot_sweep,
 )
-from tactex_probe.simulation import true_normal
+from tactex_probe.closed_loop import true_normal
 from tactex_sim.scene import load_scene, resolve_scene
 
 SURFACE = load_scene(resolve_scene('uneven_texture')).surface

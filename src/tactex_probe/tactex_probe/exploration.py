@@ -14,7 +14,7 @@ A path that follows one that ended starts where that one ended; one that must cu
 faster motion than a press short (a contact, a cancel) follows a `Stop`, and starts
 where the joint states then show the arm standing. So every path starts where the driver
 commands the arm, within its start tolerance, however late the commands arrive.
-The same core drives the simulator (`tactex_probe.simulation`) and the real arm
+The same core drives the simulator (`tactex_probe.closed_loop`) and the real arm
 (`probe_node`).
 
 Every touch goes the same way: move to an approach pose above the point; hold still to

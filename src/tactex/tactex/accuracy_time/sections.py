@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: Apache-2.0
 """The seven sections, one row each: number, title, plot file, how to measure, plot, render.
 
-The report (report.py) runs them in order and the page (markdown.py) writes them in
+The runner (runner.py) runs them in order and the page (markdown.py) writes them in
 order; both read a section's identity only from `SECTIONS`.
 """
 
@@ -16,10 +16,10 @@ from tactex.accuracy_time import (
     classification,
     configurations,
     physical,
-    pipeline,
     plots,
     section_text,
     sweep_speed,
+    whole_job,
 )
 from tactex.accuracy_time.section_text import SectionText
 from tactex.accuracy_time.sizes import Size
@@ -79,7 +79,7 @@ def _measure_whole_job(run: Run) -> dict:
         return {'failed': 'it starts from section 3, which was not measured'}
     chosen = configurations.choose(run.results['1']['points'], run.results['2']['rows'])
     job = chosen['budget'] or chosen['accurate']
-    return pipeline.whole_job(probe.pop('_first_run'), run.scratch, run.size, job['model'],
+    return whole_job.whole_job(probe.pop('_first_run'), run.scratch, run.size, job['model'],
                               job['threshold'], run.log, seed=run.seed, threads=run.threads)
 
 

@@ -15,8 +15,8 @@ from pathlib import Path
 
 import numpy as np
 
+from tactex_probe.closed_loop import nearest_surface_point, true_normal
 from tactex_probe.normals import angle_between
-from tactex_probe.simulation import nearest_surface_point, true_normal
 from tactex_sim.scene import Surface
 
 # The thresholds each figure is held to (README, "The demo").

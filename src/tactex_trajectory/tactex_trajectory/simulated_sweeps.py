@@ -24,8 +24,8 @@ from tactex_description.geometry import ARM_JOINT_NAMES
 from tactex_description.mjcf import EDGE_TIP_RADIUS_M
 from tactex_driver.arm import ArmController
 from tactex_driver.playback import JointLimits
+from tactex_probe.closed_loop import run_probe
 from tactex_probe.pathway import DEFAULT_GOAL, ProbeParameters
-from tactex_probe.simulation import run_probe
 from tactex_sim.scene import Scene, Surface
 from tactex_sim.world import World
 from tactex_trajectory.monitor import window_speeds

@@ -37,7 +37,7 @@ def whole_job(probe_run, scratch: Path, size: Size, model: str, threshold: float
     from tactex_sim.textures import TEXTURES
     from tactex_sim.world import World
     from tactex_trajectory.planner import plan_sweep
-    from tactex_trajectory.simulation import execute, measure
+    from tactex_trajectory.simulated_sweeps import execute, measure
     stages = [{'stage': 'probe', 'wall_s': probe_run['wall_s'],
                'arm_s': probe_run['run'].sim_time_s}]
     scene = load_scene(resolve_scene('uneven_texture'))
