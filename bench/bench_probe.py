@@ -49,7 +49,7 @@ from tactex_probe.closed_loop import (  # noqa: E402
     summary,
     true_normal,
 )
-from tactex_probe.exploration import ExplorerConfig, Method  # noqa: E402
+from tactex_probe.explorer_interface import ExplorerConfig, Method  # noqa: E402
 from tactex_probe.motion import FACE_AXIS  # noqa: E402
 from tactex_probe.normals import angle_between  # noqa: E402
 from tactex_probe.pathway import ProbeParameters  # noqa: E402

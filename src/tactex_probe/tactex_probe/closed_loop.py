@@ -24,9 +24,9 @@ from tactex_description.geometry import ARM_JOINT_NAMES
 from tactex_driver.arm import ArmController, Mode
 from tactex_driver.errors import TrajectoryRejected
 from tactex_driver.playback import JointLimits
-from tactex_probe.exploration import (
+from tactex_probe.exploration import Explorer
+from tactex_probe.explorer_interface import (
     Command,
-    Explorer,
     ExplorerConfig,
     Feedback,
     Finished,

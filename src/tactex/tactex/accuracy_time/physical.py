@@ -41,7 +41,7 @@ def probing(size: Size, log: Callable[[str], None]) -> dict:
     The first setting's run is kept (under `_first_run`) for section 7.
     """
     from tactex_probe.closed_loop import PLATE_LINE, run_probe, score_run, summary
-    from tactex_probe.exploration import ExplorerConfig
+    from tactex_probe.explorer_interface import ExplorerConfig
     from tactex_probe.pathway import ProbeParameters
     from tactex_sim.scene import load_scene, resolve_scene
     scene = load_scene(resolve_scene('probe'))

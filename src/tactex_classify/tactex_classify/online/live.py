@@ -27,6 +27,10 @@ been seen, the pressure rule before. Leaving contact resets the evidence.
 skipping (and counting) all but the newest windows when they queue up. It classifies no
 window while the stream's rate is off the model's, and none that is frozen or saturated;
 a window whose model call raises is skipped; each is counted in `faults`.
+
+Longer than 500 lines: the ring buffers, the contact rules and the window cutting are
+one pass over each sample that must cut exactly the converter's windows; the evidence
+and the stream-health rules live in `evidence` and `stream_health`.
 """
 
 from __future__ import annotations
