@@ -35,9 +35,12 @@ SURFACE_GEOM = 'surface'
 PRESS_STIFFNESS_N_M = OPEN_MANIPULATOR_X.joint('sensor_press').stiffness
 # The compliant body's travel: no body compresses further, welded or not.
 PRESS_TRAVEL_M = -OPEN_MANIPULATOR_X.joint('sensor_press').lower
-# MuJoCo's warnings that the state went non-finite or huge (it resets the state then).
 # The most simulated seconds per wall second the bridge is asked for (0: as fast as it can).
 MAX_RATE_FACTOR = 1000.0
+# A placed arm settles this long under its servos before its clock starts (s): it sags
+# about 4 mrad at joints 2 and 3 and is within 1e-5 rad/s of rest by then.
+SETTLE_S = 0.5
+# MuJoCo's warnings that the state went non-finite or huge (it resets the state then).
 _DIVERGED = (mujoco.mjtWarning.mjWARN_BADQPOS, mujoco.mjtWarning.mjWARN_BADQVEL,
              mujoco.mjtWarning.mjWARN_BADQACC)
 
@@ -188,10 +191,21 @@ class World:
         self.data.ctrl[:len(JOINT_STATE_NAMES)] = positions
 
     def place_arm(self, positions) -> None:
-        """Put the arm at `positions` at rest (start of a run)."""
+        """Put the arm at `positions` at rest (start of a run), its servos holding it.
+
+        A servo holds its load by sagging until its error balances the load, and a real
+        arm has long done so when its sensor stream starts. Put there with its joints
+        still, the simulated arm would fall freely at first, and its accelerometer read
+        about 0 instead of gravity (the attitude filter rejects such a sample). So the
+        physics runs `SETTLE_S` with the servos holding `positions`, and the clock
+        starts at 0 from there.
+        """
         self.data.qpos[self._arm_qpos] = positions
         self.data.qvel[:] = 0.0
         self.set_arm_targets(positions)
+        for _ in range(round(SETTLE_S / self.model.opt.timestep)):
+            mujoco.mj_step(self.model, self.data)
+        self.data.time = 0.0
         mujoco.mj_forward(self.model, self.data)
 
     def joint_positions(self) -> np.ndarray:

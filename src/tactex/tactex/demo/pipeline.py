@@ -138,7 +138,8 @@ class Demo:
                                seed=1, pathway=probe['pathway'])
         self.next_stage('figures: summary.json and plots')
         summary = self.summarise(probe, recorded, live, metrics, textures)
-        figures = checks(summary, probe['points'])
+        figures = checks(summary, probe['points'], len(self.sizes.textures),
+                         self.scene.sweep.contact_s)
         summary['thresholds'] = {c.key: {'limit': c.limit, 'at_least': c.at_least,
                                          'passed': c.passed} for c in figures}
         finite = {k: None if isinstance(v, float) and not math.isfinite(v) else v
