@@ -20,7 +20,7 @@ import matplotlib
 matplotlib.use('Agg')
 import matplotlib.pyplot as plt  # noqa: E402
 
-from tactex_classify.models import MODELS  # noqa: E402
+from tactex_classify.models.architectures import MODELS  # noqa: E402
 
 RESULTS = Path(__file__).parent / 'results'
 WINDOWS = {128: 3962, 256: 1864, 512: 900}
@@ -28,7 +28,7 @@ PROBE = textwrap.dedent("""
     import os, resource, sys, time
     os.environ['OMP_WAIT_POLICY'] = 'PASSIVE'
     import numpy as np, torch
-    from tactex_classify.models import build_model
+    from tactex_classify.models.architectures import build_model
     torch.set_num_threads(1)
     name, window = sys.argv[1], int(sys.argv[2])
     model = build_model(name, window, 10, 12)

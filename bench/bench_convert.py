@@ -74,7 +74,7 @@ REFERENCE = textwrap.dedent("""
 """)
 OURS = textwrap.dedent("""
     import sys, resource
-    from tactex_classify.bags import read_recording
+    from tactex_classify.data.bags import read_recording
     recording = read_recording(__import__('pathlib').Path(sys.argv[1]))
     print(recording.messages, resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)
 """)

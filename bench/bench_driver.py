@@ -16,7 +16,7 @@ import time
 
 import numpy as np
 
-from tactex.ros_env import ros_environment
+from tactex.launching.environment import ros_environment
 from tactex_driver.bus import ServoBus
 from tactex_driver.servo_emulator import ServoChainEmulator
 

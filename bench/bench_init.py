@@ -23,9 +23,9 @@ import time
 from bench_textures import build_dataset
 import numpy as np
 
-from tactex_classify.classifier import DeepClassifier, TrainingConfig
-from tactex_classify.dataset import Dataset
-from tactex_classify.models import MODELS
+from tactex_classify.data.dataset import Dataset
+from tactex_classify.models.architectures import MODELS
+from tactex_classify.training.deep_classifier import DeepClassifier, TrainingConfig
 
 RESULTS = Path(__file__).parent / 'results'
 TARGET = 0.95

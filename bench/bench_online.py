@@ -34,7 +34,7 @@ import time
 
 import numpy as np
 
-from tactex.ros_env import ros_environment
+from tactex.launching.environment import ros_environment
 
 BIN = Path(sys.executable).parent
 RESULTS = Path(__file__).parent / 'results'
@@ -50,9 +50,9 @@ WARMUP_WINDOWS = 3
 
 def train(family: str, window: int, folder: Path) -> dict[float, Path]:
     """Checkpoints of one family and window at each rate, exported to ONNX where it can."""
-    from tactex_classify.baselines import MiniRocketRidge, StatsExtraTrees
-    from tactex_classify.classifier import DeepClassifier, TrainingConfig
-    from tactex_classify.runtime import export_onnx, ONNX_KINDS
+    from tactex_classify.models.baselines import MiniRocketRidge, StatsExtraTrees
+    from tactex_classify.online.runtime import export_onnx, ONNX_KINDS
+    from tactex_classify.training.deep_classifier import DeepClassifier, TrainingConfig
     rng = np.random.default_rng(0)
     X = rng.normal(size=(24, window, 10)).astype(np.float32)
     y = np.arange(24) % 12
@@ -74,7 +74,7 @@ def train(family: str, window: int, folder: Path) -> dict[float, Path]:
 def bare_inference_ms(checkpoint: Path, runtime: str, realtime: bool) -> tuple[float, float]:
     """p50, p99 of the model alone on one window, on the node's core (the reference)."""
     code = ('import json, sys, time, numpy as np; '
-            'from tactex_classify.runtime import load_predictor; '
+            'from tactex_classify.online.runtime import load_predictor; '
             f'p = load_predictor({str(checkpoint)!r}, {runtime!r}); s = p.info.stream; '
             'x = np.random.default_rng(0).normal(size=(1, s.window, len(s.channels))); '
             'x[..., -1] += 1e5; t = []\n'

@@ -35,7 +35,7 @@ import time
 
 import numpy as np
 
-from tactex.ros_env import ros_environment
+from tactex.launching.environment import ros_environment
 
 BIN = Path(sys.executable).parent
 RESULTS = Path(__file__).parent / 'results'
@@ -62,9 +62,9 @@ def collect_sets(scratch: Path, train_sweeps: int, test_sweeps: int) -> tuple[Pa
 
 def train(model: str, train_bags: Path, folder: Path, epochs: int) -> Path:
     """Convert the training bags and fit the model on every window; its checkpoint."""
-    from tactex_classify.baselines import MiniRocketRidge
-    from tactex_classify.classifier import DeepClassifier, TrainingConfig
-    from tactex_classify.dataset import convert
+    from tactex_classify.data.dataset import convert
+    from tactex_classify.models.baselines import MiniRocketRidge
+    from tactex_classify.training.deep_classifier import DeepClassifier, TrainingConfig
     data = convert([train_bags], window=WINDOW, hop=HOP, progress=lambda line: None)
     estimator = MiniRocketRidge() if model == 'minirocket' else DeepClassifier(
         TrainingConfig(model=model, epochs=epochs))
@@ -77,10 +77,10 @@ def train(model: str, train_bags: Path, folder: Path, epochs: int) -> Path:
 
 def offline_reference(checkpoint: Path, test_bags: Path) -> dict:
     """The same model on the converter's windows of the held-out bags."""
-    from tactex_classify.checkpoint import load_checkpoint
-    from tactex_classify.dataset import convert
-    from tactex_classify.evaluate import sequence_accuracy
-    from tactex_classify.evidence import log_probabilities
+    from tactex_classify.data.dataset import convert
+    from tactex_classify.evaluation.cross_validation import sequence_accuracy
+    from tactex_classify.models.checkpoint import load_checkpoint
+    from tactex_classify.online.evidence import log_probabilities
     info, estimator = load_checkpoint(checkpoint)
     data = convert([test_bags], window=WINDOW, hop=HOP, progress=lambda line: None)
     index = [list(info.classes).index(name) for name in data.classes]
@@ -96,7 +96,7 @@ def bag_messages(path: Path) -> tuple[str, list[tuple[int, str, bytes]]]:
     """The label and (log_ns, role, CDR bytes) of the fed topics, in log order."""
     from rosbags.highlevel import AnyReader
 
-    from tactex_classify.bags import TOPIC_ROLES
+    from tactex_classify.data.bags import TOPIC_ROLES
     from tactex_common.interfaces import typestore
     roles = {f'/{TOPIC_ROLES[r][0]}': r for r in (*FED_TOPICS, 'metadata')}
     messages, label = [], None
@@ -121,7 +121,7 @@ class Feeder:
         from sensor_msgs.msg import FluidPressure, Imu, MagneticField
         from std_msgs.msg import Bool
 
-        from tactex_classify.bags import TOPIC_ROLES
+        from tactex_classify.data.bags import TOPIC_ROLES
         from tactex_common.ros import COMMAND
         from tactex_msgs.msg import TextureEstimate
         self.node = rclpy.create_node('bench_online_accuracy', context=context)
@@ -153,7 +153,7 @@ class Feeder:
 
     def nodes_up(self, count: int) -> bool:
         """Whether `count` classifier nodes subscribe to the sensor and publish estimates."""
-        from tactex_classify.bags import TOPIC_ROLES
+        from tactex_classify.data.bags import TOPIC_ROLES
         return (self.node.count_subscribers(TOPIC_ROLES['imu'][0]) >= count
                 and self.node.count_publishers('texture/estimate')
                 + self.node.count_publishers('texture/estimate_check') >= count)
@@ -190,12 +190,12 @@ def sweeps_of(estimates: list, spans: list[tuple[str, int, int]], classes: list[
 
 def evaluate(sweeps: list, rate_hz: float) -> dict:
     """The decision measures per threshold, for the first window and for the whole sweep."""
-    from tactex_classify.evaluate import decision_measures
+    from tactex_classify.evaluation.cross_validation import decision_measures
     window_s = WINDOW / rate_hz
     period_ns = int(round(1e9 / rate_hz))
 
     def total_s(estimates) -> float:
-        from tactex_classify.evidence import union_seconds
+        from tactex_classify.online.evidence import union_seconds
         return union_seconds([(stamp(e.window_starts[-1]), stamp(e.window_ends[-1]) + period_ns)
                               for e in estimates])
 
@@ -266,7 +266,7 @@ def run_model(checkpoint: Path, test: list, speed: float, env: dict) -> dict:
     import rclpy
     from rclpy.context import Context
 
-    from tactex_classify.checkpoint import read_checkpoint
+    from tactex_classify.models.checkpoint import read_checkpoint
     info = read_checkpoint(checkpoint)
     common = ['-p', f'checkpoint:={checkpoint}', '-p', 'contact:=sweep_active',
               '-p', 'use_sim_time:=true', '-p', 'diagnostics_period_s:=0.5']

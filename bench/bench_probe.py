@@ -4,7 +4,7 @@
 
 Every run probes the same line of the uneven plate (probe scene: the original's 8 mm /
 120 mm concave-convex wave, sensor noise and barometer on) closed-loop in the simulator
-(`tactex_probe.simulation`), and scores each contact against the true surface: the
+(`tactex_probe.closed_loop`), and scores each contact against the true surface: the
 angle between the reported and the true normal at the nearest surface point, and the
 distance from the reported point to the surface.
 
@@ -41,11 +41,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from transforms3d.quaternions import quat2mat  # noqa: E402
 
-from tactex_probe.exploration import ExplorerConfig, Method  # noqa: E402
-from tactex_probe.motion import FACE_AXIS  # noqa: E402
-from tactex_probe.normals import angle_between  # noqa: E402
-from tactex_probe.pathway import ProbeParameters  # noqa: E402
-from tactex_probe.simulation import (  # noqa: E402
+from tactex_probe.closed_loop import (  # noqa: E402
     nearest_surface_point,
     PLATE_LINE,
     run_probe,
@@ -53,6 +49,10 @@ from tactex_probe.simulation import (  # noqa: E402
     summary,
     true_normal,
 )
+from tactex_probe.explorer_interface import ExplorerConfig, Method  # noqa: E402
+from tactex_probe.motion import FACE_AXIS  # noqa: E402
+from tactex_probe.normals import angle_between  # noqa: E402
+from tactex_probe.pathway import ProbeParameters  # noqa: E402
 from tactex_sim.scene import load_scene, resolve_scene  # noqa: E402
 
 RESULTS = Path(__file__).parent / 'results'

@@ -22,7 +22,7 @@ import time
 import numpy as np
 import serial
 
-from tactex.ros_env import ros_environment
+from tactex.launching.environment import ros_environment
 from tactex_sensor.emulator import Motion, SignalSource, TeensyEmulator
 from tactex_sensor.protocol import FRAME_SIZE
 

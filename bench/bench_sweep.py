@@ -46,7 +46,7 @@ from tactex_sim.world import World  # noqa: E402
 from tactex_trajectory.path import path_from_contacts, PathSettings  # noqa: E402
 from tactex_trajectory.planner import plan_sweep, SweepSettings  # noqa: E402
 from tactex_trajectory.poses import PoseSettings  # noqa: E402
-from tactex_trajectory.simulation import (  # noqa: E402
+from tactex_trajectory.simulated_sweeps import (  # noqa: E402
     execute,
     measure,
     measure_segment,

@@ -31,14 +31,14 @@ import numpy as np
 RESULTS = Path(__file__).parent / 'results'
 ROOT = Path(__file__).resolve().parents[1]
 BEFORE = '753bc03'  # main before `tactex compare`: the training loop as it was
-CLASSIFIER = 'src/tactex_classify/tactex_classify/classifier.py'
+CLASSIFIER = 'src/tactex_classify/tactex_classify/classifier.py'  # its path at BEFORE
 MODELS = ('cnn_bilstm_1', 'cnn_bilstm_2', 'cnn_bilstm_3', 'cnn_1', 'cnn_2', 'cnn_3',
           'bilstm_1', 'bilstm_2')
 # One epoch of each configuration in a child process (its own threads, its own clock).
 CHILD = """
 import json, sys, time
 import numpy as np
-from tactex_classify.classifier import DeepClassifier, TrainingConfig
+from tactex_classify.training.deep_classifier import DeepClassifier, TrainingConfig
 model, threads, path = sys.argv[1], int(sys.argv[2]), sys.argv[3]
 with np.load(path) as arrays:
     X, y = arrays['X'], arrays['y']
@@ -53,6 +53,9 @@ def old_classifier():
     """classifier.py as of BEFORE, imported under another name."""
     source = subprocess.run(['git', 'show', f'{BEFORE}:{CLASSIFIER}'], cwd=ROOT, check=True,
                             capture_output=True, text=True).stdout
+    # The architectures it imports moved since (the same code, a new module path).
+    source = source.replace('from tactex_classify.models import',
+                            'from tactex_classify.models.architectures import')
     folder = Path(tempfile.mkdtemp(prefix='tactex-before-'))
     (folder / 'classifier_before.py').write_text(source, encoding='utf-8')
     spec = importlib.util.spec_from_file_location('classifier_before',
@@ -69,8 +72,8 @@ def training_fold(data: Path | None) -> tuple[np.ndarray, np.ndarray, str]:
         rng = np.random.default_rng(0)
         return (rng.normal(size=(3120, 128, 10)).astype(np.float32),
                 rng.integers(0, 12, 3120), 'random windows, 3120 x 128 x 10')
-    from tactex_classify.dataset import Dataset
-    from tactex_classify.evaluate import splits
+    from tactex_classify.data.dataset import Dataset
+    from tactex_classify.evaluation.cross_validation import splits
     dataset = Dataset.load(data)
     train, _ = splits(dataset, 'grouped', 5, 0)[0]
     return dataset.X[train], dataset.y[train], f'{data.name}, grouped fold 1 of 5: ' \
@@ -81,7 +84,7 @@ def loop_before_after(X, y, models) -> list[dict]:
     """Epochs/s of the old and the new loop per model, and whether the weights agree."""
     import torch
 
-    from tactex_classify import classifier as after
+    from tactex_classify.training import deep_classifier as after
     before = old_classifier()
     classes = [str(c) for c in range(12)]
     rows = []
@@ -129,7 +132,7 @@ def parallel(X, y, models) -> list[dict]:
 
 def evaluation_overhead(X, y, model: str) -> dict:
     """Seconds to classify a test fold (a quarter of the training windows) and one epoch."""
-    from tactex_classify.classifier import DeepClassifier, TrainingConfig
+    from tactex_classify.training.deep_classifier import DeepClassifier, TrainingConfig
     classifier = DeepClassifier(TrainingConfig(model=model, epochs=1))
     start = time.perf_counter()
     classifier.fit(X, y, [str(c) for c in range(12)])

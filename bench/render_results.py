@@ -320,7 +320,7 @@ def _option(command: str, name: str) -> str:
 
 def _grid_gaps(rows: list[dict], expected: int) -> list[str]:
     """What the kept comparison lacks of every model at 128, 256 and 512 samples."""
-    from tactex_classify.catalog import ALL_MODELS
+    from tactex_classify.models.registry import ALL_MODELS
     done = {(row['window'], row['model']): sum(scheme['cells'] for scheme
                                                in row['schemes'].values()) for row in rows}
     gaps = []
@@ -344,7 +344,7 @@ def _kept_grid(name: str) -> tuple[dict, dict, list[dict]]:
 
 
 def compare() -> str:
-    from tactex_classify.compare_report import table
+    from tactex_classify.evaluation.grid_report import table
     summary, run, grid = _kept_grid('compare')
     settings = summary['settings']
     seeds = {int(_option(step['command'], '--seeds')) for step in grid}
@@ -447,7 +447,7 @@ def online_latency() -> str:
 
 
 def compare_long() -> str:
-    from tactex_classify.compare_report import table
+    from tactex_classify.evaluation.grid_report import table
     summary, run, grid = _kept_grid('compare_long')
     settings = summary['settings']
     command = grid[-1]['command']

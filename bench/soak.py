@@ -49,10 +49,9 @@ import time
 
 import numpy as np
 
-from tactex import soak
 from tactex.cli import CommandParser, guarded
 from tactex.cli import main as tactex
-from tactex.commands.demo import (
+from tactex.demo.pipeline import (
     DEFAULT,
     Demo,
     demo_environment,
@@ -63,6 +62,7 @@ from tactex.commands.demo import (
 )
 from tactex.errors import CommandError
 from tactex.options import check_output_folder, number, staged_folder
+from tactex.soak import bookkeeping as soak
 from tactex_common import topics
 from tactex_common.stopping import raise_on_stop_signals
 
@@ -163,7 +163,7 @@ class Soak:
 
     def run(self, checkpoint: Path) -> dict:
         """Loop until the minutes are up; the summary."""
-        from tactex.soak_session import SoakClient
+        from tactex.soak.session import SoakClient
         with self.demo.system('soak', checkpoint=checkpoint, client_type=SoakClient,
                               respawn=(KILLED,)) as (client, alive):
             self.started = time.monotonic()
@@ -189,7 +189,7 @@ class Soak:
 
         The live count is larger by the windows of probe contacts (not recorded).
         """
-        from tactex_classify.dataset import Dataset
+        from tactex_classify.data.dataset import Dataset
         data = self.demo.folder / 'bag_windows.npz'
         try:
             self.demo.command(['convert', str(self.demo.folder / 'bags'), '--out', str(data),
@@ -199,7 +199,7 @@ class Soak:
         return {'windows_in_bags': len(Dataset.load(data).X), 'windows_in_bags_note': ''}
 
     def _loop(self, client, alive) -> None:
-        from tactex.demo_session import ProbeLine, SweepRun
+        from tactex.demo.session import ProbeLine, SweepRun
         from tactex_sim.sweep import SweepParameters
         line = ProbeLine(PROBE_START_X_M, PROBE_SPAN_M, DEFAULT.probe_step_m,
                          start_z_m=PROBE_START_Z_M)

@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: Apache-2.0
 """Launch the arm driver with config/driver.yaml; `port:=...` overrides the serial device."""
 
-from tactex.launch_spec import Argument, config_path, LaunchFile, NodeSpec
+from tactex.launching.spec import Argument, config_path, LaunchFile, NodeSpec
 
 
 def _nodes(args):
@@ -17,5 +17,5 @@ LAUNCH = LaunchFile(
 
 def generate_launch_description():
     """ROS 2 launch entry point (`ros2 launch tactex arm.launch.py port:=...`)."""
-    from tactex.ros_launch import launch_description
+    from tactex.launching.ros_description import launch_description
     return launch_description(LAUNCH)

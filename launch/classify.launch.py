@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: Apache-2.0
 """Launch the online texture classifier with the tactile sensor or the simulator."""
 
-from tactex.launch_spec import (
+from tactex.launching.spec import (
     Argument,
     as_float,
     config_path,
@@ -44,5 +44,5 @@ LAUNCH = LaunchFile(
 
 def generate_launch_description():
     """ROS 2 launch entry point (`ros2 launch tactex classify.launch.py checkpoint:=...`)."""
-    from tactex.ros_launch import launch_description
+    from tactex.launching.ros_description import launch_description
     return launch_description(LAUNCH)

@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: Apache-2.0
 """Launch probing: the sensor and the arm (or the simulator), Madgwick, and the probe node."""
 
-from tactex.launch_spec import (
+from tactex.launching.spec import (
     Argument,
     config_path,
     is_true,
@@ -38,5 +38,5 @@ LAUNCH = LaunchFile(
 
 def generate_launch_description():
     """ROS 2 launch entry point (`ros2 launch tactex probe.launch.py sim:=true`)."""
-    from tactex.ros_launch import launch_description
+    from tactex.launching.ros_description import launch_description
     return launch_description(LAUNCH)

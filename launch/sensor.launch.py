@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: Apache-2.0
 """Launch the tactile module: teensy_node (serial -> raw topics) and madgwick_node."""
 
-from tactex.launch_spec import Argument, config_path, LaunchFile, NodeSpec
+from tactex.launching.spec import Argument, config_path, LaunchFile, NodeSpec
 
 
 def _nodes(args):
@@ -19,5 +19,5 @@ LAUNCH = LaunchFile(
 
 def generate_launch_description():
     """ROS 2 launch entry point (`ros2 launch tactex sensor.launch.py port:=...`)."""
-    from tactex.ros_launch import launch_description
+    from tactex.launching.ros_description import launch_description
     return launch_description(LAUNCH)

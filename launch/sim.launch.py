@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: Apache-2.0
 """Launch the MuJoCo bridge in place of the arm and the sensor, plus the Madgwick filter."""
 
-from tactex.launch_spec import Argument, as_float, config_path, LaunchFile, NodeSpec
+from tactex.launching.spec import Argument, as_float, config_path, LaunchFile, NodeSpec
 
 
 def _nodes(args):
@@ -27,5 +27,5 @@ LAUNCH = LaunchFile(
 
 def generate_launch_description():
     """ROS 2 launch entry point (`ros2 launch tactex sim.launch.py scene:=...`)."""
-    from tactex.ros_launch import launch_description
+    from tactex.launching.ros_description import launch_description
     return launch_description(LAUNCH)

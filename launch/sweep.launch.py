@@ -7,7 +7,7 @@ runs the sweep node on its simulated clock; otherwise the arm driver and the tac
 module (launch/arm.launch.py, launch/sensor.launch.py) on their serial ports.
 """
 
-from tactex.launch_spec import (
+from tactex.launching.spec import (
     Argument,
     config_path,
     is_true,
@@ -40,5 +40,5 @@ LAUNCH = LaunchFile(
 
 def generate_launch_description():
     """ROS 2 launch entry point (`ros2 launch tactex sweep.launch.py sim:=true`)."""
-    from tactex.ros_launch import launch_description
+    from tactex.launching.ros_description import launch_description
     return launch_description(LAUNCH)

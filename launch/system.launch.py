@@ -9,7 +9,7 @@ online classifier; without one the system probes, sweeps and records (what a dat
 needs before there is a model).
 """
 
-from tactex.launch_spec import Argument, is_true, LaunchFile, load_launch_file, robot_nodes
+from tactex.launching.spec import Argument, is_true, LaunchFile, load_launch_file, robot_nodes
 
 
 def _nodes(args):
@@ -51,5 +51,5 @@ LAUNCH = LaunchFile(
 
 def generate_launch_description():
     """ROS 2 launch entry point (`ros2 launch tactex system.launch.py sim:=true`)."""
-    from tactex.ros_launch import launch_description
+    from tactex.launching.ros_description import launch_description
     return launch_description(LAUNCH)

@@ -8,7 +8,7 @@ import random
 from hypothesis import settings
 import pytest
 
-from tactex.ros_env import ros_environment
+from tactex.launching.environment import ros_environment
 
 os.environ.update(ros_environment())
 # Tests talk to nodes on this machine only, in a domain of their own, so neither a

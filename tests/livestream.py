@@ -15,10 +15,10 @@ import time
 
 import numpy as np
 
-from tactex.ros_env import ros_environment
-from tactex_classify.baselines import MiniRocketRidge
-from tactex_classify.classifier import DeepClassifier, TrainingConfig
-from tactex_classify.runtime import export_onnx
+from tactex.launching.environment import ros_environment
+from tactex_classify.models.baselines import MiniRocketRidge
+from tactex_classify.online.runtime import export_onnx
+from tactex_classify.training.deep_classifier import DeepClassifier, TrainingConfig
 
 BIN = Path(sys.executable).parent
 RATE_HZ = 120.0

@@ -26,13 +26,13 @@ LAUNCH_FILES = sorted((ROOT / 'launch').glob('*.launch.py'))
 # Modules that may import rclpy and ROS message packages: the nodes and the ROS helpers.
 # Everything else under src/ is a pure module (no ROS install needed to import it).
 ROS_FACING = frozenset({
-    'tactex.demo_session',
-    'tactex.ros_launch',
-    'tactex.soak_session',
+    'tactex.demo.session',
+    'tactex.launching.ros_description',
+    'tactex.soak.session',
     'tactex_common.goals',
     'tactex_common.ros',
-    'tactex_classify.classifier_node',
-    'tactex_classify.recorder_node',
+    'tactex_classify.online.classifier_node',
+    'tactex_classify.recording.recorder_node',
     'tactex_driver.arm_driver_node',
     'tactex_probe.probe_node',
     'tactex_sensor.madgwick_node',
@@ -155,6 +155,55 @@ def test_packages_import_only_lower_layers():
     assert not upward
 
 
+# tactex_classify's subpackages, lowest first: each imports only from those before it.
+CLASSIFY_LAYERS = ('errors', 'exports', 'models', 'data', 'recording', 'training', 'online',
+                   'evaluation')
+
+
+def test_classify_subpackages_import_only_those_below():
+    upward = []
+    for name, path in SOURCE_MODULES.items():
+        parts = name.split('.')
+        if parts[0] != 'tactex_classify' or len(parts) < 3:
+            continue
+        level = CLASSIFY_LAYERS.index(parts[1])
+        for imported in _imports(path):
+            other = imported.split('.')
+            if other[0] == 'tactex_classify' and len(other) > 1 and other[1] != parts[1] \
+                    and CLASSIFY_LAYERS.index(other[1]) > level:
+                upward.append(f'{name} imports {imported}')
+    assert not upward
+
+
+def _module_imports(name: str) -> set[str]:
+    """The workspace modules a source module imports, lazily or not (a package: its __init__)."""
+    found = set()
+    for imported in _imports(SOURCE_MODULES[name]):
+        for candidate in (imported, f'{imported}.__init__'):
+            if candidate in SOURCE_MODULES and candidate != name:
+                found.add(candidate)
+    return found
+
+
+def test_no_import_cycle():
+    # A cycle that a lazy import dodges at run time is still a cycle for the reader.
+    graph = {name: _module_imports(name) for name in SOURCE_MODULES}
+    cycles, state = [], {}
+
+    def visit(name: str, path: list[str]) -> None:
+        state[name] = 'open'
+        for imported in sorted(graph[name]):
+            if state.get(imported) == 'open':
+                cycles.append(' -> '.join(path[path.index(imported):] + [imported]))
+            elif imported not in state:
+                visit(imported, path + [imported])
+        state[name] = 'done'
+    for name in sorted(graph):
+        if name not in state:
+            visit(name, [name])
+    assert not cycles
+
+
 def test_no_node_module_is_imported_by_another_module():
     # ROS-facing helpers that are not nodes (the launch builder, the demo's client) may be
     # imported, lazily, by the command that uses them.
@@ -170,6 +219,14 @@ def test_ruff_finds_nothing():
     result = subprocess.run([sys.executable, '-m', 'ruff', 'check', '--no-cache', str(ROOT)],
                             capture_output=True, text=True)
     assert result.returncode == 0, result.stdout + result.stderr
+
+
+def test_no_source_file_passes_500_lines_unless_its_docstring_says_why():
+    long = [f'{path.relative_to(ROOT)} ({count} lines)' for path in SOURCE_MODULES.values()
+            if (count := len(path.read_text(encoding='utf-8').splitlines())) > 500
+            and 'longer than 500 lines' not in (ast.get_docstring(ast.parse(
+                path.read_text(encoding='utf-8'))) or '').lower()]
+    assert not long
 
 
 def test_every_python_file_has_the_copyright_header():

@@ -22,8 +22,8 @@ setup(
     license='Apache-2.0',
     entry_points={
         'console_scripts': [
-            'recorder_node = tactex_classify.recorder_node:main',
-            'classifier_node = tactex_classify.classifier_node:main',
+            'recorder_node = tactex_classify.recording.recorder_node:main',
+            'classifier_node = tactex_classify.online.classifier_node:main',
         ],
     },
 )

@@ -98,7 +98,7 @@ def node_in_process(monkeypatch, checkpoint, context, **failures):
     """classifier_node in this process, its model wrapped in a FailingModel."""
     from rclpy.parameter import Parameter
 
-    from tactex_classify import classifier_node
+    from tactex_classify.online import classifier_node
     wrapped = {}
     load = classifier_node.load_predictor
 

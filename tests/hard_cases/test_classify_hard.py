@@ -11,13 +11,8 @@ from hypothesis.extra import numpy as hnp
 import numpy as np
 import pytest
 
-from tactex_classify.classifier import (
-    ChannelScaler,
-    DeepClassifier,
-    SCALED_LIMIT,
-    softmax,
-    TrainingConfig,
-)
+from tactex_classify.models.windows import ChannelScaler, SCALED_LIMIT, softmax
+from tactex_classify.training.deep_classifier import DeepClassifier, TrainingConfig
 
 float32_finite = st.floats(width=32, allow_nan=False, allow_infinity=False)
 windows = hnp.arrays(np.float32, st.tuples(st.integers(1, 4), st.integers(1, 6),

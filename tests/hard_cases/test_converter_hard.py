@@ -8,8 +8,8 @@ from hypothesis import strategies as st
 import numpy as np
 import pytest
 
-from tactex_classify.alignment import align, Stream
-from tactex_classify.dataset import window_starts
+from tactex_classify.data.dataset import window_starts
+from tactex_classify.data.stream_alignment import align, Stream
 from tactex_common.stamps import gaps
 
 # Header stamps: sec int32, nanosec uint32.

@@ -18,9 +18,9 @@ from hypothesis.extra import numpy as hnp
 import numpy as np
 import pytest
 
-from tactex_classify.checkpoint import StreamSpec
-from tactex_classify.evidence import Evidence, EvidenceSettings, union_seconds
-from tactex_classify.live import (
+from tactex_classify.models.checkpoint import StreamSpec
+from tactex_classify.online.evidence import Evidence, EvidenceSettings, union_seconds
+from tactex_classify.online.live import (
     LiveSettings,
     LiveWindows,
     MEDIAN_OF,

@@ -9,7 +9,7 @@ from hypothesis import strategies as st
 import numpy as np
 import pytest
 
-from tactex_classify import signal_stats
+from tactex_classify.data import signal_stats
 
 LIMITS = signal_stats.Limits.configured()
 

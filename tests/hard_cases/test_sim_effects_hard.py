@@ -14,9 +14,10 @@ from transforms3d.euler import euler2mat
 
 from tactex_sim.effects import EFFECTS, Option, Reading
 from tactex_sim.errors import SimError
+from tactex_sim.inputs import Contact, Inputs
 from tactex_sim.scene import load_scene, resolve_scene
 from tactex_sim.textures import TEXTURES
-from tactex_sim.world import Contact, PRESS_TRAVEL_M, World
+from tactex_sim.world import PRESS_TRAVEL_M, World
 
 
 def option_values(option: Option):
@@ -48,15 +49,16 @@ def world_inputs(draw):
                       draw(unit_vectors()),
                       force) if touching else Contact(False, np.full(3, np.nan),
                                                       np.full(3, np.nan), 0.0)
-    return {'contact': contact, 'edge velocity': np.array(draw(vectors(finite()))),
-            'texture': draw(st.one_of(st.none(), st.sampled_from(list(TEXTURES.values())))),
-            'sensor rotation': euler2mat(*draw(vectors(st.floats(-math.pi, math.pi)))),
-            'sensor position': np.array(draw(vectors(finite()))),
-            'sample rate': draw(st.floats(1.0, 2000.0)),
-            'sensor filters': draw(st.one_of(st.just((math.inf, math.inf)),
-                                             st.tuples(st.floats(1.0, 1e4), st.floats(1.0, 1e4)))),
-            'compression': draw(st.floats(0.0, PRESS_TRAVEL_M)),
-            'time': draw(st.floats(0.0, 1e9))}
+    return Inputs(
+        contact=contact, edge_velocity=np.array(draw(vectors(finite()))),
+        texture=draw(st.one_of(st.none(), st.sampled_from(list(TEXTURES.values())))),
+        sensor_rotation=euler2mat(*draw(vectors(st.floats(-math.pi, math.pi)))),
+        sensor_position=np.array(draw(vectors(finite()))),
+        sample_rate_hz=draw(st.floats(1.0, 2000.0)),
+        sensor_filters_hz=draw(st.one_of(st.just((math.inf, math.inf)),
+                                         st.tuples(st.floats(1.0, 1e4), st.floats(1.0, 1e4)))),
+        compression_m=draw(st.floats(0.0, PRESS_TRAVEL_M)),
+        time_s=draw(st.floats(0.0, 1e9)))
 
 
 @pytest.mark.parametrize('name', list(EFFECTS))

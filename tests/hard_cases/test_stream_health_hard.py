@@ -14,9 +14,9 @@ from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 import numpy as np
 
-from tactex_classify import stream_health as health
-from tactex_classify.checkpoint import StreamSpec
-from tactex_classify.live import LiveSettings, OnlineClassifier
+from tactex_classify.models.checkpoint import StreamSpec
+from tactex_classify.online import stream_health as health
+from tactex_classify.online.live import LiveSettings, OnlineClassifier
 from tactex_common.channels import CHANNELS
 
 ANY_STAMPS = st.integers(-2 ** 63, 2 ** 63 - 1)

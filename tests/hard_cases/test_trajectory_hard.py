@@ -23,7 +23,7 @@ from tactex_trajectory.errors import PathError, SweepRefused, TrajectoryError
 from tactex_trajectory.path import path_from_contacts, PathSettings
 from tactex_trajectory.planner import plan_sweep, SweepSettings
 from tactex_trajectory.poses import solve_poses
-from tactex_trajectory.simulation import probe_like_pathway
+from tactex_trajectory.simulated_sweeps import probe_like_pathway
 from tactex_trajectory.timing import (
     JointPath,
     MAX_PART_S,

@@ -81,7 +81,7 @@ def test_a_malicious_checkpoint_is_refused_and_nothing_in_it_runs(checkpoints, t
 
     import torch
 
-    from tactex_classify.checkpoint import CHECKSUM_FIELD, metadata_sha256, sha256
+    from tactex_classify.models.checkpoint import CHECKSUM_FIELD, metadata_sha256, sha256
     folder = shutil.copytree(checkpoints / 'cnn', tmp_path / 'cnn')
     marker = tmp_path / 'pwned'
 
@@ -101,7 +101,7 @@ def test_a_malicious_checkpoint_is_refused_and_nothing_in_it_runs(checkpoints, t
 
 def test_the_demo_waits_until_the_classifier_is_ready_and_says_why_it_is_not(checkpoints,
                                                                              ros_context):
-    from tactex.demo_session import SystemClient
+    from tactex.demo.session import SystemClient
     from tactex.errors import CommandError
     process = start_node(checkpoints / 'minirocket')
     try:

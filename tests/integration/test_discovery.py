@@ -12,7 +12,7 @@ from xml.etree import ElementTree as ET
 
 import pytest
 
-from tactex.ros_env import fastdds_profile_path, ros_environment
+from tactex.launching.environment import fastdds_profile_path, ros_environment
 
 pytestmark = pytest.mark.ros
 

@@ -17,7 +17,7 @@ import sys
 from processes import wait_for
 import pytest
 
-from tactex.ros_env import ros_environment
+from tactex.launching.environment import ros_environment
 
 pytestmark = pytest.mark.ros
 BIN = Path(sys.executable).parent
@@ -121,7 +121,7 @@ def test_a_parameter_no_node_declares_is_one_warning_naming_the_closest(tmp_path
 def _nodes(context, tmp_path):
     from rclpy.parameter import Parameter
 
-    from tactex_classify.recorder_node import RecorderNode
+    from tactex_classify.recording.recorder_node import RecorderNode
     from tactex_driver.arm_driver_node import ArmDriverNode
     from tactex_probe.probe_node import ProbeNode
     from tactex_sensor.madgwick_node import MadgwickNode

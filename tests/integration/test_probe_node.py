@@ -48,7 +48,7 @@ def test_probe_goal_in_simulation_broadcasts_the_pathway(ros_context, tmp_path):
     import rclpy
     from transforms3d.quaternions import quat2mat
 
-    from tactex.ros_env import ros_environment
+    from tactex.launching.environment import ros_environment
     from tactex_common.goals import GoalSender
     from tactex_common.ros import LATCHED
     from tactex_msgs.action import Probe
@@ -130,8 +130,8 @@ def test_servo_dropout_aborts_the_goal_with_the_reason(ros_context, tmp_path):
     from tactex_common.ros import COMMAND, SENSOR_DATA
     from tactex_msgs.action import Probe
     from tactex_msgs.msg import Pathway as PathwayMsg
+    from tactex_probe.closed_loop import start_joints
     from tactex_probe.probe_node import parameters_from_goal, ProbeNode
-    from tactex_probe.simulation import start_joints
 
     probe = ProbeNode(context=ros_context, parameter_overrides=[
         Parameter('pathway_file', value=str(tmp_path / 'pathway.json'))])

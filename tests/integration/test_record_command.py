@@ -13,7 +13,7 @@ import time
 from processes import alive, wait_for
 import pytest
 
-from tactex.ros_env import ros_environment
+from tactex.launching.environment import ros_environment
 
 pytestmark = [pytest.mark.ros, pytest.mark.slow]
 TACTEX = Path(sys.executable).parent / 'tactex'

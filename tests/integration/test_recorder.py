@@ -12,9 +12,9 @@ import time
 
 import pytest
 
-from tactex.ros_env import ros_environment
-from tactex_classify.bags import read_recording
-from tactex_classify.dataset import convert
+from tactex.launching.environment import ros_environment
+from tactex_classify.data.bags import read_recording
+from tactex_classify.data.dataset import convert
 from tactex_sensor.emulator import Motion, SignalSource, TeensyEmulator
 
 pytestmark = [pytest.mark.ros, pytest.mark.slow]

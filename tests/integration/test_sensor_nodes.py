@@ -13,7 +13,7 @@ import numpy as np
 from processes import stop
 import pytest
 
-from tactex.ros_env import ros_environment
+from tactex.launching.environment import ros_environment
 
 pytestmark = [pytest.mark.ros, pytest.mark.slow]
 BIN = Path(sys.executable).parent

@@ -9,7 +9,7 @@ import sys
 
 import pytest
 
-from tactex.soak import windows_accounted
+from tactex.soak.bookkeeping import windows_accounted
 
 SOAK = Path(__file__).parents[2] / 'bench' / 'soak.py'
 

@@ -18,7 +18,7 @@ import time
 from processes import wait_for
 import pytest
 
-from tactex.ros_env import ros_environment
+from tactex.launching.environment import ros_environment
 
 pytestmark = [pytest.mark.ros, pytest.mark.slow]
 BIN = Path(sys.executable).parent

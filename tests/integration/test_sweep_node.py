@@ -9,9 +9,9 @@ import time
 import numpy as np
 import pytest
 
-from tactex_classify.bags import read_recording
+from tactex_classify.data.bags import read_recording
 from tactex_sim.scene import load_scene, resolve_scene
-from tactex_trajectory.simulation import probe_like_pathway
+from tactex_trajectory.simulated_sweeps import probe_like_pathway
 
 pytestmark = [pytest.mark.ros, pytest.mark.slow]
 pytest.importorskip('tactex_msgs', reason='the interface package tactex_msgs is not built')

@@ -17,9 +17,9 @@ import shutil
 from bagfactory import ramp, write_bag
 import numpy as np
 
-from tactex_classify.baselines import MiniRocketRidge
-from tactex_classify.compare import GridSettings, GridStore
-from tactex_classify.dataset import Dataset
+from tactex_classify.data.dataset import Dataset
+from tactex_classify.evaluation.model_grid import GridSettings, GridStore
+from tactex_classify.models.baselines import MiniRocketRidge
 
 
 class Case:

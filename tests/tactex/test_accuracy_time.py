@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from tactex.accuracy_time import markdown, report
+from tactex.accuracy_time import configurations, markdown, runner, section_text
 from tactex.accuracy_time.classification import fits, mark_pareto
 from tactex.accuracy_time.physical import spectral_distance_db
 from tactex.accuracy_time.sizes import QUICK
@@ -36,13 +36,13 @@ def test_the_three_configurations_follow_their_rules():
               point('never', 5.0, 1.0, 1.0)]
     compute = [{'model': 'budget', 'latency': {'scikit-learn': {'single_s': 2e-3},
                                                 'onnxruntime': {'single_s': 1e-4}}}]
-    chosen = report.choose(points, compute)
+    chosen = configurations.choose(points, compute)
     assert chosen['accurate']['model'] == 'best'  # fixed windows and threshold 1 never decide
     assert chosen['fastest']['model'] == 'near'  # within 5 points of 97 %
     assert chosen['budget']['model'] == 'budget'
     assert chosen['budget']['runtime'] == 'onnxruntime'
     assert chosen['accurate']['runtime'] == 'native'
-    assert report.choose([point('slow', 3.0, 0.9)], [])['budget'] is None
+    assert configurations.choose([point('slow', 3.0, 0.9)], [])['budget'] is None
 
 
 def test_a_configuration_is_a_command_line_that_exports_onnx_only_when_it_runs_it():
@@ -73,14 +73,14 @@ def test_a_window_too_short_for_a_deep_model_is_found_before_training():
 def test_a_failing_section_leaves_nothing_behind(tmp_path, monkeypatch, capsys):
     def fail(*args, **kwargs):
         raise SimError('the sweep never touched the patch')
-    monkeypatch.setattr(report, 'run_sections', fail)
+    monkeypatch.setattr(runner, 'run_sections', fail)
     assert main(['report', 'accuracy-time', '--quick', '--out', str(tmp_path / 'out')]) == 1
     assert capsys.readouterr().err == 'error: the sweep never touched the patch\n'
     assert list(tmp_path.iterdir()) == []
 
 
 def test_a_section_the_arm_cannot_do_is_reported_and_the_others_still_run(monkeypatch):
-    from tactex.accuracy_time import classification, physical, pipeline, sweep_speed
+    from tactex.accuracy_time import classification, physical, sweep_speed, whole_job
     from tactex_probe.motion import PathUnreachable
 
     class Data:
@@ -97,8 +97,8 @@ def test_a_section_the_arm_cannot_do_is_reported_and_the_others_still_run(monkey
     monkeypatch.setattr(sweep_speed, 'sweep_speed', lambda *a, **k: {'rows': ['measured']})
     monkeypatch.setattr(physical, 'simulation_cost', lambda *a, **k: {'rows': ['measured']})
     monkeypatch.setattr(physical, 'filter_rate', lambda *a, **k: {'rows': ['measured']})
-    monkeypatch.setattr(pipeline, 'whole_job', lambda *a, **k: pytest.fail('ran without 3'))
-    results = report.run_sections(QUICK, seed=0, threads=1, progress=lambda line: None)
+    monkeypatch.setattr(whole_job, 'whole_job', lambda *a, **k: pytest.fail('ran without 3'))
+    results = runner.run_sections(QUICK, seed=0, threads=1, progress=lambda line: None)
     assert results['3'] == {'failed': 'PathUnreachable: the probe line leaves the workspace '
                                       'at x = 0.4 m'}
     assert results['7'] == {'failed': 'it starts from section 3, which was not measured'}
@@ -143,7 +143,7 @@ def test_a_speed_out_of_reach_is_a_row_that_says_so_not_a_lost_report(tmp_path):
     results = {'seconds': {'4': 12.0}, '4': {
         'rows': [measured, failed], 'model': 'extratrees', 'contact_s': 2.0, 'window': 64,
         'sweeps': 3, 'textures': 4}}
-    text = '\n'.join(markdown.speed_section(results))
+    text = '\n'.join(section_text.sweep_speed(results).tables[0])
     assert '| 60 | not measured: sweep point x=0.229 m unreachable |' in text
     assert '| 15 | 30 | 98.0 % (95.0 %) | 40 | 60.0 % | 70.0 % | 9 |' in text
     plots.sweep_speed(tmp_path / 'speed.png', results['4']['rows'], 'test data')

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from tactex.demo_report import (
+from tactex.demo.figures import (
     accuracy_against_contact_time,
     Check,
     checks,
@@ -21,7 +21,7 @@ from tactex.demo_report import (
     plot_pathway,
     plot_sweep,
 )
-from tactex_probe.simulation import true_normal
+from tactex_probe.closed_loop import true_normal
 from tactex_sim.scene import load_scene, resolve_scene
 
 SURFACE = load_scene(resolve_scene('uneven_texture')).surface
@@ -87,15 +87,29 @@ def test_nan_never_passes_and_the_contact_limit_is_a_share_of_the_probe_points()
                'contact_fraction': 0.95, 'sliding_speed_error': 0.03,
                'cv_accuracy_grouped': 0.8, 'live_accuracy': 0.7, 'time_to_decision_s': 2.0,
                'madgwick_rejected': 0.0}
-    results = {c.key: c for c in checks(summary, probe_points=11)}
+    results = {c.key: c for c in checks(summary, probe_points=11, textures=12, contact_s=7.6)}
     assert results['contacts'].limit == 9 and not results['contacts'].passed
     assert all(c.passed for key, c in results.items() if key != 'contacts')
     assert results['contacts'].line() == 'contacts 8 (threshold >= 9): FAIL'
     # A sample the Madgwick filter refused (beyond the chip's full scale), or a filter
     # whose diagnostics were never heard (NaN), fails the demo.
     for rejected in (1.0, math.nan):
-        refused = {c.key: c for c in checks(dict(summary, madgwick_rejected=rejected), 11)}
+        refused = {c.key: c for c in checks(dict(summary, madgwick_rejected=rejected), 11,
+                                            12, 7.6)}
         assert not refused['madgwick_rejected'].passed
+
+
+def test_accuracy_must_reach_twice_chance_and_every_sweep_a_decision_within_its_contact():
+    summary = {'contacts': 11, 'normal_error_deg_mean': 1.0, 'position_error_mm_mean': 0.2,
+               'contact_fraction': 0.95, 'sliding_speed_error': 0.03,
+               'cv_accuracy_grouped': 0.2, 'live_accuracy': 0.15, 'time_to_decision_s': 7.0,
+               'madgwick_rejected': 0.0}
+    twelve = {c.key: c for c in checks(summary, 11, textures=12, contact_s=7.6)}
+    assert twelve['cv_accuracy_grouped'].passed and not twelve['live_accuracy'].passed
+    assert twelve['live_accuracy'].line() == 'live_accuracy 0.15 (threshold >= 0.167): FAIL'
+    assert twelve['time_to_decision_s'].passed
+    four = {c.key: c for c in checks(summary, 11, textures=4, contact_s=6.0)}
+    assert not four['cv_accuracy_grouped'].passed and not four['time_to_decision_s'].passed
 
 
 def test_plots_are_written_even_from_empty_input(tmp_path):

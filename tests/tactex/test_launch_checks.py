@@ -1,6 +1,6 @@
 # Copyright 2026 The tactex authors
 # SPDX-License-Identifier: Apache-2.0
-"""Every launch argument is checked before any node starts (tactex.launch_checks).
+"""Every launch argument is checked before any node starts (tactex.launching.arguments).
 
 The bad value of each argument, through `tactex launch`, is in badinputs.py; here: that
 no argument goes unchecked, that the defaults pass, and that the namespace rule is ROS's.
@@ -8,8 +8,8 @@ no argument goes unchecked, that the defaults pass, and that the namespace rule 
 
 import pytest
 
-from tactex.launch_checks import check_arguments, CHECKS, NAMESPACE_MAX_LENGTH
-from tactex.launch_spec import launch_directory, LaunchError, load_launch_file
+from tactex.launching.arguments import check_arguments, CHECKS, NAMESPACE_MAX_LENGTH
+from tactex.launching.spec import launch_directory, LaunchError, load_launch_file
 
 LAUNCH_NAMES = sorted(p.name.removesuffix('.launch.py')
                       for p in launch_directory().glob('*.launch.py'))

@@ -16,14 +16,14 @@ import numpy as np
 from processes import alive, wait_for
 import pytest
 
-from tactex.launch_spec import (
+from tactex.launching.spec import (
     launch_directory,
     LaunchError,
     load_launch_file,
     NodeSpec,
     visualisation_nodes,
 )
-from tactex.launcher import Launcher, node_command, run_launch
+from tactex.launching.supervisor import Launcher, node_command, run_launch
 
 ROOT = Path(__file__).resolve().parents[2]
 LAUNCH_NAMES = sorted(p.name.removesuffix('.launch.py') for p in launch_directory().glob(
@@ -224,7 +224,7 @@ def test_killing_the_launcher_leaves_no_orphaned_process(tmp_path):
 def test_probe_launch_in_simulation_broadcasts_contacts_with_the_surface_normals(tmp_path):
     from transforms3d.quaternions import quat2mat
 
-    from tactex.demo_session import ProbeLine, SystemClient
+    from tactex.demo.session import ProbeLine, SystemClient
     from tactex_sim.scene import load_scene, resolve_scene
 
     log = tmp_path / 'launch.log'

@@ -8,7 +8,7 @@ import os
 import numpy as np
 import pytest
 
-from tactex.soak import (
+from tactex.soak.bookkeeping import (
     COUNTERS,
     fault_schedule,
     FaultRecord,

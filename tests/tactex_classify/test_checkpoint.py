@@ -12,11 +12,11 @@ import pytest
 from test_training import CLASSES, FAST, rehash, STREAM, toy
 
 from tactex.cli import main
-from tactex_classify.baselines import MiniRocketRidge, StatsExtraTrees
-from tactex_classify.checkpoint import load_checkpoint, read_checkpoint
-from tactex_classify.classifier import DeepClassifier
 from tactex_classify.errors import CheckpointError, ExportError
-from tactex_classify.runtime import export_onnx, load_predictor
+from tactex_classify.models.baselines import MiniRocketRidge, StatsExtraTrees
+from tactex_classify.models.checkpoint import load_checkpoint, read_checkpoint
+from tactex_classify.online.runtime import export_onnx, load_predictor
+from tactex_classify.training.deep_classifier import DeepClassifier
 
 
 @pytest.fixture(scope='module')
@@ -58,7 +58,7 @@ def test_onnxruntime_gives_the_native_probabilities(saved, kind):
 
 def test_the_onnxruntime_path_never_imports_torch(saved):
     _, _, paths = saved
-    code = ('import sys, numpy as np; from tactex_classify.runtime import load_predictor; '
+    code = ('import sys, numpy as np; from tactex_classify.online.runtime import load_predictor; '
             f'p = load_predictor({str(paths["deep"])!r}, "onnxruntime"); '
             'p.predict_proba(np.zeros((2, 96, 10))); '
             'print("torch" in sys.modules)')

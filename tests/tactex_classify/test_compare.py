@@ -13,7 +13,9 @@ import time
 import numpy as np
 import pytest
 
-from tactex_classify.compare import (
+from tactex_classify.data.dataset import Dataset
+from tactex_classify.evaluation.grid_report import summarise, table, write_report
+from tactex_classify.evaluation.model_grid import (
     Cell,
     dataset_digest,
     grid_cells,
@@ -22,8 +24,6 @@ from tactex_classify.compare import (
     GridStore,
     run_cell,
 )
-from tactex_classify.compare_report import summarise, table, write_report
-from tactex_classify.dataset import Dataset
 
 TACTEX = Path(sys.executable).parent / 'tactex'
 

@@ -11,9 +11,9 @@ from rosbags.highlevel import AnyReader, AnyReaderError
 from rosbags.rosbag2 import StoragePlugin
 
 from tactex.cli import main
-from tactex_classify.alignment import align, Stream
-from tactex_classify.bags import parse_topic_remaps, read_recording, resolve_topics
-from tactex_classify.dataset import convert, Dataset, window_starts
+from tactex_classify.data.bags import parse_topic_remaps, read_recording, resolve_topics
+from tactex_classify.data.dataset import convert, Dataset, window_starts
+from tactex_classify.data.stream_alignment import align, Stream
 from tactex_classify.errors import BagError, DatasetError
 from tactex_common.channels import CHANNELS
 from tactex_common.interfaces import typestore

@@ -11,15 +11,15 @@ import pandas as pd
 import pytest
 
 from tactex.cli import main
-from tactex_classify import pickles
-from tactex_classify.errors import DatasetError
-from tactex_classify.importers import (
+from tactex_classify.data import pickles
+from tactex_classify.data.importers import (
     import_csv,
     import_mun,
     MUN_IMU_COLUMNS,
     parse_channel_specs,
 )
-from tactex_classify.pickles import load_frame, RefusedPickle
+from tactex_classify.data.pickles import load_frame, RefusedPickle
+from tactex_classify.errors import DatasetError
 
 QUIET = {'progress': lambda line: None}
 PERIOD_NS = 2_857_143  # 350 Hz

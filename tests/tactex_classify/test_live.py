@@ -7,11 +7,17 @@ import numpy as np
 import pytest
 from rosbags.highlevel import AnyReader
 
-from tactex_classify.bags import TOPIC_ROLES
-from tactex_classify.checkpoint import StreamSpec
-from tactex_classify.dataset import convert
-from tactex_classify.evidence import EvidenceSettings
-from tactex_classify.live import ContactLost, LiveSettings, LiveWindows, OnlineClassifier, Window
+from tactex_classify.data.bags import TOPIC_ROLES
+from tactex_classify.data.dataset import convert
+from tactex_classify.models.checkpoint import StreamSpec
+from tactex_classify.online.evidence import EvidenceSettings
+from tactex_classify.online.live import (
+    ContactLost,
+    LiveSettings,
+    LiveWindows,
+    OnlineClassifier,
+    Window,
+)
 from tactex_common.channels import CHANNELS
 from tactex_common.interfaces import typestore
 

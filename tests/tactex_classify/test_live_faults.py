@@ -11,10 +11,10 @@ import math
 import numpy as np
 import pytest
 
-from tactex_classify.checkpoint import StreamSpec
-from tactex_classify.evidence import EvidenceSettings
-from tactex_classify.live import LiveSettings, OnlineClassifier
-from tactex_classify.stream_health import (
+from tactex_classify.models.checkpoint import StreamSpec
+from tactex_classify.online.evidence import EvidenceSettings
+from tactex_classify.online.live import LiveSettings, OnlineClassifier
+from tactex_classify.online.stream_health import (
     CONTINUES,
     HELD,
     RateJudge,

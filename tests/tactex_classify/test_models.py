@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 import torch
 
-from tactex_classify.catalog import DEEP_MODELS
-from tactex_classify.classifier import softmax
-from tactex_classify.models import build_model, MODELS
+from tactex_classify.models.architectures import build_model, MODELS
+from tactex_classify.models.registry import DEEP_MODELS
+from tactex_classify.models.windows import softmax
 
 torch.set_num_threads(1)
 

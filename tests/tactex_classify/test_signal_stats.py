@@ -12,7 +12,7 @@ import sys
 import numpy as np
 import pytest
 
-from tactex_classify import signal_stats
+from tactex_classify.data import signal_stats
 from tactex_common import chips
 from tactex_sim.collect import record_sweep
 from tactex_sim.scene import load_scene, resolve_scene

@@ -7,7 +7,7 @@ import json
 from test_training import toy
 
 from tactex.cli import main
-from tactex_classify.classifier import DeepClassifier
+from tactex_classify.training.deep_classifier import DeepClassifier
 
 
 def test_train_writes_the_report_with_both_schemes(tmp_path, capsys):
@@ -48,7 +48,7 @@ def test_train_reports_a_missing_dataset(tmp_path, capsys):
 def test_train_says_when_a_class_is_missing_from_a_training_fold(tmp_path, capsys):
     data = toy()
     keep = (data.y != 2) | (data.trial == 200)  # one recording of 'high' only
-    from tactex_classify.dataset import Dataset
+    from tactex_classify.data.dataset import Dataset
     small = Dataset(data.X[keep], data.y[keep], data.trial[keep], data.t0[keep], data.classes,
                     data.info)
     path = small.save(tmp_path / 'small.npz')

@@ -10,17 +10,9 @@ import numpy as np
 import pytest
 import torch
 
-from tactex_classify.baselines import MiniRocketRidge, StatsExtraTrees
-from tactex_classify.checkpoint import CHECKSUM_FIELD, metadata_sha256, sha256
-from tactex_classify.classifier import (
-    ChannelScaler,
-    DeepClassifier,
-    TrainingConfig,
-    validation_split,
-)
-from tactex_classify.dataset import Dataset
+from tactex_classify.data.dataset import Dataset
 from tactex_classify.errors import CheckpointError, DatasetError, NotFittedError
-from tactex_classify.evaluate import (
+from tactex_classify.evaluation.cross_validation import (
     confusion,
     cross_validate,
     decide_recordings,
@@ -28,6 +20,14 @@ from tactex_classify.evaluate import (
     metrics,
     sequence_accuracy,
     threshold_decisions,
+)
+from tactex_classify.models.baselines import MiniRocketRidge, StatsExtraTrees
+from tactex_classify.models.checkpoint import CHECKSUM_FIELD, metadata_sha256, sha256
+from tactex_classify.models.windows import ChannelScaler
+from tactex_classify.training.deep_classifier import (
+    DeepClassifier,
+    TrainingConfig,
+    validation_split,
 )
 
 CLASSES = ['low', 'mid', 'high']

@@ -10,12 +10,14 @@ import pytest
 from tactex_description.geometry import ARM_VELOCITY_LIMIT
 from tactex_description.kinematics import forward_kinematics
 from tactex_probe.motion import (
+    chain,
     concatenate,
     FACE_AXIS,
     FACE_TILT_RAD,
     PathUnreachable,
     pose_of,
     pose_with_tip_at,
+    reachable_part,
     sensor_rotation,
     solve,
     straight_path,
@@ -23,6 +25,7 @@ from tactex_probe.motion import (
     TIP_CENTRE,
     tip_position,
     ToolPose,
+    transfer,
 )
 
 SEED = [0.0, 0.0, 0.0, 1.5]
@@ -92,3 +95,35 @@ def test_path_through_the_unreachable_is_refused():
     start = ToolPose([0.15, 0.0, 0.03], 0.0)
     with pytest.raises(PathUnreachable):
         straight_path(start, ToolPose([0.45, 0.0, 0.03], 0.0), 0.05, solve(start, SEED))
+
+
+def test_a_chain_passes_every_pose_in_turn():
+    poses = [ToolPose(p, 0.0) for p in ([0.12, 0.0, 0.04], [0.12, 0.0, 0.06],
+                                         [0.16, 0.0, 0.06])]
+    path = chain(poses, 0.02, solve(poses[0], SEED))
+    assert np.array([knot.point for knot in path.knots]) == pytest.approx(
+        np.array([pose.point for pose in poses]))
+
+
+def test_a_transfer_rises_first_and_never_dips_below_its_ends():
+    start, target = ToolPose([0.12, 0.0, 0.02], 0.0), ToolPose([0.18, 0.0, 0.05], 0.2)
+    path = transfer(start, target, 0.05, solve(start, SEED))
+    heights = [pose_of(joints).point[2] for joints in path.joints]
+    assert min(heights) >= start.point[2] - 1e-9
+    assert path.knots[1].point == pytest.approx([0.12, 0.0, 0.05])  # up first
+    assert path.end.point == pytest.approx(target.point)
+
+
+def test_a_transfer_to_where_the_arm_cannot_reach_is_refused():
+    start = ToolPose([0.15, 0.0, 0.03], 0.0)
+    with pytest.raises(PathUnreachable):
+        transfer(start, ToolPose([0.45, 0.0, 0.03], 0.0), 0.05, solve(start, SEED))
+
+
+def test_the_reachable_part_stops_where_the_arm_does():
+    start = ToolPose([0.20, 0.0, 0.03], 0.0)
+    path = reachable_part(start, ToolPose([0.60, 0.0, 0.03], 0.0), 0.05, solve(start, SEED))
+    end = path.end.point[0]
+    assert 0.20 < end < 0.60
+    with pytest.raises(PathUnreachable):
+        solve(ToolPose([end + 0.002, 0.0, 0.03], 0.0), path.joints[-1])

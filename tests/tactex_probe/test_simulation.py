@@ -8,10 +8,10 @@ import math
 import numpy as np
 import pytest
 
-from tactex_probe.exploration import ExplorerConfig, Outcome, Phase
+from tactex_probe.closed_loop import Faults, run_probe, score_run, summary
+from tactex_probe.explorer_interface import ExplorerConfig, Outcome, Phase
 from tactex_probe.motion import pose_of
 from tactex_probe.pathway import ContactStatus, ProbeParameters
-from tactex_probe.simulation import Faults, run_probe, score_run, summary
 from tactex_sim.scene import load_scene, parse_scene, resolve_scene
 
 PROBE = load_scene(resolve_scene('probe'))  # the uneven plate, sensor noise and barometer on

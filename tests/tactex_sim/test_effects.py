@@ -2,22 +2,28 @@
 # SPDX-License-Identifier: Apache-2.0
 """Effects: options checked by value, a fixed run order, declared inputs and outputs held."""
 
+import ast
+import dataclasses
+import inspect
 import math
+import textwrap
 
 import numpy as np
 import pytest
 
-from tactex_sim.effects import EFFECTS, Reading
+from tactex_sim.effects import Effect, EFFECTS, Reading
 from tactex_sim.errors import SceneError
+from tactex_sim.inputs import Contact, INPUT_NAMES, Inputs
 from tactex_sim.scene import parse_scene
 from tactex_sim.textures import texture
-from tactex_sim.world import Contact, World
+from tactex_sim.world import World
 
-SLIDING = {'contact': Contact(True, np.array([0.2, 0.01, 0.02]), np.array([0.0, 0.0, 1.0]), 2.0),
-           'edge velocity': np.array([0.015, 0.0, 0.0]), 'texture': texture('ridged polymer'),
-           'sensor rotation': np.eye(3), 'sensor position': np.array([0.2, 0.0, 0.05]),
-           'sample rate': 120.0, 'compression': 0.001, 'time': 3.0,
-           'sensor filters': (math.inf, math.inf)}
+SLIDING = Inputs(
+    contact=Contact(True, np.array([0.2, 0.01, 0.02]), np.array([0.0, 0.0, 1.0]), 2.0),
+    edge_velocity=np.array([0.015, 0.0, 0.0]), texture=texture('ridged polymer'),
+    sensor_rotation=np.eye(3), sensor_position=np.array([0.2, 0.0, 0.05]),
+    sample_rate_hz=120.0, compression_m=0.001, time_s=3.0,
+    sensor_filters_hz=(math.inf, math.inf))
 
 
 def effect(name, **options):
@@ -59,7 +65,7 @@ def test_a_bad_noise_scale_is_refused(scale):
 
 def test_magnetometer_at_the_magnet_stays_finite():
     magnet = effect('magnetometer', noise_sd_t=0.0)
-    at_magnet = dict(SLIDING, **{'sensor position': np.array([0.35, 0.25, 0.05])})
+    at_magnet = dataclasses.replace(SLIDING, sensor_position=np.array([0.35, 0.25, 0.05]))
     assert np.all(np.isfinite(applied(magnet, at_magnet).mag))
 
 
@@ -76,14 +82,47 @@ def test_effects_run_in_registry_order_whatever_the_scene_order():
     assert first.pressure == second.pressure
 
 
-def test_an_effect_reading_an_input_it_did_not_declare_is_stopped():
+def test_an_effect_gets_only_the_inputs_it_declared():
     scene = parse_scene({'name': 'a', 'seed': 1, 'surface': {'kind': 'flat'},
-                         'effects': ['imu_noise']})
+                         'effects': ['contact', 'imu_noise', 'barometer']})
     world = World(scene)
-    noise = world.effects[0]
-    noise.apply = lambda reading, inputs: inputs['contact']
-    with pytest.raises(KeyError, match="effect 'imu_noise' reads 'contact' without declaring"):
-        world.next_sample()
+    seen = {}
+    for effect in world.effects:
+        effect.apply = lambda reading, inputs, name=effect.name: seen.setdefault(name, inputs)
+    world.next_sample()
+    filled = {name: {f for f in INPUT_NAMES if getattr(inputs, f) is not None}
+              for name, inputs in seen.items()}
+    assert filled == {'contact': set(), 'imu_noise': set(),
+                      'barometer': {'compression_m', 'time_s'}}
+
+
+def test_an_effect_declaring_an_input_the_world_lacks_fails_when_defined():
+    with pytest.raises(TypeError, match=r"effect 'sonar' reads \['echo'\], which the world"):
+        type('Sonar', (Effect,), {'name': 'sonar', 'reads': frozenset({'echo'})})
+
+
+def _attributes_used(function, owner: str, *, stored: bool) -> set[str]:
+    """Attributes of the argument `owner` that `function` reads (or, `stored`, assigns)."""
+    tree = ast.parse(textwrap.dedent(inspect.getsource(function)))
+    context = ast.Store if stored else ast.Load
+    return {node.attr for node in ast.walk(tree)
+            if isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name)
+            and node.value.id == owner and isinstance(node.ctx, context)}
+
+
+@pytest.mark.parametrize('name', list(EFFECTS))
+def test_every_effect_declares_exactly_the_inputs_and_channels_its_apply_uses(name):
+    cls = EFFECTS[name]
+    if cls.apply is Effect.apply:  # builds model parts only
+        assert not cls.reads
+        return
+    assert _attributes_used(cls.apply, 'inputs', stored=False) == cls.reads
+    augmented = {node.target.attr for node in ast.walk(ast.parse(textwrap.dedent(
+        inspect.getsource(cls.apply)))) if isinstance(node, ast.AugAssign)
+        and isinstance(node.target, ast.Attribute)
+        and getattr(node.target.value, 'id', None) == 'reading'}
+    written = _attributes_used(cls.apply, 'reading', stored=True) | augmented
+    assert written == cls.writes & set(Reading.__slots__)
 
 
 @pytest.mark.parametrize('name', list(EFFECTS))

@@ -11,6 +11,7 @@ import pytest
 from tactex_common import chips
 from tactex_sim.collect import record_sweep
 from tactex_sim.effects import EFFECTS, Reading
+from tactex_sim.inputs import Inputs
 from tactex_sim.scene import load_scene, resolve_scene
 from tactex_sim.sweep import plan_sweep, play, SweepParameters
 from tactex_sim.textures import TEXTURES
@@ -37,7 +38,7 @@ def reported(effect, accel=(0.0, 0.0, 9.81), gyro=(0.0, 0.0, 0.0), mag=(2e-5, 0.
     reading = Reading(np.array(accel, dtype=float), np.array(gyro, dtype=float))
     reading.mag = np.array(mag, dtype=float)
     reading.pressure = pressure
-    effect.apply(reading, {'time': t})
+    effect.apply(reading, Inputs(time_s=t))
     return reading
 
 
@@ -86,7 +87,7 @@ def test_the_barometer_reports_the_start_of_its_conversion_as_a_10_bit_code():
 def test_a_missing_channel_stays_missing():
     effect = chip()
     reading = Reading(np.zeros(3), np.zeros(3))
-    effect.apply(reading, {'time': 0.0})
+    effect.apply(reading, Inputs(time_s=0.0))
     assert np.isnan(reading.mag).all() and math.isnan(reading.pressure)
 
 
@@ -114,7 +115,7 @@ def test_no_texture_of_the_default_scene_drives_a_channel_past_its_full_scale():
 @pytest.mark.slow
 def test_a_recording_carries_whole_counts_with_the_chips_and_the_physics_alone_without(
         tmp_path):
-    from tactex_classify.bags import read_recording
+    from tactex_classify.data.bags import read_recording
     scene = shipped('uneven_texture')
     bare = without_chips('uneven_texture')
     lsb = chips.gyro_range().lsb_si

@@ -10,8 +10,8 @@ import pytest
 from tactex_description import edge
 from tactex_sim import vibration
 from tactex_sim.effects import EFFECTS, Reading
+from tactex_sim.inputs import Contact, Inputs
 from tactex_sim.textures import Texture
-from tactex_sim.world import Contact
 
 SPEED = 0.015
 NORMAL = np.array([0.0, 0.0, 1.0])
@@ -27,11 +27,11 @@ def slide(surface, *, speed=SPEED, force=1.0, x=0.2013, **options):
     """One sample's texture signal: (normal accel, rocking rate) sliding along +x."""
     texture_effect = EFFECTS['texture'](np.random.default_rng(0), 1.0, **options)
     reading = Reading(np.zeros(3), np.zeros(3))
-    texture_effect.apply(reading, {
-        'contact': Contact(True, np.array([x, 0.0, 0.02]), NORMAL, force),
-        'edge velocity': np.array([speed, 0.0, 0.0]), 'texture': surface,
-        'sensor rotation': np.eye(3), 'sample rate': 120.0,
-        'sensor filters': (math.inf, math.inf)})
+    texture_effect.apply(reading, Inputs(
+        contact=Contact(True, np.array([x, 0.0, 0.02]), NORMAL, force),
+        edge_velocity=np.array([speed, 0.0, 0.0]), texture=surface,
+        sensor_rotation=np.eye(3), sample_rate_hz=120.0,
+        sensor_filters_hz=(math.inf, math.inf)))
     # The rocking axis is n x d = z x x = +y.
     return reading.accel[2], reading.gyro[1]
 

@@ -229,3 +229,16 @@ def test_alike_textures_have_close_models():
     mesh_cotton, mesh_leather = TEXTURES['mesh cotton'], TEXTURES['mesh leather']
     assert abs(mesh_cotton.weave_period[0] - mesh_leather.weave_period[0]) <= 0.0003
     assert pytest.approx(mesh_cotton.weave_height, rel=0.2) == mesh_leather.weave_height
+
+
+@pytest.mark.parametrize('name', ['probe', 'uneven_texture'])
+def test_a_placed_arm_is_held_by_its_servos_so_its_first_sample_reads_gravity(name):
+    # Placed with its joints still and no servo torque yet, the arm fell freely at first:
+    # the accelerometer read about 0, and the attitude filter rejected that sample.
+    world = World(SCENE[name])
+    world.place_arm(world.joint_positions())
+    first, second = world.next_sample(), world.next_sample()
+    assert first.time_s == 0.0
+    for sample in (first, second):
+        assert np.linalg.norm(sample.accel) == pytest.approx(9.81, abs=0.3)
+        assert np.linalg.norm(sample.gyro) < 0.05

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from tactex_sim.scene import load_scene, resolve_scene
-from tactex_trajectory.simulation import probe_like_pathway
+from tactex_trajectory.simulated_sweeps import probe_like_pathway
 
 # Where the bridge and the demo start the arm (joint1..joint4, gripper).
 START_JOINTS = np.array([0.0, -0.3, 0.3, 1.2, 0.0])

@@ -16,7 +16,7 @@ import pytest
 
 from tactex_sim.world import World
 from tactex_trajectory.planner import plan_sweep
-from tactex_trajectory.simulation import execute, measure, probed_pathway
+from tactex_trajectory.simulated_sweeps import execute, measure, probed_pathway
 
 CONTACT_FRACTION_MIN = 0.95
 SPEED_ERROR_MAX = 0.10

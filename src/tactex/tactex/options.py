@@ -29,8 +29,8 @@ import sys
 import tempfile
 
 from tactex.errors import CommandError
-from tactex_classify.catalog import MAX_EPOCHS
-from tactex_classify.checkpoint import MAX_WINDOW
+from tactex_classify.models.checkpoint import MAX_WINDOW
+from tactex_classify.models.registry import MAX_EPOCHS
 from tactex_common.constants import MAX_SEED
 from tactex_common.errors import RefusedFileError
 from tactex_common.files import check_regular

@@ -45,7 +45,7 @@ COMMAND = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE,
 LATCHED = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
                      durability=DurabilityPolicy.TRANSIENT_LOCAL,
                      history=HistoryPolicy.KEEP_LAST)
-# Recording subscriptions by the kind of their topic (tactex_classify.recorder's
+# Recording subscriptions by the kind of their topic (tactex_classify.recording.recorder's
 # RECORDED_TOPICS): sensor streams best effort with a deep queue, so a busy moment of the
 # recorder drops nothing a recording keeps.
 RECORDING = {'sensor': QoSProfile(depth=500, reliability=ReliabilityPolicy.BEST_EFFORT,

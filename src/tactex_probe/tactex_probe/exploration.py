@@ -2,43 +2,28 @@
 # SPDX-License-Identifier: Apache-2.0
 """Probe-and-broadcast exploration as a state machine that knows no ROS, clock or arm.
 
-The caller feeds it joint states, IMU samples (accel with the Madgwick attitude) and
-barometer samples, all stamped, and calls `step(now_ns)` at its control rate; `step`
-returns events: a `Command` (a joint path to send to the arm, replacing what runs), a
-`Stop` (the arm is to hold where its driver commands it), a `Feedback`, a `Recorded`
-probe outcome, and at the end `Finished` with the pathway.
+The caller feeds it stamped joint states, IMU samples (accel with the Madgwick attitude)
+and barometer samples, and calls `step(now_ns)` at its control rate; `step` returns the
+events of `tactex_probe.explorer_interface` (`Command`, `Stop`, `Feedback`, `Recorded`,
+`Finished` with the pathway). It drives the simulator (`tactex_probe.closed_loop`) and
+the real arm (`probe_node`) alike. Commands reach the arm late, by a varying amount, so
+a path that cuts a motion short follows a `Stop` and starts where the joint states then
+show the arm standing.
 
-Commands reach the arm late, by an amount that varies (the bus, a loaded machine, a
-simulator catching up), so this core never knows exactly where a moving arm is commanded.
-A path that follows one that ended starts where that one ended; one that must cut a
-faster motion than a press short (a contact, a cancel) follows a `Stop`, and starts
-where the joint states then show the arm standing. So every path starts where the driver
-commands the arm, within its start tolerance, however late the commands arrive.
-The same core drives the simulator (`tactex_probe.simulation`) and the real arm
-(`probe_node`).
+Every touch: move above the point (`tactex_probe.targets` says where), hold still for
+the free-air baseline, descend at the descent speed until the barometer reports
+contact. Two passes (`Method.TIP_THEN_FACE`): locate, the tool leaning
+`tip_margin_rad` past the profile's tilt so the tip touches first and the forward
+kinematics at the contact's onset put it on the surface; then measure, the face turned
+to the traced profile's normal, pressed to half and full force, the deformation giving
+the normal (`tactex_probe.normals`), turned again by the root search of
+`tactex_probe.alignment` until the face lay flat. `Method.FACE_ONLY` is the original's
+single pass. A failed touch ends its probe with a status; silent joint states or an arm
+that does not follow abort the goal; `cancel` lifts first.
 
-Every touch goes the same way: move to an approach pose above the point; hold still to
-learn the free-air baseline and average the undeformed attitude; descend along -z at the
-descent speed until the barometer reports contact. Two passes use it:
-
-1. Locate (`Method.TIP_THEN_FACE`, the default): the tool leans `tip_margin_rad` past
-   the tilt the profile so far predicts, so the tip at `sensor_edge` touches first; the
-   arm stops at once, and the forward kinematics of the joint states interpolated to the
-   contact's onset put the tip on the surface. No pressing, so nothing bends yet.
-2. Measure: the tool faces the normal of the profile the tips traced, its face centred
-   over each located point; it presses on along its axis to half the measuring force,
-   settles and averages a window, then to the full force and again. The deformation
-   gives the normal (`tactex_probe.normals`). Unless the face lay flat
-   (`tactex_probe.alignment`), it lifts, turns to the tilt the root search proposes and
-   touches again, at most `refinements` times.
-
-The record holds the located point and the measured normal. `Method.FACE_ONLY` is the
-original's single pass: the face touches each point (vertical, or turned to the normal
-extrapolated from the previous ones), and the point is where the body's torque balance
-puts the contact on the face. A descent without contact, an unreachable pose, over-force,
-a contact while moving sideways or a failed estimate ends that probe with its status; no
-probe point is left out. Silent joint states or an arm that does not follow abort the
-goal; `cancel` lifts to the approach height first.
+Longer than 500 lines: the stages of a touch and their handlers are one state machine,
+read top to bottom; its geometry (`targets`), motions (`motion`) and events
+(`explorer_interface`) live in their own modules.
 """
 
 from __future__ import annotations
@@ -50,22 +35,37 @@ import math
 import numpy as np
 
 from tactex_description.mjcf import EDGE_TIP_RADIUS_M
+from tactex_probe import targets
 from tactex_probe.alignment import best, next_tilt, TouchResult
-from tactex_probe.detection import Channel, ContactDetector, ContactEvent, DetectorConfig
+from tactex_probe.detection import Channel, ContactDetector, ContactEvent
+from tactex_probe.explorer_interface import (
+    Command,
+    ExplorerConfig,
+    Feedback,
+    Finished,
+    Measurement,
+    Method,
+    Outcome,
+    Phase,
+    Recorded,
+    Stop,
+)
 from tactex_probe.history import SampleHistory
 from tactex_probe.motion import (
-    concatenate,
+    chain,
     hold_path,
     JointPath,
     joints_at,
     PathUnreachable,
     pose_of,
     pose_with_tip_at,
+    reachable_part,
     solve,
     straight_path,
     tilt_towards,
     tip_position,
     ToolPose,
+    transfer,
 )
 from tactex_probe.normals import (
     bearing_point,
@@ -74,7 +74,6 @@ from tactex_probe.normals import (
     PRESS_STIFFNESS_N_M,
 )
 from tactex_probe.pathway import ContactStatus, Pathway, ProbeParameters, ProbeRecord
-from tactex_probe.profile import coordinate, normal_from_slope, slope_at
 
 # A tilt change below this is not worth another touch.
 MIN_TILT_STEP_RAD = math.radians(0.2)
@@ -105,151 +104,6 @@ REST_MOTION_RAD = 0.0025
 # The tip touched first only if the tool leaned at least this far past the surface's tilt;
 # a point located with less lead (the measured normal tells) is located again.
 MIN_TIP_LEAD_RAD = math.radians(5.0)
-
-
-class Phase(enum.IntEnum):
-    """What the arm is doing; the values are tactex_msgs/action/Probe's PHASE_* codes."""
-
-    MOVING = 0
-    DESCENDING = 1
-    MEASURING = 2
-    RETRACTING = 3
-
-
-class Outcome(enum.Enum):
-    """How a goal ended."""
-
-    SUCCEEDED = 'succeeded'
-    ABORTED = 'aborted'
-    CANCELED = 'canceled'
-
-
-class Method(enum.Enum):
-    """How a probe point is found and measured (see the module docstring)."""
-
-    TIP_THEN_FACE = 'tip_then_face'
-    FACE_ONLY = 'face_only'
-
-
-@dataclass(frozen=True)
-class ExplorerConfig:
-    """Tuning of the exploration beyond the goal's parameters (SI units).
-
-    Attributes:
-        method: two passes (locate with the tip, measure with the face) or the face only.
-        press_force_n: force proxy to press to before measuring (at most 75 % of the
-            goal's force limit, which wins when lower).
-        press_speed_m_s: speed along the tool axis while pressing.
-        max_press_m: press travel after first contact before measuring anyway.
-        move_speed_m_s: speed of every motion in free air.
-        baseline_s: free-air hold before each touch (baseline and undeformed attitude).
-        settle_s: hold after pressing before each measuring window.
-        measure_s: length of a measuring window.
-        refinements: touches again when the face did not lie flat.
-        refine_tolerance_rad: the face lies flat when it turned less than this.
-        refine_lift_m: lift off the surface between touches.
-        tip_margin_rad: how far the tool leans past the predicted surface tilt when
-            locating, so that its tip touches first.
-        align_tool: FACE_ONLY: turn the tool to the normal extrapolated from the
-            previous contacts (else it stays vertical, as in the original).
-        max_tilt_rad: largest tilt of the tool from vertical.
-        joint_timeout_s: abort when no joint state came for this long.
-        tracking_tolerance_rad: a motion has ended once every joint is this close to its
-            last goal (the next one starts from there).
-        motion_timeout_s: how long after its end a motion may still be arriving; then the
-            goal aborts (the arm does not follow).
-        detector: the contact detector's tuning.
-    """
-
-    method: Method = Method.TIP_THEN_FACE
-    press_force_n: float = 1.5
-    press_speed_m_s: float = 0.004
-    max_press_m: float = 0.008
-    move_speed_m_s: float = 0.03
-    baseline_s: float = 0.3
-    settle_s: float = 0.3
-    measure_s: float = 0.2
-    refinements: int = 2
-    refine_tolerance_rad: float = math.radians(0.5)
-    refine_lift_m: float = 0.004
-    tip_margin_rad: float = math.radians(30.0)
-    align_tool: bool = True
-    max_tilt_rad: float = math.radians(40.0)
-    joint_timeout_s: float = 0.5
-    tracking_tolerance_rad: float = 0.01
-    motion_timeout_s: float = 2.0
-    detector: DetectorConfig = field(default_factory=DetectorConfig)
-
-    def __post_init__(self) -> None:
-        """Reject settings the explorer cannot use."""
-        for name in ('press_force_n', 'press_speed_m_s', 'max_press_m', 'move_speed_m_s',
-                     'baseline_s', 'settle_s', 'measure_s', 'refine_lift_m', 'joint_timeout_s',
-                     'tracking_tolerance_rad', 'motion_timeout_s'):
-            value = getattr(self, name)
-            if not (math.isfinite(value) and value > 0):
-                raise ValueError(f'{name} must be finite and > 0, got {value!r}')
-        if isinstance(self.refinements, bool) or not isinstance(self.refinements, int) \
-                or self.refinements < 0:
-            raise ValueError(f'refinements must be an integer >= 0, got {self.refinements!r}')
-        for name in ('refine_tolerance_rad', 'tip_margin_rad', 'max_tilt_rad'):
-            value = getattr(self, name)
-            if not 0.0 <= value < math.pi / 2:
-                raise ValueError(f'{name} must be in [0, pi/2), got {value!r}')
-        Method(self.method)
-
-
-@dataclass(frozen=True)
-class Command:
-    """A joint path for the arm, to replace whatever it executes now."""
-
-    path: JointPath
-
-
-@dataclass(frozen=True)
-class Stop:
-    """Stop the arm where its driver commands it when this arrives, and hold there."""
-
-
-@dataclass(frozen=True)
-class Feedback:
-    """Progress (tactex_msgs/action/Probe feedback)."""
-
-    phase: Phase
-    probe_index: int
-    probe_count: int
-    contacts_found: int
-    last_record: ProbeRecord | None
-
-
-@dataclass(frozen=True)
-class Recorded:
-    """A probe ended; its outcome."""
-
-    record: ProbeRecord
-
-
-@dataclass(frozen=True)
-class Finished:
-    """The goal ended; the pathway holds every probe finished so far."""
-
-    pathway: Pathway
-    outcome: Outcome
-    message: str
-
-
-@dataclass(frozen=True)
-class Measurement:
-    """How a successful probe was measured (for diagnostics and error budgets).
-
-    Attributes:
-        onset_ns: the contact's onset behind the recorded position.
-        window_ns: start and end of the measuring window behind the recorded normal.
-        estimate: that window's estimate.
-    """
-
-    onset_ns: int
-    window_ns: tuple[int, int]
-    estimate: NormalEstimate
 
 
 class _Stage(enum.Enum):
@@ -491,8 +345,7 @@ class Explorer:
                 self._blocked_retries < MAX_BLOCKED_RETRIES:
             self._blocked_retries += 1
             try:
-                self._command(now_ns, self._transfer(self._commanded_pose(now_ns),
-                                                     self._approach_pose()))
+                self._command(now_ns, self._path_to_approach(now_ns))
             except PathUnreachable as err:
                 self._record_failure(now_ns, ContactStatus.UNREACHABLE, str(err))
                 self._retract(now_ns)
@@ -612,8 +465,7 @@ class Explorer:
         chosen = best(self._touches, self.config.refine_tolerance_rad)
         self._relocate_normal = chosen.full.normal
         try:
-            self._command(now_ns, self._transfer(self._commanded_pose(now_ns),
-                                                 self._approach_pose()))
+            self._command(now_ns, self._path_to_approach(now_ns))
         except PathUnreachable as err:
             self._record_contact(now_ns, f'could not locate it again: {err}')
             self._retract(now_ns)
@@ -659,14 +511,18 @@ class Explorer:
             self._blocked_retries = 0
             self._relocate_normal = None
             try:
-                self._command(now_ns, self._transfer(self._commanded_pose(now_ns),
-                                                     self._approach_pose()))
+                self._command(now_ns, self._path_to_approach(now_ns))
             except PathUnreachable as err:
                 self._record_failure(now_ns, ContactStatus.UNREACHABLE, str(err),
                                      self._point(self._index))
                 continue
             self._set_stage(_Stage.MOVING, now_ns)
             return
+
+    def _path_to_approach(self, now_ns: int) -> JointPath:
+        """From where the arm is commanded now to the current point's approach pose."""
+        return transfer(self._commanded_pose(now_ns), self._approach_pose(),
+                        self.config.move_speed_m_s, self._seed())
 
     def _approach_pose(self) -> ToolPose:
         """The pose above the current point where its descent starts."""
@@ -685,7 +541,8 @@ class Explorer:
             tilt = self._surface_tilt(self._profile_normal(point))
         else:
             point = self._point(self._index)
-            tilt = self._surface_tilt(self._extrapolated_normal(point)) \
+            tilt = self._surface_tilt(targets.extrapolated_normal(
+                self.records, point, self.parameters.direction, self._heading())) \
                 if self.config.align_tool else 0.0
         # Near the edge of the workspace a lower approach may still be reachable.
         for share in (1.0, 0.5, 0.25):
@@ -699,54 +556,24 @@ class Explorer:
 
     def _surface_point(self, index: int) -> np.ndarray:
         """Where the tip touched probe `index`, on the surface under the tip sphere."""
-        located = self._located[index]
-        normal = self._profile_normal(located.tip_centre)
-        return located.tip_centre - EDGE_TIP_RADIUS_M * normal
+        return targets.surface_point(self._located[index].tip_centre, self._tip_centres(),
+                                     self.parameters.direction)
+
+    def _tip_centres(self) -> list[np.ndarray]:
+        return [located.tip_centre for located in self._located.values()]
 
     def _profile_normal(self, point) -> np.ndarray:
-        """Normal at `point` of the profile the located tips trace (vertical without one)."""
-        centres = [located.tip_centre for located in self._located.values()]
-        direction = self.parameters.direction
-        return normal_from_slope(slope_at(centres, coordinate(point, direction), direction),
-                                 direction)
-
-    def _extrapolated_normal(self, point) -> np.ndarray:
-        """FACE_ONLY: the normal the last two contacts' normals extrapolate to at `point`."""
-        found = [r for r in self.records if r.ok][-2:]
-        if not found:
-            return np.array([0.0, 0.0, 1.0])
-        direction = self.parameters.direction
-        heading = self._heading()
-        tilts = [tilt_towards(r.normal, heading) for r in found]
-        if len(found) < 2:
-            return np.asarray(found[-1].normal)
-        s = [coordinate(r.position, direction) for r in found]
-        rate = (tilts[1] - tilts[0]) / (s[1] - s[0]) if abs(s[1] - s[0]) > 1e-6 else 0.0
-        tilt = tilts[1] + rate * (coordinate(point, direction) - s[1])
-        axis = ToolPose(point, tilt).axis
-        return -axis
+        return targets.profile_normal(self._tip_centres(), point, self.parameters.direction)
 
     def _surface_tilt(self, normal) -> float:
         return tilt_towards(normal, self._heading())
 
     def _reachable_tilt(self, point, tilt: float, *also, tip: bool = False) -> float:
-        """`tilt` within max_tilt_rad, then towards 0 until the arm reaches every pose."""
-        tilt = float(np.clip(tilt, -self.config.max_tilt_rad, self.config.max_tilt_rad))
-        seed = self._seed()
-        for candidate in np.linspace(tilt, 0.0, 9):
-            try:
-                for where in (point, *also):
-                    solve(pose_with_tip_at(where, candidate) if tip
-                          else ToolPose(where, candidate), seed)
-            except PathUnreachable:
-                continue
-            return float(candidate)
-        return 0.0
+        return targets.reachable_tilt(point, tilt, also, max_tilt_rad=self.config.max_tilt_rad,
+                                      seed=self._seed(), tip=tip)
 
     def _point(self, index: int) -> np.ndarray:
-        """Probe point `index`, or for -1 and the count the points one step beyond the ends."""
-        p = self.parameters
-        return np.asarray(p.start) + index * p.step * np.asarray(p.direction)
+        return targets.probe_point(self.parameters, index)
 
     def _is_probe_point(self, index: int) -> bool:
         return 0 <= index < self.parameters.probe_count
@@ -756,7 +583,7 @@ class Explorer:
                      + self.parameters.approach_height)
 
     def _heading(self) -> float:
-        return ToolPose(self._point(self._index), 0.0).heading
+        return targets.heading(self.parameters, self._index)
 
     # -- motions --------------------------------------------------------------------------
     def _descend(self, now_ns: int) -> None:
@@ -772,30 +599,13 @@ class Explorer:
             end = start.moved(start.axis * 3.0 * self.config.refine_lift_m)
             speed = min(self.parameters.descent_speed, self.config.press_speed_m_s)
         try:
-            path = self._reachable_part(start, end, speed)
+            path = reachable_part(start, end, speed, self._seed())
         except PathUnreachable as err:
             self._record_failure(now_ns, ContactStatus.UNREACHABLE, str(err))
             self._retract(now_ns)
             return
         self._command(now_ns, path)
         self._set_stage(_Stage.DESCENDING, now_ns)
-
-    def _reachable_part(self, start: ToolPose, end: ToolPose, speed: float) -> JointPath:
-        """The straight path towards `end`, cut where the arm stops reaching (1 mm steps)."""
-        seed = self._seed()
-        offset = end.point - start.point
-        steps = max(1, int(float(np.linalg.norm(offset)) / 0.001))
-        reach = 0
-        for i in range(1, steps + 1):
-            try:
-                solve(start.moved(offset * i / steps), seed)
-            except PathUnreachable:
-                break
-            reach = i
-        if reach == 0:
-            raise PathUnreachable(f'the motion from {np.round(start.point, 4).tolist()} m '
-                                  'leaves the workspace at once')
-        return straight_path(start, start.moved(offset * reach / steps), speed, seed)
 
     def _press(self, now_ns: int) -> None:
         """Press on along the tool axis, no further than the next force level needs.
@@ -847,7 +657,8 @@ class Explorer:
         turned = ToolPose(estimate.face_centre, tilt)
         turned = turned.moved(-turned.axis * self.config.refine_lift_m)
         try:
-            self._command(now_ns, self._chain(start, lifted, turned))
+            self._command(now_ns, chain((start, lifted, turned), self.config.move_speed_m_s,
+                                       self._seed()))
         except PathUnreachable as err:
             self._record_contact(now_ns, f'no further touch: {err}')
             self._retract(now_ns)
@@ -864,44 +675,11 @@ class Explorer:
         start = self._commanded_pose(now_ns)
         end = ToolPose([*start.point[:2], max(height, float(start.point[2]))], start.tilt)
         try:
-            self._command(now_ns, self._reachable_part(start, end, self.config.move_speed_m_s))
+            self._command(now_ns, reachable_part(start, end, self.config.move_speed_m_s,
+                                                self._seed()))
         except PathUnreachable:
             self._hold(now_ns)
         self._set_stage(stage, now_ns)
-
-    def _transfer(self, start: ToolPose, target: ToolPose) -> JointPath:
-        """A path from `start` to `target` that stays above both (several routes tried).
-
-        Up first, across at the higher of the two heights, then down; failing that the
-        straight line; failing that the same as the first with the tool upright meanwhile.
-
-        Raises:
-            PathUnreachable: no route works (the message is the first route's reason).
-        """
-        safe_z = max(float(start.point[2]), float(target.point[2]))
-        upright = ToolPose(start.point, 0.0)
-        routes = (
-            (start, ToolPose([*start.point[:2], safe_z], start.tilt),
-             ToolPose([*target.point[:2], safe_z], target.tilt), target),
-            (start, target),
-            (start, upright, ToolPose([*start.point[:2], safe_z], 0.0),
-             ToolPose([*target.point[:2], safe_z], 0.0), target),
-        )
-        first_error = None
-        for route in routes:
-            try:
-                return self._chain(*route)
-            except PathUnreachable as err:
-                first_error = first_error or err
-        raise first_error
-
-    def _chain(self, *poses: ToolPose) -> JointPath:
-        seed = self._seed()
-        paths = []
-        for start, end in zip(poses[:-1], poses[1:], strict=True):
-            paths.append(straight_path(start, end, self.config.move_speed_m_s, seed))
-            seed = paths[-1].joints[-1]
-        return concatenate(paths)
 
     def _command(self, now_ns: int, path: JointPath) -> None:
         self._path, self._path_ns = path, now_ns

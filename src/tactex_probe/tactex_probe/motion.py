@@ -243,3 +243,66 @@ def straight_path(start: ToolPose, end: ToolPose, speed_m_s: float, seed: Sequen
         duration = slowest_step_s * count
         times = duration * np.arange(1, count + 1) / count
     return JointPath(times, joints, (start, end), (0.0, duration))
+
+
+def chain(poses: Sequence[ToolPose], speed_m_s: float, seed: Sequence[float]) -> JointPath:
+    """Straight paths through `poses` in turn, each starting from the last one's joints.
+
+    Raises:
+        PathUnreachable: a leg of it (the message says where).
+    """
+    paths = []
+    for start, end in zip(poses[:-1], poses[1:], strict=True):
+        paths.append(straight_path(start, end, speed_m_s, seed))
+        seed = paths[-1].joints[-1]
+    return concatenate(paths)
+
+
+def transfer(start: ToolPose, target: ToolPose, speed_m_s: float,
+             seed: Sequence[float]) -> JointPath:
+    """A path from `start` to `target` that stays above both (several routes tried).
+
+    Up first, across at the higher of the two heights, then down; failing that the
+    straight line; failing that the same as the first with the tool upright meanwhile.
+
+    Raises:
+        PathUnreachable: no route works (the message is the first route's reason).
+    """
+    safe_z = max(float(start.point[2]), float(target.point[2]))
+    upright = ToolPose(start.point, 0.0)
+    routes = (
+        (start, ToolPose([*start.point[:2], safe_z], start.tilt),
+         ToolPose([*target.point[:2], safe_z], target.tilt), target),
+        (start, target),
+        (start, upright, ToolPose([*start.point[:2], safe_z], 0.0),
+         ToolPose([*target.point[:2], safe_z], 0.0), target),
+    )
+    first_error = None
+    for route in routes:
+        try:
+            return chain(route, speed_m_s, seed)
+        except PathUnreachable as err:
+            first_error = first_error or err
+    raise first_error
+
+
+def reachable_part(start: ToolPose, end: ToolPose, speed_m_s: float,
+                   seed: Sequence[float]) -> JointPath:
+    """The straight path towards `end`, cut where the arm stops reaching (1 mm steps).
+
+    Raises:
+        PathUnreachable: not even the first millimetre is reachable.
+    """
+    offset = end.point - start.point
+    steps = max(1, int(float(np.linalg.norm(offset)) / 0.001))
+    reach = 0
+    for i in range(1, steps + 1):
+        try:
+            solve(start.moved(offset * i / steps), seed)
+        except PathUnreachable:
+            break
+        reach = i
+    if reach == 0:
+        raise PathUnreachable(f'the motion from {np.round(start.point, 4).tolist()} m '
+                              'leaves the workspace at once')
+    return straight_path(start, start.moved(offset * reach / steps), speed_m_s, seed)

@@ -38,9 +38,9 @@ from tactex_msgs.msg import Contact
 from tactex_msgs.msg import Pathway as PathwayMsg
 from tactex_probe.detection import DEFAULT_PA_PER_NEWTON, DetectorConfig
 from tactex_probe.errors import ParameterError
-from tactex_probe.exploration import (
+from tactex_probe.exploration import Explorer
+from tactex_probe.explorer_interface import (
     Command,
-    Explorer,
     ExplorerConfig,
     Feedback,
     Finished,

@@ -2,9 +2,11 @@
 # SPDX-License-Identifier: Apache-2.0
 """Simulation effects: small units a scene switches on by name, each computed only then.
 
-An effect declares the inputs it reads and the channels or model parts it writes. The
-world computes an input only when an enabled effect that declares it asks for it, and
-refuses an undeclared one; it builds the collisions only if an enabled effect writes
+An effect declares the inputs it reads (fields of `tactex_sim.inputs.Inputs`, checked
+when its class is defined) and the channels or model parts it writes. At each sample the
+world computes the inputs that enabled effects declare and gives each effect an `Inputs`
+with only its own filled (a test holds every effect's uses to its declarations); it
+builds the collisions only if an enabled effect writes
 `contact` and the compliant joints only if one writes `sensor pose`; the channels no
 enabled effect writes stay NaN (a test holds every effect to its `writes`). Hooks:
 `after_compile(model, data)` once, and `apply(reading, inputs)` at every sensor sample.
@@ -28,6 +30,7 @@ from tactex_common.constants import EARTH_FIELD_T, SEA_LEVEL_PRESSURE_PA
 from tactex_description import edge
 from tactex_sim import vibration
 from tactex_sim.errors import SceneError, UnknownNameError
+from tactex_sim.inputs import INPUT_NAMES, Inputs
 from tactex_sim.textures import Texture
 
 
@@ -95,9 +98,17 @@ class Effect:
     """Base of all effects: options, declared inputs and outputs, no-op hooks."""
 
     name: ClassVar[str] = ''
-    reads: ClassVar[frozenset[str]] = frozenset()
+    reads: ClassVar[frozenset[str]] = frozenset()  # fields of tactex_sim.inputs.Inputs
     writes: ClassVar[frozenset[str]] = frozenset()
     defaults: ClassVar[Mapping[str, Option]] = {}
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        """Refuse, when the class is defined, an input the world does not provide."""
+        super().__init_subclass__(**kwargs)
+        unknown = sorted(cls.reads - INPUT_NAMES)
+        if unknown:
+            raise TypeError(f'effect {cls.name!r} reads {unknown}, which the world does not '
+                            f'provide; it provides {sorted(INPUT_NAMES)}')
 
     def __init__(self, rng: np.random.Generator, noise_scale: float = 1.0,
                  **options: Any) -> None:
@@ -116,7 +127,7 @@ class Effect:
     def after_compile(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
         """Called once the model exists."""
 
-    def apply(self, reading: Reading, inputs: Mapping[str, Any]) -> None:
+    def apply(self, reading: Reading, inputs: Inputs) -> None:
         """Called at every sensor sample."""
 
 
@@ -179,8 +190,8 @@ class TextureVibration(Effect):
     """
 
     name = 'texture'
-    reads = frozenset({'contact', 'edge velocity', 'texture', 'sensor rotation', 'sample rate',
-                       'sensor filters'})
+    reads = frozenset({'contact', 'edge_velocity', 'texture', 'sensor_rotation', 'sample_rate_hz',
+                       'sensor_filters_hz'})
     writes = frozenset({'accel', 'gyro'})
     defaults = {'resonance_hz': Option(edge.normal_resonance_hz(), 1.0, 1e4),
                 'damping_ratio': Option(edge.SKIN_DAMPING_RATIO, 0.01, 10.0),
@@ -221,13 +232,13 @@ class TextureVibration(Effect):
                 self.options['contact_width_m'], surface.roughness_length)
         return self._roughness[surface.name]
 
-    def apply(self, reading: Reading, inputs: Mapping[str, Any]) -> None:
+    def apply(self, reading: Reading, inputs: Inputs) -> None:
         """Add the texture's vibration and rocking while the edge slides on a patch."""
-        contact = inputs['contact']
-        surface = inputs['texture'] if contact.touching else None
+        contact = inputs.contact
+        surface = inputs.texture if contact.touching else None
         if surface is None:
             return
-        velocity = inputs['edge velocity']
+        velocity = inputs.edge_velocity
         largest = float(np.max(np.abs(velocity)))
         if largest > MAX_SLIDING_SPEED_M_S:  # flung: keep the direction, cap the speed
             velocity = velocity * (MAX_SLIDING_SPEED_M_S / largest)
@@ -238,13 +249,13 @@ class TextureVibration(Effect):
             return
         direction = tangential / speed
         speed = min(speed, MAX_SLIDING_SPEED_M_S)
-        self._travelled += speed / inputs['sample rate']
+        self._travelled += speed / inputs.sample_rate_hz
         options = self.options
         force = min(max(contact.force, FOOTPRINT_FORCE_RANGE_N[0]), FOOTPRINT_FORCE_RANGE_N[1])
         relative_force = force / options['reference_force_n']
         grow = relative_force ** (1.0 / 3.0)
         length, width = options['contact_length_m'] * grow, options['contact_width_m'] * grow
-        accel_cutoff, gyro_cutoff = inputs['sensor filters']
+        accel_cutoff, gyro_cutoff = inputs.sensor_filters_hz
         cos_h, sin_h = math.cos(self.heading_rad), math.sin(self.heading_rad)
         x, y = float(contact.point[0]), float(contact.point[1])
         u, v = cos_h * x + sin_h * y, -sin_h * x + cos_h * y
@@ -277,7 +288,7 @@ class TextureVibration(Effect):
         slip_phase = (self._travelled / options['slip_length_m']) % 1.0
         tangential_accel = surface.friction * normal_accel + surface.softness * min(
             2.0, relative_force) * options['stick_slip_accel'] * stickiness * (slip_phase - 0.5)
-        rotation = inputs['sensor rotation']  # world <- sensor
+        rotation = inputs.sensor_rotation  # world <- sensor
         reading.accel += rotation.T @ (normal_accel * normal + tangential_accel * direction)
         reading.gyro += rotation.T @ (rocking * _cross(normal, direction))
 
@@ -308,7 +319,7 @@ class ImuNoise(Effect):
         self.accel_bias = rng.normal(0.0, self.options['accel_bias_sd'], 3)
         self.gyro_bias = rng.normal(0.0, self.options['gyro_bias_sd'], 3)
 
-    def apply(self, reading: Reading, inputs: Mapping[str, Any]) -> None:
+    def apply(self, reading: Reading, inputs: Inputs) -> None:
         """Add bias and noise."""
         reading.accel += self.accel_bias + self.rng.normal(
             0.0, self.options['accel_sd'] * self.noise_scale, 3)
@@ -330,7 +341,7 @@ class Magnetometer(Effect):
     """
 
     name = 'magnetometer'
-    reads = frozenset({'sensor rotation', 'sensor position'})
+    reads = frozenset({'sensor_rotation', 'sensor_position'})
     writes = frozenset({'mag'})
     defaults = {'earth_field_t': Option(EARTH_FIELD_T, -1e-2, 1e-2),
                 'magnet_position_m': Option((0.35, 0.25, 0.05), -100.0, 100.0),
@@ -338,9 +349,9 @@ class Magnetometer(Effect):
                 'magnet_radius_m': Option(0.005, 1e-4, 1.0),
                 'noise_sd_t': Option(2.0e-7, 0.0, 1e-2)}
 
-    def apply(self, reading: Reading, inputs: Mapping[str, Any]) -> None:
+    def apply(self, reading: Reading, inputs: Inputs) -> None:
         """Field at the sensor, rotated into its frame."""
-        offset = inputs['sensor position'] - np.asarray(self.options['magnet_position_m'])
+        offset = inputs.sensor_position - np.asarray(self.options['magnet_position_m'])
         largest = float(np.max(np.abs(offset)))
         if largest > FAR_FROM_MAGNET_M:  # same direction, no overflow
             offset = offset * (FAR_FROM_MAGNET_M / largest)
@@ -350,7 +361,7 @@ class Magnetometer(Effect):
         distance = max(norm, self.options['magnet_radius_m'])
         dipole = 1e-7 * (3.0 * np.dot(moment, unit) * unit - moment) / distance ** 3
         field = np.asarray(self.options['earth_field_t'], dtype=float) + dipole
-        reading.mag = inputs['sensor rotation'].T @ field + self.rng.normal(
+        reading.mag = inputs.sensor_rotation.T @ field + self.rng.normal(
             0.0, self.options['noise_sd_t'] * self.noise_scale, 3)
 
 
@@ -358,7 +369,7 @@ class Barometer(Effect):
     """Pressure from the compression of the compliant body, slow thermal drift, noise."""
 
     name = 'barometer'
-    reads = frozenset({'compression', 'time'})
+    reads = frozenset({'compression_m', 'time_s'})
     writes = frozenset({'pressure', 'temperature'})
     defaults = {'sea_level_pa': Option(SEA_LEVEL_PRESSURE_PA, 1.0, 1e7),
                 'pa_per_m_compression': Option(1.5e6, 0.0, 1e9),
@@ -366,11 +377,11 @@ class Barometer(Effect):
                 'drift_pa_per_s': Option(0.0, -1e4, 1e4),
                 'temperature_c': Option(24.0, -273.15, 1000.0)}
 
-    def apply(self, reading: Reading, inputs: Mapping[str, Any]) -> None:
+    def apply(self, reading: Reading, inputs: Inputs) -> None:
         """Compression raises the pressure inside the cast body."""
-        t = inputs['time']
+        t = inputs.time_s
         reading.pressure = (self.options['sea_level_pa']
-                            + self.options['pa_per_m_compression'] * inputs['compression']
+                            + self.options['pa_per_m_compression'] * inputs.compression_m
                             + self.options['drift_pa_per_s'] * t
                             + self.rng.normal(0.0, self.options['noise_sd_pa']
                                               * self.noise_scale))
@@ -394,7 +405,7 @@ class SensorChips(Effect):
     """
 
     name = 'sensor'
-    reads = frozenset({'time'})
+    reads = frozenset({'time_s'})
     writes = frozenset({'accel', 'gyro', 'mag', 'pressure'})
     defaults = {'accel_range_g': Option(float(chips.ACCEL_RANGE_G),
                                         choices=tuple(map(float, chips.ACCEL_RANGES))),
@@ -418,9 +429,9 @@ class SensorChips(Effect):
         """Cut-offs (accelerometer, gyro) of the chip's filters."""
         return chips.ACCEL_BANDWIDTH_HZ, chips.GYRO_CUTOFF_HZ
 
-    def apply(self, reading: Reading, inputs: Mapping[str, Any]) -> None:
+    def apply(self, reading: Reading, inputs: Inputs) -> None:
         """Saturate and quantise each channel as the chips report it."""
-        t = inputs['time']
+        t = inputs.time_s
         reading.accel = chips.quantise(reading.accel, self.accel.lsb_si)
         reading.gyro = chips.quantise(reading.gyro, self.gyro.lsb_si)
         tick = math.floor(t * chips.MAG_ODR_HZ + 1e-9)

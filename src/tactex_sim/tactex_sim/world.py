@@ -10,12 +10,12 @@ channel) with the ground truth: contact point, surface normal and force, the att
 longer than the scene's `timestep_s` that divides the sensor period (2 ms asked at
 350 Hz: 1.43 ms, two steps per sample; at 120 Hz: 1.67 ms, five), so every sample falls
 on a physics instant and sample k is taken at exactly k / rate, as a sensor would.
-edge. Inputs of the effects are computed only when an enabled effect asks for them.
+edge. At each sample the world computes the inputs its enabled effects declare
+(`tactex_sim.inputs.Inputs`) and gives each effect those it declared.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
 from dataclasses import dataclass
 import math
 from typing import Any
@@ -27,6 +27,7 @@ from tactex_description.geometry import JOINT_STATE_NAMES, OPEN_MANIPULATOR_X
 from tactex_description.mjcf import build_mjcf, IMU_SITE, SENSOR_EDGE_GEOM, SENSOR_GEOM
 from tactex_sim.effects import Effect, effect_class, EFFECTS, Reading
 from tactex_sim.errors import SimError
+from tactex_sim.inputs import Contact, Inputs, NO_CONTACT
 from tactex_sim.scene import Scene
 from tactex_sim.textures import texture as find_texture
 
@@ -34,24 +35,14 @@ SURFACE_GEOM = 'surface'
 PRESS_STIFFNESS_N_M = OPEN_MANIPULATOR_X.joint('sensor_press').stiffness
 # The compliant body's travel: no body compresses further, welded or not.
 PRESS_TRAVEL_M = -OPEN_MANIPULATOR_X.joint('sensor_press').lower
-# MuJoCo's warnings that the state went non-finite or huge (it resets the state then).
 # The most simulated seconds per wall second the bridge is asked for (0: as fast as it can).
 MAX_RATE_FACTOR = 1000.0
+# A placed arm settles this long under its servos before its clock starts (s): it sags
+# about 4 mrad at joints 2 and 3 and is within 1e-5 rad/s of rest by then.
+SETTLE_S = 0.5
+# MuJoCo's warnings that the state went non-finite or huge (it resets the state then).
 _DIVERGED = (mujoco.mjtWarning.mjWARN_BADQPOS, mujoco.mjtWarning.mjWARN_BADQVEL,
              mujoco.mjtWarning.mjWARN_BADQACC)
-
-
-@dataclass(frozen=True)
-class Contact:
-    """Contact of the sensor with the surface (normal points out of the surface)."""
-
-    touching: bool
-    point: np.ndarray
-    normal: np.ndarray
-    force: float
-
-
-NO_CONTACT = Contact(False, np.full(3, np.nan), np.full(3, np.nan), 0.0)
 
 
 @dataclass(frozen=True)
@@ -76,26 +67,6 @@ class Sample:
     pressure: float
     temperature: float
     truth: GroundTruth
-
-
-class _DeclaredInputs(Mapping):
-    """The inputs one effect declared: each computed by the world on first use per sample."""
-
-    def __init__(self, world: World, effect: Effect) -> None:
-        self._world = world
-        self._effect = effect
-
-    def __getitem__(self, key: str) -> Any:
-        if key not in self._effect.reads:
-            raise KeyError(f'effect {self._effect.name!r} reads {key!r} without declaring it; '
-                           f'it declares {sorted(self._effect.reads)}')
-        return self._world.input(key)
-
-    def __iter__(self):
-        return iter(self._effect.reads)
-
-    def __len__(self) -> int:
-        return len(self._effect.reads)
 
 
 class World:
@@ -154,7 +125,7 @@ class World:
         self._force = np.zeros(6)
         self._edge_velocity = np.zeros(6)
         self._cache: dict[str, Any] = {}
-        self._effect_inputs = [(effect, _DeclaredInputs(self, effect)) for effect in self.effects]
+        self._inputs_read = frozenset().union(*(effect.reads for effect in self.effects))
         self.controller = None  # callable(time_s) -> joint targets, before every step
         for effect in self.effects:
             effect.after_compile(self.model, self.data)
@@ -220,10 +191,21 @@ class World:
         self.data.ctrl[:len(JOINT_STATE_NAMES)] = positions
 
     def place_arm(self, positions) -> None:
-        """Put the arm at `positions` at rest (start of a run)."""
+        """Put the arm at `positions` at rest (start of a run), its servos holding it.
+
+        A servo holds its load by sagging until its error balances the load, and a real
+        arm has long done so when its sensor stream starts. Put there with its joints
+        still, the simulated arm would fall freely at first, and its accelerometer read
+        about 0 instead of gravity (the attitude filter rejects such a sample). So the
+        physics runs `SETTLE_S` with the servos holding `positions`, and the clock
+        starts at 0 from there.
+        """
         self.data.qpos[self._arm_qpos] = positions
         self.data.qvel[:] = 0.0
         self.set_arm_targets(positions)
+        for _ in range(round(SETTLE_S / self.model.opt.timestep)):
+            mujoco.mj_step(self.model, self.data)
+        self.data.time = 0.0
         mujoco.mj_forward(self.model, self.data)
 
     def joint_positions(self) -> np.ndarray:
@@ -261,8 +243,9 @@ class World:
         sensordata = self.data.sensordata
         reading = Reading(sensordata[0:3].copy(), sensordata[3:6].copy())
         self._cache.clear()
-        for effect, inputs in self._effect_inputs:
-            effect.apply(reading, inputs)
+        values = {name: self.input(name) for name in self._inputs_read}
+        for effect in self.effects:
+            effect.apply(reading, Inputs(**{name: values[name] for name in effect.reads}))
         truth = GroundTruth(sample_time_s, self.input('contact'),
                             self.data.xquat[self._sensor_body].copy(),
                             self.data.xpos[self._edge_body].copy(),
@@ -288,7 +271,7 @@ class World:
     def _compute(self, key: str) -> Any:
         if key == 'contact':
             return self.contact()
-        if key == 'edge velocity':
+        if key == 'edge_velocity':
             mujoco.mj_objectVelocity(self.model, self.data, mujoco.mjtObj.mjOBJ_BODY,
                                      self._edge_body, self._edge_velocity, 0)
             return self._edge_velocity[3:].copy()
@@ -296,20 +279,20 @@ class World:
             name = self._texture_name_at(self.input('contact').point) \
                 if self.input('contact').touching else ''
             return find_texture(name) if name else None
-        if key == 'sensor rotation':
+        if key == 'sensor_rotation':
             return self.data.site_xmat[self._site].reshape(3, 3).copy()
-        if key == 'sensor position':
+        if key == 'sensor_position':
             return self.data.site_xpos[self._site].copy()
-        if key == 'compression':
+        if key == 'compression_m':
             if self._press is not None:
                 return max(0.0, -float(self.data.qpos[self._press]))
             # Welded body: what the compliant one would compress under this force.
             return min(self.input('contact').force / PRESS_STIFFNESS_N_M, PRESS_TRAVEL_M)
-        if key == 'time':
+        if key == 'time_s':
             return self._sample_time_s
-        if key == 'sample rate':
+        if key == 'sample_rate_hz':
             return self.scene.sensor_rate_hz
-        if key == 'sensor filters':  # (accelerometer, gyro) low-pass cut-offs, Hz
+        if key == 'sensor_filters_hz':  # (accelerometer, gyro) low-pass cut-offs, Hz
             chip = next((e for e in self.effects if e.name == 'sensor'), None)
             return (math.inf, math.inf) if chip is None else chip.filters_hz
         raise KeyError(f'no input {key!r}')

@@ -11,6 +11,9 @@ is chosen so that the residuals match the probe's noise (the discrepancy princip
 Contacts whose status is not ok, whose values are not finite, that lie within
 `merge_within_m` of the previous contact (merged into it), or that disagree with the
 curve and normals fitted without them are dropped, each with its reason.
+
+Longer than 500 lines: the constrained P-spline, the spherical smoothing of the normals
+and the discrepancy-principle choice of both smoothings are one fit, tested as one.
 """
 
 from __future__ import annotations

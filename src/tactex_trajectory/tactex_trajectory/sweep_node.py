@@ -13,6 +13,10 @@ records the tactile topics itself, one labelled recording per goal.
 One thread runs everything: the goal's execute callback is a coroutine that waits on the
 ticks of a steady-clock timer, so the inputs are handled between its steps and no lock is
 needed (rclpy's multi-threaded executor fell behind the streams on two cores).
+
+Longer than 500 lines: the goal's coroutine and the input callbacks share that one
+thread's state, which a split into modules would hand across by reference; planning,
+monitoring and recording themselves live in `planner`, `monitor` and the recorder.
 """
 
 from __future__ import annotations
@@ -38,7 +42,7 @@ from std_srvs.srv import Trigger
 from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 from visualization_msgs.msg import Marker, MarkerArray
 
-from tactex_classify.recorder import RECORDED_TOPICS, SplitRecorder
+from tactex_classify.recording.recorder import RECORDED_TOPICS, SplitRecorder
 from tactex_common import topics
 from tactex_common.ros import (
     COMMAND,

@@ -23,7 +23,7 @@ import time
 import numpy as np
 
 from tactex.accuracy_time.sizes import Size
-from tactex_classify.catalog import BASELINES
+from tactex_classify.models.registry import BASELINES
 
 THRESHOLDS = (0.5, 0.7, 0.9, 0.99, 0.999, 0.9999, 1 - 1e-6, 1.0)
 SCHEME = 'grouped'
@@ -41,8 +41,8 @@ class Data:
 
 def make_estimator(model: str, size: Size, *, seed: int, threads: int):
     """A fresh estimator of `model` (deep models train `size.epochs` epochs)."""
-    from tactex_classify.baselines import MiniRocketRidge, StatsExtraTrees
-    from tactex_classify.classifier import DeepClassifier, TrainingConfig
+    from tactex_classify.models.baselines import MiniRocketRidge, StatsExtraTrees
+    from tactex_classify.training.deep_classifier import DeepClassifier, TrainingConfig
     if model == 'minirocket':
         return MiniRocketRidge(seed=seed)
     if model == 'extratrees':
@@ -53,7 +53,7 @@ def make_estimator(model: str, size: Size, *, seed: int, threads: int):
 
 def build_data(scratch: Path, size: Size, log: Callable[[str], None]) -> Data:
     """Collect the sweeps and convert them at every window length of `size`."""
-    from tactex_classify.dataset import convert
+    from tactex_classify.data.dataset import convert
     from tactex_sim.collect import collect
     from tactex_sim.scene import load_scene, resolve_scene
     from tactex_sim.textures import TEXTURES
@@ -75,7 +75,11 @@ def build_data(scratch: Path, size: Size, log: Callable[[str], None]) -> Data:
 def contact_time(data: Data, size: Size, log: Callable[[str], None], *, seed: int,
                  threads: int) -> dict:
     """Section 1: per model and window, accuracy against the contact seconds of a decision."""
-    from tactex_classify.evaluate import cross_validate, sequence_accuracy, threshold_decisions
+    from tactex_classify.evaluation.cross_validation import (
+        cross_validate,
+        sequence_accuracy,
+        threshold_decisions,
+    )
     points, runs, skipped = [], {}, []
     for window, dataset in data.datasets.items():
         hop = window // 2
@@ -116,7 +120,7 @@ def fits(model: str, window: int, channels: int) -> bool:
     """`model` takes windows of `window` samples (pooling deep models need a minimum)."""
     if model in BASELINES:
         return True
-    from tactex_classify.models import MODELS
+    from tactex_classify.models.architectures import MODELS
     try:
         MODELS[model](window, channels, 2)
     except ValueError:
@@ -141,8 +145,8 @@ def mark_pareto(points: list[dict]) -> None:
 def compute_time(data: Data, section1: dict, size: Size, scratch: Path,
                  log: Callable[[str], None], *, seed: int, threads: int) -> dict:
     """Section 2: training time on every window and per-window latency in each runtime."""
-    from tactex_classify.checkpoint import read_checkpoint
-    from tactex_classify.runtime import export_onnx, load_predictor, ONNX_KINDS
+    from tactex_classify.models.checkpoint import read_checkpoint
+    from tactex_classify.online.runtime import export_onnx, load_predictor, ONNX_KINDS
     window = 128 if 128 in size.windows else size.windows[len(size.windows) // 2]
     dataset = data.datasets[window]
     rows = []

@@ -4,32 +4,10 @@
 
 from __future__ import annotations
 
-from tactex.accuracy_time.report import BUDGET_S, NEAR_BEST
-from tactex_classify.catalog import BASELINES
-
-PLOTS = {'1': 'contact_time.png', '2': 'compute_time.png', '3': 'probing_time.png',
-         '4': 'sweep_speed.png', '5': 'simulation_cost.png', '6': 'filter_rate.png',
-         '7': 'whole_job.png'}
-
-TITLES = {
-    '1': 'Contact time against accuracy',
-    '2': 'Compute time against accuracy',
-    '3': 'Probing time against reconstruction accuracy',
-    '4': 'Sweep speed against accuracy',
-    '5': 'Simulation cost against fidelity',
-    '6': 'Filter rate against attitude accuracy',
-    '7': 'Where the time goes end to end',
-}
-
-
-def _pct(value: float) -> str:
-    return f'{100 * value:.1f} %'
-
-
-def table(columns: list[str], rows: list[list[str]]) -> list[str]:
-    """A markdown table's lines."""
-    return [f'| {" | ".join(columns)} |', f'|{"---|" * len(columns)}',
-            *(f'| {" | ".join(row)} |' for row in rows)]
+from tactex.accuracy_time.configurations import BUDGET_S, NEAR_BEST
+from tactex.accuracy_time.section_text import data_line, percent
+from tactex.accuracy_time.sections import Section, SECTIONS
+from tactex_classify.models.registry import BASELINES
 
 
 def command(point: dict, *, epochs: int, folds: int) -> str:
@@ -45,14 +23,6 @@ def command(point: dict, *, epochs: int, folds: int) -> str:
     lines.append('tactex launch classify checkpoint:=run/model '
                  f'threshold:={point["threshold"]:.10g} runtime:={point["runtime"]}')
     return '\n'.join(lines)
-
-
-def data_line(results: dict) -> str:
-    """What the classification sections ran on."""
-    size, data = results['size'], results['data']
-    return (f'{data["recordings"]} simulated sweeps (uneven_texture scene, {size["textures"]} '
-            f'textures x {size["sweeps"]}, {data["rate_hz"]:g} Hz), grouped '
-            f'{size["folds"]}-fold CV by recording')
 
 
 def render(results: dict) -> str:
@@ -72,160 +42,28 @@ def render(results: dict) -> str:
             lines += [f'**{title}**: no configuration decided within {BUDGET_S:g} s.', '']
             continue
         lines += [f'**{title}**: {point["model"]}, window {point["window"]}, threshold '
-                  f'{point["threshold"]:.10g}: {_pct(point["accuracy"])} of sweeps right after '
+                  f'{point["threshold"]:.10g}: {percent(point["accuracy"])} of sweeps right after '
                   f'a median {point["contact_s"]:.2f} s of contact (earliness '
                   f'{point["earliness"]:.2f}), runtime {point["runtime"]}.', '', '```sh',
                   command(point, epochs=results['size']['epochs'],
                           folds=results['size']['folds']), '```', '']
-    renderers = (contact_section, compute_section, probing_section, speed_section,
-                 simulation_section, filter_section, job_section)
-    for number, renderer in zip(TITLES, renderers, strict=True):
-        failed = results[number].get('failed')
-        lines += ([f'## {number}. {TITLES[number]}', '', f'Not measured: {failed}.'] if failed
-                  else renderer(results)) + ['']
+    for section in SECTIONS:
+        lines += section_lines(section, results) + ['']
     return '\n'.join(lines)
 
 
-def _section(results: dict, number: str, data: str, notes: str,
-             tables: list[list[str]]) -> list[str]:
-    """A section: title, plot, the data it used, notes, its tables."""
-    title = TITLES[number]
-    lines = [f'## {number}. {title}', '', f'![{title}]({PLOTS[number]})', '',
-             f'Data: {data}. Section time: {results["seconds"][number]:.0f} s.', '']
-    if notes:
-        lines += [notes, '']
-    for rows in tables:
+def section_lines(section: Section, results: dict) -> list[str]:
+    """A section: title, plot, the data it used, notes, its tables (or why not measured)."""
+    heading = f'## {section.number}. {section.title}'
+    failed = results[section.key].get('failed')
+    if failed:
+        return [heading, '', f'Not measured: {failed}.']
+    text = section.render(results)
+    lines = [heading, '', f'![{section.title}]({section.plot_file})', '',
+             f'Data: {text.data}. Section time: {results["seconds"][section.key]:.0f} s.', '']
+    if text.notes:
+        lines += [text.notes, '']
+    for rows in text.tables:
         lines += rows + ['']
     return lines
 
-
-def contact_section(results: dict) -> list[str]:
-    """Section 1: per model and window, every decision rule; the Pareto front marked."""
-    rows = [[p['model'], str(p['window']), p['rule'], f'{p["contact_s"]:.2f}',
-             _pct(p['accuracy']),
-             '—' if p['earliness'] is None else f'{p["earliness"]:.3f}',
-             '—' if p['harmonic_mean'] is None else f'{p["harmonic_mean"]:.3f}',
-             '**P**' if p['pareto'] else ''] for p in results['1']['points']]
-    return _section(
-        results, '1', data_line(results),
-        'Contact time: for k windows, window length + (k - 1) hops; for the live rule, the '
-        "median over sweeps of the contact seconds behind the decision (the node's "
-        '`Evidence` replayed on out-of-fold probabilities; a sweep that never meets the '
-        "threshold is decided at its end). Earliness: the share of the sweep's windowed "
-        'contact used; HM: harmonic mean of accuracy and 1 - earliness (TEASER). '
-        '**P**: on the Pareto front over every row.' + (
-            f' Not run: {", ".join(results["1"]["skipped"])}.' if results['1']['skipped']
-            else ''),
-        [table(['model', 'window', 'rule', 'contact s', 'accuracy', 'earliness', 'HM', ''],
-               rows)])
-
-
-def compute_section(results: dict) -> list[str]:
-    """Section 2: accuracy, training time and latency per model and runtime."""
-    second = results['2']
-    rows = [[row['model'], _pct(row['accuracy']), f'{row["train_s"]:.1f}',
-             f'{row["cv_s"]:.0f}', runtime, f'{1e3 * value["single_s"]:.3f}',
-             f'{1e3 * value["batched_s"]:.3f}']
-            for row in second['rows'] for runtime, value in row['latency'].items()]
-    return _section(
-        results, '2',
-        f'{data_line(results)}, window {second["window"]}',
-        'Training: one fit on every window (the CV column is the whole grouped CV of '
-        'section 1). Latency: median of single-window calls after a warm-up, one thread; '
-        f'batched: per window in a batch of 64. Deep models train {results["size"]["epochs"]} '
-        'epochs here.',
-        [table(['model', 'accuracy', 'training s', 'CV s', 'runtime', 'ms per window',
-                'ms per window (batch 64)'], rows)])
-
-
-def probing_section(results: dict) -> list[str]:
-    """Section 3: errors and probing time per step and descent speed."""
-    third = results['3']
-    rows = [[f'{r["step_mm"]:g}', f'{r["descent_mm_s"]:g}', str(r['points']),
-             str(r['contacts']), f'{r["normal_mean_deg"]:.2f} / {r["normal_max_deg"]:.2f}',
-             f'{r["position_mean_mm"]:.2f} / {r["position_max_mm"]:.2f}',
-             f'{r["probing_s"]:.1f}', f'{r["wall_s"]:.0f}'] for r in third['rows']]
-    return _section(
-        results, '3',
-        f'closed-loop probing of a {third["span_mm"]:g} mm line of the uneven plate (probe '
-        'scene, sensor noise and barometer on), scored against the true surface', '',
-        [table(['step mm', 'descent mm/s', 'probes', 'contacts', 'normal mean / max deg',
-                'position mean / max mm', 'probing s (simulated)', 'wall s'], rows)])
-
-
-def speed_section(results: dict) -> list[str]:
-    """Section 4: contact fraction and accuracy per sliding speed."""
-    fourth = results['4']
-    rows = [[f'{r["speed_mm_s"]:g}', f'not measured: {r["failed"]}', '', '', '', '', '']
-            if r['failed'] else
-            [f'{r["speed_mm_s"]:g}', f'{r["distance_mm"]:.0f}',
-             f'{_pct(r["contact_fraction"])} ({_pct(r["contact_fraction_min"])})',
-             str(r['windows']), _pct(r['window_accuracy']), _pct(r['sweep_accuracy']),
-             f'{r["collect_s"]:.0f}'] for r in fourth['rows']]
-    return _section(
-        results, '4',
-        f'uneven_texture sweeps, {fourth["textures"]} textures x {fourth["sweeps"]} per '
-        f'speed, {fourth["contact_s"]:g} s of sliding each, window {fourth["window"]}, '
-        f'{fourth["model"]}, grouped CV',
-        'Every speed gets the same contact time, so faster sweeps cover more texture per '
-        'second. Contact fraction: share of the planned sliding samples in true sliding '
-        'contact over the texture (what the converter keeps).',
-        [table(['speed mm/s', 'distance mm', 'contact mean (worst)', 'windows',
-                'window accuracy', 'whole-sweep accuracy', 'collect s'], rows)])
-
-
-def simulation_section(results: dict) -> list[str]:
-    """Section 5: real-time factor and spectral distance per variant."""
-    fifth = results['5']
-    rows = [[r['variant'], f'{r["step_ms"]:.3f}', f'{r["real_time_factor"]:.1f}x',
-             f'{r["distance_db"]:.2f}' + (f' (without {", ".join(r["not_simulated"])})'
-                                          if r['not_simulated'] else '')]
-            for r in fifth['rows']]
-    return _section(
-        results, '5',
-        f'one sweep of the {fifth["scene"]} scene over wood per variant, '
-        f'{fifth["seconds"]:g} s of sliding; Welch spectra of accelerometer, gyroscope and '
-        'barometer while sliding',
-        'Distance: RMS over frequency of 10 log10(power / reference power), averaged over '
-        'the 7 signals (those a variant does not simulate left out). The reference with '
-        'another noise seed shows what noise alone gives. Real-time factor: one run per '
-        'variant, so it carries the load of the machine at that moment.',
-        [table(['variant', 'physics step ms', 'real-time factor', 'spectral distance dB'],
-               rows)])
-
-
-def filter_section(results: dict) -> list[str]:
-    """Section 6: errors per rate and gain; cost per sample per rate."""
-    sixth = results['6']
-    errors = [[f'{r["rate_hz"]:g}', f'{r["gain"]:g}{"*" if r["default"] else ""}',
-               f'{r["rms_tilt_deg"]:.3f}', f'{r["rms_attitude_deg"]:.3f}']
-              for r in sixth['rows']]
-    costs = [[f'{c["rate_hz"]:g}', f'{c["stream_us"]:.1f}', f'{c["batch_us"]:.2f}',
-              f'{100 * c["stream_cpu_share"]:.2f} %'] for c in sixth['costs']]
-    return _section(
-        results, '6',
-        f'Madgwick (MARG) on synthetic motions with exact truth '
-        f'({", ".join(sixth["motions"])}; {sixth["seconds"]:g} s each, noise, no gyro bias); '
-        'errors after 3 s', f'The default gain ({sixth["default_gain"]:g}) is marked *.',
-        [table(['rate Hz', 'gain', 'RMS tilt deg', 'RMS attitude deg'], errors),
-         table(['rate Hz', 'us per sample, streaming (the node)', 'batch',
-                'CPU share of one core, streaming'], costs)])
-
-
-def job_section(results: dict) -> list[str]:
-    """Section 7: wall and arm seconds per stage of one job."""
-    job = results['7']
-    stages = job['stages']
-    rows = [[t['stage'], f'{t["wall_s"]:.2f}', f'{t["arm_s"]:.1f}'] for t in stages]
-    rows.append(['total', f'{sum(t["wall_s"] for t in stages):.1f}',
-                 f'{sum(t["arm_s"] for t in stages):.1f}'])
-    return _section(
-        results, '7',
-        f'one simulated job: probe ({job["probed"]} contacts), sweep along them, record '
-        f'{job["textures"]} textures x {job["sweeps"]} sweeps, convert (window '
-        f'{job["window"]}), train {job["model"]}, decide {job["held_out"]} held-out sweeps '
-        f'at threshold {job["threshold"]:.10g}',
-        f'The planned sweep held {_pct(job["contact_fraction"])} of its contact segment; the '
-        f'live decisions were right for {_pct(job["live_accuracy"])} of the held-out sweeps. '
-        'Live decision: mean per sweep (compute wall time; contact seconds).',
-        [table(['stage', 'wall s (this run)', 'arm s (simulated)'], rows)])

@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: Apache-2.0
 """Sections 3, 5 and 6: probing, simulation and attitude filtering, accuracy against time.
 
-3. Closed-loop probing of the uneven plate (`tactex_probe.simulation`) at several step
+3. Closed-loop probing of the uneven plate (`tactex_probe.closed_loop`) at several step
    sizes and descent speeds: normal and position error against total probing time.
 5. One fixed sweep of the uneven-texture scene at several physics steps and with each
    optional effect removed: real-time factor, and the spectral distance of the
@@ -40,9 +40,9 @@ def probing(size: Size, log: Callable[[str], None]) -> dict:
 
     The first setting's run is kept (under `_first_run`) for section 7.
     """
-    from tactex_probe.exploration import ExplorerConfig
+    from tactex_probe.closed_loop import PLATE_LINE, run_probe, score_run, summary
+    from tactex_probe.explorer_interface import ExplorerConfig
     from tactex_probe.pathway import ProbeParameters
-    from tactex_probe.simulation import PLATE_LINE, run_probe, score_run, summary
     from tactex_sim.scene import load_scene, resolve_scene
     scene = load_scene(resolve_scene('probe'))
     rows, first = [], None

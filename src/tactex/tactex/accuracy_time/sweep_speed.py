@@ -29,9 +29,9 @@ def sweep_speed(scratch: Path, size: Size, log: Callable[[str], None], *, seed: 
 
     A speed whose sweeps cannot be simulated (out of reach) gets a row with `failed`.
     """
-    from tactex_classify.baselines import StatsExtraTrees
-    from tactex_classify.dataset import convert
-    from tactex_classify.evaluate import cross_validate, threshold_decisions
+    from tactex_classify.data.dataset import convert
+    from tactex_classify.evaluation.cross_validation import cross_validate, threshold_decisions
+    from tactex_classify.models.baselines import StatsExtraTrees
     from tactex_sim.collect import collect
     from tactex_sim.errors import SimError
     from tactex_sim.scene import load_scene, resolve_scene

@@ -18,7 +18,7 @@ from tactex.options import (
     ray_address,
     window_samples,
 )
-from tactex_classify.catalog import ALL_MODELS, BASELINES, SCHEMES
+from tactex_classify.models.registry import ALL_MODELS, BASELINES, SCHEMES
 
 DEFAULT_WINDOWS = (128, 256, 512)
 
@@ -82,12 +82,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Check everything, run the missing cells on Ray, write the table and plots."""
-    from tactex_classify.compare import grid_cells, GridSettings, GridStore, run_grid
-    from tactex_classify.compare_report import write_report
+    from tactex_classify.evaluation.grid_report import write_report
+    from tactex_classify.evaluation.model_grid import grid_cells, GridSettings, GridStore, run_grid
     from tactex_common.cluster import ray_session
 
     if args.device == 'cuda' and not args.address:
-        from tactex_classify.compare import cuda_available
+        from tactex_classify.evaluation.model_grid import cuda_available
         if not cuda_available():
             raise CommandError('--device cuda: this machine has no usable GPU; use --device '
                                'auto or cpu')
@@ -161,7 +161,7 @@ def load_data(args: argparse.Namespace, store, log) -> tuple[dict, dict, list[in
         CommandError: missing paths, datasets mixed with recordings, a window without a
             dataset or given twice.
     """
-    from tactex_classify.dataset import convert, Dataset
+    from tactex_classify.data.dataset import convert, Dataset
     for path in args.data:
         if not path.exists():
             raise CommandError(f'DATA {path} does not exist')
@@ -211,7 +211,7 @@ def check_models_fit(models: list[str], window: int, dataset) -> None:
     Raises:
         CommandError: naming the model and the window.
     """
-    from tactex_classify.models import build_model
+    from tactex_classify.models.architectures import build_model
     for model in models:
         if model in BASELINES:
             continue

@@ -37,8 +37,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Convert and save."""
-    from tactex_classify.bags import parse_topic_remaps
-    from tactex_classify.dataset import convert
+    from tactex_classify.data.bags import parse_topic_remaps
+    from tactex_classify.data.dataset import convert
 
     out = check_output_file(args.out, suffix='.npz', companions=('.json',))
     hop = args.hop or max(1, args.window // 2)

@@ -28,10 +28,10 @@ def run(args: argparse.Namespace) -> int:
     if not args.onnx:
         raise CommandError('nothing to export: give --onnx')
     check_input_folder(args.checkpoint, 'CHECKPOINT')
-    from tactex_classify.checkpoint import ONNX_FILE
+    from tactex_classify.models.checkpoint import ONNX_FILE
     out = check_output_file(args.out or args.checkpoint / ONNX_FILE, suffix='.onnx')
 
-    from tactex_classify.runtime import export_onnx
+    from tactex_classify.online.runtime import export_onnx
     path = export_onnx(args.checkpoint, out)
     print(f'wrote {path} ({path.stat().st_size / 1e6:.2f} MB); run it with '
           f'classifier_node --ros-args -p checkpoint:={args.checkpoint} -p '

@@ -48,7 +48,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Import and save."""
-    from tactex_classify.importers import import_csv, import_mun, parse_channel_specs
+    from tactex_classify.data.importers import import_csv, import_mun, parse_channel_specs
 
     out = check_output_file(args.out, suffix='.npz', companions=('.json',))
     check_input_folder(args.root, 'ROOT')

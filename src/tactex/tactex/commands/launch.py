@@ -36,9 +36,9 @@ def _overrides(items: list[str], args: argparse.Namespace) -> dict[str, str]:
 
 def run(args: argparse.Namespace) -> int:
     """List, print or run."""
-    from tactex.launch_checks import check_arguments
-    from tactex.launch_spec import launch_directory, LaunchError, load_launch_file
-    from tactex.launcher import node_command, run_launch
+    from tactex.launching.arguments import check_arguments
+    from tactex.launching.spec import launch_directory, LaunchError, load_launch_file
+    from tactex.launching.supervisor import node_command, run_launch
 
     try:
         if args.name is None:

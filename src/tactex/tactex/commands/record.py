@@ -112,7 +112,7 @@ def _die_with_parent():
 
 def run(args: argparse.Namespace) -> int:
     """Start recorder_node in the foreground until Ctrl-C or SIGTERM."""
-    from tactex.ros_env import ros_environment
+    from tactex.launching.environment import ros_environment
 
     check_output_folder(args.out)
     metadata = metadata_of(args)

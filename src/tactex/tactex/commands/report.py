@@ -32,7 +32,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     """Measure and write the report."""
     check_output_folder(args.out)
-    from tactex.accuracy_time.report import write_report
+    from tactex.accuracy_time.runner import write_report
     from tactex.accuracy_time.sizes import DEFAULT, QUICK
     size = QUICK if args.quick else DEFAULT
     if args.epochs is not None:

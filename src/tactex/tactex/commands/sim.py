@@ -54,7 +54,7 @@ def _stats(args: argparse.Namespace) -> int:
     import json
     import sys
 
-    from tactex_classify import signal_stats
+    from tactex_classify.data import signal_stats
 
     check_output_folder(args.out)
     for path in args.paths:

@@ -3,7 +3,7 @@
 """`tactex train`: cross-validate a model on a dataset, write the report, keep a checkpoint.
 
 Every model, the baselines included, leaves a deployable checkpoint in RUN/model/
-(`tactex_classify.checkpoint`): what `classifier_node` loads and `tactex export` reads.
+(`tactex_classify.models.checkpoint`): what `classifier_node` loads and `tactex export` reads.
 """
 
 from __future__ import annotations
@@ -23,7 +23,7 @@ from tactex.options import (
     seed_value,
     staged_folder,
 )
-from tactex_classify.catalog import ALL_MODELS, BASELINES, SCHEMES
+from tactex_classify.models.registry import ALL_MODELS, BASELINES, SCHEMES
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -50,7 +50,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Cross-validate, report, and save the final model."""
-    from tactex_classify.dataset import Dataset
+    from tactex_classify.data.dataset import Dataset
 
     check_output_folder(args.out)
     dataset = Dataset.load(args.data)
@@ -58,11 +58,11 @@ def run(args: argparse.Namespace) -> int:
     check_folds(dataset, schemes, args.folds)
     stream = None if args.no_final else deployable_stream(dataset)
 
-    from tactex_classify.classifier import TrainingConfig
     from tactex_classify.errors import ClassifyError
-    from tactex_classify.estimators import build_estimator
-    from tactex_classify.evaluate import cross_validate
-    from tactex_classify.report import write_report
+    from tactex_classify.evaluation.cross_validation import cross_validate
+    from tactex_classify.evaluation.training_report import write_report
+    from tactex_classify.training.deep_classifier import TrainingConfig
+    from tactex_classify.training.estimators import build_estimator
 
     config = TrainingConfig(model=args.model, epochs=args.epochs,
                             early_stopping=args.early_stopping, scaling=args.scaling,

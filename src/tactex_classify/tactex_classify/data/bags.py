@@ -1,0 +1,473 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""Recordings read from rosbag2 (rosbags, no ROS): the tactile channels aligned on the IMU.
+
+A recording is one bag directory, or a directory of part bags written one after the
+other (the recorder splits every second so a crash loses at most the last part). Each
+part is read on its own: a corrupt part is named and left out, the others are kept.
+
+Topics are found by role (`TOPIC_ROLES`): under any ROS namespace
+(`/left_arm/tactile/imu/data_raw`), with or without the leading slash, or where the
+caller remaps a role to a name of its own (`{'imu': '/my/imu'}`). The IMU stream is
+the reference: magnetometer and pressure samples are joined to each IMU sample by
+`tactex_classify.data.stream_alignment.align`. A recording without a magnetometer (or barometer)
+topic has no such channels, with a note. Metadata whose label is not text or whose
+trial is not an integer is refused by bag and key.
+"""
+
+from __future__ import annotations
+
+from array import array
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+import json
+from pathlib import Path
+
+import numpy as np
+
+from tactex_classify.data.stream_alignment import align, Stream
+from tactex_classify.errors import BagError
+from tactex_common import topics
+from tactex_common.channels import ACCEL, BARO, CHANNELS, GYRO, MAG
+from tactex_common.errors import RefusedFileError
+from tactex_common.files import check_regular
+from tactex_common.interfaces import typestore
+from tactex_common.naming import natural_sorted
+from tactex_common.stamps import gaps, stamp_ns
+
+PART_PREFIX = 'part_'
+MAX_METADATA_BYTES = 16 * 1024**2  # a bag's metadata.yaml
+# Role -> (topic relative to the recording's namespace, message type).
+TOPIC_ROLES = {
+    'imu': (topics.IMU_RAW, 'sensor_msgs/msg/Imu'),
+    'mag': (topics.MAG, 'sensor_msgs/msg/MagneticField'),
+    'pressure': (topics.PRESSURE, 'sensor_msgs/msg/FluidPressure'),
+    'active': (topics.SWEEP_ACTIVE, 'std_msgs/msg/Bool'),
+    'metadata': (topics.RECORDING_METADATA, 'std_msgs/msg/String'),
+    'joints': (topics.JOINT_STATES, 'sensor_msgs/msg/JointState'),
+    'contact': (topics.GROUND_TRUTH_CONTACT, 'geometry_msgs/msg/PoseStamped'),
+    'edge': (topics.GROUND_TRUTH_SENSOR, 'geometry_msgs/msg/PoseStamped'),
+    'texture': (topics.GROUND_TRUTH_TEXTURE, 'std_msgs/msg/String'),
+}
+# The channels each sensor role gives, in CHANNELS order.
+ROLE_CHANNELS = {'imu': ACCEL + GYRO, 'mag': MAG, 'pressure': BARO}
+
+
+@dataclass
+class GroundTruth:
+    """What the simulator says happened (topics `sim/ground_truth/*`).
+
+    Attributes:
+        contact_ns: stamps at which the sensor touched the surface.
+        edge_ns: stamps of the sensor edge positions.
+        edge_m: (n, 3) world positions of the sensor edge.
+        sensor_q: (n, 4) attitudes (w, x, y, z) of sensor_link in world, at edge_ns.
+        texture_ns: stamps of the texture names.
+        texture: the texture under the edge at each of those stamps ('' for none).
+    """
+
+    contact_ns: np.ndarray
+    edge_ns: np.ndarray
+    edge_m: np.ndarray
+    texture_ns: np.ndarray
+    texture: np.ndarray
+    sensor_q: np.ndarray
+
+
+@dataclass
+class Recording:
+    """One recording's aligned samples and what was dropped on the way."""
+
+    path: Path
+    stamps_ns: np.ndarray  # (n,) int64, header stamps of the IMU samples
+    values: np.ndarray  # (n, len(channels)) float64 in `channels` order, SI units
+    metadata: dict
+    active_ns: list[tuple[int, int]] | None  # sweep/active intervals, None if no such topic
+    joint_stamps_ns: np.ndarray
+    joint_speed: np.ndarray  # norm of the joint velocities (rad/s) at joint_stamps_ns
+    channels: tuple[str, ...] = CHANNELS
+    truth: GroundTruth | None = None
+    dropped: dict[str, int] = field(default_factory=dict)
+    notes: list[str] = field(default_factory=list)
+    messages: int = 0
+
+    @property
+    def rate_hz(self) -> float:
+        """Mean sampling rate of the aligned samples, gaps left out."""
+        if self.stamps_ns.size < 2:
+            return float('nan')
+        steps = np.diff(self.stamps_ns)
+        steady = steps[~gaps(self.stamps_ns)]  # gaps excluded, jitter averaged
+        return 1e9 / float(np.mean(steady))
+
+    def channel(self, name: str) -> np.ndarray:
+        """The samples of one channel."""
+        return self.values[:, self.channels.index(name)]
+
+
+def is_recording(path: Path) -> bool:
+    """True for a bag directory (even a truncated one) or a directory of part bags."""
+    return path.is_dir() and ((path / 'metadata.yaml').is_file()
+                              or any(path.glob('*.mcap')) or any(path.glob('*.db3'))
+                              or any(path.glob(f'{PART_PREFIX}*/')))
+
+
+def bag_parts(path: Path) -> list[Path]:
+    """The bag directories of a recording: itself, or its part bags in natural order.
+
+    Raises:
+        BagError: not a recording.
+    """
+    parts = natural_sorted(path.glob(f'{PART_PREFIX}*/')) if path.is_dir() else []
+    if parts:
+        return parts
+    if is_recording(path):
+        return [path]
+    raise BagError(f'{path}: not a rosbag2 directory nor a directory of part bags')
+
+
+def parse_topic_remaps(items: Sequence[str]) -> dict[str, str]:
+    """['imu=/my/imu', ...] -> {'imu': '/my/imu'}.
+
+    Raises:
+        BagError: not ROLE=TOPIC, an unknown role, or a role given twice.
+    """
+    remaps: dict[str, str] = {}
+    for item in items:
+        role, sep, topic = item.partition('=')
+        role, topic = role.strip(), topic.strip()
+        if not sep or not topic.strip('/'):
+            raise BagError(f'--topic {item!r} is not ROLE=TOPIC, e.g. imu=/my/imu')
+        if role not in TOPIC_ROLES:
+            raise BagError(f'--topic {item!r}: unknown role {role!r}; roles: '
+                           f'{", ".join(TOPIC_ROLES)}')
+        if role in remaps:
+            raise BagError(f'--topic gives {role!r} twice')
+        remaps[role] = '/' + topic.strip('/')
+    return remaps
+
+
+def resolve_topics(available: Mapping[str, str], remaps: Mapping[str, str] | None = None
+                   ) -> dict[str, str]:
+    """Role -> topic name in the bag, for every role the bag has.
+
+    Args:
+        available: topic name as stored -> message type.
+        remaps: role -> topic name given by the user (with or without leading slash).
+
+    Raises:
+        BagError: a role is found under several namespaces (pick one with a remap), or a
+            topic's message type is not the role's.
+    """
+    remaps = remaps or {}
+    by_name = {'/' + name.strip('/'): name for name in available}
+    found: dict[str, str] = {}
+    for role in sorted(TOPIC_ROLES, key=lambda r: r != 'imu'):  # imu first: its namespace
+        relative, msgtype = TOPIC_ROLES[role]
+        if role in remaps:
+            candidates = [remaps[role]] if remaps[role] in by_name else []
+        else:
+            candidates = [n for n in by_name if n == f'/{relative}' or n.endswith(f'/{relative}')]
+            if len(candidates) > 1 and 'imu' in found:
+                namespace = found['imu'][:-len(TOPIC_ROLES['imu'][0])]
+                candidates = [n for n in candidates if n == namespace + relative] or candidates
+        if len(candidates) > 1:
+            raise BagError(f'{relative} appears under several namespaces '
+                           f'({", ".join(sorted(candidates))}); pick one with --topic '
+                           f'{role}=NAME')
+        if candidates:
+            stored = by_name[candidates[0]]
+            if available[stored] != msgtype:
+                raise BagError(f'topic {stored} is {available[stored]}, expected {msgtype} '
+                               f'for {role}; remap with --topic {role}=NAME')
+            found[role] = stored
+    return found
+
+
+def check_metadata(metadata: Mapping, path: Path) -> dict:
+    """The recording's metadata with `label` text and `trial` an integer, if present.
+
+    Raises:
+        BagError: naming the bag and the key whose value has the wrong type.
+    """
+    metadata = dict(metadata)
+    label = metadata.get('label')
+    if label is not None and (not isinstance(label, str) or not label.strip()):
+        raise BagError(f'{path}: metadata key "label" must be non-empty text, got {label!r}')
+    trial = metadata.get('trial')
+    if trial is not None:
+        if isinstance(trial, float) and trial.is_integer():
+            trial = int(trial)
+        if isinstance(trial, bool) or not isinstance(trial, int) or trial < 0:
+            raise BagError(f'{path}: metadata key "trial" must be an integer >= 0, got '
+                           f'{metadata["trial"]!r}')
+        metadata['trial'] = trial
+    return metadata
+
+
+class _Collected:
+    """Samples of one part, kept in flat arrays (8 bytes a value at any length)."""
+
+    def __init__(self) -> None:
+        self.values = {role: array('d') for role in ROLE_CHANNELS}
+        self.stamps = {role: array('q') for role in (*ROLE_CHANNELS, 'contact', 'edge',
+                                                     'texture')}
+        self.edge = array('d')
+        self.attitude = array('d')
+        self.texture: list[str] = []
+        self.active: list[tuple[int, bool]] = []
+        self.joints: list[tuple[int, float]] = []
+        self.metadata: dict = {}
+        self.messages = 0
+
+    def merge(self, other: _Collected) -> None:
+        for role in self.values:
+            self.values[role].extend(other.values[role])
+        for role in self.stamps:
+            self.stamps[role].extend(other.stamps[role])
+        self.edge.extend(other.edge)
+        self.attitude.extend(other.attitude)
+        self.texture += other.texture
+        self.active += other.active
+        self.joints += other.joints
+        self.metadata.update(other.metadata)
+        self.messages += other.messages
+
+    def add(self, role: str, message, log_ns: int, path: Path) -> None:
+        self.messages += 1
+        if role in ROLE_CHANNELS:
+            self.stamps[role].append(stamp_ns(message.header.stamp))
+            if role == 'imu':
+                a, w = message.linear_acceleration, message.angular_velocity
+                self.values[role].extend((a.x, a.y, a.z, w.x, w.y, w.z))
+            elif role == 'mag':
+                m = message.magnetic_field
+                self.values[role].extend((m.x, m.y, m.z))
+            else:
+                self.values[role].append(message.fluid_pressure)
+        elif role == 'active':
+            self.active.append((log_ns, bool(message.data)))
+        elif role == 'joints':
+            speed = float(np.linalg.norm(message.velocity[:4])) if len(
+                message.velocity) else float('nan')
+            self.joints.append((stamp_ns(message.header.stamp) or log_ns, speed))
+        elif role == 'metadata':
+            self.metadata.update(_parse_metadata(message.data, path))
+        elif role in ('contact', 'edge'):
+            self.stamps[role].append(stamp_ns(message.header.stamp))
+            if role == 'edge':
+                p, q = message.pose.position, message.pose.orientation
+                self.edge.extend((p.x, p.y, p.z))
+                self.attitude.extend((q.w, q.x, q.y, q.z))
+        elif role == 'texture':
+            self.stamps[role].append(log_ns)
+            self.texture.append(str(message.data))
+
+    def stream(self, role: str) -> Stream:
+        channels = ROLE_CHANNELS[role]
+        return Stream(role, channels, np.frombuffer(self.stamps[role], dtype=np.int64),
+                      np.frombuffer(self.values[role]).reshape(-1, len(channels)))
+
+
+def _check_bag_files(part: Path) -> None:
+    """Refuse a part bag whose metadata or storage file is no regular file.
+
+    A FIFO would block the reader; metadata.yaml is also bounded by MAX_METADATA_BYTES.
+
+    Raises:
+        RefusedFileError: naming the file and what it is.
+    """
+    for item in part.iterdir():
+        if item.name == 'metadata.yaml':
+            check_regular(item, max_bytes=MAX_METADATA_BYTES)
+        elif item.suffix in ('.mcap', '.db3'):
+            check_regular(item)
+
+
+def _inventory(part: Path) -> dict[str, str]:
+    """Topic -> message type of one part bag, for topics holding messages.
+
+    Raises:
+        RefusedFileError: a file of the bag is no regular file (see `_check_bag_files`).
+    """
+    from rosbags.rosbag2 import Reader
+    _check_bag_files(part)
+    with Reader(part) as reader:
+        return {c.topic: c.msgtype for c in reader.connections if c.msgcount != 0}
+
+
+def recording_topics(path: Path, remaps: Mapping[str, str] | None = None) -> dict[str, str]:
+    """Role -> topic of a recording, from the readable parts' bag metadata (no messages read).
+
+    Raises:
+        BagError: not a recording, no readable part, or ambiguous topics.
+    """
+    available: dict[str, str] = {}
+    for part in bag_parts(Path(path)):
+        try:
+            available.update(_inventory(part))
+        except Exception:  # noqa: BLE001 - an unreadable part is named by read_recording
+            continue
+    return resolve_topics(available, remaps)
+
+
+def read_recording(path: Path, *, remaps: Mapping[str, str] | None = None,
+                   channels: Sequence[str] | None = None) -> Recording:
+    """Read and align one recording.
+
+    Args:
+        path: a bag directory or a directory of part bags.
+        remaps: role -> topic name, for bags whose topics have other names.
+        channels: the channels wanted (a subset of CHANNELS); default every channel the
+            recording has.
+
+    Raises:
+        BagError: no part can be read, no IMU messages, a wanted channel has no topic,
+            or the metadata has the wrong types; the message says which.
+    """
+    from rosbags.highlevel import AnyReader
+
+    path = Path(path)
+    parts = bag_parts(path)
+    collected, notes, dropped = _Collected(), [], {'unreadable_parts': 0}
+    roles: dict[str, str] = {}
+    inventories = {}
+    for part in parts:
+        try:
+            inventories[part] = _inventory(part)
+        except Exception as err:  # noqa: BLE001 - rosbags raises many unrelated types
+            dropped['unreadable_parts'] += 1
+            notes.append(f'part {part.name} skipped: {_why(err, part)}')
+    if not inventories:
+        raise BagError(f'{path}: cannot read: {notes[0].split(": ", 1)[1]}'
+                       if len(parts) == 1 else f'{path}: cannot read any of its '
+                       f'{len(parts)} part bags')
+    roles = resolve_topics({t: m for inv in inventories.values() for t, m in inv.items()},
+                           remaps)
+    if 'imu' not in roles:
+        wanted = (remaps or {}).get('imu', f'/{topics.IMU_RAW}')
+        raise BagError(f'{path}: no messages on {wanted}; name the IMU topic with --topic '
+                       'imu=NAME')
+    wanted_roles = _roles_for(channels, roles, path)
+    by_topic = {topic: role for role, topic in roles.items()
+                if role in wanted_roles or role not in ROLE_CHANNELS}
+    for part in inventories:
+        part_data = _Collected()
+        try:
+            # Bags without type definitions (ROS 2 Humble's) decode with the standard
+            # types and tactex_msgs, read from the package's .msg files.
+            with AnyReader([part], default_typestore=typestore()) as reader:
+                connections = [c for c in reader.connections if c.topic in by_topic]
+                for connection, log_ns, raw in reader.messages(connections=connections):
+                    part_data.add(by_topic[connection.topic],
+                                  reader.deserialize(raw, connection.msgtype), log_ns, path)
+        except BagError:
+            raise
+        except Exception as err:  # noqa: BLE001 - rosbags raises many unrelated types
+            if len(parts) == 1:
+                raise BagError(f'{path}: cannot read: {_why(err, part)}') from err
+            dropped['unreadable_parts'] += 1
+            notes.append(f'part {part.name} skipped: {_why(err, part)}')
+            continue
+        collected.merge(part_data)
+    if not collected.stamps['imu']:
+        raise BagError(f'{path}: no readable messages on {roles["imu"]}')
+    for role in ('mag', 'pressure'):
+        if role not in wanted_roles and channels is None:
+            notes.append(f'no {TOPIC_ROLES[role][0]} topic: channels '
+                         f'{", ".join(ROLE_CHANNELS[role])} absent')
+    aligned = align(collected.stream('imu'), [collected.stream(r) for r in ('mag', 'pressure')
+                                              if r in wanted_roles])
+    dropped.update(aligned.dropped)
+    order = [aligned.channels.index(c) for c in CHANNELS if c in aligned.channels]
+    if channels is not None:
+        order = [aligned.channels.index(c) for c in channels]
+    joint_array = np.array(collected.joints, dtype=np.float64).reshape(-1, 2)
+    joint_order = np.argsort(joint_array[:, 0], kind='stable')
+    return Recording(
+        path, aligned.stamps_ns, aligned.values[:, order], check_metadata(
+            collected.metadata, path),
+        segments(sorted(collected.active)) if 'active' in roles else None,
+        joint_array[joint_order, 0].astype(np.int64), joint_array[joint_order, 1],
+        tuple(aligned.channels[i] for i in order), _truth(collected, roles), dropped, notes,
+        collected.messages)
+
+
+def _roles_for(channels: Sequence[str] | None, roles: Mapping[str, str], path: Path
+               ) -> set[str]:
+    """The sensor roles to read for the wanted channels."""
+    if channels is None:
+        return {role for role in ROLE_CHANNELS if role in roles}
+    unknown = [c for c in channels if c not in CHANNELS]
+    if unknown:
+        raise BagError(f'channel(s) {unknown} are not recorded in bags; bag channels: '
+                       f'{", ".join(CHANNELS)}')
+    wanted = {role for role, names in ROLE_CHANNELS.items() if set(names) & set(channels)}
+    missing = sorted(wanted - set(roles), key=list(ROLE_CHANNELS).index)
+    if missing:
+        role = missing[0]
+        raise BagError(f'{path}: no {TOPIC_ROLES[role][0]} topic, so no channels '
+                       f'{", ".join(ROLE_CHANNELS[role])}; leave them out of --channels or '
+                       f'remap with --topic {role}=NAME')
+    return wanted | {'imu'}
+
+
+def _truth(collected: _Collected, roles: Mapping[str, str]) -> GroundTruth | None:
+    if not {'edge', 'texture'} <= set(roles):
+        return None  # no simulator ground truth (a contact topic is absent when never touching)
+
+    def ordered(role: str, *values: np.ndarray) -> list[np.ndarray]:
+        stamps = np.frombuffer(collected.stamps[role], dtype=np.int64)
+        order = np.argsort(stamps, kind='stable')
+        return [stamps[order]] + [v[order] for v in values]
+
+    contact_ns, = ordered('contact')
+    edge_ns, edge_m, sensor_q = ordered('edge', np.frombuffer(collected.edge).reshape(-1, 3),
+                                        np.frombuffer(collected.attitude).reshape(-1, 4))
+    texture_ns, texture = ordered('texture', np.array(collected.texture, dtype=str))
+    return GroundTruth(contact_ns, edge_ns, edge_m, texture_ns, texture, sensor_q)
+
+
+def inside(stamps_ns: np.ndarray, spans: Sequence[tuple[int, int]]) -> np.ndarray:
+    """True for the stamps within a span (both ends included): the converter's segment rule."""
+    keep = np.zeros(np.shape(stamps_ns), dtype=bool)
+    for start, end in spans:
+        keep |= (stamps_ns >= start) & (stamps_ns <= end)
+    return keep
+
+
+def _why(err: Exception, part: Path) -> str:
+    if isinstance(err, RefusedFileError):
+        return str(err)
+    if not (part / 'metadata.yaml').is_file():
+        return 'truncated or corrupt bag (no metadata.yaml)'
+    text = str(err).replace(str(part), '').strip(' :') or type(err).__name__
+    return f'{type(err).__name__}: {text}'
+
+
+def _parse_metadata(text: str, path: Path) -> dict:
+    try:
+        value = json.loads(text)
+    except json.JSONDecodeError as err:
+        raise BagError(f'{path}: recording/metadata is not JSON: {err}') from None
+    if not isinstance(value, dict):
+        raise BagError(f'{path}: recording/metadata must be a JSON object')
+    return value
+
+
+def segments(transitions: Sequence[tuple[int, bool]]) -> list[tuple[int, int]]:
+    """[(start, end)] of the true spans of a sorted on/off message sequence (sweep/active).
+
+    A span still open at the end runs to the largest int64.
+    """
+    spans, start = [], None
+    for stamp, state in transitions:
+        if state and start is None:
+            start = stamp
+        elif not state and start is not None:
+            spans.append((start, stamp))
+            start = None
+    if start is not None:
+        spans.append((start, np.iinfo(np.int64).max))
+    return spans
+

@@ -1,0 +1,205 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""A comparison's table and plots: per model x window, both schemes, mean +- sd over cells.
+
+The table has the layout of the original's comparison (window, model, training
+accuracy, accuracy, precision, recall), with the grouped (honest) and stratified
+(leaky) schemes side by side, each figure the mean +- sd over the seeds and folds that
+finished, plus the epochs, the training time per fold and the latency of one window.
+`summary.json`, `report.md`, `accuracy.png` and `cost.png` are written together.
+"""
+
+from __future__ import annotations
+
+from collections import defaultdict
+import json
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use('Agg')
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from tactex_classify.evaluation.cross_validation import confusion, metrics  # noqa: E402
+from tactex_classify.models.registry import ALL_MODELS, BASELINES, SCHEMES  # noqa: E402
+
+SCHEME_LABELS = {'grouped': 'grouped by recording (honest)',
+                 'stratified': 'stratified windows (leaky)'}
+FIGURES = ('accuracy', 'macro_precision', 'macro_recall', 'macro_f1', 'train_accuracy',
+           'train_s', 'latency_ms', 'throughput_ms', 'epochs_per_s', 'chosen_epoch')
+
+
+def _spread(values: list) -> dict | None:
+    """Mean, sd (n - 1) and count of the values that exist."""
+    present = [float(v) for v in values if v is not None]
+    if not present:
+        return None
+    return {'mean': float(np.mean(present)),
+            'sd': float(np.std(present, ddof=1)) if len(present) > 1 else 0.0,
+            'min': min(present), 'max': max(present), 'n': len(present)}
+
+
+def summarise(results: list[dict], classes: dict[int, list[str]]) -> list[dict]:
+    """One row per (window, model), best honest accuracy first within a window.
+
+    Per scheme: every figure as mean, sd, range and count over the row's cells, and the
+    metrics of the confusion matrix summed over them (the original's way).
+    """
+    groups: dict[tuple, dict[str, list[dict]]] = defaultdict(lambda: defaultdict(list))
+    for result in results:
+        cell = result['cell']
+        groups[(cell['window'], cell['model'])][cell['scheme']].append(result)
+    rows = []
+    for (window, model), schemes in groups.items():
+        row = {'window': window, 'model': model, 'schemes': {}}
+        for scheme, cells in schemes.items():
+            names = classes[window]
+            pooled = confusion(np.concatenate([c['y_true'] for c in cells]).astype(int),
+                               np.concatenate([c['y_pred'] for c in cells]).astype(int),
+                               len(names))
+            pooled_scores = metrics(pooled, names)
+            row['schemes'][scheme] = {
+                'cells': len(cells), **{key: _spread([c.get(key) for c in cells])
+                                        for key in FIGURES},
+                'pooled': {key: pooled_scores[key] for key in
+                           ('accuracy', 'macro_precision', 'macro_recall', 'macro_f1')},
+                'confusion': pooled.tolist()}
+        rows.append(row)
+    order = {name: index for index, name in enumerate(ALL_MODELS)}
+    return sorted(rows, key=lambda r: (r['window'], -_mean(r, 'grouped', 'accuracy'),
+                                       order.get(r['model'], len(order))))
+
+
+def _mean(row: dict, scheme: str, key: str) -> float:
+    figure = row['schemes'].get(scheme, {}).get(key)
+    return figure['mean'] if figure else float('nan')
+
+
+def _percent(figure: dict | None) -> str:
+    return '-' if figure is None else f'{100 * figure["mean"]:.1f} ± {100 * figure["sd"]:.1f}'
+
+
+def _epochs(row: dict) -> str:
+    """Epochs trained: fixed, or the range early stopping chose."""
+    figure = row['schemes'].get('grouped', row['schemes'].get('stratified', {})).get(
+        'chosen_epoch')
+    if figure is None:
+        return '-'
+    if figure['min'] == figure['max']:
+        return f'{figure["min"]:.0f}'
+    return f'{figure["mean"]:.0f} ({figure["min"]:.0f}-{figure["max"]:.0f})'
+
+
+def table(rows: list[dict], expected_cells: int | None = None) -> str:
+    """The markdown comparison table (percentages as mean ± sd over cells).
+
+    `expected_cells` is the cells a row has when its grid is complete (seeds x folds x
+    schemes); the last column then shows how far each row is.
+    """
+    head = ['window', 'model', 'epochs', 'training accuracy']
+    for scheme in SCHEMES:
+        tag = 'honest' if scheme == 'grouped' else 'leaky'
+        head += [f'accuracy ({tag})', f'precision ({tag})', f'recall ({tag})']
+    head += ['training s per fold', 'latency ms', 'cells']
+    lines = ['| ' + ' | '.join(head) + ' |', '|' + '---|' * len(head)]
+    for row in rows:
+        grouped = row['schemes'].get('grouped', {})
+        cells = [str(row['window']), _model_label(row['model']), _epochs(row),
+                 _percent(grouped.get('train_accuracy'))]
+        for scheme in SCHEMES:
+            values = row['schemes'].get(scheme, {})
+            cells += [_percent(values.get(key)) for key in
+                      ('accuracy', 'macro_precision', 'macro_recall')]
+        train_s = grouped.get('train_s')
+        latency = grouped.get('latency_ms')
+        done = sum(values['cells'] for values in row['schemes'].values())
+        cells += ['-' if train_s is None else f'{train_s["mean"]:.0f}',
+                  '-' if latency is None else f'{latency["mean"]:.2f}',
+                  f'{done}' + (f' of {expected_cells}' if expected_cells else '')]
+        lines.append('| ' + ' | '.join(cells) + ' |')
+    return '\n'.join(lines) + '\n'
+
+
+def _model_label(model: str) -> str:
+    return f'{model} (baseline)' if model in BASELINES else model
+
+
+def write_report(folder: Path, results: list[dict], manifest: dict, *,
+                 expected_cells: int | None = None) -> Path:
+    """Write summary.json, report.md, accuracy.png and cost.png into `folder`."""
+    classes = {int(window): data['classes'] for window, data in manifest['data'].items()}
+    rows = summarise(results, classes)
+    (folder / 'summary.json').write_text(json.dumps(
+        {'settings': manifest['settings'], 'data': manifest['data'], 'rows': rows},
+        indent=1) + '\n', encoding='utf-8')
+    _plot_accuracy(folder / 'accuracy.png', rows)
+    _plot_cost(folder / 'cost.png', rows)
+    settings = manifest['settings']
+    data = ', '.join(f'{window}: {d["windows"]} windows of {d["recordings"]} recordings'
+                     for window, d in sorted(manifest['data'].items(), key=lambda i: int(i[0])))
+    lines = ['# Model comparison', '',
+             f'Data ({data}); {settings["folds"]}-fold cross-validation, grouped by recording '
+             '(honest) and stratified by window (leaky: overlapping windows of one recording '
+             'on both sides); at most '
+             f'{settings["epochs"]} epochs' + (f', early stopping after '
+                                                f'{settings["early_stopping"]} epochs without '
+                                                'improvement on held-out recordings'
+                                                if settings['early_stopping'] else '')
+             + '. Figures are mean ± sd over seeds and folds (%); training time is seconds '
+             'per fold, latency the time to classify one window.', '',
+             table(rows, expected_cells), '![accuracy](accuracy.png)', '',
+             '![cost](cost.png)', '']
+    path = folder / 'report.md'
+    path.write_text('\n'.join(lines), encoding='utf-8')
+    return path
+
+
+def _plot_accuracy(path: Path, rows: list[dict]) -> None:
+    windows = sorted({row['window'] for row in rows})
+    figure, axes = plt.subplots(1, max(len(windows), 1), figsize=(5.5 * max(len(windows), 1),
+                                                                  4.5), squeeze=False)
+    for axis, window in zip(axes[0], windows, strict=False):
+        picked = [row for row in rows if row['window'] == window]
+        positions = np.arange(len(picked))
+        for offset, scheme in ((-0.2, 'grouped'), (0.2, 'stratified')):
+            figures = [row['schemes'].get(scheme, {}).get('accuracy') for row in picked]
+            axis.barh(positions + offset, [100 * f['mean'] if f else 0 for f in figures], 0.4,
+                      xerr=[100 * f['sd'] if f else 0 for f in figures],
+                      label=SCHEME_LABELS[scheme], capsize=2)
+        axis.set_yticks(positions, [_model_label(row['model']) for row in picked], fontsize=8)
+        axis.invert_yaxis()
+        axis.set_xlim(0, 100)
+        axis.set_xlabel('accuracy (%), mean ± sd over seeds and folds')
+        axis.set_title(f'window {window}')
+        axis.grid(axis='x', alpha=0.3)
+    axes[0][0].legend(fontsize=7, loc='lower right')
+    figure.tight_layout()
+    figure.savefig(path, dpi=100)
+    plt.close(figure)
+
+
+def _plot_cost(path: Path, rows: list[dict]) -> None:
+    figure, axes = plt.subplots(1, 2, figsize=(12, 4.5))
+    markers = dict(zip(sorted({row['window'] for row in rows}), 'os^Dv', strict=False))
+    for row in rows:
+        grouped = row['schemes'].get('grouped', {})
+        if not grouped.get('train_s') or not grouped.get('accuracy'):
+            continue
+        accuracy = 100 * grouped['accuracy']['mean']
+        for axis, key in zip(axes, ('train_s', 'latency_ms'), strict=True):
+            axis.scatter(grouped[key]['mean'], accuracy, marker=markers[row['window']],
+                         color='C3' if row['model'] in BASELINES else 'C0')
+            axis.annotate(f'{row["model"]} {row["window"]}', (grouped[key]['mean'], accuracy),
+                          fontsize=6, xytext=(3, 2), textcoords='offset points')
+    for axis, label in zip(axes, ('training time per fold (s)', 'latency of one window (ms)'),
+                           strict=True):
+        axis.set_xscale('log')
+        axis.set_xlabel(label)
+        axis.set_ylabel('accuracy, grouped by recording (%)')
+        axis.grid(alpha=0.3)
+    axes[0].set_title('marker: window (' + ', '.join(
+        f'{m} {w}' for w, m in markers.items()) + '); red: baselines', fontsize=8)
+    figure.tight_layout()
+    figure.savefig(path, dpi=100)
+    plt.close(figure)

@@ -1,0 +1,162 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""A run's report: metrics.json, report.md and the plots beside them.
+
+The plots are the confusion matrices, the learning curves and the accuracy against
+touch time, with both cross-validation schemes side by side.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use('Agg')
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from tactex_classify.data.dataset import Dataset  # noqa: E402
+from tactex_classify.evaluation.cross_validation import (  # noqa: E402
+    confusion,
+    CrossValidation,
+    metrics,
+    sequence_accuracy,
+)
+from tactex_common.naming import natural_key, natural_sorted  # noqa: E402
+
+LABELS = {'grouped': 'grouped by recording (honest)',
+          'stratified': 'stratified windows (leaky)'}
+
+
+def summarise(dataset: Dataset, results: list[CrossValidation]) -> dict:
+    """Every number of the report, per scheme."""
+    summary = {}
+    for result in results:
+        predicted = result.proba.argmax(axis=1)
+        matrix = confusion(dataset.y, predicted, len(dataset.classes))
+        hop_s = dataset.info.get('hop', 0) / dataset.info.get('sampling_rate_hz', 1.0)
+        window_s = dataset.X.shape[1] / dataset.info.get('sampling_rate_hz', 1.0)
+        sequence = sequence_accuracy(dataset, result.proba)
+        summary[result.scheme] = {
+            **metrics(matrix, dataset.classes), 'confusion': matrix.tolist(),
+            'sequence': [{'windows': k, 'touch_s': window_s + (k - 1) * hop_s,
+                          'accuracy': accuracy} for k, accuracy in sequence.items()],
+            'notes': result.notes, 'histories': result.histories}
+    return summary
+
+
+def write_report(folder: Path, dataset: Dataset, results: list[CrossValidation], *,
+                 title: str, settings: dict, data_name: str) -> Path:
+    """Write metrics.json, report.md and the PNGs into `folder`; return report.md."""
+    folder.mkdir(parents=True, exist_ok=True)
+    summary = summarise(dataset, results)
+    (folder / 'metrics.json').write_text(json.dumps(
+        {'title': title, 'data': data_name, 'settings': settings, 'schemes': summary},
+        indent=2), encoding='utf-8')
+    _plot_confusions(folder / 'confusion.png', dataset.classes, summary)
+    _plot_learning(folder / 'learning_curves.png', summary)
+    _plot_sequence(folder / 'accuracy_vs_time.png', summary)
+    schemes = list(summary)
+    lines = [f'# {title}', '',
+             f'Data: `{data_name}`: {len(dataset.X)} windows of {dataset.X.shape[1]} samples '
+             f'({dataset.info.get("sampling_rate_hz", float("nan")):.0f} Hz), '
+             f'{len(np.unique(dataset.trial))} recordings, {len(dataset.classes)} classes.',
+             f'Settings: {json.dumps(settings)}', '',
+             '| metric | ' + ' | '.join(LABELS[s] for s in schemes) + ' |',
+             '|---|' + '---|' * len(schemes)]
+    for key in ('accuracy', 'macro_precision', 'macro_recall', 'macro_f1'):
+        lines.append(f'| {key.replace("_", " ")} | ' + ' | '.join(
+            f'{100 * summary[s][key]:.1f} %' for s in schemes) + ' |')
+    lines += ['', 'Overlapping windows of one recording sit on both sides of a stratified '
+              'split, so its numbers are leaky; the grouped numbers are the honest ones.', '',
+              '## Per class', '',
+              '| class | ' + ' | '.join(f'{s} precision | {s} recall' for s in schemes) + ' |',
+              '|---|' + '---|---|' * len(schemes)]
+    for name in natural_sorted(dataset.classes):
+        lines.append(f'| {name} | ' + ' | '.join(
+            f'{100 * summary[s]["per_class"][name]["precision"]:.1f} | '
+            f'{100 * summary[s]["per_class"][name]["recall"]:.1f}' for s in schemes) + ' |')
+    lines += ['', '## Accuracy against touch time (summed log-probabilities of consecutive '
+              'windows of a test recording)', '',
+              '| windows | touch time s | ' + ' | '.join(schemes) + ' |',
+              '|---|---|' + '---|' * len(schemes)]
+    first = summary[schemes[0]]['sequence']
+    for row_index, row in enumerate(first):
+        lines.append(f'| {row["windows"]} | {row["touch_s"]:.2f} | ' + ' | '.join(
+            f'{100 * summary[s]["sequence"][row_index]["accuracy"]:.1f} %' for s in schemes)
+            + ' |')
+    notes = [n for s in schemes for n in summary[s]['notes']]
+    if notes:
+        lines += ['', '## Notes', ''] + [f'- {n}' for n in notes]
+    lines += ['', '![confusion](confusion.png)', '', '![learning curves](learning_curves.png)',
+              '', '![accuracy vs time](accuracy_vs_time.png)', '']
+    path = folder / 'report.md'
+    path.write_text('\n'.join(lines), encoding='utf-8')
+    return path
+
+
+def _plot_confusions(path: Path, classes: list[str], summary: dict) -> None:
+    figure, axes = plt.subplots(1, len(summary), figsize=(7 * len(summary), 6), squeeze=False)
+    order = sorted(range(len(classes)), key=lambda i: natural_key(classes[i]))
+    classes = [classes[i] for i in order]
+    for axis, (scheme, values) in zip(axes[0], summary.items(), strict=True):
+        matrix = np.array(values['confusion'], dtype=float)[np.ix_(order, order)]
+        rows = matrix / np.maximum(matrix.sum(axis=1, keepdims=True), 1)
+        axis.imshow(rows, cmap='Blues', vmin=0, vmax=1)
+        for (i, j), count in np.ndenumerate(matrix):
+            if count:
+                axis.text(j, i, int(count), ha='center', va='center', fontsize=7,
+                          color='white' if rows[i, j] > 0.5 else 'black')
+        axis.set_xticks(range(len(classes)), classes, rotation=60, ha='right', fontsize=7)
+        axis.set_yticks(range(len(classes)), classes, fontsize=7)
+        axis.set_xlabel('predicted')
+        axis.set_ylabel('true')
+        axis.set_title(f'{LABELS[scheme]}: {100 * values["accuracy"]:.1f} %')
+    figure.tight_layout()
+    figure.savefig(path, dpi=100)
+    plt.close(figure)
+
+
+def _plot_learning(path: Path, summary: dict) -> None:
+    figure, axes = plt.subplots(1, 2, figsize=(11, 4))
+    drawn = False
+    for scheme, values in summary.items():
+        for fold, history in enumerate(values['histories']):
+            if not history:
+                continue
+            drawn = True
+            epochs = [h['epoch'] for h in history]
+            label = f'{scheme} fold {fold + 1}'
+            axes[0].plot(epochs, [h['train_loss'] for h in history], label=label, lw=1)
+            axes[1].plot(epochs, [h['train_accuracy'] for h in history], lw=1)
+            if 'val_accuracy' in history[0]:
+                axes[1].plot(epochs, [h['val_accuracy'] for h in history], '--', lw=1)
+    axes[0].set_xlabel('epoch')
+    axes[0].set_ylabel('training loss')
+    axes[1].set_xlabel('epoch')
+    axes[1].set_ylabel('accuracy (dashed: early-stopping split)')
+    if drawn:
+        axes[0].legend(fontsize=6)
+    else:
+        axes[0].text(0.5, 0.5, 'no epochs: not an iteratively trained model',
+                     ha='center', transform=axes[0].transAxes)
+    figure.tight_layout()
+    figure.savefig(path, dpi=100)
+    plt.close(figure)
+
+
+def _plot_sequence(path: Path, summary: dict) -> None:
+    figure, axis = plt.subplots(figsize=(6, 4))
+    for scheme, values in summary.items():
+        axis.plot([r['touch_s'] for r in values['sequence']],
+                  [100 * r['accuracy'] for r in values['sequence']], 'o-', label=LABELS[scheme])
+    axis.set_xlabel('touch time (s)')
+    axis.set_ylabel('accuracy (%)')
+    axis.set_xlim(left=0)
+    axis.legend()
+    axis.grid(alpha=0.3)
+    figure.tight_layout()
+    figure.savefig(path, dpi=100)
+    plt.close(figure)

@@ -1,0 +1,15 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""The one registry of model names (and training bounds), importable without torch."""
+
+# The original's eight deep models, in its table order: the one list of their names
+# (tactex_classify.models.architectures defines a builder of each name).
+DEEP_MODELS = ('cnn_bilstm_1', 'cnn_bilstm_2', 'cnn_bilstm_3', 'cnn_1', 'cnn_2', 'cnn_3',
+               'bilstm_1', 'bilstm_2')
+# Fast baselines (tactex_classify.models.baselines).
+BASELINES = ('minirocket', 'extratrees')
+ALL_MODELS = DEEP_MODELS + BASELINES
+# Cross-validation schemes: grouped by recording (honest), stratified windows (leaky).
+SCHEMES = ('grouped', 'stratified')
+# Most epochs (and epochs of early-stopping patience) a training may be asked for.
+MAX_EPOCHS = 100_000

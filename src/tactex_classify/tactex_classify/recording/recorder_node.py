@@ -1,0 +1,70 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""ROS 2 node recording the tactile topics, joint_states, contacts, sweep segments, metadata."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from rcl_interfaces.msg import ParameterDescriptor
+
+from tactex_classify.recording.recorder import RECORDED_TOPICS, SplitRecorder
+from tactex_common.ros import message_class, RECORDING, spin, TactexNode
+
+
+class RecorderNode(TactexNode):
+    """Subscribe with raw=True and write the bytes as they come."""
+
+    def __init__(self, **kwargs) -> None:
+        super().__init__('recorder_node', **kwargs)
+        describe = ParameterDescriptor
+        out = self.declare_parameter('output', '', describe(
+            description='recording directory to create', read_only=True)).value
+        label = self.declare_parameter('label', '', describe(
+            description='texture class of the recording', read_only=True)).value
+        trial = self.declare_parameter('trial', -1, describe(
+            description='recording / trajectory id (-1: none)', read_only=True)).value
+        surface = self.declare_parameter('surface', '', describe(
+            description='surface description (e.g. uneven)', read_only=True)).value
+        extra = self.declare_parameter('metadata', '{}', describe(
+            description='more metadata as a JSON object', read_only=True)).value
+        split_s = self.declare_parameter('split_s', 1.0, describe(
+            description='seconds per part bag (the most a crash can lose)',
+            read_only=True)).value
+        compress = self.declare_parameter('compress', False, describe(
+            description='zstd-compress messages', read_only=True)).value
+        if not out:
+            raise self.refused_parameter('output', 'the recording directory to create')
+        try:
+            metadata = json.loads(extra)
+        except ValueError:
+            metadata = None
+        if not isinstance(metadata, dict):
+            raise self.refused_parameter('metadata', 'a JSON object')
+        metadata.update({k: v for k, v in (('label', label), ('surface', surface)) if v})
+        if trial >= 0:
+            metadata['trial'] = trial
+        self._recorder = SplitRecorder(Path(out), metadata, split_s=split_s,
+                                       compress=compress).__enter__()
+        for topic, type_name, qos in RECORDED_TOPICS:
+            self._recorder.add_topic(topic, type_name)
+            self.create_subscription(message_class(type_name), topic, self._writer_for(topic),
+                                     RECORDING[qos], raw=True)
+        self.get_logger().info(f'recording to {out} ({metadata})')
+
+    def _writer_for(self, topic: str):
+        def write(data: bytes) -> None:
+            self._recorder.write(topic, self.get_clock().now().nanoseconds, data)
+        return write
+
+    def destroy_node(self) -> None:
+        """Close the last part bag."""
+        self._recorder.close()
+        self.get_logger().info(f'recorded {self._recorder.messages} messages')
+        super().destroy_node()
+
+
+def main(args: list[str] | None = None) -> None:
+    """Record until SIGINT, SIGTERM or SIGHUP, which close the last part bag cleanly."""
+    spin(RecorderNode, args)

@@ -1,0 +1,322 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""Texture classifiers with one interface: the deep models (torch) and the fast baselines.
+
+`fit(X, y, classes)` scales with state fitted on the training windows only (with early
+stopping: on the recordings left after whole recordings are held out for validation),
+trains, and keeps the scaler;
+`predict_proba(X)` returns (n, n_classes) in `classes` order; checkpoints
+(`tactex_classify.models.checkpoint`) hold the weights (`state_dict`, loaded with
+`weights_only=True`) next to a JSON file with the classes, channels, window, hop, rate,
+scaler state and model configuration.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import asdict, dataclass
+import math
+import os
+from pathlib import Path
+
+import numpy as np
+
+from tactex_classify.errors import CheckpointError, NotFittedError
+from tactex_classify.models.checkpoint import Deployable, restore_fitted
+from tactex_classify.models.registry import DEEP_MODELS, MAX_EPOCHS
+from tactex_classify.models.windows import (
+    channel_names,
+    ChannelScaler,
+    check_windows,
+    SCALINGS,
+    softmax,
+)
+from tactex_common.constants import MAX_SEED
+
+os.environ.setdefault('OMP_WAIT_POLICY', 'PASSIVE')  # no spinning next to ROS nodes
+CHECKPOINT_VERSION = 1
+INITS = ('keras', 'pytorch')
+MAX_THREADS = 256
+
+
+@dataclass
+class TrainingConfig:
+    """The original's training: Adamax, lr 1e-3, clipping, batch 32, 250 epochs."""
+
+    model: str = 'cnn_1'
+    epochs: int = 250
+    batch_size: int = 32
+    learning_rate: float = 1e-3
+    clip_norm: float = 1.0
+    scaling: str = 'minmax'
+    early_stopping: int = 0  # patience in epochs on a validation split; 0: off
+    validation_fraction: float = 0.1
+    seed: int = 0
+    threads: int = 1
+    init: str = 'keras'  # initial weights: 'keras' (as the original) or 'pytorch' defaults
+
+    def check(self) -> TrainingConfig:
+        """Return self if every setting is usable.
+
+        Raises:
+            ValueError: a setting out of its range (named, with the value).
+        """
+        if self.model not in DEEP_MODELS:
+            raise ValueError(f'unknown model {self.model!r}; known: {", ".join(DEEP_MODELS)}')
+        for name, low, high in (('epochs', 1, MAX_EPOCHS), ('batch_size', 2, 65536),
+                                ('early_stopping', 0, MAX_EPOCHS), ('seed', 0, MAX_SEED),
+                                ('threads', 1, MAX_THREADS)):
+            value = getattr(self, name)
+            if not isinstance(value, int) or isinstance(value, bool) or not low <= value <= high:
+                raise ValueError(f'{name} must be an integer in {low}..{high}, got {value!r}')
+        for name in ('learning_rate', 'clip_norm'):
+            value = getattr(self, name)
+            if not isinstance(value, (int, float)) or isinstance(value, bool) or not (
+                    math.isfinite(value) and 0 < value <= 1e6):
+                raise ValueError(f'{name} must be finite, > 0 and <= 1e6, got {value!r}')
+        if self.init not in INITS:
+            raise ValueError(f'init must be one of {INITS}, got {self.init!r}')
+        if self.scaling not in SCALINGS:
+            raise ValueError(f'scaling must be one of {SCALINGS}, got {self.scaling!r}')
+        fraction = self.validation_fraction
+        if not isinstance(fraction, (int, float)) or not 0.0 < fraction < 1.0:
+            raise ValueError(f'validation_fraction must be in (0, 1), got {fraction!r}')
+        return self
+
+
+class DeepClassifier(Deployable):
+    """One of the eight models, trained as the original trained them."""
+
+    CHECKPOINT_KIND = 'deep'
+    MODEL_FILE = 'weights.pt'
+
+    def __init__(self, config: TrainingConfig | None = None, *,
+                 progress: Callable[[dict], None] | None = None, device: str = 'cpu') -> None:
+        self.config = config or TrainingConfig()
+        self.progress = progress
+        self.device = device  # where fit trains: 'cpu', 'cuda', 'cuda:1', ...
+        self.model_ = None
+
+    def fit(self, X, y, classes: list[str], groups=None, *,
+            channels: Sequence[str] | None = None) -> DeepClassifier:
+        """Train on windows X with class indices y (into `classes`).
+
+        Args:
+            X: (n, window, channels) windows, unscaled.
+            y: (n,) class indices.
+            classes: all class names (the output columns), even ones absent from y.
+            groups: recording of each window; required with early stopping, which holds
+                out whole recordings (GroupShuffleSplit) before the scaler is fitted.
+            channels: names of X's channels (the dataset's); default this system's ten.
+                Kept in the checkpoint and checked by `predict_proba(..., channels=...)`.
+
+        Raises:
+            ValueError: bad windows, labels or settings; early stopping without groups,
+                with fewer than two recordings, or with nothing left to train on.
+        """
+        import torch
+
+        from tactex_classify.models.architectures import build_model
+        config = self.config.check()
+        X = check_windows(X)
+        y = np.asarray(y, dtype=np.int64)
+        if y.shape != (len(X),) or (y.size and not 0 <= y.min() <= y.max() < len(classes)):
+            raise ValueError(f'y must hold {len(X)} class indices into the {len(classes)} '
+                             f'classes, got shape {y.shape!r}')
+        torch.manual_seed(config.seed)
+        torch.set_num_threads(config.threads)
+        rng = np.random.default_rng(config.seed)
+        self.classes_ = list(classes)
+        self.window_, self.n_channels_ = X.shape[1], X.shape[2]
+        self.channels_ = channel_names(channels, self.n_channels_)
+        train, validation = validation_split(y, groups, config)
+        self.scaler_ = ChannelScaler(config.scaling).fit(X[train])
+        device = torch.device(self.device)
+        self.model_ = build_model(config.model, self.window_, self.n_channels_,
+                                  len(self.classes_), keras_init=config.init == 'keras'
+                                  ).to(device)
+        optimizer = torch.optim.Adamax(self.model_.parameters(), lr=config.learning_rate)
+        loss_fn = torch.nn.CrossEntropyLoss()
+        data = torch.from_numpy(self.scaler_.transform(X)).to(device)
+        target = torch.from_numpy(y).to(device)
+        train_data, train_target = data[torch.from_numpy(train)], target[torch.from_numpy(train)]
+        best_loss, best_state, waited = math.inf, None, 0
+        self.history_ = []
+        self.best_epoch_ = 0
+        for epoch in range(1, config.epochs + 1):
+            self.model_.train()
+            # One gather per epoch; each batch is then a contiguous slice of it. Loss and
+            # hits add up on the device: no host round trip per batch.
+            order = torch.from_numpy(rng.permutation(train.size)).to(device)
+            shuffled, labels = train_data[order], train_target[order]
+            loss_sum = torch.zeros((), dtype=torch.float64, device=device)
+            hits = torch.zeros((), dtype=torch.int64, device=device)
+            for start in range(0, train.size, config.batch_size):
+                inputs = shuffled[start:start + config.batch_size]
+                if len(inputs) < 2:
+                    continue  # BatchNorm needs two samples to train
+                expected = labels[start:start + config.batch_size]
+                optimizer.zero_grad()
+                logits = self.model_(inputs)
+                loss = loss_fn(logits, expected)
+                loss.backward()
+                torch.nn.utils.clip_grad_norm_(self.model_.parameters(), config.clip_norm)
+                optimizer.step()
+                loss_sum += loss.detach() * len(inputs)
+                hits += (logits.detach().argmax(1) == expected).sum()
+            record = {'epoch': epoch, 'train_loss': float(loss_sum) / max(train.size, 1),
+                      'train_accuracy': int(hits) / max(train.size, 1)}
+            if validation.size:
+                logits = self._logits(data[torch.from_numpy(validation)])
+                record['val_loss'] = float(loss_fn(torch.from_numpy(logits),
+                                                   torch.from_numpy(y[validation])))
+                record['val_accuracy'] = float(np.mean(logits.argmax(1) ==
+                                                       y[validation]))
+            self.history_.append(record)
+            if self.progress:
+                self.progress(record)
+            if config.early_stopping and validation.size:
+                if record['val_loss'] < best_loss - 1e-6:
+                    best_loss, waited, self.best_epoch_ = record['val_loss'], 0, epoch
+                    best_state = {k: v.clone() for k, v in self.model_.state_dict().items()}
+                else:
+                    waited += 1
+                    if waited >= config.early_stopping:
+                        break
+        if best_state is not None:
+            self.model_.load_state_dict(best_state)
+        else:
+            self.best_epoch_ = len(self.history_)
+        return self
+
+    def _logits(self, data) -> np.ndarray:
+        """Logits of (n, window, channels) scaled windows, on the model's device."""
+        import torch
+        self.model_.eval()
+        if not len(data):
+            return np.zeros((0, len(self.classes_)), dtype=np.float32)
+        device = next(self.model_.parameters()).device
+        with torch.inference_mode():
+            return torch.cat([self.model_(data[i:i + 256].to(device))
+                              for i in range(0, len(data), 256)]).cpu().numpy()
+
+    def predict_proba(self, X, *, channels: Sequence[str] | None = None) -> np.ndarray:
+        """(n, n_classes) probabilities in `classes_` order.
+
+        Args:
+            X: (n, window, channels) windows, unscaled, as at fit.
+            channels: the data's channel names; must be the model's, in its order.
+
+        Raises:
+            NotFittedError: before fit or load.
+            ValueError: other windows, channel count or channel names than at fit.
+        """
+        import torch
+        if self.model_ is None:
+            raise NotFittedError('DeepClassifier is not fitted; call fit first')
+        if channels is not None and list(channels) != self.channels_:
+            raise ValueError(f'the data has channels {list(channels)}, the model was fitted '
+                             f'on {self.channels_}')
+        X = check_windows(X, window=self.window_, channels=self.n_channels_)
+        return softmax(self._logits(torch.from_numpy(self.scaler_.transform(X))))
+
+    def predict(self, X, *, channels: Sequence[str] | None = None) -> np.ndarray:
+        """Class indices (see `predict_proba`)."""
+        return self.predict_proba(X, channels=channels).argmax(axis=1)
+
+    @property
+    def model_name(self) -> str:
+        """The model's name (one of the eight)."""
+        return self.config.model
+
+    def checkpoint_fields(self) -> dict:
+        """The checkpoint fields of this kind: the fitted scaler and the training settings.
+
+        Raises:
+            NotFittedError: before fit or load.
+        """
+        if self.model_ is None:
+            raise NotFittedError('DeepClassifier is not fitted; nothing to save')
+        return {'scaler': asdict(self.scaler_), 'config': asdict(self.config)}
+
+    def write_model(self, path: Path) -> None:
+        """Write the weights (a state_dict of tensors) to `path`."""
+        import torch
+        torch.save(self.model_.state_dict(), path)
+
+    @classmethod
+    def from_checkpoint(cls, info) -> DeepClassifier:
+        """A saved classifier; refuses anything but plain, finite tensors in the weights file.
+
+        Raises:
+            KeyError, TypeError, ValueError: a missing or malformed field.
+            CheckpointError: the weights file is refused or does not fit the model.
+        """
+        import pickle
+
+        import torch
+
+        from tactex_classify.models.architectures import build_model
+        config = info.fields['config']
+        if not isinstance(config, dict):
+            raise TypeError(f'config must be an object, got {config!r}')
+        self = cls(TrainingConfig(**config).check())
+        restore_fitted(self, info)
+        self.scaler_ = ChannelScaler.from_state(info.fields['scaler'], self.n_channels_)
+        try:
+            state = torch.load(info.model_file, weights_only=True, map_location='cpu')
+        except (pickle.UnpicklingError, RuntimeError, EOFError, OSError, ValueError) as err:
+            reason = (str(err).splitlines() or [type(err).__name__])[0]
+            raise CheckpointError(f'{info.folder}: refused {info.model_file.name}: {reason}'
+                                  ) from None
+        if not isinstance(state, dict) or not all(
+                isinstance(v, torch.Tensor) and bool(torch.isfinite(v).all())
+                for v in state.values()):
+            raise CheckpointError(f'{info.folder}: weights.pt must hold a state_dict of finite '
+                                  f'tensors')
+        self.model_ = build_model(self.config.model, self.window_, self.n_channels_,
+                                  len(self.classes_))
+        try:
+            self.model_.load_state_dict(state)
+        except (RuntimeError, TypeError, KeyError) as err:
+            raise CheckpointError(f'{info.folder}: weights do not fit {self.config.model}: '
+                                  f'{str(err).splitlines()[0]}') from None
+        self.model_.eval()
+        return self
+
+
+def validation_split(y: np.ndarray, groups, config: TrainingConfig
+                     ) -> tuple[np.ndarray, np.ndarray]:
+    """Training and early-stopping indices; whole recordings go to one side.
+
+    Without early stopping every window trains. With it, `validation_fraction` of the
+    recordings (at least one) is held out by scikit-learn's GroupShuffleSplit.
+
+    Raises:
+        ValueError: early stopping without one group per window (window-level validation
+            would leak), with fewer than two recordings, or no window left to train on.
+    """
+    from sklearn.model_selection import GroupShuffleSplit
+    indices = np.arange(y.size)
+    if not indices.size:
+        raise ValueError('no training windows')
+    if not config.early_stopping:
+        return indices, np.zeros(0, dtype=np.int64)
+    if groups is None:
+        raise ValueError('early stopping holds out whole recordings: pass groups (the '
+                         'recording of each window); validating on windows of the training '
+                         'recordings would leak')
+    groups = np.asarray(groups)
+    if groups.shape != y.shape:
+        raise ValueError(f'groups must name the recording of each of the {y.size} windows, '
+                         f'got shape {groups.shape!r}')
+    recordings = np.unique(groups).size
+    if recordings < 2:
+        raise ValueError(f'early stopping needs at least 2 recordings (one to validate on), '
+                         f'got {recordings}')
+    if math.ceil(config.validation_fraction * recordings) >= recordings:
+        raise ValueError(f'validation_fraction {config.validation_fraction} of {recordings} '
+                         f'recordings leaves none to train on')
+    splitter = GroupShuffleSplit(n_splits=1, test_size=config.validation_fraction,
+                                 random_state=config.seed)
+    return next(splitter.split(indices, y, groups))

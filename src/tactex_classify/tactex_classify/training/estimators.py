@@ -1,0 +1,30 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""One constructor for every classifier name: the eight deep models and the baselines."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+from tactex_classify.models.registry import ALL_MODELS
+
+
+def build_estimator(config, *, progress: Callable[[dict], None] | None = None,
+                    device: str = 'cpu'):
+    """A fresh, unfitted classifier for `config.model` (a `TrainingConfig`).
+
+    Baselines take only the seed from the config; deep models take all of it, report
+    each epoch to `progress` and train on `device`.
+
+    Raises:
+        ValueError: an unknown model name.
+    """
+    from tactex_classify.models.baselines import MiniRocketRidge, StatsExtraTrees
+    from tactex_classify.training.deep_classifier import DeepClassifier
+    if config.model == 'minirocket':
+        return MiniRocketRidge(seed=config.seed)
+    if config.model == 'extratrees':
+        return StatsExtraTrees(seed=config.seed)
+    if config.model not in ALL_MODELS:
+        raise ValueError(f'unknown model {config.model!r}; known: {", ".join(ALL_MODELS)}')
+    return DeepClassifier(config, progress=progress, device=device)
