@@ -20,7 +20,7 @@ TACTEX = Path(sys.executable).parent / 'tactex'
 SUMMARY_KEYS = {'contacts', 'normal_error_deg_mean', 'position_error_mm_mean',
                 'contact_fraction', 'sliding_speed_error', 'cv_accuracy_grouped',
                 'cv_accuracy_stratified', 'live_accuracy', 'time_to_decision_s',
-                'madgwick_rejected', 'wall_s'}
+                'madgwick_rejected', 'madgwick_bad_stamps', 'wall_s'}
 PLOTS = ('pathway.png', 'sweep.png', 'confusion.png', 'accuracy_vs_contact_time.png')
 # The demo scene's sliding contact: every live sweep is decided within it.
 SWEEP_CONTACT_S = load_scene(resolve_scene(demo.SCENE)).sweep.contact_s
@@ -76,7 +76,8 @@ def test_quick_demo_runs_every_stage_through_the_nodes_and_meets_its_thresholds(
 PASSING = {'contacts': 3, 'probe_points': 3, 'normal_error_deg_mean': 1.0,
            'position_error_mm_mean': 0.5, 'contact_fraction': 0.95, 'sliding_speed_error': 0.02,
            'cv_accuracy_grouped': 0.8, 'cv_accuracy_stratified': 0.9, 'live_accuracy': 0.75,
-           'time_to_decision_s': 2.0, 'madgwick_rejected': 0.0, 'wall_s': 100.0}
+           'time_to_decision_s': 2.0, 'madgwick_rejected': 0.0, 'madgwick_bad_stamps': 0.0,
+           'wall_s': 100.0}
 
 
 @pytest.mark.parametrize('value', [12.0, math.nan])

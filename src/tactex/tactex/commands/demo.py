@@ -82,7 +82,6 @@ def _check_out(out: Path) -> Path:
     return check_output_folder(out)
 
 
-
 def _print_summary(out: Path, summary: dict, checks: list) -> None:
     print(f'\ntactex demo, summary ({out}/summary.json; plots pathway.png, sweep.png, '
           'confusion.png, accuracy_vs_contact_time.png):')
@@ -90,4 +89,6 @@ def _print_summary(out: Path, summary: dict, checks: list) -> None:
           'reported only)')
     for check in checks:
         print(f'  {check.line()}')
+    print(f'  madgwick_bad_stamps {summary["madgwick_bad_stamps"]:.4g} (IMU stamps that did '
+          'not advance or left a gap, reported only)')
     print(f'  wall_s {summary["wall_s"]:.0f} s')

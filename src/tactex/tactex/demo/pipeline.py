@@ -108,6 +108,7 @@ class Demo:
         self.launcher = None  # the running system's (see system())
         # Samples madgwick_node rejected, per launched system (None: its diagnostics unheard).
         self.madgwick_rejected: dict[str, int | None] = {}
+        self.madgwick_bad_stamps: dict[str, int | None] = {}
 
     def say(self, line: str) -> None:
         """A progress line with the elapsed time."""
@@ -190,6 +191,7 @@ class Demo:
                         client.wait_classifier_ready(NODE_START_S, alive=watcher.is_alive)
                     yield client, watcher.is_alive
                     self.madgwick_rejected[name] = client.madgwick_rejected()
+                    self.madgwick_bad_stamps[name] = client.madgwick_rejected(('dt',))
             except CommandError as err:
                 raise CommandError(f'{err} ({_node_failure(log_path)})') from None
             finally:
@@ -342,6 +344,7 @@ class Demo:
             'live_decided': figures['live_decided'],
             'time_to_decision_s': figures['time_to_decision_s'],
             'madgwick_rejected': _total(self.madgwick_rejected.values()),
+            'madgwick_bad_stamps': _total(self.madgwick_bad_stamps.values()),
             'sizes': vars(self.sizes) | {'textures': textures, 'model': MODEL},
         }
         report.plot_pathway(self.folder / 'pathway.png', probe['positions'], probe['normals'],

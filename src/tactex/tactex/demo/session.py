@@ -146,13 +146,19 @@ class SystemClient:
                 with self._lock:
                     self._madgwick = status
 
-    def madgwick_rejected(self) -> int | None:
-        """Samples madgwick_node has rejected so far, by its newest diagnostics (None: none)."""
+    def madgwick_rejected(self, kinds: tuple[str, ...] = ('gyro', 'accel')) -> int | None:
+        """Samples madgwick_node has rejected so far for `kinds`, by its newest diagnostics.
+
+        The default kinds are the samples' values (beyond the chip's full scale, or not
+        finite); 'dt' counts stamps that did not advance (a duplicate or reordered
+        delivery) or left a gap. None: no diagnostics heard.
+        """
         with self._lock:
             status = self._madgwick
         if status is None:
             return None
-        return sum(int(kv.value) for kv in status.values if kv.key.startswith('rejected_'))
+        keys = {f'rejected_{kind}' for kind in kinds}
+        return sum(int(kv.value) for kv in status.values if kv.key in keys)
 
     # -- waiting --------------------------------------------------------------------------
     @staticmethod
