@@ -99,6 +99,16 @@ def test_a_missed_threshold_fails_the_demo_and_names_the_figure(monkeypatch, cap
     assert (tmp_path / 'demo' / 'summary.json').is_file()  # kept to look at
 
 
+def test_the_default_demo_sweeps_all_twelve_textures_and_judges_against_their_chance():
+    from tactex_sim.textures import TEXTURES
+    assert demo.DEFAULT.texture_names == list(TEXTURES) and len(TEXTURES) == 12
+    assert demo.QUICK.texture_names == list(demo.QUICK.textures)
+    figures = {c.key: c for c in demo_report.checks(PASSING, PASSING['probe_points'],
+                                                      len(demo.DEFAULT.texture_names),
+                                                      SWEEP_CONTACT_S)}
+    assert figures['cv_accuracy_grouped'].limit == pytest.approx(2 / 12)
+
+
 def test_a_previous_demo_folder_is_replaced_and_any_other_folder_kept(monkeypatch, capsys,
                                                                       tmp_path):
     def fake_run(self):

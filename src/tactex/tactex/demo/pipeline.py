@@ -59,6 +59,12 @@ class Sizes:
     textures: tuple[str, ...] = ()  # () : all 12
     rate_factor: float = 1.0  # simulated seconds per wall second
 
+    @property
+    def texture_names(self) -> list[str]:
+        """The textures swept: those named, or all of them."""
+        from tactex_sim.textures import TEXTURES
+        return list(self.textures or TEXTURES)
+
 
 DEFAULT = Sizes(sweeps=3, live_sweeps=1, probe_span_m=0.10, probe_step_m=0.01, folds=3)
 # Four textures, two alike (the cotton weaves), so that the check can fail; simulated
@@ -122,8 +128,7 @@ class Demo:
     def run(self) -> tuple[dict, list]:
         """Every stage; the summary and its checks."""
         from tactex.demo.figures import checks
-        from tactex_sim.textures import TEXTURES
-        textures = list(self.sizes.textures or TEXTURES)
+        textures = self.sizes.texture_names
         self.next_stage('launch the system in simulation (launch/system.launch.py sim:=true)')
         with self.system('collect') as (client, alive):
             probe = self.probe(client, alive)
@@ -139,7 +144,7 @@ class Demo:
                                seed=1, pathway=probe['pathway'])
         self.next_stage('figures: summary.json and plots')
         summary = self.summarise(probe, recorded, live, metrics, textures)
-        figures = checks(summary, probe['points'], len(self.sizes.textures),
+        figures = checks(summary, probe['points'], len(textures),
                          self.scene.sweep.contact_s)
         summary['thresholds'] = {c.key: {'limit': c.limit, 'at_least': c.at_least,
                                          'passed': c.passed} for c in figures}
