@@ -223,3 +223,14 @@ def test_the_pressure_rule_forgets_any_high_readings_at_the_next_free_air_ones(r
     assert not rule.touching and abs(rule.baseline - 101325.0) <= rule.contact_pa / 2
     feed_pressures(rule, [101325.0 + 2 * rule.contact_pa] * 3, stamp)
     assert rule.touching
+
+
+@pytest.mark.parametrize('threshold', [0.5, 0.99])
+def test_an_estimate_carries_the_python_types_a_ros_message_takes(threshold):
+    # A TextureEstimate's bool field refuses numpy.bool_: rclpy's generated C code asserts
+    # PyBool_Check, and under a colcon build (assertions kept) classifier_node aborted.
+    evidence = Evidence(2, PERIOD_NS, EvidenceSettings(threshold=threshold, min_windows=1))
+    for index in range(3):
+        estimate = evidence.add(np.array([0.9, 0.1]), index * PERIOD_NS, (index + 1) * PERIOD_NS)
+        assert type(estimate.decided) is bool
+        assert type(estimate.class_id) is int and type(estimate.contact_seconds) is float

@@ -175,8 +175,10 @@ class Evidence:
         posterior = np.exp(total - total.max())
         posterior /= posterior.sum()
         leader = int(np.argmax(posterior))
-        decided = (posterior[leader] > self.settings.threshold
-                   and len(self._logs) >= self.settings.min_windows)
+        # Python types, not numpy's: a ROS message's bool field refuses numpy.bool_ (the
+        # generated C code asserts PyBool_Check, and a colcon build keeps the assertion).
+        decided = bool(posterior[leader] > self.settings.threshold
+                       and len(self._logs) >= self.settings.min_windows)
         estimate = Estimate(leader, posterior, decided, union_seconds(
             [(s, e + self.period_ns) for s, e in self._spans]), tuple(self._spans),
             int(end_ns), restarted)
