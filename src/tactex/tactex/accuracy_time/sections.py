@@ -9,7 +9,7 @@ order; both read a section's identity only from `SECTIONS`.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 from tactex.accuracy_time import (
@@ -35,7 +35,7 @@ class Run:
     scratch: Path
     log: Callable[[str], None]
     results: dict
-    data: classification.Data | None = field(default=None)
+    data: classification.Data | None = None
 
 
 @dataclass(frozen=True)
