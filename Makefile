@@ -28,7 +28,7 @@ test: $(STAMP) $(MSGS_STAMP)
 
 # The hard-case property suite with fresh random examples (`make test` draws a fixed set).
 hunt: $(STAMP)
-	$(BIN)/python -m pytest -q tests/hard_cases --hypothesis-profile=hunt $(PYTEST_ARGS)
+	$(BIN)/python -m pytest -q -m hard_case tests --hypothesis-profile=hunt $(PYTEST_ARGS)
 
 bench: $(STAMP) $(MSGS_STAMP)
 	$(BIN)/python bench/run_all.py

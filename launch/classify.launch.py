@@ -3,43 +3,40 @@
 """Launch the online texture classifier with the tactile sensor or the simulator."""
 
 from tactex.launching.spec import (
+    Arg,
     Argument,
-    as_float,
     config_path,
-    LaunchError,
+    Equals,
+    Group,
+    If,
     LaunchFile,
     NodeSpec,
+    Unless,
 )
 
-
-def _nodes(args):
-    if not args['checkpoint']:
-        raise LaunchError('checkpoint:=RUN/model is required (the folder `tactex train` '
-                          'writes)')
-    simulated = args['source'] == 'sim'
-    if simulated:
-        source = [NodeSpec('tactex_sim', 'mujoco_bridge', 'mujoco_bridge', parameters=(
-            {'scene': args['scene'],
-             'rate_factor': as_float('rate_factor', args['rate_factor'])},))]
-    else:
-        source = [NodeSpec('tactex_sensor', 'teensy_node', 'teensy_node',
-                           parameters=(config_path('sensor.yaml'), {'port': args['port']}))]
-    classifier = {'checkpoint': args['checkpoint'], 'runtime': args['runtime'],
-                  'threshold': as_float('threshold', args['threshold']), 'use_sim_time': simulated}
-    return source + [NodeSpec('tactex_classify', 'classifier_node', 'classifier_node',
-                              parameters=(config_path('classify.yaml'), classifier))]
-
+SIMULATED = Equals('source', 'sim')
 
 LAUNCH = LaunchFile(
     'the online texture classifier on the tactile sensor (or the simulator)',
-    (Argument('checkpoint', '', 'checkpoint folder (RUN/model/ of tactex train)'),
+    (Argument('checkpoint', None, 'checkpoint folder (RUN/model/ of tactex train)'),
      Argument('source', 'sensor', 'where the tactile topics come from', ('sensor', 'sim')),
+     Argument('robot', 'true', 'also start the source (false: it runs already)', kind='bool'),
      Argument('runtime', 'native', 'inference runtime', ('native', 'onnxruntime')),
-     Argument('threshold', '0.99', 'decide when the largest posterior exceeds this'),
+     Argument('threshold', '0.99', 'decide when the largest posterior exceeds this',
+              kind='float'),
      Argument('port', '/dev/ttyACM0', 'serial device of the Teensy (source:=sensor)'),
      Argument('scene', 'uneven_texture', 'scene (source:=sim)'),
-     Argument('rate_factor', '1.0', 'simulated seconds per wall second (source:=sim)')),
-    _nodes)
+     Argument('rate_factor', '1.0', 'simulated seconds per wall second (source:=sim)',
+              kind='float')),
+    (Group((NodeSpec('tactex_sim', 'mujoco_bridge', 'mujoco_bridge', condition=If(SIMULATED),
+                     parameters=({'scene': Arg('scene'), 'rate_factor': Arg('rate_factor')},)),
+            NodeSpec('tactex_sensor', 'teensy_node', 'teensy_node', condition=Unless(SIMULATED),
+                     parameters=(config_path('sensor.yaml'), {'port': Arg('port')}))),
+           If(Arg('robot'))),
+     NodeSpec('tactex_classify', 'classifier_node', 'classifier_node', parameters=(
+         config_path('classify.yaml'),
+         {'checkpoint': Arg('checkpoint'), 'runtime': Arg('runtime'),
+          'threshold': Arg('threshold'), 'use_sim_time': SIMULATED}))))
 
 
 def generate_launch_description():

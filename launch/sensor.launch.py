@@ -2,19 +2,15 @@
 # SPDX-License-Identifier: Apache-2.0
 """Launch the tactile module: teensy_node (serial -> raw topics) and madgwick_node."""
 
-from tactex.launching.spec import Argument, config_path, LaunchFile, NodeSpec
-
-
-def _nodes(args):
-    parameters = config_path('sensor.yaml')
-    return [NodeSpec('tactex_sensor', 'teensy_node', 'teensy_node',
-                     parameters=(parameters, {'port': args['port']})),
-            NodeSpec('tactex_sensor', 'madgwick_node', 'madgwick_node', parameters=(parameters,))]
-
+from tactex.launching.spec import Arg, Argument, config_path, LaunchFile, NodeSpec
 
 LAUNCH = LaunchFile(
     'the tactile module on a serial port, and the Madgwick filter',
-    (Argument('port', '/dev/ttyACM0', 'serial device of the Teensy'),), _nodes)
+    (Argument('port', '/dev/ttyACM0', 'serial device of the Teensy'),),
+    (NodeSpec('tactex_sensor', 'teensy_node', 'teensy_node',
+              parameters=(config_path('sensor.yaml'), {'port': Arg('port')})),
+     NodeSpec('tactex_sensor', 'madgwick_node', 'madgwick_node',
+              parameters=(config_path('sensor.yaml'),))))
 
 
 def generate_launch_description():

@@ -2,27 +2,21 @@
 # SPDX-License-Identifier: Apache-2.0
 """Launch the MuJoCo bridge in place of the arm and the sensor, plus the Madgwick filter."""
 
-from tactex.launching.spec import Argument, as_float, config_path, LaunchFile, NodeSpec
-
-
-def _nodes(args):
-    bridge = {'scene': args['scene'],
-              'rate_factor': as_float('rate_factor', args['rate_factor'])}
-    if args['patch_texture']:
-        bridge['patch_texture'] = args['patch_texture']
-    return [NodeSpec('tactex_sim', 'mujoco_bridge', 'mujoco_bridge', parameters=(bridge,)),
-            NodeSpec('tactex_sensor', 'madgwick_node', 'madgwick_node',
-                     parameters=(config_path('sensor.yaml'), {'use_sim_time': True}))]
-
+from tactex.launching.spec import Arg, Argument, config_path, LaunchFile, NodeSpec
 
 LAUNCH = LaunchFile(
     'MuJoCo in place of the arm and the tactile module, and the Madgwick filter',
     (Argument('scene', 'probe', 'scene under config/scenes/ or a .toml path'),
-     Argument('rate_factor', '1.0', 'simulated seconds per wall second (0: as fast as possible)'),
+     Argument('rate_factor', '1.0', 'simulated seconds per wall second (0: as fast as possible)',
+              kind='float'),
      Argument('patch_texture', '',
               "texture of every patch ('': the scene's); the bridge's parameter of that name "
               'changes it while running')),
-    _nodes)
+    (NodeSpec('tactex_sim', 'mujoco_bridge', 'mujoco_bridge', parameters=(
+        {'scene': Arg('scene'), 'rate_factor': Arg('rate_factor'),
+         'patch_texture': Arg('patch_texture')},)),
+     NodeSpec('tactex_sensor', 'madgwick_node', 'madgwick_node',
+              parameters=(config_path('sensor.yaml'), {'use_sim_time': True}))))
 
 
 def generate_launch_description():

@@ -8,34 +8,25 @@ module (launch/arm.launch.py, launch/sensor.launch.py) on their serial ports.
 """
 
 from tactex.launching.spec import (
+    Arg,
     Argument,
     config_path,
-    is_true,
+    If,
+    include_robot,
     LaunchFile,
     NodeSpec,
-    robot_nodes,
+    robot_arguments,
 )
-
-
-def _nodes(args):
-    simulated = is_true(args['sim'])
-    sweep = NodeSpec('tactex_trajectory', 'sweep_node', 'sweep_node', parameters=(
-        config_path('sweep.yaml'),
-        {'use_sim_time': simulated, 'recording_root': args['recording_root']}))
-    return [*robot_nodes(args), sweep]
-
 
 LAUNCH = LaunchFile(
     'the sweep action server with the arm and the tactile module, or with MuJoCo',
-    (Argument('sim', 'false', 'true: MuJoCo in place of the arm and the sensor',
-              ('true', 'false')),
-     Argument('scene', 'uneven_texture', 'scene of the simulator (sim:=true)'),
-     Argument('rate_factor', '1.0', 'simulated seconds per wall second (sim:=true)'),
-     Argument('arm_port', '/dev/ttyUSB0', 'serial device of the U2D2 / OpenCR'),
-     Argument('sensor_port', '/dev/ttyACM0', 'serial device of the Teensy'),
+    (*robot_arguments(scene='uneven_texture'),
      Argument('recording_root', 'recordings',
               'directory for the recordings of goals with record: true')),
-    _nodes)
+    (include_robot(If(Arg('robot'))),
+     NodeSpec('tactex_trajectory', 'sweep_node', 'sweep_node', parameters=(
+         config_path('sweep.yaml'),
+         {'use_sim_time': Arg('sim'), 'recording_root': Arg('recording_root')}))))
 
 
 def generate_launch_description():

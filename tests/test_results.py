@@ -6,7 +6,7 @@ import json
 from pathlib import Path
 
 import pytest
-from scripts import load_script
+from support.scripts import load_script
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -251,6 +251,26 @@ def test_every_module_has_a_one_line_docstring():
         assert body.startswith('"""'), f'{path.relative_to(ROOT)} has no module docstring'
 
 
+def test_the_tests_mirror_the_packages():
+    """One folder of tests per package (plus the firmware), helpers in tests/support/.
+
+    Hard cases and end-to-end tests are marked (`hard_case`, `integration`), not put
+    in folders of their own; at the top only the workspace's own rules and results.
+    """
+    tests = ROOT / 'tests'
+    folders = {p.name for p in tests.iterdir() if p.is_dir() and p.name != '__pycache__'}
+    assert folders == {*PACKAGES, 'firmware', 'support'}
+    top = {p.name for p in tests.glob('*.py')}
+    assert top == {'conftest.py', 'test_workspace.py', 'test_results.py'}
+    helpers = [str(p.relative_to(tests)) for p in tests.rglob('*.py')
+               if not p.name.startswith('test_') and p.name not in ('conftest.py',)
+               and p.parent.name not in ('support', 'firmware')]
+    assert not helpers
+    hard = [p.name for p in tests.rglob('test_*_hard.py')
+            if 'pytest.mark.hard_case' not in p.read_text(encoding='utf-8')]
+    assert not hard
+
+
 def test_launch_files_compile_and_define_a_description():
     assert LAUNCH_FILES
     for path in LAUNCH_FILES:

@@ -4,7 +4,7 @@
 
 from pathlib import Path
 
-from scripts import load_script
+from support.scripts import load_script
 
 from tactex_common import chips
 

@@ -13,8 +13,8 @@ import re
 import subprocess
 import sys
 
-from badinputs import BAD_INPUTS, make_workspace, toy_dataset
 import pytest
+from support.badinputs import BAD_INPUTS, make_workspace, toy_dataset
 
 from tactex.cli import main
 

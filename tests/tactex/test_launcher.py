@@ -2,7 +2,6 @@
 # SPDX-License-Identifier: Apache-2.0
 """Launch files as data, and `tactex launch`: the node sets, supervision and clean shutdown."""
 
-import importlib.util
 import io
 import os
 from pathlib import Path
@@ -13,8 +12,16 @@ import sys
 import time
 
 import numpy as np
-from processes import alive, wait_for
 import pytest
+from support.processes import alive, wait_for
+from support.ros_launch import (
+    launch_installed,
+    load_description,
+    stand_in_modules,
+    started_by_ros_launch,
+    started_by_stand_ins,
+    yaml_typed,
+)
 
 from tactex.launching.spec import (
     launch_directory,
@@ -42,9 +49,23 @@ VARIANTS = {'probe': [{'sim': 'true'}], 'sweep': [{'sim': 'true'}],
             'classify': [{'source': 'sim'}],
             'system': [{'sim': 'true'}, {'sim': 'true', 'checkpoint': '/run/model'},
                        {'checkpoint': '/run/model'}]}
-CASES = [pytest.param(name, {**NEEDED.get(name, {}), **variant},
-                      id=' '.join([name, *(f'{k}:={v}' for k, v in variant.items())]))
-         for name in LAUNCH_NAMES for variant in [{}, *VARIANTS.get(name, [])]]
+
+
+def _cases(variants: dict[str, list[dict]], plain: bool) -> list:
+    return [pytest.param(name, {**NEEDED.get(name, {}), **variant},
+                         id=' '.join([name, *(f'{k}:={v}' for k, v in variant.items())]))
+            for name in LAUNCH_NAMES for variant in [{}] * plain + variants.get(name, [])]
+
+
+CASES = _cases(VARIANTS, plain=True)
+# What the ROS 2 translation must carry too: namespaces, the viewer, typed values.
+ROS_CASES = _cases({
+    'system': [{'sim': 'true', 'namespace': 'left_arm', 'rviz': 'true', 'rate_factor': '3',
+                'checkpoint': '/run/model', 'threshold': '1', 'probe_on_start': 'true'},
+               {'namespace': '/robots/left/', 'discovery': 'subnet', 'sensor_port': '/dev/a'}],
+    'classify': [{'source': 'sim', 'robot': 'false', 'namespace': 'a'}],
+    'probe': [{'robot': 'false', 'pathway_file': '/data/p.json'}],
+    'sim': [{'patch_texture': 'wood', 'scene': '1.0'}]}, plain=False)
 
 
 def test_every_launch_file_is_checked():
@@ -62,30 +83,30 @@ def test_every_launch_file_declares_nodes_that_exist(name, arguments):
         node_command(spec)  # the executable is installed
 
 
-@pytest.mark.parametrize(('name', 'arguments'), CASES)
-def test_ros2_launch_starts_the_same_node_set(name, arguments):
-    if importlib.util.find_spec('launch_ros') is None:
-        pytest.skip('ROS 2 launch (launch_ros) is not installed here; the data path is tested')
-    from launch import LaunchContext
-    from launch.actions import DeclareLaunchArgument, GroupAction, OpaqueFunction
-    from launch_ros.actions import Node
+def _started_by_tactex_launch(name: str, arguments: dict[str, str]) -> list[tuple]:
+    launch = load_launch_file(name)
+    namespace = launch.resolve(arguments)['namespace'].strip('/')
+    return [(spec.package, spec.executable, spec.name, namespace,
+             [p if isinstance(p, str) else {k: yaml_typed(v) for k, v in p.items()}
+              for p in spec.parameters]) for spec in launch.node_specs(arguments)]
 
-    spec = importlib.util.spec_from_file_location('checked', launch_directory() /
-                                                  f'{name}.launch.py')
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    context = LaunchContext()
-    context.launch_configurations.update(arguments)
-    started = []
-    for entity in module.generate_launch_description().entities:
-        if isinstance(entity, DeclareLaunchArgument):
-            entity.execute(context)
-        elif isinstance(entity, OpaqueFunction):
-            for group in entity.execute(context):
-                assert isinstance(group, GroupAction)
-                started += [(n.node_package, n.node_executable)
-                            for n in group.get_sub_entities() if isinstance(n, Node)]
-    assert started == [(n.package, n.executable) for n in module.LAUNCH.node_specs(arguments)]
+
+@pytest.mark.parametrize(('name', 'arguments'), CASES + ROS_CASES)
+def test_ros2_launch_starts_what_tactex_launch_starts(name, arguments, monkeypatch):
+    """One source: the generated ROS 2 description starts the very nodes, named alike.
+
+    Run on ROS 2 launch where it is installed, else on its stand-ins (tests/support).
+    """
+    path = launch_directory() / f'{name}.launch.py'
+    if launch_installed():
+        started = started_by_ros_launch(load_description(path), arguments)
+    else:
+        for module_name, module in stand_in_modules().items():
+            monkeypatch.setitem(sys.modules, module_name, module)
+        monkeypatch.setitem(sys.modules, 'tactex.launching.ros_description', None)
+        monkeypatch.delitem(sys.modules, 'tactex.launching.ros_description')
+        started = started_by_stand_ins(load_description(path), arguments)
+    assert started == _started_by_tactex_launch(name, arguments)
 
 
 def _names(name: str, **arguments: str) -> list[str]:
@@ -102,7 +123,7 @@ def test_system_launch_starts_the_robot_probe_sweep_and_with_a_checkpoint_the_cl
         *hardware, 'classifier_node', 'robot_state_publisher', 'rviz2']
 
 
-def test_system_launch_passes_its_arguments_to_the_nodes_it_borrows():
+def test_system_launch_passes_its_arguments_to_the_launch_files_it_includes():
     arguments = {'sim': 'true', 'checkpoint': '/run/model', 'recording_root': '/data/bags',
                  'pathway_file': '/data/pathway.json', 'patch_texture': 'wood',
                  'rate_factor': '3', 'threshold': '1', 'runtime': 'onnxruntime'}
@@ -119,13 +140,42 @@ def test_system_launch_passes_its_arguments_to_the_nodes_it_borrows():
     assert parameters('sweep_node')['recording_root'] == '/data/bags'
     assert parameters('classifier_node') == {'checkpoint': '/run/model', 'threshold': 1.0,
                                              'runtime': 'onnxruntime', 'use_sim_time': True}
-    assert all(parameters(name)['use_sim_time'] for name in
+    assert all(parameters(name)['use_sim_time'] is True for name in
                ('madgwick_node', 'probe_node', 'sweep_node'))
     with pytest.raises(LaunchError, match="rate_factor:='fast' is not a finite number"):
         load_launch_file('system').node_specs({'sim': 'true', 'rate_factor': 'fast'})
-    with pytest.raises(LaunchError, match='no node .nope. in this launch file; it starts '
-                                          'mujoco_bridge, madgwick_node'):
-        load_launch_file('sim').node('nope', {})
+
+
+def test_a_launch_file_without_its_robot_starts_only_its_own_node():
+    assert _names('probe', robot='false') == ['probe_node']
+    assert _names('sweep', robot='false', sim='true') == ['sweep_node']
+    assert _names('classify', robot='false', checkpoint='/run/model') == ['classifier_node']
+    assert _names('classify', source='sim', checkpoint='/run/model') == [
+        'mujoco_bridge', 'classifier_node']
+
+
+def test_a_required_argument_is_named_when_missing_or_empty():
+    for given in ({}, {'checkpoint': ''}):
+        with pytest.raises(LaunchError, match=r'checkpoint:=\.\.\. is required: checkpoint '
+                                              r'folder \(RUN/model/ of tactex train\)'):
+            load_launch_file('classify').node_specs(given)
+
+
+def test_the_pathway_file_default_is_the_one_of_the_probe_parameters():
+    configured = re.search(r'pathway_file: (\S+)', (ROOT / 'config' / 'probe.yaml').read_text(
+        encoding='utf-8')).group(1)
+    for name in ('probe', 'system'):
+        assert load_launch_file(name).argument('pathway_file').default == configured
+
+
+def test_an_include_hands_over_only_what_it_names():
+    """The included file's other arguments keep its own defaults, not the includer's."""
+    bridge = {spec.name: spec for spec in load_launch_file('classify').node_specs(
+        {'checkpoint': '/run/model', 'source': 'sim'})}['mujoco_bridge']
+    assert bridge.parameters[0]['scene'] == 'uneven_texture'
+    probe_scene = {spec.name: spec for spec in load_launch_file('probe').node_specs(
+        {'sim': 'true'})}['mujoco_bridge'].parameters[0]['scene']
+    assert probe_scene == 'probe'
 
 
 def test_unknown_arguments_and_bad_choices_are_refused_with_the_known_ones():
@@ -142,12 +192,12 @@ def test_unknown_arguments_and_bad_choices_are_refused_with_the_known_ones():
 def test_node_command_applies_name_namespace_parameters_and_remappings():
     spec = NodeSpec('tactex_sensor', 'madgwick_node', 'filter',
                     parameters=('/x/sensor.yaml', {'gain': 0.2, 'use_mag': True,
-                                                   'ids': [1, 2]}),
+                                                   'ids': [1, 2], 'frame': ''}),
                     remappings=(('tactile/imu/data', 'imu'),))
     command = node_command(spec, namespace='/left_arm/')
     assert command[1:] == ['--ros-args', '-r', '__node:=filter', '-r', '__ns:=/left_arm',
                            '--params-file', '/x/sensor.yaml', '-p', 'gain:=0.2',
-                           '-p', 'use_mag:=true', '-p', 'ids:=[1, 2]',
+                           '-p', 'use_mag:=true', '-p', 'ids:=[1, 2]', '-p', 'frame:=""',
                            '-r', 'tactile/imu/data:=imu']
 
 

@@ -4,11 +4,11 @@
 
 import json
 
-from bagfactory import ramp, strip_type_definitions, T, write_bag
 import numpy as np
 import pytest
 from rosbags.highlevel import AnyReader, AnyReaderError
 from rosbags.rosbag2 import StoragePlugin
+from support.bagfactory import ramp, strip_type_definitions, T, write_bag
 
 from tactex.cli import main
 from tactex_classify.data.bags import parse_topic_remaps, read_recording, resolve_topics

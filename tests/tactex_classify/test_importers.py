@@ -6,9 +6,9 @@ import os
 import pickle
 
 import numpy as np
-from oldpickle import frame_pickle
 import pandas as pd
 import pytest
+from support.oldpickle import frame_pickle
 
 from tactex.cli import main
 from tactex_classify.data import pickles

@@ -2,10 +2,10 @@
 # SPDX-License-Identifier: Apache-2.0
 """The live core cuts the converter's windows from a recorded bag, and meets bad streams."""
 
-from bagfactory import write_bag
 import numpy as np
 import pytest
 from rosbags.highlevel import AnyReader
+from support.bagfactory import write_bag
 
 from tactex_classify.data.bags import TOPIC_ROLES
 from tactex_classify.data.dataset import convert

@@ -4,8 +4,8 @@
 
 import threading
 
-from processes import wait_for
 import pytest
+from support.processes import wait_for
 
 pytest.importorskip('tactex_msgs', reason='tactex_msgs is not built in this environment')
 

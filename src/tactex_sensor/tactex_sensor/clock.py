@@ -16,7 +16,7 @@ whose stamps are then late by that read's transport delay only; a corrupted time
 by less than one sample period, followed by good ones, pulls the estimate early by less
 than that period, and the creep takes it back. So from the first good read after bad
 device times stop, stamps are within the larger of one sample period and the longest
-transport delay (tests/hard_cases/test_clock_hard.py). Offsets are kept relative to the
+transport delay (tests/tactex_sensor/test_clock_hard.py). Offsets are kept relative to the
 first observation, so stamps keep nanosecond resolution at any epoch.
 """
 

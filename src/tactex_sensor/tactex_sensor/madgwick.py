@@ -29,7 +29,7 @@ leaves the attitude where it was. Whatever state bad input left behind (in-range
 can turn the attitude anywhere), a tilt disagreeing with the accel by more than
 `recovery_angle_rad` for `recovery_s` restarts the gain ramp, so the filter is back
 within 1 degree of a resting sensor's tilt 6 s after bad input stops
-(tests/hard_cases/test_madgwick_hard.py checks it).
+(tests/tactex_sensor/test_madgwick_hard.py checks it).
 
 Internally the world frame is north-west-up; the MARG output is turned into ENU (x east,
 y north, z up; REP-145). With the IMU only, heading is free and the first sample defines

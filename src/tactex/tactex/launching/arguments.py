@@ -97,8 +97,9 @@ def _recording_root(name: str, value: str) -> None:
 
 
 def _pathway_file(name: str, value: str) -> None:
-    if not value:  # config/probe.yaml's
-        return
+    if not value:
+        raise LaunchError(f"{name}:='' names no file; give the path the pathway is kept at "
+                          '(e.g. ~/.ros/tactex/pathway.json)')
     try:
         check_output_file(Path(value).expanduser(), name)
     except CommandError as err:

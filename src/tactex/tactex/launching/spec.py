@@ -1,12 +1,15 @@
 # Copyright 2026 The tactex authors
 # SPDX-License-Identifier: Apache-2.0
-"""Launch files as plain data: the arguments and the node set both launch paths read.
+"""Launch files as plain data: the arguments and the entities both launch paths read.
 
-Each `launch/<name>.launch.py` defines `LAUNCH = LaunchFile(...)`, a description of its
-arguments and a function from the resolved arguments to its nodes. ROS 2 launch builds
-its `LaunchDescription` from it (`tactex.launching.ros_description`), and `tactex launch`
-runs the same nodes as supervised processes (`tactex.launching.supervisor`), so the two
-cannot drift.
+Each `launch/<name>.launch.py` defines `LAUNCH = LaunchFile(...)`: its arguments and its
+entities, in the words of ROS 2 launch. A `NodeSpec` is a Node, an `Include` an
+IncludeLaunchDescription, a `Group` a GroupAction; `If`/`Unless` are IfCondition and
+UnlessCondition; a parameter or include value may be an argument's (`Arg`, a
+LaunchConfiguration) or a comparison of one (`Equals`, `IfElse`). ROS 2 launch gets the
+same tree as launch actions (`tactex.launching.ros_description`), and `tactex launch`
+evaluates it to the nodes it supervises (`tactex.launching.supervisor`), so the two
+cannot drift (tests/tactex/test_launcher.py runs both on every launch file).
 
 Parameter values given as strings are YAML-typed by both paths (`'1.0'` is a float,
 `'true'` a bool), exactly as `ros2 launch` and `--ros-args -p` do.
@@ -14,12 +17,12 @@ Parameter values given as strings are YAML-typed by both paths (`'1.0'` is a flo
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field, replace
 import importlib.util
 import math
 from pathlib import Path
-from typing import Any
+from typing import Literal
 
 from tactex_common.naming import closest_name
 from tactex_common.share import share_directory
@@ -31,37 +34,132 @@ class LaunchError(Exception):
 
 @dataclass(frozen=True)
 class Argument:
-    """A launch argument (`name:=value`)."""
+    """A launch argument (`name:=value`): DeclareLaunchArgument.
+
+    Args:
+        name: its name.
+        default: its value when not given; None makes it required.
+        description: one line for `--list` and `ros2 launch --show-args`.
+        choices: the values it may take (a `bool` argument takes true and false).
+        kind: what a node parameter set from it is: `text` (YAML-typed, as ros2 launch
+            types a LaunchConfiguration), `float` or `bool`.
+    """
 
     name: str
-    default: str
+    default: str | None
     description: str
     choices: tuple[str, ...] = ()
+    kind: Literal['text', 'float', 'bool'] = 'text'
+
+    def __post_init__(self) -> None:
+        """A bool argument takes true and false."""
+        if self.kind == 'bool' and not self.choices:
+            object.__setattr__(self, 'choices', ('true', 'false'))
+
+
+@dataclass(frozen=True)
+class Arg:
+    """The value of a launch argument: LaunchConfiguration(name)."""
+
+    name: str
+
+
+@dataclass(frozen=True)
+class Equals:
+    """Whether argument `name` is `text`: EqualsSubstitution (NotEqualsSubstitution)."""
+
+    name: str
+    text: str
+    negated: bool = False
+
+
+def not_equals(name: str, text: str) -> Equals:
+    """Whether argument `name` is not `text` (`not_equals('checkpoint', '')`: one is given)."""
+    return Equals(name, text, negated=True)
+
+
+@dataclass(frozen=True)
+class IfElse:
+    """`if_true` when bool argument `name` is true, else `if_false`: IfElseSubstitution."""
+
+    name: str
+    if_true: str
+    if_false: str
+
+
+Value = str | float | bool | Arg | Equals | IfElse
+
+
+@dataclass(frozen=True)
+class If:
+    """Start an entity when `test` (a bool argument or a comparison) holds: IfCondition."""
+
+    test: Arg | Equals
+
+
+@dataclass(frozen=True)
+class Unless:
+    """Start an entity unless `test` holds: UnlessCondition."""
+
+    test: Arg | Equals
+
+
+Condition = If | Unless
 
 
 @dataclass(frozen=True)
 class NodeSpec:
-    """One node to start.
+    """One node to start: launch_ros's Node.
 
     Args:
         package: the ament package of the executable.
         executable: its console-script name.
         name: the node name.
-        parameters: YAML parameter files (paths) and dicts of parameter values, in order.
+        parameters: YAML parameter files (paths) and dicts of parameter values, in order;
+            a value may be an argument's (`Arg`) or a comparison of one (`Equals`).
         remappings: (from, to) topic remappings.
         respawn: restart the node when it exits (the launcher waits `respawn_delay_s`).
         arguments: command-line arguments before the ROS arguments (e.g. rviz2's -d).
+        condition: start it only when this holds.
     """
 
     package: str
     executable: str
     name: str
-    parameters: tuple[str | Mapping[str, Any], ...] = ()
+    parameters: tuple[str | Mapping[str, Value], ...] = ()
     remappings: tuple[tuple[str, str], ...] = ()
     respawn: bool = False
     respawn_delay_s: float = 1.0
     arguments: tuple[str, ...] = ()
+    condition: Condition | None = None
 
+
+@dataclass(frozen=True)
+class Include:
+    """Another launch file with these argument values: IncludeLaunchDescription.
+
+    Args:
+        name: the launch file, `launch/NAME.launch.py`.
+        arguments: its argument values; those not given take its defaults (not the
+            including file's values of the same name, so an include reads alike in both
+            launch paths). Its nodes share the including file's namespace and discovery.
+        condition: include it only when this holds.
+    """
+
+    name: str
+    arguments: Mapping[str, Value] = field(default_factory=dict)
+    condition: Condition | None = None
+
+
+@dataclass(frozen=True)
+class Group:
+    """Entities that share a condition: GroupAction."""
+
+    entities: tuple[Entity, ...]
+    condition: Condition | None = None
+
+
+Entity = NodeSpec | Include | Group
 
 # Every launch file takes these; both launch paths apply them to every node.
 COMMON_ARGUMENTS = (
@@ -70,9 +168,11 @@ COMMON_ARGUMENTS = (
              'who may discover these nodes: this host only, or the whole subnet',
              ('localhost', 'subnet')),
     Argument('rviz', 'false', 'also start robot_state_publisher and RViz (full ROS 2 installs)',
-             ('true', 'false')),
+             kind='bool'),
 )
 DISCOVERY_RANGE = {'localhost': 'LOCALHOST', 'subnet': 'SUBNET'}
+# What an included file gets for the common arguments: the includer applies them once.
+INCLUDED_COMMON = {'namespace': '', 'discovery': Arg('discovery'), 'rviz': 'false'}
 
 
 @dataclass(frozen=True)
@@ -82,23 +182,35 @@ class LaunchFile:
     Args:
         description: one line for `tactex launch --list`.
         arguments: its own arguments (the common ones are added).
-        nodes: resolved arguments -> the nodes to start.
+        entities: its nodes, includes and groups, in start order.
     """
 
     description: str
     arguments: tuple[Argument, ...]
-    nodes: Callable[[Mapping[str, str]], Sequence[NodeSpec]]
+    entities: tuple[Entity, ...]
     all_arguments: tuple[Argument, ...] = field(init=False)
 
     def __post_init__(self) -> None:
         """Append the common arguments."""
         object.__setattr__(self, 'all_arguments', self.arguments + COMMON_ARGUMENTS)
 
+    def argument(self, name: str) -> Argument:
+        """The argument called `name`.
+
+        Raises:
+            LaunchError: this launch file takes none of that name.
+        """
+        for argument in self.all_arguments:
+            if argument.name == name:
+                return argument
+        raise LaunchError(f'this launch file takes no argument {name!r}')
+
     def resolve(self, overrides: Mapping[str, str]) -> dict[str, str]:
         """Defaults updated by `overrides`.
 
         Raises:
-            LaunchError: an unknown argument or a value outside its choices.
+            LaunchError: an unknown argument, a required one missing, a value outside its
+                choices or a float argument that is not a finite number.
         """
         known = {argument.name: argument for argument in self.all_arguments}
         unknown = sorted(set(overrides) - set(known))
@@ -111,29 +223,74 @@ class LaunchFile:
         values = {name: argument.default for name, argument in known.items()}
         values.update(overrides)
         for name, value in values.items():
-            choices = known[name].choices
-            if choices and value not in choices:
-                raise LaunchError(f'{name}:={value!r} is not one of {", ".join(choices)}')
+            argument = known[name]
+            if argument.default is None and not value:
+                raise LaunchError(f'{name}:=... is required: {argument.description}')
+            if argument.choices and value not in argument.choices:
+                raise LaunchError(f'{name}:={value!r} is not one of {", ".join(argument.choices)}')
+            if argument.kind == 'float':
+                as_float(name, value)
         return values
 
+    def every_entity(self) -> tuple[Entity, ...]:
+        """Its entities, then the viewer group that `rviz:=true` starts."""
+        return (*self.entities, Group(tuple(visualisation_nodes()), If(Arg('rviz'))))
+
     def node_specs(self, overrides: Mapping[str, str]) -> list[NodeSpec]:
-        """The nodes to start for these argument values (and the viewer with rviz:=true)."""
+        """The nodes to start for these argument values, with their parameter values."""
         values = self.resolve(overrides)
-        nodes = list(self.nodes(values))
-        return nodes + visualisation_nodes() if is_true(values['rviz']) else nodes
+        return _started(self.every_entity(), self, values)
+
+    def evaluate(self, value: Value, values: Mapping[str, str]) -> str | float | bool:
+        """A parameter or argument value for these resolved argument `values`."""
+        if isinstance(value, Arg):
+            text, kind = values[value.name], self.argument(value.name).kind
+            return as_float(value.name, text) if kind == 'float' else (
+                is_true(text) if kind == 'bool' else text)
+        if isinstance(value, Equals):
+            return (values[value.name] == value.text) != value.negated
+        if isinstance(value, IfElse):
+            return value.if_true if is_true(values[value.name]) else value.if_false
+        return value
+
+    def holds(self, condition: Condition | None, values: Mapping[str, str]) -> bool:
+        """Whether an entity with this condition starts."""
+        if condition is None:
+            return True
+        test = bool(self.evaluate(condition.test, values))
+        return test if isinstance(condition, If) else not test
+
+    def included_arguments(self, include: Include,
+                           values: Mapping[str, str]) -> dict[str, str]:
+        """The argument values `include` hands its launch file, as text."""
+        given = {**INCLUDED_COMMON, **include.arguments}
+        return {name: as_text(self.evaluate(value, values)) for name, value in given.items()}
 
 
-    def node(self, name: str, overrides: Mapping[str, str]) -> NodeSpec:
-        """The node called `name` of this launch file, for these argument values.
+def _started(entities: Sequence[Entity], launch: LaunchFile,
+             values: Mapping[str, str]) -> list[NodeSpec]:
+    nodes = []
+    for entity in entities:
+        if not launch.holds(entity.condition, values):
+            continue
+        if isinstance(entity, Group):
+            nodes += _started(entity.entities, launch, values)
+        elif isinstance(entity, Include):
+            included = load_launch_file(entity.name)
+            nodes += included.node_specs(launch.included_arguments(entity, values))
+        else:
+            parameters = tuple(p if isinstance(p, str) else
+                               {k: launch.evaluate(v, values) for k, v in p.items()}
+                               for p in entity.parameters)
+            nodes.append(replace(entity, parameters=parameters, condition=None))
+    return nodes
 
-        Raises:
-            LaunchError: it starts no node of that name.
-        """
-        nodes = {spec.name: spec for spec in self.node_specs(overrides)}
-        if name not in nodes:
-            raise LaunchError(f'no node {name!r} in this launch file; it starts '
-                              f'{", ".join(nodes)}')
-        return nodes[name]
+
+def as_text(value: str | float | bool) -> str:
+    """A value as a launch argument spells it (`true`, `3.0`, text as it is)."""
+    if isinstance(value, bool):
+        return 'true' if value else 'false'
+    return str(value)
 
 
 def config_path(name: str) -> str:
@@ -180,17 +337,18 @@ def as_float(name: str, value: str) -> float:
     return number
 
 
-def robot_nodes(args: Mapping[str, str], **sim_overrides: str) -> list[NodeSpec]:
-    """The robot of a launch file: MuJoCo with `sim:=true`, else the sensor and the arm.
+def robot_arguments(scene: str, *, optional: bool = True) -> tuple[Argument, ...]:
+    """robot.launch.py's arguments (`scene` its default here), and `robot` when optional."""
+    robot = tuple(replace(a, default=scene) if a.name == 'scene' else a
+                  for a in load_launch_file('robot').arguments)
+    return (*robot, Argument('robot', 'true', 'also start the robot (launch/robot.launch.py); '
+                             'false: it runs already', kind='bool')) if optional else robot
 
-    Reads the arguments `sim`, `scene` and `rate_factor` (simulated), `sensor_port` and
-    `arm_port` (hardware); `sim_overrides` are more arguments of launch/sim.launch.py.
-    """
-    if is_true(args['sim']):
-        return load_launch_file('sim').node_specs(
-            {'scene': args['scene'], 'rate_factor': args['rate_factor'], **sim_overrides})
-    return [*load_launch_file('sensor').node_specs({'port': args['sensor_port']}),
-            *load_launch_file('arm').node_specs({'port': args['arm_port']})]
+
+def include_robot(condition: Condition | None = None) -> Include:
+    """robot.launch.py, handed the including file's values of its arguments."""
+    return Include('robot', {a.name: Arg(a.name) for a in load_launch_file('robot').arguments},
+                   condition)
 
 
 def launch_directory() -> Path:

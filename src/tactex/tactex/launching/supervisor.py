@@ -57,10 +57,11 @@ def find_executable(package: str, executable: str) -> str:
 def _yaml_value(value: Any) -> str:
     """A parameter value as `-p name:=value` spells it (YAML).
 
-    Text of several lines (a URDF) is quoted (a JSON string is a YAML string), so it stays
-    text; a one-line string is YAML-typed, as ros2 launch types it.
+    Text of several lines (a URDF) and empty text are quoted (a JSON string is a YAML
+    string), so they stay text (rcl refuses `-p name:=`); a one-line string is YAML-typed,
+    as ros2 launch types it.
     """
-    if isinstance(value, str) and '\n' in value:
+    if isinstance(value, str) and ('\n' in value or not value):
         return json.dumps(value)
     if isinstance(value, bool):
         return 'true' if value else 'false'

@@ -1,0 +1,513 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""Bad inputs for every `tactex` subcommand, and the scratch folder they run against.
+
+A case is argv (with `{w}` for the scratch folder), a regex the single `error:` line
+must match (it names the argument and the fix) and the path given as output, the one
+place a failing command may leave something. `make_workspace` builds the folder: text,
+binary and empty files, datasets good and bad, bags, CSV and MUN trees, scenes.
+"""
+
+import json
+import os
+from pathlib import Path
+import pickle
+import shutil
+
+import numpy as np
+
+from support.bagfactory import ramp, write_bag
+from tactex_classify.data.dataset import Dataset
+from tactex_classify.evaluation.model_grid import GridSettings, GridStore
+from tactex_classify.models.baselines import MiniRocketRidge
+
+
+class Case:
+    """One bad invocation and what its error line must say."""
+
+    def __init__(self, argv: str, match: str, out: str | None = None, *,
+                 needs_non_root: bool = False) -> None:
+        self.argv = argv.split()
+        self.match = match
+        self.out = out
+        self.needs_non_root = needs_non_root
+
+    def resolved(self, workspace: Path) -> list[str]:
+        """Argv with the scratch folder filled in."""
+        return [part.replace('{w}', str(workspace)) for part in self.argv]
+
+    def __repr__(self) -> str:
+        return ' '.join(self.argv)
+
+
+STANDING_SCENE = """name = "standing"
+seed = 1
+effects = ["contact", "compliance", "texture"]
+[surface]
+kind = "flat"
+[[patches]]
+texture = "wood"
+x_m = [0.07, 0.33]
+y_m = [-0.08, 0.08]
+[sweep]
+speed_m_s = 0.0
+"""
+
+
+def toy_dataset(classes: int, recordings: int = 2) -> Dataset:
+    rng = np.random.default_rng(0)
+    count = classes * recordings * 3
+    return Dataset(rng.normal(size=(count, 32, 10)).astype(np.float32),
+                   np.repeat(np.arange(classes), recordings * 3),
+                   np.repeat(np.arange(classes * recordings), 3), np.zeros(count),
+                   [f'class{i}' for i in range(classes)], {'sampling_rate_hz': 100.0, 'hop': 16})
+
+
+class Boom:
+    """Runs a shell command when unpickled."""
+
+    def __reduce__(self):
+        import os
+        return (os.system, ('echo pwned > /tmp/tactex_pwned',))
+
+
+def make_workspace(w: Path) -> Path:
+    """Build the scratch folder the cases refer to."""
+    (w / 'text.txt').write_text('hello\n')
+    (w / 'binary.bin').write_bytes(bytes(range(256)) * 4)
+    (w / 'folder').mkdir()
+    (w / 'full').mkdir()
+    (w / 'full' / 'keep.txt').write_text('keep')
+    toy_dataset(3).save(w / 'data.npz')
+    toy_dataset(1).save(w / 'one_class.npz')
+    (w / 'garbage.npz').write_bytes(b'PK\x03\x04' + bytes(200))
+    (w / 'garbage.json').write_text(json.dumps({'classes': ['a'], 'channels': ['x']}))
+    stamps, values = ramp(64)
+    write_bag(w / 'bags' / 'wood_0000', stamps, values, metadata={'label': 'wood', 'trial': 0})
+    write_bag(w / 'bags' / 'wood_0001', stamps, values, metadata={'label': 'wood', 'trial': 1})
+    write_bag(w / 'unlabelled' / 'rec', stamps, values)
+    write_bag(w / 'odd_meta' / 'rec', stamps, values, metadata={'label': 7})
+    for name, content in (('good', 'pdc,pac\n' + '1,2\n' * 40), ('ragged', 'pdc,pac\n1,2\n3\n'),
+                          ('bincsv', '\x00\x01\x02')):
+        (w / name / 'wood').mkdir(parents=True)
+        (w / name / 'wood' / 'a.csv').write_text(content)
+    mun = w / 'mun' / 'pickles_30' / 'texture_01'
+    for part in ('full_imu', 'full_baro'):
+        (mun / part).mkdir(parents=True)
+        (mun / part / 't.pkl').write_bytes(pickle.dumps(Boom()))
+    (w / 'scenes').mkdir()
+    (w / 'scenes' / 'standing.toml').write_text(STANDING_SCENE)
+    (w / 'scenes' / 'binary.toml').write_bytes(b'\xff\xfe\x00name')
+    (w / 'broken.launch.py').write_text('LAUNCH = (\n')
+    dataset = Dataset.load(w / 'data.npz')
+    GridStore(w / 'grid').open(GridSettings(folds=2, epochs=3), {32: dataset}, {32: 'data'})
+    (w / 'readonly').mkdir()
+    (w / 'readonly').chmod(0o555)
+    data = toy_dataset(3)
+    MiniRocketRidge(dilations=2).fit(data.X, data.y, data.classes).save(
+        w / 'minirocket', hop=16, sampling_rate_hz=100.0)
+    (w / 'corrupt_checkpoint').mkdir()
+    (w / 'corrupt_checkpoint' / 'checkpoint.json').write_bytes(b'\xff\xfe\x00garbage')
+    make_lying_files(w)
+    return w
+
+
+def make_lying_files(w: Path) -> None:
+    """Special files where files are expected, links as outputs, files that lie."""
+    for name in ('fifo.npz', 'fifo.toml', 'fifo.urdf', 'fifo.csv'):
+        os.mkfifo(w / name)  # opening one for reading would wait for a writer
+    shutil.copy(w / 'data.json', w / 'fifo.json')
+    shutil.copy(w / 'data.npz', w / 'fifo_sidecar.npz')
+    os.mkfifo(w / 'fifo_sidecar.json')
+    (w / 'fifocsv' / 'wood').mkdir(parents=True)
+    os.mkfifo(w / 'fifocsv' / 'wood' / 'a.csv')
+    shutil.copytree(w / 'bags' / 'wood_0000', w / 'fifobag' / 'wood_0000')
+    (w / 'fifobag' / 'wood_0000' / 'wood_0000.mcap').unlink()
+    os.mkfifo(w / 'fifobag' / 'wood_0000' / 'wood_0000.mcap')
+    shutil.copytree(w / 'minirocket', w / 'fifo_checkpoint')
+    (w / 'fifo_checkpoint' / 'weights.npz').unlink()
+    os.mkfifo(w / 'fifo_checkpoint' / 'weights.npz')
+    shutil.copytree(w / 'minirocket', w / 'swapped_checkpoint')
+    meta = json.loads((w / 'minirocket' / 'checkpoint.json').read_text())
+    meta['classes'][:2] = meta['classes'][1::-1]
+    (w / 'swapped_checkpoint' / 'checkpoint.json').write_text(json.dumps(meta))
+    shutil.copytree(w / 'minirocket', w / 'nested_checkpoint')
+    (w / 'nested_checkpoint' / 'checkpoint.json').write_text('[' * 100_000 + ']' * 100_000)
+    (w / 'link').symlink_to(w / 'folder')
+    (w / 'dangling.onnx').symlink_to(w / 'nowhere.onnx')
+    scene = STANDING_SCENE.replace('speed_m_s = 0.0', 'speed_m_s = 0.015')
+    (w / 'scenes' / 'huge_cells.toml').write_text(
+        scene.replace('kind = "flat"', 'kind = "flat"\ncells = [100000, 100000]'))
+    (w / 'scenes' / 'long_contact.toml').write_text(scene + 'contact_s = 1e7\n')
+
+
+OUT_NPZ = '{w}/o.npz'
+BAD_INPUTS = {
+    'tactex': [
+        Case('', 'the following arguments are required: COMMAND'),
+        Case('nope', "argument COMMAND: invalid choice: 'nope'"),
+    ],
+    'convert': [
+        Case('convert {w}/bags', 'the following arguments are required: --out'),
+        Case('convert {w}/nothing --out {w}/o.npz', 'BAG_OR_DIR .*nothing does not exist',
+             OUT_NPZ),
+        Case('convert {w}/text.txt --out {w}/o.npz', r'BAG_OR_DIR .*text.txt is a file', OUT_NPZ),
+        Case('convert {w}/folder --out {w}/o.npz', 'no recordings found', OUT_NPZ),
+        Case('convert {w}/bags --out {w}/folder', '--out .*folder is a folder; give a file path',
+             '{w}/folder'),
+        Case('convert {w}/bags --out {w}/text.txt/o.npz', '--out .*text.txt is a file, not a '
+             'folder', '{w}/text.txt/o.npz'),
+        Case('convert {w}/bags --out {w}/o.csv', '--out .*must end in .npz', '{w}/o.csv'),
+        Case('convert {w}/bags --out {w}/readonly/o.npz', '--out .*is not writable',
+             '{w}/readonly/o.npz', needs_non_root=True),
+        Case('convert {w}/bags --out {w}/o.npz --window 0', 'argument --window: must be a '
+             'whole number in 2..65536', OUT_NPZ),
+        Case('convert {w}/bags --out {w}/o.npz --window ten', 'argument --window: must be a '
+             "whole number in 2..65536, got 'ten'", OUT_NPZ),
+        Case('convert {w}/bags --out {w}/o.npz --hop 0', 'argument --hop', OUT_NPZ),
+        Case('convert {w}/bags --out {w}/o.npz --window 10 --hop 20', '--hop 20 is longer than '
+             '--window 10', OUT_NPZ),
+        Case('convert {w}/bags --out {w}/o.npz --trial -1', 'argument --trial', OUT_NPZ),
+        Case('convert {w}/bags --out {w}/o.npz --trial 3', '--trial names one recording',
+             OUT_NPZ),
+        Case('convert {w}/bags --out {w}/o.npz --channels ax,nope', r"--channels .*\['nope'\]",
+             OUT_NPZ),
+        Case('convert {w}/bags --out {w}/o.npz --topic imu', "--topic 'imu' is not ROLE=TOPIC",
+             OUT_NPZ),
+        Case('convert {w}/bags --out {w}/o.npz --topic wheel=/x', "unknown role 'wheel'",
+             OUT_NPZ),
+        Case('convert {w}/bags --out {w}/o.npz --label', 'argument --label: expected one '
+             'argument', OUT_NPZ),
+        Case('convert {w}/unlabelled --out {w}/o.npz', 'no windows: .*give --label NAME',
+             OUT_NPZ),
+        Case('convert {w}/odd_meta --out {w}/o.npz', 'no windows: .*metadata key "label" must '
+             'be non-empty text', OUT_NPZ),
+        Case('convert {w}/bags --out {w}/o.npz --window 1000', 'no windows: .*shorter than '
+             'one window', OUT_NPZ),
+        Case('convert {w}/bags --out {w}/o.npz --window 1000000000000', 'argument --window: '
+             'must be a whole number in 2..65536', OUT_NPZ),
+        Case('convert {w}/bags --out {w}/o.npz --trial 100000000000', 'argument --trial: must '
+             'be a whole number in 0..4294967295', OUT_NPZ),
+        Case('convert {w}/fifobag --out {w}/o.npz', r'wood_0000.mcap is a FIFO \(named pipe\), '
+             'not a regular file', OUT_NPZ),
+    ],
+    'train': [
+        Case('train {w}/nothing.npz --out {w}/run', 'need .*nothing.npz and its sidecar',
+             '{w}/run'),
+        Case('train {w}/garbage.npz --out {w}/run', 'garbage.npz is not a tactex dataset',
+             '{w}/run'),
+        Case('train {w}/data.npz --out {w}/run --epochs 0', 'argument --epochs: must be a whole '
+             'number in 1..100000', '{w}/run'),
+        Case('train {w}/data.npz --out {w}/run --folds 1', 'argument --folds', '{w}/run'),
+        Case('train {w}/data.npz --out {w}/run --folds 50', '--folds 50 needs at least 50 '
+             'recordings.*lower --folds', '{w}/run'),
+        Case('train {w}/data.npz --out {w}/run --threads 0', 'argument --threads', '{w}/run'),
+        Case('train {w}/data.npz --out {w}/run --early-stopping -1', 'argument --early-stopping',
+             '{w}/run'),
+        Case('train {w}/data.npz --out {w}/run --model nope', 'argument --model: invalid choice',
+             '{w}/run'),
+        Case('train {w}/one_class.npz --out {w}/run', 'DATA has 1 class.*at least two',
+             '{w}/run'),
+        Case('train {w}/data.npz --out {w}/run --model cnn_3 --epochs 1 --folds 2',
+             'the window is too short for this model', '{w}/run'),  # fails mid-way
+        Case('train {w}/data.npz --out {w}/text.txt', '--out .*text.txt is a file; give a '
+             'folder', '{w}/text.txt'),
+        Case('train {w}/data.npz --out {w}/full', '--out .*full already holds files; choose a '
+             'new folder', '{w}/full'),
+        Case('train {w}/data.npz --out {w}/link', '--out .*link is a symbolic link .*give the '
+             'path itself', '{w}/link'),
+        Case('train {w}/data.npz --out /sys/tactex-run', r'--out /sys/tactex-run: /sys is not '
+             r'writable \(Operation not permitted\)'),
+        Case('train {w}/data.npz --out {w}/run --seed 100000000000000000000', 'argument --seed: '
+             'must be a whole number in 0..4294967295', '{w}/run'),
+        Case('train {w}/data.npz --out {w}/run --epochs 1000000000', 'argument --epochs: must '
+             'be a whole number in 1..100000', '{w}/run'),
+        Case('train {w}/fifo.npz --out {w}/run', r'fifo.npz is a FIFO \(named pipe\), not a '
+             'regular file', '{w}/run'),
+        Case('train {w}/fifo_sidecar.npz --out {w}/run', 'fifo_sidecar.json is a FIFO',
+             '{w}/run'),
+    ],
+    'compare': [
+        Case('compare --out {w}/g', 'the following arguments are required: DATA'),
+        Case('compare {w}/data.npz', 'the following arguments are required: --out'),
+        Case('compare {w}/nothing.npz --out {w}/g', 'DATA .*nothing.npz does not exist', '{w}/g'),
+        Case('compare {w}/text.txt --out {w}/g', 'text.txt is neither a dataset', '{w}/g'),
+        Case('compare {w}/garbage.npz --out {w}/g', 'garbage.npz is not a tactex dataset',
+             '{w}/g'),
+        Case('compare {w}/data.npz {w}/bags --out {w}/g', 'DATA mixes dataset files with '
+             'recording folders', '{w}/g'),
+        Case('compare {w}/data.npz {w}/data.npz --out {w}/g', 'two datasets of window 32',
+             '{w}/g'),
+        Case('compare {w}/folder --out {w}/g --windows 16', 'no recordings found', '{w}/g'),
+        Case('compare {w}/data.npz --out {w}/g --models nope', r"argument --models: unknown "
+             r"model\(s\) \['nope'\]", '{w}/g'),
+        Case('compare {w}/data.npz --out {w}/g --models cnn_1,cnn_1', 'names a model twice',
+             '{w}/g'),
+        Case('compare {w}/data.npz --out {w}/g --windows 1', 'argument --windows: must be a '
+             'whole number in 2', '{w}/g'),
+        Case('compare {w}/data.npz --out {w}/g --windows 32,32', 'names a window twice',
+             '{w}/g'),
+        Case('compare {w}/data.npz --out {w}/g --windows 1000000000000', 'argument --windows: '
+             'must be a whole number in 2..65536', '{w}/g'),
+        Case('compare {w}/data.npz --out {w}/link', '--out .*link is a symbolic link',
+             '{w}/link'),
+        Case('compare {w}/data.npz --out {w}/g --windows 64', '--windows 64: no dataset of that '
+             r'window in DATA \(they have 32\)', '{w}/g'),
+        Case('compare {w}/data.npz --out {w}/g --folds 1', 'argument --folds', '{w}/g'),
+        Case('compare {w}/data.npz --out {w}/g --folds 50', 'window 32: --folds 50 needs at '
+             'least 50 recordings', '{w}/g'),
+        Case('compare {w}/one_class.npz --out {w}/g', 'window 32: DATA has 1 class', '{w}/g'),
+        Case('compare {w}/data.npz --out {w}/g --models cnn_3', '--models cnn_3 cannot take '
+             'window 32.*drop the model or the window', '{w}/g'),
+        Case('compare {w}/data.npz --out {w}/g --seeds 0', 'argument --seeds', '{w}/g'),
+        Case('compare {w}/data.npz --out {w}/g --epochs 0', 'argument --epochs', '{w}/g'),
+        Case('compare {w}/data.npz --out {w}/g --threads 0', 'argument --threads', '{w}/g'),
+        Case('compare {w}/data.npz --out {w}/g --cpus 0', 'argument --cpus', '{w}/g'),
+        Case('compare {w}/data.npz --out {w}/g --cells-per-gpu 0', 'argument --cells-per-gpu',
+             '{w}/g'),
+        Case('compare {w}/data.npz --out {w}/g --device tpu', 'argument --device: invalid '
+             'choice', '{w}/g'),
+        Case('compare {w}/data.npz --out {w}/g --device cuda', '--device cuda: this machine has '
+             'no usable GPU', '{w}/g'),
+        Case('compare {w}/data.npz --out {w}/g --address nohost', 'argument --address: must be '
+             'HOST:PORT', '{w}/g'),
+        Case('compare {w}/data.npz --out {w}/g --address 127.0.0.1:1', 'cannot reach Ray at '
+             '127.0.0.1:1: Connection refused; start the head with `ray start --head`',
+             '{w}/g'),
+        Case('compare {w}/data.npz --out {w}/g --address 10.0.0.1:6379 --cpus 2', '--cpus caps '
+             'a local Ray instance', '{w}/g'),
+        Case('compare {w}/data.npz --out {w}/grid --folds 2 --epochs 4', r'grid was started '
+             r'with epochs 3 \(now 4\); give the same settings', '{w}/grid'),
+        Case('compare {w}/data.npz --out {w}/text.txt', '--out .*text.txt is a file',
+             '{w}/text.txt'),
+        Case('compare {w}/data.npz --out {w}/full', '--out .*full already holds files',
+             '{w}/full'),
+        Case('compare {w}/data.npz --out {w}/readonly/g', '--out .*is not writable',
+             '{w}/readonly/g', needs_non_root=True),
+    ],
+    'export': [
+        Case('export {w}/minirocket', 'nothing to export: give --onnx'),
+        Case('export {w}/nothing --onnx', 'CHECKPOINT .*nothing does not exist'),
+        Case('export {w}/text.txt --onnx', 'CHECKPOINT .*text.txt is a file; give a folder'),
+        Case('export {w}/folder --onnx', 'folder: missing checkpoint.json',
+             '{w}/folder/model.onnx'),
+        Case('export {w}/corrupt_checkpoint --onnx', 'refused checkpoint.json',
+             '{w}/corrupt_checkpoint/model.onnx'),
+        Case('export {w}/minirocket --onnx', 'minirocket has no ONNX form; it runs in numpy',
+             '{w}/minirocket/model.onnx'),
+        Case('export {w}/minirocket --onnx --out {w}/folder', '--out .*folder is a folder',
+             '{w}/folder'),
+        Case('export {w}/minirocket --onnx --out {w}/m.txt', '--out .*must end in .onnx',
+             '{w}/m.txt'),
+        Case('export {w}/minirocket --onnx --out {w}/dangling.onnx', '--out .*dangling.onnx is a '
+             'symbolic link', '{w}/dangling.onnx'),
+        Case('export {w}/swapped_checkpoint --onnx', 'checkpoint.json does not match its '
+             'metadata_sha256: edited or corrupt', '{w}/swapped_checkpoint/model.onnx'),
+        Case('export {w}/nested_checkpoint --onnx', 'JSON nested 100000 levels deep; at most 16',
+             '{w}/nested_checkpoint/model.onnx'),
+        Case('export {w}/fifo_checkpoint --onnx', r'refused weights.npz: .*is a FIFO \(named '
+             r'pipe\), not a regular file', '{w}/fifo_checkpoint/model.onnx'),
+    ],
+    'import': [
+        Case('import csv {w}/good --out {w}/o.npz', 'csv needs --rate HZ', OUT_NPZ),
+        Case('import csv {w}/good --out {w}/o.npz --rate 0', 'argument --rate: must be a finite '
+             'number > 0', OUT_NPZ),
+        Case('import csv {w}/good --out {w}/o.npz --rate nan', 'argument --rate', OUT_NPZ),
+        Case('import csv {w}/good --out {w}/o.npz --rate inf', 'argument --rate', OUT_NPZ),
+        Case('import mun {w}/mun --out {w}/o.npz --rate 350', '--rate apply to csv only',
+             OUT_NPZ),
+        Case('import csv {w}/nothing --out {w}/o.npz --rate 9', 'ROOT .*nothing does not exist',
+             OUT_NPZ),
+        Case('import csv {w}/text.txt --out {w}/o.npz --rate 9', 'ROOT .*text.txt is a file',
+             OUT_NPZ),
+        Case('import csv {w}/good --out {w}/o.npz --rate 9', r"no column\(s\) \['ax'.*--columns",
+             OUT_NPZ),
+        Case('import csv {w}/ragged --out {w}/o.npz --rate 9 --columns pdc,pac',
+             'a.csv, line 3: 1 fields, but the header has 2', OUT_NPZ),
+        Case('import csv {w}/bincsv --out {w}/o.npz --rate 9 --columns pdc', 'binary file',
+             OUT_NPZ),
+        Case('import csv {w}/good --out {w}/o.npz --rate 9 --columns ax=', 'bad --columns item',
+             OUT_NPZ),
+        Case('import csv {w}/good --out {w}/o.npz --rate 9 --columns pdc,pdc', 'repeat',
+             OUT_NPZ),
+        Case('import csv {w}/good --out {w}/o.npz --rate 9 --columns pdc --delimiter ::',
+             "--delimiter '::'", OUT_NPZ),
+        Case('import csv {w}/good --out {w}/o.npz --columns pdc --time nocol',
+             "no column 'nocol'", OUT_NPZ),
+        Case('import csv {w}/good --out {w}/o.npz --rate 9 --columns pdc --window 100',
+             'no windows', OUT_NPZ),
+        Case('import mun {w}/mun --out {w}/o.npz', 'refusing to load posix.system', OUT_NPZ),
+        Case('import mun {w}/folder --out {w}/o.npz', r'no pickles_\*/texture_', OUT_NPZ),
+        Case('import mun {w}/mun --out {w}/folder', '--out .*folder is a folder', '{w}/folder'),
+        Case('import xls {w}/good --out {w}/o.npz', 'argument kind: invalid choice', OUT_NPZ),
+        Case('import csv {w}/fifocsv --out {w}/o.npz --rate 9 --columns pdc',
+             r'a.csv is a FIFO \(named pipe\), not a regular file', OUT_NPZ),
+        Case('import csv {w}/good --out {w}/o.npz --rate 9 --columns pdc --window 70000',
+             'argument --window: must be a whole number in 2..65536', OUT_NPZ),
+    ],
+    'sim': [
+        Case('sim collect --out {w}/bagsout --sweeps 0', 'argument --sweeps', '{w}/bagsout'),
+        Case('sim collect --out {w}/bagsout --scene nope', 'no scene file .*nope.toml',
+             '{w}/bagsout'),
+        Case('sim collect --out {w}/bagsout --scene {w}/scenes/binary.toml', 'not valid TOML',
+             '{w}/bagsout'),
+        Case('sim collect --out {w}/bagsout --scene {w}/folder', 'is a folder, not a regular file',
+             '{w}/bagsout'),
+        Case('sim collect --out {w}/bagsout --scene {w}/scenes/standing.toml',
+             'speed_m_s and contact_s must be > 0', '{w}/bagsout'),
+        Case('sim collect --out {w}/bagsout --textures nope', '--textures: unknown texture',
+             '{w}/bagsout'),
+        Case('sim collect --out {w}/text.txt', '--out .*text.txt is a file', '{w}/text.txt'),
+        Case('sim collect --out {w}/full', '--out .*already holds files', '{w}/full'),
+        Case('sim', 'the following arguments are required: ACTION'),
+        Case('sim collect --out {w}/bagsout --workers 0', 'argument --workers', '{w}/bagsout'),
+        Case('sim collect --out {w}/bagsout --scene {w}/fifo.toml', r'fifo.toml is a FIFO '
+             r'\(named pipe\), not a regular file', '{w}/bagsout'),
+        Case('sim collect --out {w}/bagsout --scene {w}/scenes/huge_cells.toml', 'cells '
+             r'\[100000, 100000\] make 10000000000 heightfield cells; at most 1000000',
+             '{w}/bagsout'),
+        Case('sim collect --out {w}/bagsout --scene {w}/scenes/long_contact.toml',
+             'contact_s must be <= 60 s, got 10000000.0', '{w}/bagsout'),
+        Case('sim collect --out {w}/link', '--out .*link is a symbolic link', '{w}/link'),
+        Case('sim collect --out {w}/bagsout --address nohost', 'argument --address: must be '
+             'HOST:PORT', '{w}/bagsout'),
+    ],
+    'record': [
+        Case('record --out {w}/full', '--out .*already holds files', '{w}/full'),
+        Case('record --out {w}/text.txt', '--out .*text.txt is a file', '{w}/text.txt'),
+        Case('record --out {w}/rec --split-s 0', 'argument --split-s', '{w}/rec'),
+        Case('record --out {w}/rec --split-s nan', 'argument --split-s', '{w}/rec'),
+        Case('record --out {w}/rec --trial -5', 'argument --trial', '{w}/rec'),
+        Case('record --out {w}/link', '--out .*link is a symbolic link', '{w}/link'),
+        Case('record --out {w}/rec --meta novalue', "--meta 'novalue' is not KEY=VALUE",
+             '{w}/rec'),
+        Case('record --out {w}/rec --meta label=x', 'give label with --label', '{w}/rec'),
+        Case('record --out {w}/rec --meta a=1 --meta a=2', "--meta gives 'a' twice", '{w}/rec'),
+    ],
+    'emulate': [
+        Case('emulate teensy --link {w}/l --rate 0', 'argument --rate', '{w}/l'),
+        Case('emulate teensy --link {w}/l --rate nan', 'argument --rate', '{w}/l'),
+        Case('emulate teensy --link {w}/l --rate 5000', 'argument --rate: .*<= 2000', '{w}/l'),
+        Case('emulate teensy --link {w}/l --duration 0', 'argument --duration', '{w}/l'),
+        Case('emulate teensy --link {w}/l --duration -inf', 'argument --duration', '{w}/l'),
+        Case('emulate teensy --link {w}/l --roll nan', 'argument --roll', '{w}/l'),
+        Case('emulate teensy --link {w}/l --start-time-us -1', 'argument --start-time-us',
+             '{w}/l'),
+        Case('emulate teensy --link {w}/l --fault stall@nan:1', "--fault: bad fault "
+             "'stall@nan:1'", '{w}/l'),
+        Case('emulate teensy --link {w}/l --fault garbage@-1:5', '--fault: bad fault', '{w}/l'),
+        Case('emulate teensy --link {w}/text.txt', '--link .*text.txt is an existing file',
+             '{w}/text.txt'),
+        Case('emulate teensy --link {w}/folder', '--link .*folder is an existing folder',
+             '{w}/folder'),
+        Case('emulate teensy --link {w}/nothing/l', '--link .*nothing is not a folder',
+             '{w}/nothing/l'),
+        Case('emulate teensy --link {w}/l --replay {w}/binary.bin', '--replay: .*binary file',
+             '{w}/l'),
+        Case('emulate teensy --link {w}/l --replay {w}/folder', '--replay .*folder is a folder',
+             '{w}/l'),
+        Case('emulate teensy --link {w}/l --replay {w}/fifo.csv', r'--replay .*fifo.csv is a '
+             r'FIFO \(named pipe\), not a regular file', '{w}/l'),
+        Case('emulate teensy --link {w}/l --seed 100000000000', 'argument --seed: must be a '
+             'whole number in 0..4294967295', '{w}/l'),
+        Case('emulate teensy --link {w}/l --replay {w}/good/wood/a.csv', '--replay: .*missing '
+             'column', '{w}/l'),
+        Case('emulate dynamixel --link {w}/l --fault silence@1:99', r'servo\(s\) \[99\], not '
+             'on the chain', '{w}/l'),
+        Case('emulate dynamixel --link {w}/l --fault melt@1:11', "--fault 'melt@1:11'",
+             '{w}/l'),
+        Case('emulate dynamixel --link {w}/text.txt', '--link .*text.txt is an existing file',
+             '{w}/text.txt'),
+        Case('emulate arduino', 'argument device: invalid choice'),
+    ],
+    'description': [
+        Case('description --write-urdf {w}/folder', '--write-urdf .*folder is a folder',
+             '{w}/folder'),
+        Case('description --write-mjcf {w}/text.txt/arm.xml', '--write-mjcf .*text.txt is a '
+             'file, not a folder', '{w}/text.txt/arm.xml'),
+        Case('description --check-urdf {w}/nothing.urdf', '--check-urdf .*does not exist'),
+        Case('description --check-urdf {w}/binary.bin', '--check-urdf .*not a text file'),
+        Case('description --check-urdf {w}/folder', '--check-urdf .*folder is a folder'),
+        Case('description --check-urdf {w}/fifo.urdf', r'--check-urdf .*fifo.urdf is a FIFO '
+             r'\(named pipe\), not a regular file'),
+        Case('description --write-urdf {w}/dangling.onnx', '--write-urdf .*dangling.onnx is a '
+             'symbolic link', '{w}/dangling.onnx'),
+        Case('description --check-urdf {w}/text.txt', 'is stale; regenerate it with `make '
+             'urdf`'),
+    ],
+    'report': [
+        Case('report', 'the following arguments are required: REPORT'),
+        Case('report nope --out {w}/report', "invalid choice: 'nope'", '{w}/report'),
+        Case('report accuracy-time', 'the following arguments are required: --out'),
+        Case('report accuracy-time --out {w}/text.txt --quick', '--out .*text.txt is a file',
+             '{w}/text.txt'),
+        Case('report accuracy-time --out {w}/full --quick', '--out .*already holds files',
+             '{w}/full'),
+        Case('report accuracy-time --out {w}/text.txt/report --quick', 'text.txt is a file, '
+             'not a folder', '{w}/text.txt/report'),
+        Case('report accuracy-time --out {w}/report --threads 0', 'argument --threads',
+             '{w}/report'),
+        Case('report accuracy-time --out {w}/report --seed -1', 'argument --seed', '{w}/report'),
+        Case('report accuracy-time --out {w}/report --seed 100000000000000000000', 'argument '
+             '--seed: must be a whole number in 0..4294967295', '{w}/report'),
+        Case('report accuracy-time --out {w}/report --epochs 1000000000', 'argument --epochs: '
+             'must be a whole number in 1..100000', '{w}/report'),
+        Case('report accuracy-time --out {w}/link --quick', '--out .*link is a symbolic link',
+             '{w}/link'),
+        Case('report accuracy-time --out {w}/report --epochs 0', 'argument --epochs',
+             '{w}/report'),
+        Case('report accuracy-time --out {w}/report --quick=yes', 'ignored explicit argument',
+             '{w}/report'),
+    ],
+    'launch': [
+        Case('launch', 'name a launch file'),
+        Case('launch nope', "no launch file 'nope'.*known: "),
+        Case('launch {w}/binary.bin', 'no launch file .*binary.bin'),
+        Case('launch {w}/broken.launch.py', 'broken.launch.py cannot be loaded: SyntaxError'),
+        Case('launch sim nope', "launch argument 'nope' is not NAME:=VALUE"),
+        Case('launch sim nope:=1 --print', r"unknown launch argument\(s\) \['nope'\]"),
+        Case('launch sim scen:=probe --print', r"\['scen'\] \('scen': did you mean 'scene'\?\)"),
+        Case('launch sim scene:=no_such_scene --print', "scene:='no_such_scene': no scene file "
+             '.*; give a scene under config/scenes/ or a .toml path'),
+        Case('launch sim scene:={w}/scenes/binary.toml --print', 'scene:=.*not valid TOML'),
+        Case('launch sim rate_factor:=-1 --print', "rate_factor:='-1' must be from 0 to 1000"),
+        Case('launch sim rate_factor:=fast --print', "rate_factor:='fast' is not a finite "
+             'number'),
+        Case('launch sim namespace:=left-arm --print', "namespace:='left-arm' is not a ROS "
+             'namespace: .*e.g. left_arm'),
+        Case('launch sim patch_texture:=velvet --print', "patch_texture:='velvet': unknown "
+             "texture 'velvet'; known: .*wood.*; or '' for the scene's"),
+        Case('launch system sim:=true checkpoint:={w}/folder --print', 'checkpoint:=.*folder: '
+             'missing checkpoint.json'),
+        Case('launch classify source:=sim --print', r'checkpoint:=\.\.\. is required: '
+             r'checkpoint folder \(RUN/model/ of tactex train\)'),
+        Case('launch classify source:=sim checkpoint:={w}/corrupt_checkpoint --print',
+             'checkpoint:=.*corrupt_checkpoint: refused checkpoint.json'),
+        Case('launch system threshold:=2 --print', r"threshold:='2': threshold must be in "
+             r'\[0, 1\]'),
+        Case('launch system recording_root:={w}/text.txt --print', 'recording_root .*text.txt is '
+             'a file; give a folder'),
+        Case('launch probe pathway_file:= --print', "pathway_file:='' names no file"),
+        Case('launch probe pathway_file:={w}/folder --print', 'pathway_file .*folder is a folder; '
+             'give a file path'),
+        Case('launch sensor port:={w}/text.txt --print', "port:='.*text.txt' is not a serial "
+             'device'),
+    ],
+    'demo': [
+        Case('demo --out {w}/text.txt', r'--out .*text.txt is a file; give a folder',
+             '{w}/text.txt'),
+        Case('demo --out {w}/full', r'--out .*full already holds files; choose a new folder',
+             '{w}/full'),
+        Case('demo --out {w}/text.txt/demo', r'--out .*text.txt is a file, not a folder',
+             '{w}/text.txt/demo'),
+        Case('demo --out {w}/readonly/demo', 'is not writable', '{w}/readonly/demo',
+             needs_non_root=True),
+        Case('demo --sweeps 1', 'argument --sweeps: must be a whole number in 2..50'),
+        Case('demo --sweeps many', 'argument --sweeps: must be a whole number'),
+        Case('demo --live-sweeps 0', 'argument --live-sweeps: must be a whole number in 1..20'),
+        Case('demo --rate-factor 0', r'argument --rate-factor: must be a finite number > 0'),
+        Case('demo --rate-factor nan', 'argument --rate-factor'),
+        Case('demo --rate-factor 11', r'argument --rate-factor: .*<= 10'),
+        Case('demo --points 3', 'unrecognized arguments: --points'),
+    ],
+}

@@ -1,0 +1,93 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""Bag -> dataset conversion: aligning the streams and cutting windows, under any stamps."""
+
+from hypothesis import given, settings
+from hypothesis import strategies as st
+import numpy as np
+import pytest
+from support.hard_values import anything
+
+from tactex_classify.data.dataset import window_starts
+from tactex_classify.data.stream_alignment import align, Stream
+from tactex_common.stamps import gaps
+
+pytestmark = pytest.mark.hard_case
+
+# Header stamps: sec int32, nanosec uint32.
+STAMP_LOW, STAMP_HIGH = -2**31 * 10**9, 2**31 * 10**9 + 2**32 - 1
+stamps = st.one_of(st.integers(STAMP_LOW, STAMP_HIGH), st.sampled_from([STAMP_LOW, STAMP_HIGH, 0]),
+                   st.integers(10**12, 10**12 + 10**9))
+
+
+CHANNELS = {'imu': ('ax', 'ay', 'az', 'gx', 'gy', 'gz'), 'mag': ('mx', 'my', 'mz'),
+            'pressure': ('baro',)}
+
+
+@st.composite
+def streams(draw, name):
+    width = len(CHANNELS[name])
+    count = draw(st.integers(0, 12))
+    return Stream(name, CHANNELS[name],
+                  np.array(draw(st.lists(stamps, min_size=count, max_size=count)),
+                           dtype=np.int64),
+                  np.array(draw(st.lists(st.lists(anything(), min_size=width, max_size=width),
+                                         min_size=count, max_size=count)),
+                           dtype=float).reshape(count, width))
+
+
+@settings(max_examples=150)
+@given(streams('imu'), streams('mag'), streams('pressure'))
+def test_aligning_any_streams_keeps_sorted_finite_samples_and_accounts_for_the_rest(
+        imu, mag, pressure):
+    aligned = align(imu, [mag, pressure])
+    dropped = aligned.dropped
+    assert aligned.values.shape == (aligned.stamps_ns.size, 10)
+    assert np.all(np.isfinite(aligned.values))
+    assert np.all(np.diff(aligned.stamps_ns) > 0)
+    assert set(aligned.stamps_ns.tolist()) <= set(imu.stamps_ns.tolist())
+    assert all(count >= 0 for count in dropped.values())
+    assert aligned.stamps_ns.size + dropped['nan_samples'] + dropped['unaligned_samples'] + \
+        dropped['imu_duplicates'] == imu.stamps_ns.size
+
+
+@settings(max_examples=60)
+@given(st.integers(0, 30), st.integers(10**6, 10**8), st.integers(STAMP_LOW, 10**18))
+def test_aligned_streams_keep_each_channel_where_it_belongs(count, period_ns, start_ns):
+    stamps_ns = start_ns + period_ns * np.arange(count, dtype=np.int64)
+    values = np.arange(count * 10, dtype=float).reshape(count, 10)  # every channel distinct
+    aligned = align(Stream('imu', CHANNELS['imu'], stamps_ns, values[:, :6]),
+                    [Stream('mag', CHANNELS['mag'], stamps_ns, values[:, 6:9]),
+                     Stream('pressure', CHANNELS['pressure'], stamps_ns, values[:, 9:])])
+    np.testing.assert_array_equal(aligned.stamps_ns, stamps_ns)
+    np.testing.assert_array_equal(aligned.values, values)
+
+
+@settings(max_examples=150)
+@given(st.lists(st.booleans(), max_size=60), st.integers(1, 9), st.integers(1, 9),
+       st.data())
+def test_every_window_lies_in_one_kept_gap_free_run(keep, window, hop, data):
+    count = len(keep)
+    steps = data.draw(st.lists(st.sampled_from([1000, 1000, 1000, 1001, 5000, 0]),
+                               min_size=max(count - 1, 0), max_size=max(count - 1, 0)))
+    stamps_ns = np.concatenate([[0], np.cumsum(steps)]).astype(np.int64)[:count]
+    keep = np.array(keep, dtype=bool)
+    starts = window_starts(keep, stamps_ns, window, hop)
+    gap = gaps(stamps_ns)
+    for start in starts:
+        assert 0 <= start and start + window <= count
+        assert keep[start:start + window].all()
+        assert not gap[start:start + window - 1].any()
+    assert starts == sorted(set(starts))
+
+
+@pytest.mark.parametrize('window, hop', [(0, 1), (4, 0), (-1, 2), (4, -1)])
+def test_a_window_or_hop_below_one_is_a_clear_error(window, hop):
+    with pytest.raises(ValueError, match='window and hop must be >= 1'):
+        window_starts(np.ones(10, dtype=bool), np.arange(10) * 1000, window, hop)
+
+
+@given(st.integers(0, 1), st.integers(1, 4))
+def test_empty_and_single_sample_recordings_have_no_window(count, window):
+    assert window_starts(np.ones(count, dtype=bool), np.arange(count, dtype=np.int64),
+                         window, 1) == []
