@@ -269,6 +269,28 @@ def channels() -> str:
             f'`ablation.png`):\n\n' + '\n'.join(table) + '\n')
 
 
+def profiles() -> str:
+    data = _json('profiles/profiles.json')
+    rows = data['rows']
+    best = max((row for row in rows if row['kind'] == 'baseline'), key=lambda r: r['accuracy'])
+    table = ['| training | grouped accuracy | epochs trained | s per fold |', '|---|---|---|---|']
+    for row in rows:
+        epochs = [fold['epochs'] for fold in row['folds'] if 'epochs' in fold]
+        trained = f'{sum(epochs) / len(epochs):.0f}' if epochs else '-'
+        seconds = sum(fold['seconds'] for fold in row['folds']) / len(row['folds'])
+        name = TEXTURE_MODELS.get(row['name'], row['name'])
+        mark = ' (not converged)' if row['not_converged'] else ''
+        table.append(f'| {name}{mark} | {100 * row["accuracy"]:.1f} ± {100 * row["sd"]:.1f} % '
+                     f'| {trained} | {seconds:.0f} |')
+    return (f'Training profiles of {data["model"]}, each element of `modern` taken out once '
+            f'(`{data["command"].strip()}`, {data["seconds"] / 60:.0f} min: '
+            f'{data["windows"]} windows of {data["recordings"]} simulated recordings, grouped '
+            f'{data["folds"]}-fold by recording, the same folds for every row, at most '
+            f'{data["epochs"]} epochs; chance {100 * data["chance"]:.1f} %, best baseline '
+            f'{100 * best["accuracy"]:.1f} %; `bench/results/profiles/`, with '
+            f'`profiles.png`):\n\n' + '\n'.join(table) + '\n')
+
+
 def sim_collect() -> str:
     data = _json('sim_collect.json')
     one, two = data['runs']['1'], data['runs']['2']
@@ -535,7 +557,7 @@ SECTIONS: dict[str, Callable[[], str]] = {
     'textures': textures, 'init': init, 'kinematics': kinematics, 'sweep': sweep,
     'sim_collect': sim_collect, 'training': training, 'compare': compare,
     'compare_long': compare_long, 'online_latency': online_latency,
-    'sensor_stats': sensor_stats, 'channels': channels}
+    'sensor_stats': sensor_stats, 'channels': channels, 'profiles': profiles}
 
 
 def _wrapped(text: str) -> str:

@@ -198,6 +198,10 @@ BAD_INPUTS = {
              '{w}/run'),
         Case('train {w}/data.npz --out {w}/run --epochs 0', 'argument --epochs: must be a whole '
              'number in 1..100000', '{w}/run'),
+        Case('train {w}/data.npz --out {w}/run --profile fancy',
+             "argument --profile: invalid choice: 'fancy'", '{w}/run'),
+        Case('train {w}/data.npz --out {w}/run --scaling robust',
+             "argument --scaling: invalid choice: 'robust'", '{w}/run'),
         Case('train {w}/data.npz --out {w}/run --folds 1', 'argument --folds', '{w}/run'),
         Case('train {w}/data.npz --out {w}/run --folds 50', '--folds 50 needs at least 50 '
              'recordings.*lower --folds', '{w}/run'),
@@ -230,6 +234,8 @@ BAD_INPUTS = {
     'compare': [
         Case('compare --out {w}/g', 'the following arguments are required: DATA'),
         Case('compare {w}/data.npz', 'the following arguments are required: --out'),
+        Case('compare {w}/data.npz --out {w}/g --profile fancy',
+             "argument --profile: invalid choice: 'fancy'", '{w}/g'),
         Case('compare {w}/nothing.npz --out {w}/g', 'DATA .*nothing.npz does not exist', '{w}/g'),
         Case('compare {w}/text.txt --out {w}/g', 'text.txt is neither a dataset', '{w}/g'),
         Case('compare {w}/garbage.npz --out {w}/g', 'garbage.npz is not a tactex dataset',

@@ -61,6 +61,7 @@ def started_by_ros_launch(description, arguments: dict[str, str]) -> list[tuple]
                     if Path(path).name.startswith('launch_params_'):  # a dict, dumped
                         (dumped,) = yaml.safe_load(Path(path).read_text()).values()
                         parameters.append(dumped['ros__parameters'])
+                        Path(path).unlink()
                     else:
                         parameters.append(path)
                 if namespace == Node.UNSPECIFIED_NODE_NAMESPACE:

@@ -9,12 +9,15 @@ import sys
 
 import numpy as np
 import pytest
-from test_training import CLASSES, FAST, rehash, STREAM, toy
+from support.toy_windows import CLASSES, STREAM, toy
+from test_training import FAST, rehash
 
 from tactex.cli import main
 from tactex_classify.errors import CheckpointError, ExportError
 from tactex_classify.models.baselines import MiniRocketRidge, StatsExtraTrees
 from tactex_classify.models.checkpoint import load_checkpoint, read_checkpoint
+from tactex_classify.models.hydra import HydraRidge, MultiRocketHydraRidge
+from tactex_classify.models.multirocket import MultiRocketRidge
 from tactex_classify.online.runtime import export_onnx, load_predictor
 from tactex_classify.training.deep_classifier import DeepClassifier
 
@@ -25,16 +28,21 @@ def saved(tmp_path_factory):
     folder = tmp_path_factory.mktemp('checkpoints')
     data = toy()
     models = {'deep': DeepClassifier(FAST), 'minirocket': MiniRocketRidge(dilations=3),
-              'extratrees': StatsExtraTrees(trees=20)}
+              'extratrees': StatsExtraTrees(trees=20),
+              'multirocket': MultiRocketRidge(dilations=2, biases_per_kernel=2),
+              'hydra': HydraRidge(groups=8, kernels_per_group=4),
+              'multirocket_hydra': MultiRocketHydraRidge(dilations=2, biases_per_kernel=2,
+                                                         groups=4, kernels_per_group=4)}
     paths = {}
     for kind, model in models.items():
         paths[kind] = model.fit(data.X, data.y, CLASSES).save(folder / kind, **STREAM)
-        if kind != 'minirocket':
+        if kind in ('deep', 'extratrees'):
             export_onnx(paths[kind])
     return data, models, paths
 
 
-@pytest.mark.parametrize('kind', ['deep', 'minirocket', 'extratrees'])
+@pytest.mark.parametrize('kind', ['deep', 'minirocket', 'extratrees', 'multirocket', 'hydra',
+                                  'multirocket_hydra'])
 def test_every_kind_round_trips_with_its_stream_and_classes(saved, kind):
     data, models, paths = saved
     info, loaded = load_checkpoint(paths[kind])
@@ -97,6 +105,29 @@ def test_saving_again_removes_an_export_of_the_old_weights(saved, tmp_path):
     export_onnx(folder)
     models['deep'].save(folder, **STREAM)
     assert not (folder / 'model.onnx').exists()
+
+
+@pytest.mark.parametrize('kind, array, change', [
+    ('multirocket', 'diff_masks_', lambda a: a[:, :, :3]),
+    ('multirocket', 'diff_dilations_', lambda a: np.append(a, a[-1])),
+    ('hydra', 'hydra_reads_', lambda a: a + 10),
+    ('hydra', 'hydra_weights_', lambda a: a[:, :, :, :2]),
+    ('hydra', 'hydra_dilations_', lambda a: a * 2),
+    ('multirocket_hydra', 'hydra_reads_', lambda a: a - 20),
+    ('multirocket_hydra', 'masks_', lambda a: a[:1]),
+])
+def test_a_random_kernel_checkpoint_whose_arrays_disagree_is_refused(saved, tmp_path, kind,
+                                                                    array, change):
+    import shutil
+    folder = shutil.copytree(saved[2][kind], tmp_path / kind)
+    with np.load(folder / 'weights.npz') as npz:
+        arrays = dict(npz)
+    arrays[array] = change(arrays[array])
+    with open(folder / 'weights.npz', 'wb') as handle:
+        np.savez(handle, **arrays)
+    rehash(folder)
+    with pytest.raises(CheckpointError, match='arrays do not fit each other'):
+        load_checkpoint(folder)
 
 
 def test_a_changed_model_file_fails_its_checksum(saved, tmp_path):

@@ -11,7 +11,11 @@ import numpy as np
 import pytest
 from support.hard_values import anything, finite
 
-from tactex_classify.models.windows import ChannelScaler, SCALED_LIMIT, softmax
+from tactex_classify.models.baselines import MiniRocketRidge
+from tactex_classify.models.hydra import HydraRidge
+from tactex_classify.models.multirocket import MultiRocketRidge
+from tactex_classify.models.registry import AUGMENTATIONS
+from tactex_classify.models.windows import ChannelScaler, SCALED_LIMIT, SCALINGS, softmax
 from tactex_classify.training.deep_classifier import DeepClassifier, TrainingConfig
 
 pytestmark = pytest.mark.hard_case
@@ -22,7 +26,7 @@ windows = hnp.arrays(np.float32, st.tuples(st.integers(1, 4), st.integers(1, 6),
 
 
 @settings(max_examples=150)
-@given(windows, st.sampled_from(['minmax', 'standard']))
+@given(windows, st.sampled_from(SCALINGS))
 def test_a_scaler_fitted_on_any_finite_windows_maps_them_into_a_finite_range(X, kind):
     scaler = ChannelScaler(kind).fit(X)
     assert np.all(np.isfinite(scaler.offset)) and np.all(np.array(scaler.scale) > 0)
@@ -34,15 +38,16 @@ def test_a_scaler_fitted_on_any_finite_windows_maps_them_into_a_finite_range(X, 
 
 @settings(max_examples=100)
 @given(windows, hnp.arrays(np.float32, st.tuples(st.integers(0, 3), st.integers(1, 6),
-                                                 st.integers(1, 3)), elements=float32_finite))
-def test_transforming_any_finite_windows_stays_finite_and_clipped(train, other):
+                                                 st.integers(1, 3)), elements=float32_finite),
+       st.sampled_from(SCALINGS))
+def test_transforming_any_finite_windows_stays_finite_and_clipped(train, other, kind):
     other = np.resize(other, (len(other), *train.shape[1:]))
-    scaled = ChannelScaler().fit(train).transform(other)
+    scaled = ChannelScaler(kind).fit(train).transform(other)
     assert scaled.shape == other.shape
     assert np.all(np.isfinite(scaled)) and np.all(np.abs(scaled) <= SCALED_LIMIT)
 
 
-@given(st.sampled_from([np.nan, np.inf, -np.inf]), st.sampled_from(['minmax', 'standard']))
+@given(st.sampled_from([np.nan, np.inf, -np.inf]), st.sampled_from(SCALINGS))
 def test_a_scaler_refuses_non_finite_windows(bad, kind):
     X = np.zeros((2, 4, 3), np.float32)
     X[1, 2, 0] = bad
@@ -75,21 +80,44 @@ def test_softmax_refuses_non_finite_logits(logits):
         softmax(logits)
 
 
-@functools.lru_cache(maxsize=1)
-def _small_model() -> DeepClassifier:
+SMALL_MODELS = {'cnn_1': lambda: DeepClassifier(TrainingConfig('cnn_1', epochs=1, seed=0)),
+                'minirocket': lambda: MiniRocketRidge(dilations=2, biases_per_kernel=2),
+                'multirocket': lambda: MultiRocketRidge(dilations=2, biases_per_kernel=2),
+                'hydra': lambda: HydraRidge(groups=4, kernels_per_group=4)}
+
+
+@functools.lru_cache(maxsize=len(SMALL_MODELS))
+def _small_model(name: str):
     rng = np.random.default_rng(0)
     X = rng.normal(0.0, 1.0, (24, 64, 3)).astype(np.float32)
     y = np.arange(24) % 3
-    return DeepClassifier(TrainingConfig('cnn_1', epochs=1, seed=0)).fit(
-        X, y, ['a', 'b', 'c'], channels=['x', 'y', 'z'])
+    return SMALL_MODELS[name]().fit(X, y, ['a', 'b', 'c'], channels=['x', 'y', 'z'])
 
 
-@settings(max_examples=40)
+@settings(max_examples=25)
 @given(hnp.arrays(np.float32, st.tuples(st.integers(0, 3), st.just(64), st.just(3)),
                   elements=st.one_of(float32_finite, st.sampled_from(
-                      [np.float32(3.4e38), np.float32(-3.4e38), np.float32(1e-45)]))))
-def test_probabilities_of_any_finite_windows_sum_to_one(X):
-    probabilities = _small_model().predict_proba(X)
+                      [np.float32(3.4e38), np.float32(-3.4e38), np.float32(1e-45)]))),
+       st.sampled_from(sorted(SMALL_MODELS)))
+def test_probabilities_of_any_finite_windows_sum_to_one(X, name):
+    probabilities = _small_model(name).predict_proba(X)
     assert probabilities.shape == (len(X), 3)
     assert np.all(np.isfinite(probabilities))
     np.testing.assert_allclose(probabilities.sum(axis=1), 1.0, atol=1e-6)
+
+
+scaled_windows = hnp.arrays(np.float32, st.tuples(st.integers(2, 4), st.integers(2, 9),
+                                                  st.integers(1, 3)),
+                            elements=st.floats(-SCALED_LIMIT, SCALED_LIMIT, width=32))
+
+
+@settings(max_examples=60)
+@given(scaled_windows, st.sampled_from(AUGMENTATIONS), st.integers(0, 2**31 - 1))
+def test_any_augmentation_of_any_scaled_batch_stays_finite_and_bounded(X, name, seed):
+    """Training batches are scaled windows (within +-SCALED_LIMIT): none grows or turns NaN."""
+    import torch
+
+    from tactex_classify.training.augmentation import augment
+    out = augment(torch.from_numpy(X), (name,), torch.Generator().manual_seed(seed))
+    assert out.shape == X.shape and bool(torch.isfinite(out).all())
+    assert float(out.abs().max()) <= 2 * SCALED_LIMIT

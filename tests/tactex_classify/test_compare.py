@@ -86,6 +86,26 @@ def test_a_grid_resumes_only_with_its_settings_and_its_data(tmp_path):
         GridStore(tmp_path / 'other').open(GridSettings(), {64: toy()}, {64: 'toy'})
 
 
+def test_a_grid_begun_before_a_setting_existed_resumes_with_its_default(tmp_path):
+    store = GridStore(tmp_path / 'grid')
+    store.open(GridSettings(folds=2, epochs=3), {64: toy()}, {64: 'toy'})
+    manifest = json.loads(store.manifest_path.read_text())
+    del manifest['settings']['profile']  # as written before training profiles
+    store.manifest_path.write_text(json.dumps(manifest))
+    store.open(GridSettings(folds=2, epochs=3), {64: toy()}, {64: 'toy'})
+    with pytest.raises(GridError, match="profile 'original' \\(now 'modern'\\)"):
+        store.open(GridSettings(folds=2, epochs=3, profile='modern'), {64: toy()},
+                   {64: 'toy'})
+
+
+def test_a_cell_trains_a_deep_model_with_the_grids_profile():
+    cell = Cell(0, 1, 'grouped', 64, 'cnn_2')
+    result = run_cell({64: toy()}, cell, GridSettings(folds=2, epochs=2, profile='modern'),
+                      1, 'cpu')
+    assert result['config']['profile'] == 'modern'
+    assert result['config']['optimizer'] == 'adamw'
+
+
 @pytest.mark.parametrize('model', ['extratrees', 'cnn_2'])
 def test_a_cell_scores_its_own_test_fold_and_reports_its_cost(model):
     dataset = toy()

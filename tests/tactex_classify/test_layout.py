@@ -35,3 +35,14 @@ def test_the_registry_is_the_one_list_of_model_names():
     from tactex_classify.models.registry import DEEP_MODELS
     assert list(MODELS) == list(DEEP_MODELS)
     assert all(MODELS[name].__name__ == name for name in DEEP_MODELS)
+
+
+def test_every_baseline_has_a_checkpoint_kind_of_its_name():
+    import importlib
+
+    from tactex_classify.models.checkpoint import KINDS
+    from tactex_classify.models.registry import BASELINES
+    assert set(KINDS) == {'deep', *BASELINES}
+    for name in BASELINES:
+        module, cls = KINDS[name]
+        assert getattr(importlib.import_module(module), cls).CHECKPOINT_KIND == name

@@ -4,7 +4,7 @@
 
 import json
 
-from test_training import toy
+from support.toy_windows import toy
 
 from tactex.cli import main
 from tactex_classify.training.deep_classifier import DeepClassifier

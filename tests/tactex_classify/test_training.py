@@ -8,6 +8,7 @@ import pickle
 
 import numpy as np
 import pytest
+from support.toy_windows import CLASSES, STREAM, toy
 import torch
 
 from tactex_classify.data.dataset import Dataset
@@ -23,6 +24,8 @@ from tactex_classify.evaluation.cross_validation import (
 )
 from tactex_classify.models.baselines import MiniRocketRidge, StatsExtraTrees
 from tactex_classify.models.checkpoint import CHECKSUM_FIELD, metadata_sha256, sha256
+from tactex_classify.models.hydra import HydraRidge, MultiRocketHydraRidge
+from tactex_classify.models.multirocket import MultiRocketRidge
 from tactex_classify.models.windows import ChannelScaler
 from tactex_classify.training.deep_classifier import (
     DeepClassifier,
@@ -30,31 +33,7 @@ from tactex_classify.training.deep_classifier import (
     validation_split,
 )
 
-CLASSES = ['low', 'mid', 'high']
-
-
-def toy(recordings_per_class=4, windows=6, window=96, seed=0):
-    """Windows whose class sets the frequency of a sine in channel 0."""
-    rng = np.random.default_rng(seed)
-    X, y, trial, t0 = [], [], [], []
-    for label in range(3):
-        for recording in range(recordings_per_class):
-            phase = rng.uniform(0, 6)
-            for k in range(windows):
-                t = np.arange(window) + k * window // 2
-                channels = rng.normal(0, 0.3, (window, 10))
-                channels[:, 0] += np.sin(2 * np.pi * (label + 1) * t / window + phase)
-                channels[:, 9] += 101_000.0
-                X.append(channels)
-                y.append(label)
-                trial.append(label * 100 + recording)
-                t0.append(k * 0.1)
-    return Dataset(np.array(X, np.float32), np.array(y), np.array(trial), np.array(t0),
-                   CLASSES, {'sampling_rate_hz': 100.0, 'hop': window // 2})
-
-
 FAST = TrainingConfig(model='cnn_3', epochs=3, seed=1)
-STREAM = {'hop': 48, 'sampling_rate_hz': 100.0}  # what a checkpoint keeps of the toy set
 
 
 def test_training_is_deterministic_for_a_seed():
@@ -151,7 +130,8 @@ def test_minmax_scaler_is_fitted_on_the_training_windows_only():
     assert np.array(scaler.offset).shape == (10,)
 
 
-@pytest.mark.parametrize('make', [lambda: StatsExtraTrees(trees=50), lambda: MiniRocketRidge()])
+@pytest.mark.parametrize('make', [lambda: StatsExtraTrees(trees=50), MiniRocketRidge,
+                                  MultiRocketRidge, HydraRidge, MultiRocketHydraRidge])
 def test_baselines_learn_the_toy_task_honestly(make):
     data = toy()
     result = cross_validate(data, make, 'grouped', folds=4)

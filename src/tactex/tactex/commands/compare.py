@@ -18,7 +18,7 @@ from tactex.options import (
     ray_address,
     window_samples,
 )
-from tactex_classify.models.registry import ALL_MODELS, BASELINES, SCHEMES
+from tactex_classify.models.registry import ALL_MODELS, BASELINES, PROFILE_NAMES, SCHEMES
 
 DEFAULT_WINDOWS = (128, 256, 512)
 
@@ -61,9 +61,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help='grouped by recording (honest), stratified windows (leaky), or '
                              'both side by side (default)')
     parser.add_argument('--epochs', type=epoch_count, default=250, help='epochs at most (250)')
-    parser.add_argument('--early-stopping', type=patience_epochs, default=0, metavar='PATIENCE',
+    parser.add_argument('--profile', default='original', choices=PROFILE_NAMES,
+                        help="deep models' training: the original's (default) or modern")
+    parser.add_argument('--early-stopping', type=patience_epochs, default=None,
+                        metavar='PATIENCE',
                         help='stop a cell when the loss on recordings held out of its '
-                             'training fold has not improved for PATIENCE epochs (0: off)')
+                             "training fold has not improved for PATIENCE epochs (0: off; "
+                             "default: the profile's, off or 30)")
     parser.add_argument('--threads', type=integer(1, 256), default=1,
                         help='torch threads (and CPUs asked) per deep-model cell (1)')
     parser.add_argument('--cpus', type=integer(1, 4096),
@@ -99,8 +103,11 @@ def run(args: argparse.Namespace) -> int:
         check_reachable(args.address)  # before anything is written
     store = GridStore(args.out)
     check_grid_folder(store)
-    settings = GridSettings(folds=args.folds, epochs=args.epochs,
-                            early_stopping=args.early_stopping)
+    from tactex_classify.training.deep_classifier import TrainingConfig
+    patience = (TrainingConfig.for_profile(args.profile).early_stopping
+                if args.early_stopping is None else args.early_stopping)
+    settings = GridSettings(folds=args.folds, epochs=args.epochs, early_stopping=patience,
+                            profile=args.profile)
     store.check(settings)
     started = time.monotonic()
 

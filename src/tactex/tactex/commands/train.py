@@ -23,7 +23,8 @@ from tactex.options import (
     seed_value,
     staged_folder,
 )
-from tactex_classify.models.registry import ALL_MODELS, BASELINES, SCHEMES
+from tactex_classify.models.registry import ALL_MODELS, BASELINES, PROFILE_NAMES, SCHEMES
+from tactex_classify.models.windows import SCALINGS
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -36,10 +37,19 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "original's, leaky), or both side by side (default)")
     parser.add_argument('--folds', type=fold_count, default=5, help='folds per scheme (5)')
     parser.add_argument('--epochs', type=epoch_count, default=250, help='epochs (250)')
-    parser.add_argument('--early-stopping', type=patience_epochs, default=0, metavar='PATIENCE',
+    parser.add_argument('--profile', default='original', choices=PROFILE_NAMES,
+                        help="deep models: the original's training (default), or modern: "
+                             'AdamW, warm-up + cosine, label smoothing, weight EMA, '
+                             'augmentation with mixup, early stopping (README, Training '
+                             'profiles)')
+    parser.add_argument('--early-stopping', type=patience_epochs, default=None,
+                        metavar='PATIENCE',
                         help='stop when the validation loss has not improved for PATIENCE '
-                             'epochs (validation: recordings held out of the training fold)')
-    parser.add_argument('--scaling', default='minmax', choices=['minmax', 'standard'])
+                             'epochs (validation: recordings held out of the training fold; '
+                             "0: off; default: the profile's, off or 30)")
+    parser.add_argument('--scaling', default='minmax', choices=SCALINGS,
+                        help='per-channel Min-Max (default), z-score, or window: each '
+                             "window's mean removed, then z-scaled")
     parser.add_argument('--seed', type=seed_value, default=0)
     parser.add_argument('--threads', type=integer(1, 256), default=1,
                         help='torch threads (1)')
@@ -64,9 +74,10 @@ def run(args: argparse.Namespace) -> int:
     from tactex_classify.training.deep_classifier import TrainingConfig
     from tactex_classify.training.estimators import build_estimator
 
-    config = TrainingConfig(model=args.model, epochs=args.epochs,
-                            early_stopping=args.early_stopping, scaling=args.scaling,
-                            seed=args.seed, threads=args.threads)
+    config = TrainingConfig.for_profile(
+        args.profile, model=args.model, epochs=args.epochs, scaling=args.scaling,
+        seed=args.seed, threads=args.threads,
+        **({} if args.early_stopping is None else {'early_stopping': args.early_stopping}))
     started = time.monotonic()
 
     def log(line: str) -> None:

@@ -67,6 +67,7 @@ class GridSettings:
     early_stopping: int = 0
     validation_fraction: float = 0.1
     scaling: str = 'minmax'
+    profile: str = 'original'  # the deep models' training profile
 
 
 def grid_cells(models: Sequence[str], windows: Sequence[int], seeds: int, folds: int,
@@ -117,7 +118,9 @@ class GridStore:
         except (ValueError, KeyError, TypeError):
             raise GridError(f'{self.manifest_path} is not a tactex comparison manifest; '
                             'choose a new --out') from None
-        changed = {k: (old.get(k), v) for k, v in asdict(settings).items() if old.get(k) != v}
+        before = {**asdict(GridSettings()), **old}  # a grid older than a setting had its default
+        changed = {k: (before.get(k), v) for k, v in asdict(settings).items()
+                   if before.get(k) != v}
         if changed:
             described = ', '.join(f'{k} {was!r} (now {now!r})' for k, (was, now)
                                   in changed.items())
@@ -211,10 +214,10 @@ def run_cell(datasets: dict[int, Dataset], cell: Cell, settings: GridSettings, t
         import tactex_classify.models.architectures  # noqa: F401  (torch's import is no training time)
     dataset = datasets[cell.window]
     train, test = splits(dataset, cell.scheme, settings.folds, cell.seed)[cell.fold - 1]
-    config = TrainingConfig(model=cell.model, epochs=settings.epochs,
-                            early_stopping=settings.early_stopping,
-                            validation_fraction=settings.validation_fraction,
-                            scaling=settings.scaling, seed=cell.seed, threads=threads)
+    config = TrainingConfig.for_profile(
+        settings.profile, model=cell.model, epochs=settings.epochs,
+        early_stopping=settings.early_stopping, validation_fraction=settings.validation_fraction,
+        scaling=settings.scaling, seed=cell.seed, threads=threads)
     estimator = build_estimator(config, device=device)
     started = time.perf_counter()
     estimator.fit(dataset.X[train], dataset.y[train], dataset.classes,
@@ -243,6 +246,8 @@ def run_cell(datasets: dict[int, Dataset], cell: Cell, settings: GridSettings, t
             'train_windows': int(train.size), 'test_windows': int(test.size),
             'y_true': dataset.y[test].tolist(), 'y_pred': predicted.tolist(),
             'threads': threads, 'device': device, 'node': platform.node(),
+            'config': asdict(config) if history else None,
+            'train_losses': [record['train_loss'] for record in history],
             'finished': time.strftime('%Y-%m-%dT%H:%M:%S%z')}
 
 

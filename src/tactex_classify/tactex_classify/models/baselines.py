@@ -14,166 +14,59 @@ with built-in cross-validation of its regularisation reads the features.
 
 from __future__ import annotations
 
-from dataclasses import asdict
-from itertools import combinations
 from pathlib import Path
 
 import numpy as np
 from scipy import stats
 from sklearn.ensemble import ExtraTreesClassifier
-from sklearn.linear_model import RidgeClassifierCV
-from sklearn.preprocessing import StandardScaler
 
 from tactex_classify.errors import CheckpointError, NotFittedError
-from tactex_classify.models.checkpoint import Deployable, MAX_MODEL_BYTES, restore_fitted
-from tactex_classify.models.windows import channel_names, ChannelScaler, check_windows, softmax
+from tactex_classify.models.checkpoint import Deployable, restore_fitted
+from tactex_classify.models.feature_ridge import FeatureRidge, full_columns, read_config
+from tactex_classify.models.rocket_kernels import fit_biases, kernel_outputs, KERNELS, plan_kernels
+from tactex_classify.models.windows import channel_names, check_windows
 from tactex_common.constants import MAX_SEED
-from tactex_common.files import check_npz_sizes, open_regular
-
-KERNELS = np.array(list(combinations(range(9), 3)))  # positions of the +2 weights
-GOLDEN = (np.sqrt(5.0) - 1.0) / 2.0
 
 
-class MiniRocketRidge(Deployable):
+class MiniRocketRidge(FeatureRidge):
     """MiniRocket features + RidgeClassifierCV."""
 
     CHECKPOINT_KIND = 'minirocket'
-    MODEL_FILE = 'weights.npz'
-    model_name = 'minirocket'
+    TRANSFORM_ARRAYS = ('dilations_', 'masks_', 'biases_')
+    SETTINGS = {'dilations': (7, 64), 'biases_per_kernel': (6, 64), 'seed': (0, MAX_SEED)}
 
-    def __init__(self, *, dilations: int = 7, biases_per_kernel: int = 6, seed: int = 0
-                 ) -> None:
-        self.dilations = dilations
-        self.biases_per_kernel = biases_per_kernel
-        self.seed = seed
-        self.coef_ = None
+    def _fit_transform(self, Z: np.ndarray, rng: np.random.Generator) -> np.ndarray:
+        """Plan dilations and channel masks, then fit the biases while transforming."""
+        self.dilations_, self.masks_ = plan_kernels(Z.shape[1], Z.shape[2], self.dilations, rng)
+        self.biases_ = np.zeros((len(self.dilations_), len(KERNELS), self.biases_per_kernel))
+        return self._ppv(Z, rng)
 
-    @staticmethod
-    def _outputs(Z: np.ndarray, dilation: int, masks: np.ndarray) -> np.ndarray:
-        """Every kernel's output at one dilation, summed over its channels: (kernels, n, L).
+    def _features(self, Z: np.ndarray) -> np.ndarray:
+        return self._ppv(Z)
 
-        A kernel is 3 x (its three +2 taps) - (all nine taps); with 'same' zero padding.
-        The taps are projected on each kernel's channel mask first, so the 84 kernels cost
-        one matrix product.
-        """
-        pad = 4 * dilation
-        padded = np.pad(Z, ((0, 0), (pad, pad), (0, 0)))
-        length = Z.shape[1]
-        taps = np.stack([padded[:, j * dilation:j * dilation + length] for j in range(9)])
-        projected = np.moveaxis(taps @ masks.T, -1, 1)  # (9, kernels, n, L)
-        kernel = np.arange(len(KERNELS))
-        picked = projected[KERNELS[:, 0], kernel] + projected[KERNELS[:, 1], kernel] \
-            + projected[KERNELS[:, 2], kernel]
-        return 3.0 * picked - np.moveaxis(taps.sum(axis=0) @ masks.T, -1, 0)
-
-    def _plan(self, length: int, channels: int, rng: np.random.Generator) -> None:
-        largest = max(1.0, (length - 1) / 8.0)
-        self.dilations_ = np.unique(np.floor(2.0 ** np.linspace(0, np.log2(largest),
-                                                                self.dilations)).astype(int))
-        self.masks_ = np.zeros((len(self.dilations_), len(KERNELS), channels), np.float32)
-        for d in range(len(self.dilations_)):
-            for index in range(len(KERNELS)):
-                size = int(2 ** rng.uniform(0, np.log2(min(channels, 9) + 1)))
-                self.masks_[d, index, rng.choice(channels, max(1, size), replace=False)] = 1.0
-
-    def _features(self, Z: np.ndarray, rng=None) -> np.ndarray:
+    def _ppv(self, Z: np.ndarray, rng=None) -> np.ndarray:
         """PPV features (n, dilations x kernels x biases); fits the biases when rng is given."""
         columns = []
-        if rng is not None:
-            self.biases_ = np.zeros((len(self.dilations_), len(KERNELS),
-                                     self.biases_per_kernel))
-            quantiles = (np.arange(1, self.biases_per_kernel + 1) * GOLDEN) % 1.0
         for d, dilation in enumerate(self.dilations_):
-            out = self._outputs(Z, int(dilation), self.masks_[d])  # (kernels, n, L)
+            out = kernel_outputs(Z, int(dilation), self.masks_[d])  # (kernels, n, L)
             if rng is not None:
-                for index in range(len(KERNELS)):
-                    self.biases_[d, index] = np.quantile(out[index, rng.integers(out.shape[1])],
-                                                         quantiles)
+                self.biases_[d] = fit_biases(out, self.biases_per_kernel, rng)
             biases = self.biases_[d].astype(out.dtype)[:, None, :, None]
             ppv = np.count_nonzero(out[:, :, None, :] > biases, axis=-1) / out.shape[2]
             columns.append(ppv.transpose(1, 0, 2).reshape(len(Z), -1))
         return np.concatenate(columns, axis=1)
 
-    def fit(self, X, y, classes, groups=None, channels=None) -> MiniRocketRidge:
-        """Transform the training windows and fit the ridge."""
-        del groups
-        X = check_windows(X)
-        rng = np.random.default_rng(self.seed)
-        self.classes_ = list(classes)
-        self.window_, self.n_channels_ = X.shape[1], X.shape[2]
-        self.channels_ = channel_names(channels, self.n_channels_)
-        self.scaler_ = ChannelScaler('standard').fit(X)
-        self._plan(self.window_, self.n_channels_, rng)
-        features = self._features(self.scaler_.transform(X), rng)
-        standard = StandardScaler().fit(features)
-        ridge = RidgeClassifierCV(alphas=np.logspace(-3, 3, 10)).fit(
-            standard.transform(features), np.asarray(y))
-        # Inference needs only these arrays (no scikit-learn object is kept or saved).
-        self.feature_mean_, self.feature_scale_ = standard.mean_, standard.scale_
-        self.coef_, self.intercept_ = np.atleast_2d(ridge.coef_), np.atleast_1d(ridge.intercept_)
-        self.seen_classes_ = np.asarray(ridge.classes_, dtype=np.int64)
-        return self
+    def _feature_count(self) -> int:
+        return len(self.dilations_) * len(KERNELS) * self.biases_per_kernel
 
-    def predict_proba(self, X) -> np.ndarray:
-        """Softmax of the ridge's decision values, one column per class in `classes_`."""
-        if self.coef_ is None:
-            raise NotFittedError('MiniRocketRidge is not fitted; call fit first')
-        X = check_windows(X, window=self.window_, channels=self.n_channels_)
-        features = self._features(self.scaler_.transform(X))
-        scores = ((features - self.feature_mean_) / self.feature_scale_) @ self.coef_.T \
-            + self.intercept_
-        return _full_columns(softmax(_two_class(scores)), self.seen_classes_,
-                             len(self.classes_))
-
-    ARRAYS = ('dilations_', 'masks_', 'biases_', 'feature_mean_', 'feature_scale_', 'coef_',
-              'intercept_', 'seen_classes_')
-
-    def checkpoint_fields(self) -> dict:
-        """The channel scaler and the hyper-parameters (the arrays go to weights.npz)."""
-        if self.coef_ is None:
-            raise NotFittedError('MiniRocketRidge is not fitted; nothing to save')
-        return {'scaler': asdict(self.scaler_),
-                'config': {'dilations': self.dilations,
-                           'biases_per_kernel': self.biases_per_kernel, 'seed': self.seed}}
-
-    def write_model(self, path: Path) -> None:
-        """Write the fitted arrays as an uncompressed .npz (no pickled objects)."""
-        with open(path, 'wb') as handle:
-            np.savez(handle, **{name: getattr(self, name) for name in self.ARRAYS})
-
-    @classmethod
-    def from_checkpoint(cls, info) -> MiniRocketRidge:
-        """A saved MiniRocket: plain arrays, shapes checked against each other.
-
-        Raises:
-            KeyError, TypeError, ValueError: a malformed field.
-            CheckpointError: the arrays are refused (objects, NaN, shapes that disagree).
-        """
-        self = cls(**read_config(info, {'dilations': 64, 'biases_per_kernel': 64,
-                                        'seed': MAX_SEED}))
-        restore_fitted(self, info)
-        self.scaler_ = ChannelScaler.from_state(info.fields['scaler'], self.n_channels_)
-        arrays = read_arrays(info, cls.ARRAYS)
-        for name, value in arrays.items():
-            setattr(self, name, value)
+    def _transform_fits(self) -> bool:
         d, c, b = len(self.dilations_), self.n_channels_, self.biases_per_kernel
-        features = d * len(KERNELS) * b
-        seen = self.seen_classes_
-        shapes_fit = (self.masks_.shape == (d, len(KERNELS), c)
-                      and self.biases_.shape == (d, len(KERNELS), b)
-                      and self.dilations_.shape == (d,) and d <= self.dilations
-                      and self.feature_mean_.shape == self.feature_scale_.shape == (features,)
-                      and self.coef_.shape[1:] == (features,)
-                      and self.intercept_.shape == self.coef_.shape[:1]
-                      and seen.ndim == 1 and seen.size >= 2
-                      and self.coef_.shape[0] == (1 if seen.size == 2 else seen.size)
-                      and np.all((seen >= 0) & (seen < len(self.classes_)))
-                      and np.all(self.dilations_ >= 1) and np.all(self.feature_scale_ > 0))
-        if not shapes_fit:
-            raise CheckpointError(f'{info.folder}: {cls.MODEL_FILE} arrays do not fit each '
-                                  f'other, {c} channels and {len(self.classes_)} classes')
+        fits = (self.masks_.shape == (d, len(KERNELS), c)
+                and self.biases_.shape == (d, len(KERNELS), b)
+                and self.dilations_.shape == (d,) and d <= self.dilations
+                and bool(np.all(self.dilations_ >= 1)))
         self.dilations_ = self.dilations_.astype(int)
-        return self
+        return fits
 
 
 class StatsExtraTrees(Deployable):
@@ -220,7 +113,7 @@ class StatsExtraTrees(Deployable):
         if self.forest_ is None:
             raise NotFittedError('StatsExtraTrees is not fitted; call fit first')
         X = check_windows(X, window=self.window_, channels=self.n_channels_)
-        return _full_columns(self.forest_.predict_proba(self.features(X)), self.forest_.classes_,
+        return full_columns(self.forest_.predict_proba(self.features(X)), self.forest_.classes_,
                              len(self.classes_))
 
 
@@ -273,57 +166,3 @@ class StatsExtraTrees(Deployable):
 # What an ExtraTreesClassifier saved by skops is made of; anything else is refused.
 TRUSTED_FOREST_TYPES = ('sklearn.ensemble._forest.ExtraTreesClassifier',
                         'sklearn.tree._classes.ExtraTreeClassifier', 'sklearn.tree._tree.Tree')
-
-
-def read_config(info, maxima: dict[str, int]) -> dict[str, int]:
-    """A baseline's `config` field: exactly the named whole numbers, each in 0..its maximum.
-
-    Raises:
-        ValueError: another set of names, or a value out of its range (named).
-    """
-    config = info.fields['config']
-    if not isinstance(config, dict) or set(config) != set(maxima):
-        raise ValueError(f'config must hold {", ".join(maxima)}; got {config!r}')
-    for name, maximum in maxima.items():
-        value = config[name]
-        low = 0 if name == 'seed' else 1
-        if not isinstance(value, int) or isinstance(value, bool) or not low <= value <= maximum:
-            raise ValueError(f'config {name} must be a whole number in {low}..{maximum}, got '
-                             f'{value!r}')
-    return config
-
-
-def read_arrays(info, names: tuple[str, ...]) -> dict[str, np.ndarray]:
-    """Named numeric, finite arrays of a checkpoint's .npz (no pickled objects).
-
-    Raises:
-        CheckpointError: unreadable, an object array, a missing name, or NaN/inf.
-    """
-    import zipfile
-    try:
-        with open_regular(info.model_file, max_bytes=MAX_MODEL_BYTES) as handle, \
-                np.load(handle, allow_pickle=False) as npz:
-            check_npz_sizes(npz, MAX_MODEL_BYTES, info.model_file)
-            arrays = {name: npz[name] for name in names}
-    except KeyError as err:
-        raise CheckpointError(f'{info.folder}: {info.model_file.name} lacks {err}') from None
-    except (ValueError, OSError, EOFError, zipfile.BadZipFile) as err:
-        raise CheckpointError(f'{info.folder}: refused {info.model_file.name}: {err}'
-                              ) from None
-    for name, value in arrays.items():
-        if value.dtype.kind not in 'iuf' or not np.all(np.isfinite(value)):
-            raise CheckpointError(f'{info.folder}: {info.model_file.name}: {name} must hold '
-                                  f'finite numbers')
-    return arrays
-
-
-def _two_class(scores: np.ndarray) -> np.ndarray:
-    """Ridge gives one column of scores for two classes: make it two."""
-    return np.concatenate([-scores, scores], axis=1) if scores.shape[1] == 1 else scores
-
-
-def _full_columns(proba: np.ndarray, seen: np.ndarray, count: int) -> np.ndarray:
-    """Spread columns of the classes seen in training into all `count` classes."""
-    full = np.zeros((proba.shape[0], count))
-    full[:, np.asarray(seen, dtype=int)] = proba
-    return full

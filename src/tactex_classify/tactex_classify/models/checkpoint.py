@@ -42,7 +42,10 @@ ONNX_FILE = 'model.onnx'
 # kind -> (module, class) of the estimator that reads and writes it.
 KINDS = {'deep': ('tactex_classify.training.deep_classifier', 'DeepClassifier'),
          'minirocket': ('tactex_classify.models.baselines', 'MiniRocketRidge'),
-         'extratrees': ('tactex_classify.models.baselines', 'StatsExtraTrees')}
+         'extratrees': ('tactex_classify.models.baselines', 'StatsExtraTrees'),
+         'multirocket': ('tactex_classify.models.multirocket', 'MultiRocketRidge'),
+         'hydra': ('tactex_classify.models.hydra', 'HydraRidge'),
+         'multirocket_hydra': ('tactex_classify.models.hydra', 'MultiRocketHydraRidge')}
 CHECKSUM_FIELD = 'metadata_sha256'
 COMMON_FIELDS = ('format_version', 'kind', 'model', 'classes', 'channels', 'window', 'hop',
                  'sampling_rate_hz', 'files', CHECKSUM_FIELD)
@@ -132,7 +135,7 @@ class CheckpointInfo:
 
     Attributes:
         folder: the checkpoint folder.
-        kind: 'deep', 'minirocket' or 'extratrees'.
+        kind: 'deep' or a baseline's name (KINDS).
         model: the model's name (`cnn_3`, `minirocket`, ...).
         classes: class names in the model's output order.
         stream: what the model expects of its input.

@@ -6,9 +6,13 @@
 # (tactex_classify.models.architectures defines a builder of each name).
 DEEP_MODELS = ('cnn_bilstm_1', 'cnn_bilstm_2', 'cnn_bilstm_3', 'cnn_1', 'cnn_2', 'cnn_3',
                'bilstm_1', 'bilstm_2')
-# Fast baselines (tactex_classify.models.baselines).
-BASELINES = ('minirocket', 'extratrees')
+# Fast baselines (tactex_classify.models: baselines, multirocket, hydra).
+BASELINES = ('minirocket', 'extratrees', 'multirocket', 'hydra', 'multirocket_hydra')
 ALL_MODELS = DEEP_MODELS + BASELINES
+# Augmentations of the deep models' `modern` training (tactex_classify.training.augmentation).
+AUGMENTATIONS = ('shift', 'scale', 'jitter', 'warp', 'channel_dropout')
+# Training profiles of the deep models (tactex_classify.training.deep_classifier.PROFILES).
+PROFILE_NAMES = ('original', 'modern')
 # Cross-validation schemes: grouped by recording (honest), stratified windows (leaky).
 SCHEMES = ('grouped', 'stratified')
 # Most epochs (and epochs of early-stopping patience) a training may be asked for.

@@ -12,13 +12,18 @@ import numpy as np
 from tactex_classify.errors import NotFittedError
 from tactex_common.channels import CHANNELS
 
-SCALINGS = ('minmax', 'standard')
+SCALINGS = ('minmax', 'standard', 'window')
 SCALED_LIMIT = 1e4
 
 
 @dataclass
 class ChannelScaler:
-    """Per-channel scaling fitted on training windows: Min-Max (the original) or z-score."""
+    """Per-channel scaling fitted on training windows: Min-Max (the original), z-score, or window.
+
+    `window` removes each window's own per-channel mean first (the offsets of a mount
+    tilt, a pressure baseline or a gyro bias drop out), then divides by the training
+    windows' per-channel spread of what is left, so amplitude still tells textures apart.
+    """
 
     kind: str = 'minmax'
     offset: list[float] | None = None
@@ -34,11 +39,13 @@ class ChannelScaler:
             raise ValueError(f'cannot fit a scaler on no data, got shape {X.shape!r}')
         if not np.all(np.isfinite(X)):
             raise ValueError('cannot fit a scaler on data with NaN or inf; drop them first')
-        flat = X.reshape(-1, X.shape[-1]).astype(np.float64)
+        flat = self._centred(X).reshape(-1, X.shape[-1]).astype(np.float64)
         if self.kind == 'minmax':
             offset, span = flat.min(axis=0), flat.max(axis=0) - flat.min(axis=0)
         elif self.kind == 'standard':
             offset, span = flat.mean(axis=0), flat.std(axis=0)
+        elif self.kind == 'window':
+            offset, span = np.zeros(flat.shape[1]), flat.std(axis=0)
         else:
             raise ValueError(f'scaling must be one of {SCALINGS}, got {self.kind!r}')
         span[~(span > 1e-12)] = 1.0
@@ -81,8 +88,15 @@ class ChannelScaler:
         if X.shape[-1] != len(self.offset):
             raise ValueError(f'X has {X.shape[-1]} channels, the scaler was fitted on '
                              f'{len(self.offset)}')
-        scaled = (X - np.array(self.offset)) / np.array(self.scale)
+        scaled = (self._centred(X) - np.array(self.offset)) / np.array(self.scale)
         return np.clip(scaled, -SCALED_LIMIT, SCALED_LIMIT).astype(np.float32)
+
+    def _centred(self, X: np.ndarray) -> np.ndarray:
+        """X less each window's per-channel mean (kind `window`), else X itself."""
+        if self.kind != 'window':
+            return X
+        X = X.astype(np.float64)
+        return X - X.mean(axis=1, keepdims=True)
 
 
 def check_windows(X, *, window: int | None = None, channels: int | None = None) -> np.ndarray:

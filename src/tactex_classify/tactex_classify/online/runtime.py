@@ -5,11 +5,13 @@
 `load_predictor(folder, runtime)` returns a `Predictor`: raw windows (n, window,
 channels) in, probabilities (n, classes) out, in the checkpoint's class order. Runtimes:
 
-- `native`: torch for the deep models, numpy for MiniRocket, scikit-learn for ExtraTrees.
+- `native`: torch for the deep models, numpy for the random-kernel baselines,
+  scikit-learn for ExtraTrees.
 - `onnxruntime`: the `model.onnx` that `tactex export --onnx` wrote beside the weights
   (deep models: the scaled window in, logits out; ExtraTrees: the window statistics in,
   class probabilities out). torch is never imported, so a robot computer needs only
-  numpy, scikit-learn and onnxruntime. MiniRocket has no ONNX form; it runs in numpy.
+  numpy, scikit-learn and onnxruntime. The random-kernel baselines (MiniRocket,
+  MultiRocket, HYDRA) have no ONNX form; they run in numpy.
 
 `export_onnx` writes that file, checks it against the native model on random windows,
 and stamps it with the SHA-256 of the model file it came from: a `model.onnx` exported
@@ -90,7 +92,7 @@ def load_predictor(folder: Path, runtime: str = 'native', *, threads: int = 1) -
     if runtime == 'onnxruntime' and info.kind in ONNX_KINDS:
         return _onnx_predictor(info, threads)
     estimator = load_estimator(info)
-    name = {'deep': 'torch', 'minirocket': 'numpy', 'extratrees': 'scikit-learn'}[info.kind]
+    name = {'deep': 'torch', 'extratrees': 'scikit-learn'}.get(info.kind, 'numpy')
     if info.kind == 'deep':
         import torch
         torch.set_num_threads(threads)

@@ -23,7 +23,12 @@ import numpy as np
 
 from tactex_classify.errors import CheckpointError, NotFittedError
 from tactex_classify.models.checkpoint import Deployable, restore_fitted
-from tactex_classify.models.registry import DEEP_MODELS, MAX_EPOCHS
+from tactex_classify.models.registry import (
+    AUGMENTATIONS,
+    DEEP_MODELS,
+    MAX_EPOCHS,
+    PROFILE_NAMES,
+)
 from tactex_classify.models.windows import (
     channel_names,
     ChannelScaler,
@@ -41,7 +46,13 @@ MAX_THREADS = 256
 
 @dataclass
 class TrainingConfig:
-    """The original's training: Adamax, lr 1e-3, clipping, batch 32, 250 epochs."""
+    """How a deep model trains; the defaults are the original's (profile `original`).
+
+    The original trains with Adamax at lr 1e-3, clipping, batch 32, 250 epochs and Keras's
+    BatchNorm momentum. `TrainingConfig.for_profile('modern', ...)` starts from current
+    time-series practice instead (`MODERN`, each element cited there); any setting may
+    still be given.
+    """
 
     model: str = 'cnn_1'
     epochs: int = 250
@@ -54,6 +65,27 @@ class TrainingConfig:
     seed: int = 0
     threads: int = 1
     init: str = 'keras'  # initial weights: 'keras' (as the original) or 'pytorch' defaults
+    profile: str = 'original'  # the preset the other settings started from
+    optimizer: str = 'adamax'
+    weight_decay: float = 0.0  # decoupled (AdamW) weight decay
+    schedule: str = 'constant'  # or 'warmup_cosine': linear warm-up, then cosine to 0
+    warmup_epochs: int = 0
+    label_smoothing: float = 0.0
+    ema_decay: float = 0.0  # exponential moving average of the weights per step; 0: off
+    batchnorm_momentum: float = 0.01  # PyTorch's convention: 0.01 is Keras's 0.99
+    augmentations: tuple[str, ...] = ()  # names of training.augmentation.AUGMENTATIONS
+    mixup_alpha: float = 0.0  # Beta(alpha, alpha) mixing weight; 0: off
+
+    @classmethod
+    def for_profile(cls, profile: str, **settings) -> TrainingConfig:
+        """The settings of `profile` ('original' or 'modern'), updated by `settings`.
+
+        Raises:
+            ValueError: an unknown profile.
+        """
+        if profile not in PROFILES:
+            raise ValueError(f'unknown profile {profile!r}; known: {", ".join(PROFILES)}')
+        return cls(**{**PROFILES[profile], 'profile': profile, **settings})
 
     def check(self) -> TrainingConfig:
         """Return self if every setting is usable.
@@ -65,7 +97,7 @@ class TrainingConfig:
             raise ValueError(f'unknown model {self.model!r}; known: {", ".join(DEEP_MODELS)}')
         for name, low, high in (('epochs', 1, MAX_EPOCHS), ('batch_size', 2, 65536),
                                 ('early_stopping', 0, MAX_EPOCHS), ('seed', 0, MAX_SEED),
-                                ('threads', 1, MAX_THREADS)):
+                                ('threads', 1, MAX_THREADS), ('warmup_epochs', 0, MAX_EPOCHS)):
             value = getattr(self, name)
             if not isinstance(value, int) or isinstance(value, bool) or not low <= value <= high:
                 raise ValueError(f'{name} must be an integer in {low}..{high}, got {value!r}')
@@ -74,14 +106,43 @@ class TrainingConfig:
             if not isinstance(value, (int, float)) or isinstance(value, bool) or not (
                     math.isfinite(value) and 0 < value <= 1e6):
                 raise ValueError(f'{name} must be finite, > 0 and <= 1e6, got {value!r}')
-        if self.init not in INITS:
-            raise ValueError(f'init must be one of {INITS}, got {self.init!r}')
-        if self.scaling not in SCALINGS:
-            raise ValueError(f'scaling must be one of {SCALINGS}, got {self.scaling!r}')
+        for name, high in (('weight_decay', 1.0), ('label_smoothing', 0.5),
+                           ('ema_decay', 1.0 - 1e-9), ('batchnorm_momentum', 1.0),
+                           ('mixup_alpha', 100.0)):
+            value = getattr(self, name)
+            if not isinstance(value, (int, float)) or isinstance(value, bool) or not (
+                    0.0 <= value <= high):
+                raise ValueError(f'{name} must be a number in 0..{high:g}, got {value!r}')
+        for name, allowed in (('init', INITS), ('scaling', SCALINGS), ('profile', PROFILES),
+                              ('optimizer', OPTIMIZERS), ('schedule', SCHEDULES)):
+            if getattr(self, name) not in allowed:
+                raise ValueError(f'{name} must be one of {allowed}, got {getattr(self, name)!r}')
+        if not isinstance(self.augmentations, (list, tuple)) or not set(
+                self.augmentations) <= set(AUGMENTATIONS):
+            raise ValueError(f'augmentations must name some of {AUGMENTATIONS}, got '
+                             f'{self.augmentations!r}')
+        self.augmentations = tuple(self.augmentations)
         fraction = self.validation_fraction
         if not isinstance(fraction, (int, float)) or not 0.0 < fraction < 1.0:
             raise ValueError(f'validation_fraction must be in (0, 1), got {fraction!r}')
         return self
+
+
+OPTIMIZERS = ('adamax', 'adamw')
+SCHEDULES = ('constant', 'warmup_cosine')
+# Current time-series practice, each element ablated by bench/bench_profiles.py:
+# AdamW (Loshchilov and Hutter, ICLR 2019) with linear warm-up (Goyal et al. 2017) and
+# cosine decay (Loshchilov and Hutter, SGDR, ICLR 2017); label smoothing (Szegedy et al.,
+# CVPR 2016); an exponential moving average of the weights (Polyak and Juditsky 1992;
+# Tarvainen and Valpola 2017); PyTorch's BatchNorm momentum 0.1 (the running statistics
+# follow the weights; Ioffe and Szegedy 2015); the augmentations of
+# training.augmentation with mixup (Zhang et al., ICLR 2018); early stopping on
+# recordings held out of training (Prechelt 1998), never on windows of trained ones.
+MODERN = {'optimizer': 'adamw', 'weight_decay': 0.05, 'schedule': 'warmup_cosine',
+          'warmup_epochs': 5, 'label_smoothing': 0.1, 'ema_decay': 0.99,
+          'batchnorm_momentum': 0.1, 'augmentations': AUGMENTATIONS, 'mixup_alpha': 0.2,
+          'early_stopping': 30}
+PROFILES = dict(zip(PROFILE_NAMES, ({}, MODERN), strict=True))
 
 
 class DeepClassifier(Deployable):
@@ -117,6 +178,7 @@ class DeepClassifier(Deployable):
         import torch
 
         from tactex_classify.models.architectures import build_model
+        from tactex_classify.training.augmentation import augment, mixup
         config = self.config.check()
         X = check_windows(X)
         y = np.asarray(y, dtype=np.int64)
@@ -135,8 +197,16 @@ class DeepClassifier(Deployable):
         self.model_ = build_model(config.model, self.window_, self.n_channels_,
                                   len(self.classes_), keras_init=config.init == 'keras'
                                   ).to(device)
-        optimizer = torch.optim.Adamax(self.model_.parameters(), lr=config.learning_rate)
-        loss_fn = torch.nn.CrossEntropyLoss()
+        for layer in self.model_.modules():
+            if isinstance(layer, torch.nn.BatchNorm1d):
+                layer.momentum = config.batchnorm_momentum
+        optimizer = _optimizer(self.model_, config)
+        steps_per_epoch = max(1, math.ceil(train.size / config.batch_size))
+        schedule = _schedule(optimizer, config, steps_per_epoch)
+        loss_fn = torch.nn.CrossEntropyLoss(label_smoothing=config.label_smoothing)
+        averaged = _averaged(self.model_, config)
+        evaluated = averaged.module if averaged is not None else self.model_
+        generator = torch.Generator(device=device).manual_seed(config.seed)
         data = torch.from_numpy(self.scaler_.transform(X)).to(device)
         target = torch.from_numpy(y).to(device)
         train_data, train_target = data[torch.from_numpy(train)], target[torch.from_numpy(train)]
@@ -156,20 +226,35 @@ class DeepClassifier(Deployable):
                 if len(inputs) < 2:
                     continue  # BatchNorm needs two samples to train
                 expected = labels[start:start + config.batch_size]
+                if config.augmentations:
+                    inputs = augment(inputs, config.augmentations, generator)
                 optimizer.zero_grad()
-                logits = self.model_(inputs)
-                loss = loss_fn(logits, expected)
+                if config.mixup_alpha:
+                    weight = float(rng.beta(config.mixup_alpha, config.mixup_alpha))
+                    inputs, partners = mixup(inputs, weight, generator)
+                    logits = self.model_(inputs)
+                    loss = weight * loss_fn(logits, expected) + \
+                        (1 - weight) * loss_fn(logits, expected[partners])
+                else:
+                    logits = self.model_(inputs)
+                    loss = loss_fn(logits, expected)
                 loss.backward()
                 torch.nn.utils.clip_grad_norm_(self.model_.parameters(), config.clip_norm)
                 optimizer.step()
+                if schedule is not None:
+                    schedule.step()
+                if averaged is not None:
+                    averaged.update_parameters(self.model_)
                 loss_sum += loss.detach() * len(inputs)
                 hits += (logits.detach().argmax(1) == expected).sum()
             record = {'epoch': epoch, 'train_loss': float(loss_sum) / max(train.size, 1),
-                      'train_accuracy': int(hits) / max(train.size, 1)}
+                      'train_accuracy': int(hits) / max(train.size, 1),
+                      'learning_rate': optimizer.param_groups[0]['lr']}
             if validation.size:
-                logits = self._logits(data[torch.from_numpy(validation)])
-                record['val_loss'] = float(loss_fn(torch.from_numpy(logits),
-                                                   torch.from_numpy(y[validation])))
+                logits = _logits(evaluated, data[torch.from_numpy(validation)],
+                                 len(self.classes_))
+                record['val_loss'] = float(torch.nn.functional.cross_entropy(
+                    torch.from_numpy(logits), torch.from_numpy(y[validation])))
                 record['val_accuracy'] = float(np.mean(logits.argmax(1) ==
                                                        y[validation]))
             self.history_.append(record)
@@ -178,27 +263,20 @@ class DeepClassifier(Deployable):
             if config.early_stopping and validation.size:
                 if record['val_loss'] < best_loss - 1e-6:
                     best_loss, waited, self.best_epoch_ = record['val_loss'], 0, epoch
-                    best_state = {k: v.clone() for k, v in self.model_.state_dict().items()}
+                    best_state = {k: v.clone() for k, v in evaluated.state_dict().items()}
                 else:
                     waited += 1
                     if waited >= config.early_stopping:
                         break
-        if best_state is not None:
-            self.model_.load_state_dict(best_state)
-        else:
+        if best_state is None:
+            best_state = evaluated.state_dict()
             self.best_epoch_ = len(self.history_)
+        self.model_.load_state_dict(best_state)
         return self
 
     def _logits(self, data) -> np.ndarray:
         """Logits of (n, window, channels) scaled windows, on the model's device."""
-        import torch
-        self.model_.eval()
-        if not len(data):
-            return np.zeros((0, len(self.classes_)), dtype=np.float32)
-        device = next(self.model_.parameters()).device
-        with torch.inference_mode():
-            return torch.cat([self.model_(data[i:i + 256].to(device))
-                              for i in range(0, len(data), 256)]).cpu().numpy()
+        return _logits(self.model_, data, len(self.classes_))
 
     def predict_proba(self, X, *, channels: Sequence[str] | None = None) -> np.ndarray:
         """(n, n_classes) probabilities in `classes_` order.
@@ -320,3 +398,48 @@ def validation_split(y: np.ndarray, groups, config: TrainingConfig
     splitter = GroupShuffleSplit(n_splits=1, test_size=config.validation_fraction,
                                  random_state=config.seed)
     return next(splitter.split(indices, y, groups))
+
+
+def _logits(model, data, classes: int) -> np.ndarray:
+    """Logits of (n, window, channels) scaled windows by `model`, on its device."""
+    import torch
+    model.eval()
+    if not len(data):
+        return np.zeros((0, classes), dtype=np.float32)
+    device = next(model.parameters()).device
+    with torch.inference_mode():
+        return torch.cat([model(data[i:i + 256].to(device))
+                          for i in range(0, len(data), 256)]).cpu().numpy()
+
+
+def _optimizer(model, config: TrainingConfig):
+    """Adamax as the original, or AdamW with decoupled weight decay."""
+    import torch
+    if config.optimizer == 'adamw':
+        return torch.optim.AdamW(model.parameters(), lr=config.learning_rate,
+                                 weight_decay=config.weight_decay)
+    return torch.optim.Adamax(model.parameters(), lr=config.learning_rate)
+
+
+def _schedule(optimizer, config: TrainingConfig, steps_per_epoch: int):
+    """Per-step learning-rate factor: none, or linear warm-up then cosine decay to 0."""
+    import torch
+    if config.schedule == 'constant':
+        return None
+    warmup = config.warmup_epochs * steps_per_epoch
+    total = max(config.epochs * steps_per_epoch, warmup + 1)
+
+    def factor(step: int) -> float:
+        if step < warmup:
+            return (step + 1) / warmup
+        return 0.5 * (1.0 + math.cos(math.pi * (step - warmup) / (total - warmup)))
+    return torch.optim.lr_scheduler.LambdaLR(optimizer, factor)
+
+
+def _averaged(model, config: TrainingConfig):
+    """An exponential moving average of the weights and BatchNorm statistics, or None."""
+    if not config.ema_decay:
+        return None
+    from torch.optim.swa_utils import AveragedModel, get_ema_multi_avg_fn
+    return AveragedModel(model, multi_avg_fn=get_ema_multi_avg_fn(config.ema_decay),
+                         use_buffers=True)

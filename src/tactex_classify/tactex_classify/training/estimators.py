@@ -5,8 +5,9 @@
 from __future__ import annotations
 
 from collections.abc import Callable
+import importlib
 
-from tactex_classify.models.registry import ALL_MODELS
+from tactex_classify.models.registry import ALL_MODELS, BASELINES
 
 
 def build_estimator(config, *, progress: Callable[[dict], None] | None = None,
@@ -19,12 +20,11 @@ def build_estimator(config, *, progress: Callable[[dict], None] | None = None,
     Raises:
         ValueError: an unknown model name.
     """
-    from tactex_classify.models.baselines import MiniRocketRidge, StatsExtraTrees
+    from tactex_classify.models.checkpoint import KINDS
     from tactex_classify.training.deep_classifier import DeepClassifier
-    if config.model == 'minirocket':
-        return MiniRocketRidge(seed=config.seed)
-    if config.model == 'extratrees':
-        return StatsExtraTrees(seed=config.seed)
+    if config.model in BASELINES:
+        module, name = KINDS[config.model]
+        return getattr(importlib.import_module(module), name)(seed=config.seed)
     if config.model not in ALL_MODELS:
         raise ValueError(f'unknown model {config.model!r}; known: {", ".join(ALL_MODELS)}')
     return DeepClassifier(config, progress=progress, device=device)
