@@ -8,10 +8,11 @@ converts it (128-sample windows) once, or reads `--data`. Then trains one deep m
 `modern` profile, modern without each of its elements in turn, and modern with
 per-window scaling; the two baselines run on the same folds as the reference. Each row
 gives grouped accuracy (mean and per fold), the epochs trained, seconds per fold, and
-whether the training loss was still falling when training stopped (`not converged`:
-the last 5 epochs' mean loss more than 2 % below the 5 before, without early stopping
-having ended it). Writes bench/results/profiles/profiles.{json,md,png}; the README's
-table is generated from the JSON.
+whether the training loss was still falling when training stopped (`not converged`,
+`DeepClassifier.still_falling_`: the last 5 epochs' mean loss more than 2 % below the 5
+before, without early stopping having ended it). Writes
+bench/results/profiles/profiles.{json,md,png}; the README's table is generated from the
+JSON.
 """
 
 import argparse
@@ -57,14 +58,6 @@ def build_dataset(folder: Path, sweeps: int) -> Path:
     return data
 
 
-def still_falling(history: list[dict], stopped_early: bool) -> bool:
-    """Whether the training loss was still dropping when a training ran out of epochs."""
-    losses = [record['train_loss'] for record in history]
-    if stopped_early or len(losses) < 10:
-        return False
-    return float(np.mean(losses[-5:])) < 0.98 * float(np.mean(losses[-10:-5]))
-
-
 def configurations(model: str, epochs: int, seed: int) -> dict:
     """Row name -> TrainingConfig (deep) or the baseline's name."""
     from tactex_classify.training.deep_classifier import TrainingConfig
@@ -95,10 +88,9 @@ def run_fold(config, dataset, train, test) -> dict:
     fold = {'accuracy': accuracy, 'seconds': round(seconds, 1)}
     if not isinstance(config, str):
         history = estimator.history_
-        stopped = bool(config.early_stopping) and len(history) < config.epochs
         fold.update({'epochs': len(history), 'best_epoch': estimator.best_epoch_,
-                     'stopped_early': stopped,
-                     'still_falling': still_falling(history, stopped)})
+                     'stopped_early': len(history) < config.epochs,
+                     'still_falling': estimator.still_falling_})
     return fold
 
 

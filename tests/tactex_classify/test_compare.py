@@ -24,6 +24,11 @@ from tactex_classify.evaluation.model_grid import (
     GridStore,
     run_cell,
 )
+from tactex_classify.training.deep_classifier import (
+    DeepClassifier,
+    still_falling,
+    TrainingConfig,
+)
 
 TACTEX = Path(sys.executable).parent / 'tactex'
 
@@ -156,6 +161,26 @@ def test_the_table_gives_mean_and_sd_over_cells_best_honest_model_first(tmp_path
     write_report(tmp_path, results, manifest)
     for name in ('report.md', 'summary.json', 'accuracy.png', 'cost.png'):
         assert (tmp_path / name).stat().st_size > 0
+
+
+def test_a_row_whose_loss_was_still_falling_is_marked_and_ranked_after_converged_ones():
+    falling = [{**fake_result('cnn_1', 'grouped', fold, 0.95), 'still_falling': fold == 2}
+               for fold in (1, 2)]
+    converged = [{**fake_result('cnn_3', 'grouped', fold, 0.6), 'still_falling': False}
+                 for fold in (1, 2)]
+    rows = summarise(falling + converged, {64: ['a', 'b']})
+    assert [(row['model'], row['not_converged']) for row in rows] == [
+        ('cnn_3', False), ('cnn_1', True)]
+    assert '| 64 | cnn_1 (not converged) |' in table(rows)
+
+
+def test_a_training_knows_whether_its_loss_was_still_falling():
+    assert still_falling([1.0] * 5 + [0.5] * 5)
+    assert not still_falling([0.5] * 10) and not still_falling([0.6] * 5 + [0.595] * 5)
+    assert still_falling([0.5] * 3)  # too short to tell
+    data = toy()
+    settings = TrainingConfig('cnn_2', epochs=3, seed=1)
+    assert DeepClassifier(settings).fit(data.X, data.y, data.classes).still_falling_
 
 
 def cell_files(folder: Path) -> dict[str, bytes]:

@@ -43,6 +43,9 @@ def _spread(values: list) -> dict | None:
 def summarise(results: list[dict], classes: dict[int, list[str]]) -> list[dict]:
     """One row per (window, model), best honest accuracy first within a window.
 
+    A row is `not_converged` when a cell's training loss was still falling at its last
+    epoch (`DeepClassifier.still_falling_`); such rows follow the converged ones.
+
     Per scheme: every figure as mean, sd, range and count over the row's cells, and the
     metrics of the confusion matrix summed over them (the original's way).
     """
@@ -52,7 +55,9 @@ def summarise(results: list[dict], classes: dict[int, list[str]]) -> list[dict]:
         groups[(cell['window'], cell['model'])][cell['scheme']].append(result)
     rows = []
     for (window, model), schemes in groups.items():
-        row = {'window': window, 'model': model, 'schemes': {}}
+        row = {'window': window, 'model': model, 'schemes': {},
+               'not_converged': any(c.get('still_falling') for cells in schemes.values()
+                                    for c in cells)}
         for scheme, cells in schemes.items():
             names = classes[window]
             pooled = confusion(np.concatenate([c['y_true'] for c in cells]).astype(int),
@@ -67,7 +72,9 @@ def summarise(results: list[dict], classes: dict[int, list[str]]) -> list[dict]:
                 'confusion': pooled.tolist()}
         rows.append(row)
     order = {name: index for index, name in enumerate(ALL_MODELS)}
-    return sorted(rows, key=lambda r: (r['window'], -_mean(r, 'grouped', 'accuracy'),
+    # A row whose training had not converged is never ranked among the converged ones.
+    return sorted(rows, key=lambda r: (r['window'], r['not_converged'],
+                                       -_mean(r, 'grouped', 'accuracy'),
                                        order.get(r['model'], len(order))))
 
 
@@ -105,7 +112,9 @@ def table(rows: list[dict], expected_cells: int | None = None) -> str:
     lines = ['| ' + ' | '.join(head) + ' |', '|' + '---|' * len(head)]
     for row in rows:
         grouped = row['schemes'].get('grouped', {})
-        cells = [str(row['window']), _model_label(row['model']), _epochs(row),
+        label = _model_label(row['model']) + (' (not converged)' if row.get('not_converged')
+                                              else '')
+        cells = [str(row['window']), label, _epochs(row),
                  _percent(grouped.get('train_accuracy'))]
         for scheme in SCHEMES:
             values = row['schemes'].get(scheme, {})

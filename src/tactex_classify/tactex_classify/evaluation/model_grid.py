@@ -247,6 +247,7 @@ def run_cell(datasets: dict[int, Dataset], cell: Cell, settings: GridSettings, t
             'y_true': dataset.y[test].tolist(), 'y_pred': predicted.tolist(),
             'threads': threads, 'device': device, 'node': platform.node(),
             'config': asdict(config) if history else None,
+            'still_falling': getattr(estimator, 'still_falling_', None),
             'train_losses': [record['train_loss'] for record in history],
             'finished': time.strftime('%Y-%m-%dT%H:%M:%S%z')}
 

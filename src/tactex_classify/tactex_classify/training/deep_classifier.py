@@ -268,6 +268,9 @@ class DeepClassifier(Deployable):
                     waited += 1
                     if waited >= config.early_stopping:
                         break
+        stopped_early = len(self.history_) < config.epochs
+        self.still_falling_ = not stopped_early and still_falling(
+            [record['train_loss'] for record in self.history_])
         if best_state is None:
             best_state = evaluated.state_dict()
             self.best_epoch_ = len(self.history_)
@@ -398,6 +401,18 @@ def validation_split(y: np.ndarray, groups, config: TrainingConfig
     splitter = GroupShuffleSplit(n_splits=1, test_size=config.validation_fraction,
                                  random_state=config.seed)
     return next(splitter.split(indices, y, groups))
+
+
+def still_falling(losses: Sequence[float], span: int = 5, drop: float = 0.02) -> bool:
+    """Whether a training loss was still falling at its end: not converged.
+
+    True when the mean of the last `span` epochs lies more than `drop` (a fraction) below
+    the mean of the `span` before; too short a history to tell counts as falling.
+    """
+    if len(losses) < 2 * span:
+        return True
+    return float(np.mean(losses[-span:])) < (1.0 - drop) * float(np.mean(
+        losses[-2 * span:-span]))
 
 
 def _logits(model, data, classes: int) -> np.ndarray:
