@@ -236,6 +236,8 @@ BAD_INPUTS = {
         Case('compare {w}/data.npz', 'the following arguments are required: --out'),
         Case('compare {w}/data.npz --out {w}/g --profile fancy',
              "argument --profile: invalid choice: 'fancy'", '{w}/g'),
+        Case('compare {w}/data.npz --out {w}/g --scaling robust',
+             "argument --scaling: invalid choice: 'robust'", '{w}/g'),
         Case('compare {w}/nothing.npz --out {w}/g', 'DATA .*nothing.npz does not exist', '{w}/g'),
         Case('compare {w}/text.txt --out {w}/g', 'text.txt is neither a dataset', '{w}/g'),
         Case('compare {w}/garbage.npz --out {w}/g', 'garbage.npz is not a tactex dataset',

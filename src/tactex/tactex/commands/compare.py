@@ -19,6 +19,7 @@ from tactex.options import (
     window_samples,
 )
 from tactex_classify.models.registry import ALL_MODELS, BASELINES, PROFILE_NAMES, SCHEMES
+from tactex_classify.models.windows import SCALINGS
 
 DEFAULT_WINDOWS = (128, 256, 512)
 
@@ -63,6 +64,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('--epochs', type=epoch_count, default=250, help='epochs at most (250)')
     parser.add_argument('--profile', default='original', choices=PROFILE_NAMES,
                         help="deep models' training: the original's (default) or modern")
+    parser.add_argument('--scaling', default='minmax', choices=SCALINGS,
+                        help="deep models' input scaling: per-channel Min-Max (default), "
+                             "z-score, or window (each window's mean removed, then z-scaled)")
     parser.add_argument('--early-stopping', type=patience_epochs, default=None,
                         metavar='PATIENCE',
                         help='stop a cell when the loss on recordings held out of its '
@@ -107,7 +111,7 @@ def run(args: argparse.Namespace) -> int:
     patience = (TrainingConfig.for_profile(args.profile).early_stopping
                 if args.early_stopping is None else args.early_stopping)
     settings = GridSettings(folds=args.folds, epochs=args.epochs, early_stopping=patience,
-                            profile=args.profile)
+                            profile=args.profile, scaling=args.scaling)
     store.check(settings)
     started = time.monotonic()
 

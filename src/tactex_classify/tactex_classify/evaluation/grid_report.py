@@ -155,7 +155,8 @@ def write_report(folder: Path, results: list[dict], manifest: dict, *,
                                                 f'{settings["early_stopping"]} epochs without '
                                                 'improvement on held-out recordings'
                                                 if settings['early_stopping'] else '')
-             + f'; deep models trained with the {settings.get("profile", "original")} profile'
+             + f'; deep models trained with the {settings.get("profile", "original")} profile '
+             f'and {settings.get("scaling", "minmax")} scaling'
              + '. Figures are mean ± sd over seeds and folds (%); training time is seconds '
              'per fold, latency the time to classify one window.', '',
              table(rows, expected_cells), '![accuracy](accuracy.png)', '',
