@@ -5,6 +5,7 @@
 import json
 import os
 from pathlib import Path
+import re
 import signal
 import subprocess
 import sys
@@ -220,5 +221,7 @@ def test_a_grid_killed_midway_resumes_without_recomputing_finished_cells(tmp_pat
     assert len(final) == 8
     assert {name: final[name] for name in kept} == kept  # never recomputed
     report = (out / 'report.md').read_text()
-    assert '| cnn_2 |' in report and '| extratrees (baseline) |' in report
+    # 10 epochs on the toy set may end with the loss still falling: the row says so.
+    assert re.search(r'\| cnn_2( \(not converged\))? \|', report)
+    assert '| extratrees (baseline) |' in report
     assert (out / 'accuracy.png').is_file() and (out / 'cost.png').is_file()
