@@ -20,17 +20,16 @@ import dataclasses
 import json
 import os
 from pathlib import Path
-import subprocess
 import sys
 import tempfile
 import time
 
 os.environ.setdefault('OMP_WAIT_POLICY', 'PASSIVE')
 
+from bench_textures import build_dataset  # noqa: E402  (the texture results' one dataset build)
 import numpy as np  # noqa: E402  (after the OpenMP setting)
 
 RESULTS = Path(__file__).parent / 'results' / 'profiles'
-TACTEX = str(Path(sys.executable).parent / 'tactex')
 # Each ablation: (row name, what it changes in the modern profile).
 ABLATIONS = {
     'modern - augmentation': {'augmentations': ()},
@@ -44,18 +43,6 @@ ABLATIONS = {
     'modern + per-window scaling': {'scaling': 'window'},
 }
 BASELINE_ROWS = ('minirocket', 'multirocket', 'hydra', 'multirocket_hydra', 'extratrees')
-
-
-def build_dataset(folder: Path, sweeps: int) -> Path:
-    """Simulate and convert the uneven-texture set into `folder`; return the .npz."""
-    bags, data = folder / 'bags', folder / 'sim128.npz'
-    for command in ([TACTEX, 'sim', 'collect', '--scene', 'uneven_texture', '--sweeps',
-                     str(sweeps), '--out', str(bags)],
-                    [TACTEX, 'convert', str(bags), '--out', str(data), '--window', '128']):
-        result = subprocess.run(command, capture_output=True, text=True)
-        if result.returncode:
-            sys.exit(f'{" ".join(command)} failed:\n{result.stderr[-2000:]}')
-    return data
 
 
 def configurations(model: str, epochs: int, seed: int) -> dict:
@@ -156,7 +143,7 @@ def main() -> int:
     with tempfile.TemporaryDirectory(prefix='tactex-profiles-') as scratch:
         if args.data is None:
             print(f'simulating 12 textures x {args.sweeps} sweeps', flush=True)
-        data = args.data or build_dataset(Path(scratch), args.sweeps)
+        data = args.data or build_dataset(Path(scratch), args.sweeps, steps=[])
         dataset = Dataset.load(data)
     folds = splits(dataset, 'grouped', args.folds, args.seed)
     rows = []

@@ -43,7 +43,6 @@ from tactex.launching.spec import (
     If,
     IfElse,
     Include,
-    INCLUDED_COMMON,
     launch_directory,
     LaunchFile,
     load_launch_file,
@@ -109,7 +108,7 @@ def _included_arguments(include: Include) -> list[tuple]:
     Passing the defaults too keeps the includer's values of the same names out of it
     (ROS 2 launch would let them through), as `tactex launch` does.
     """
-    given = {**INCLUDED_COMMON, **include.arguments}
+    given = include.given()
     arguments = []
     for argument in load_launch_file(include.name).all_arguments:
         if argument.name in given:

@@ -150,6 +150,10 @@ class Include:
     arguments: Mapping[str, Value] = field(default_factory=dict)
     condition: Condition | None = None
 
+    def given(self) -> dict[str, Value]:
+        """Every value it hands over: the common arguments' (`INCLUDED_COMMON`), then its own."""
+        return {**INCLUDED_COMMON, **self.arguments}
+
 
 @dataclass(frozen=True)
 class Group:
@@ -263,8 +267,8 @@ class LaunchFile:
     def included_arguments(self, include: Include,
                            values: Mapping[str, str]) -> dict[str, str]:
         """The argument values `include` hands its launch file, as text."""
-        given = {**INCLUDED_COMMON, **include.arguments}
-        return {name: as_text(self.evaluate(value, values)) for name, value in given.items()}
+        return {name: as_text(self.evaluate(value, values))
+                for name, value in include.given().items()}
 
 
 def _started(entities: Sequence[Entity], launch: LaunchFile,
