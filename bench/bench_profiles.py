@@ -58,14 +58,14 @@ def configurations(model: str, epochs: int, seed: int) -> dict:
     return rows
 
 
-def run_fold(config, dataset, train, test) -> dict:
-    """Fit one row on one fold; its accuracy, epochs, seconds, convergence."""
+def run_fold(config, dataset, train, test, device: str = 'cpu') -> dict:
+    """Fit one row on one fold (deep models on `device`); accuracy, epochs, seconds."""
     from tactex_classify.training.deep_classifier import DeepClassifier, TrainingConfig
     from tactex_classify.training.estimators import build_estimator
     if isinstance(config, str):
         estimator = build_estimator(TrainingConfig(model=config))
     else:
-        estimator = DeepClassifier(config)
+        estimator = DeepClassifier(config, device=device)
     started = time.perf_counter()
     estimator.fit(dataset.X[train], dataset.y[train], dataset.classes,
                   groups=dataset.trial[train], channels=dataset.channels)
@@ -89,15 +89,19 @@ def markdown(summary: dict) -> str:
              f'`{summary["command"].strip()}`.', '',
              '| training | grouped accuracy | per fold | epochs | s per fold |',
              '|---|---|---|---|---|']
-    for row in summary['rows']:
-        folds = ' / '.join(f'{100 * fold["accuracy"]:.1f}' for fold in row['folds'])
-        epochs = ' / '.join(str(fold['epochs']) for fold in row['folds']) \
-            if row['kind'] == 'deep' else '-'
-        seconds = np.mean([fold['seconds'] for fold in row['folds']])
-        mark = ' (not converged)' if row['not_converged'] else ''
-        lines.append(f'| {row["name"]}{mark} | {100 * row["accuracy"]:.1f} ± '
-                     f'{100 * row["sd"]:.1f} % | {folds} | {epochs} | {seconds:.0f} |')
+    lines += ['| ' + ' | '.join(row_cells(row)) + ' |' for row in summary['rows']]
     return '\n'.join(lines) + '\n'
+
+
+def row_cells(row: dict) -> list[str]:
+    """A kept row's name (marked if not converged), accuracy, folds, epochs, seconds."""
+    folds = ' / '.join(f'{100 * fold["accuracy"]:.1f}' for fold in row['folds'])
+    epochs = ' / '.join(str(fold['epochs']) for fold in row['folds']) \
+        if row['kind'] == 'deep' else '-'
+    seconds = np.mean([fold['seconds'] for fold in row['folds']])
+    mark = ' (not converged)' if row['not_converged'] else ''
+    return [f'{row["name"]}{mark}', f'{100 * row["accuracy"]:.1f} ± {100 * row["sd"]:.1f} %',
+            folds, epochs, f'{seconds:.0f}']
 
 
 def plot(summary: dict, path: Path) -> None:
@@ -126,25 +130,44 @@ def plot(summary: dict, path: Path) -> None:
     plt.close(figure)
 
 
-def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+def common_parser(doc: str, results: Path) -> argparse.ArgumentParser:
+    """The options the grouped-fold benches share: data, sweeps, epochs, folds, seed, out."""
+    parser = argparse.ArgumentParser(description=doc.splitlines()[0])
     parser.add_argument('--data', type=Path, help='a converted dataset (default: simulate one)')
     parser.add_argument('--sweeps', type=int, default=10, help='sweeps per texture (10)')
-    parser.add_argument('--model', default='cnn_3')
     parser.add_argument('--epochs', type=int, default=100, help='epochs at most (100)')
     parser.add_argument('--folds', type=int, default=3, help='grouped folds (3)')
     parser.add_argument('--seed', type=int, default=0)
-    parser.add_argument('--out', type=Path, default=RESULTS)
-    args = parser.parse_args()
+    parser.add_argument('--out', type=Path, default=results)
+    return parser
+
+
+def load_or_simulate(data: Path | None, sweeps: int):
+    """The dataset at `data`, or the texture set simulated and converted (128 samples)."""
     from tactex_classify.data.dataset import Dataset
+    with tempfile.TemporaryDirectory(prefix='tactex-bench-') as scratch:
+        if data is None:
+            print(f'simulating 12 textures x {sweeps} sweeps', flush=True)
+        return Dataset.load(data or build_dataset(Path(scratch), sweeps, steps=[]))
+
+
+def keep(out: Path, stem: str, summary: dict, markdown, plot) -> None:
+    """Write OUT/STEM.json, STEM.md (`markdown(summary)`) and STEM.png (`plot`)."""
+    out.mkdir(parents=True, exist_ok=True)
+    (out / f'{stem}.json').write_text(json.dumps(summary, indent=1) + '\n', encoding='utf-8')
+    (out / f'{stem}.md').write_text(markdown(summary), encoding='utf-8')
+    plot(summary, out / f'{stem}.png')
+    print(f'wrote {stem}.json, {stem}.md and {stem}.png to {out}')
+
+
+def main() -> int:
+    parser = common_parser(__doc__, RESULTS)
+    parser.add_argument('--model', default='cnn_3')
+    args = parser.parse_args()
     from tactex_classify.evaluation.cross_validation import splits
 
     started = time.monotonic()
-    with tempfile.TemporaryDirectory(prefix='tactex-profiles-') as scratch:
-        if args.data is None:
-            print(f'simulating 12 textures x {args.sweeps} sweeps', flush=True)
-        data = args.data or build_dataset(Path(scratch), args.sweeps, steps=[])
-        dataset = Dataset.load(data)
+    dataset = load_or_simulate(args.data, args.sweeps)
     folds = splits(dataset, 'grouped', args.folds, args.seed)
     rows = []
     for name, config in configurations(args.model, args.epochs, args.seed).items():
@@ -170,13 +193,7 @@ def main() -> int:
                'chance': 1 / len(dataset.classes),
                'command': 'python bench/bench_profiles.py ' + ' '.join(sys.argv[1:]),
                'seconds': round(time.monotonic() - started, 1), 'rows': rows}
-    args.out.mkdir(parents=True, exist_ok=True)
-    texts = {'profiles.json': json.dumps(summary, indent=1) + '\n',
-             'profiles.md': markdown(summary)}
-    for name, text in texts.items():
-        (args.out / name).write_text(text, encoding='utf-8')
-    plot(summary, args.out / 'profiles.png')
-    print(f'wrote {", ".join(texts)} and profiles.png to {args.out}')
+    keep(args.out, 'profiles', summary, markdown, plot)
     return 0
 
 

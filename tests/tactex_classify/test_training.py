@@ -290,7 +290,7 @@ def test_early_stopping_on_one_recording_is_refused():
     (lambda meta: {**meta, 'window': '96'}, 'window must be'),
     (lambda meta: {**meta, 'config': {**meta['config'], 'dropout': 0.3}}, 'dropout'),
     (lambda meta: {**meta, 'config': {**meta['config'], 'epochs': -1}}, 'epochs must be'),
-    (lambda meta: {**meta, 'config': {**meta['config'], 'model': 'resnet'}}, 'unknown model'),
+    (lambda meta: {**meta, 'config': {**meta['config'], 'model': 'lstm_fcn'}}, 'unknown model'),
     (lambda meta: {**meta, 'config': None}, 'config must be'),
     (lambda meta: {**meta, 'scaler': {**meta['scaler'], 'offset': [0.0] * 9}},
      'offset must be 10 finite'),

@@ -30,8 +30,13 @@ from tactex_classify.models.windows import SCALINGS
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Register the options of this subcommand."""
     parser.add_argument('data', type=Path, help='dataset (.npz with its .json sidecar)')
-    parser.add_argument('--model', default='cnn_1', choices=ALL_MODELS,
-                        help='one of the eight models of the original, or a baseline')
+    parser.add_argument('--model', choices=ALL_MODELS,
+                        help="a deep model (the original's eight or a modern one) or a "
+                             "baseline (default cnn_1; with --init, the checkpoint's)")
+    parser.add_argument('--init', type=Path, metavar='CHECKPOINT',
+                        help='fine-tune: start a deep model from the weights of a checkpoint '
+                             '(e.g. trained on simulated sweeps) with the same model, window '
+                             'and channels; new classes get a fresh output layer')
     parser.add_argument('--cv', default='both', choices=[*SCHEMES, 'both'],
                         help='grouped by recording (honest), stratified windows (the '
                              "original's, leaky), or both side by side (default)")
@@ -74,9 +79,11 @@ def run(args: argparse.Namespace) -> int:
     from tactex_classify.training.deep_classifier import TrainingConfig
     from tactex_classify.training.estimators import build_estimator
 
+    args.model = pretrained_model(args.init, args.model) if args.init else (
+        args.model or 'cnn_1')
     config = TrainingConfig.for_profile(
-        args.profile, model=args.model, epochs=args.epochs, scaling=args.scaling,
-        seed=args.seed, threads=args.threads,
+        args.profile, model=args.model, pretrained=str(args.init or ''), epochs=args.epochs,
+        scaling=args.scaling, seed=args.seed, threads=args.threads,
         **({} if args.early_stopping is None else {'early_stopping': args.early_stopping}))
     started = time.monotonic()
 
@@ -92,6 +99,10 @@ def run(args: argparse.Namespace) -> int:
 
     def make():
         return build_estimator(config, progress=epoch_progress)
+
+    if args.init:
+        log(f'fine-tuning: every fit starts from the weights of {args.init} '
+            '(the scaler is fitted on the new training windows)')
 
     try:
         with staged_folder(args.out) as folder:
@@ -112,6 +123,27 @@ def run(args: argparse.Namespace) -> int:
         raise ClassifyError(str(err)) from None
     log(f'report: {args.out / "report.md"}')
     return 0
+
+
+def pretrained_model(checkpoint: Path, model: str | None) -> str:
+    """The deep model a fine-tuning starts from: the checkpoint's (`--model` must agree).
+
+    Raises:
+        CommandError: the checkpoint is refused, holds a baseline, or another model.
+    """
+    from tactex_classify.errors import CheckpointError
+    from tactex_classify.models.checkpoint import read_checkpoint
+    try:
+        info = read_checkpoint(checkpoint)
+    except CheckpointError as err:
+        raise CommandError(f'--init: {err}') from None
+    if info.kind != 'deep':
+        raise CommandError(f'--init: {checkpoint} holds the baseline {info.model}; only a deep '
+                           'model can be fine-tuned (train the baseline on the new data alone)')
+    if model is not None and model != info.model:
+        raise CommandError(f'--init: {checkpoint} holds {info.model}, not --model {model}; '
+                           "leave --model out to fine-tune the checkpoint's model")
+    return info.model
 
 
 def deployable_stream(dataset) -> dict:

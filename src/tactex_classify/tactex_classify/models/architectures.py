@@ -30,7 +30,8 @@ from collections.abc import Callable
 import torch
 from torch import nn
 
-from tactex_classify.models.registry import DEEP_MODELS
+from tactex_classify.models import modern_architectures
+from tactex_classify.models.registry import DEEP_MODELS, ORIGINAL_MODELS
 
 
 class _BatchNorm(nn.Module):
@@ -219,8 +220,9 @@ def bilstm_2(window: int, channels: int, classes: int) -> nn.Sequential:
 
 
 # The builders by name; the names (and their order) come from the registry alone.
-MODELS: dict[str, Callable[[int, int, int], nn.Sequential]] = {
-    name: globals()[name] for name in DEEP_MODELS}
+MODELS: dict[str, Callable[[int, int, int], nn.Module]] = {
+    name: globals()[name] if name in ORIGINAL_MODELS else getattr(modern_architectures, name)
+    for name in DEEP_MODELS}
 
 
 def keras_initialise(model: nn.Module) -> nn.Module:
@@ -228,7 +230,8 @@ def keras_initialise(model: nn.Module) -> nn.Module:
     for layer in model.modules():
         if isinstance(layer, (nn.Conv1d, nn.Linear)):
             nn.init.xavier_uniform_(layer.weight)
-            nn.init.zeros_(layer.bias)
+            if layer.bias is not None:
+                nn.init.zeros_(layer.bias)
         elif isinstance(layer, nn.LSTM):
             for name, parameter in layer.named_parameters():
                 if name.startswith('weight_ih'):
@@ -245,8 +248,20 @@ def keras_initialise(model: nn.Module) -> nn.Module:
     return model
 
 
+def output_parameters(model: nn.Module) -> set[str]:
+    """Names of the parameters of the layers that output the classes.
+
+    The original models end in their output layer; the modern ones name theirs `head`
+    (an ensemble has one per member).
+    """
+    if isinstance(model, nn.Sequential):
+        last = str(len(model) - 1)
+        return {name for name, _ in model.named_parameters() if name.split('.')[0] == last}
+    return {name for name, _ in model.named_parameters() if name.split('.')[-2] == 'head'}
+
+
 def build_model(name: str, window: int, channels: int, classes: int, *,
-                keras_init: bool = True) -> nn.Sequential:
+                keras_init: bool = True) -> nn.Module:
     """The model called `name`, initialised as Keras would (PyTorch's defaults if not).
 
     Raises:

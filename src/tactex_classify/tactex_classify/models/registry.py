@@ -4,8 +4,12 @@
 
 # The original's eight deep models, in its table order: the one list of their names
 # (tactex_classify.models.architectures defines a builder of each name).
-DEEP_MODELS = ('cnn_bilstm_1', 'cnn_bilstm_2', 'cnn_bilstm_3', 'cnn_1', 'cnn_2', 'cnn_3',
-               'bilstm_1', 'bilstm_2')
+ORIGINAL_MODELS = ('cnn_bilstm_1', 'cnn_bilstm_2', 'cnn_bilstm_3', 'cnn_1', 'cnn_2', 'cnn_3',
+                   'bilstm_1', 'bilstm_2')
+# Current architectures beside them (tactex_classify.models.modern_architectures).
+MODERN_MODELS = ('inception_time', 'inception_time_ensemble', 'resnet', 'self_attention',
+                 'cnn_attention')
+DEEP_MODELS = ORIGINAL_MODELS + MODERN_MODELS
 # Fast baselines (tactex_classify.models: baselines, multirocket, hydra).
 BASELINES = ('minirocket', 'extratrees', 'multirocket', 'hydra', 'multirocket_hydra')
 ALL_MODELS = DEEP_MODELS + BASELINES

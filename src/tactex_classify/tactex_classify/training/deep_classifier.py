@@ -75,6 +75,7 @@ class TrainingConfig:
     batchnorm_momentum: float = 0.01  # PyTorch's convention: 0.01 is Keras's 0.99
     augmentations: tuple[str, ...] = ()  # names of training.augmentation.AUGMENTATIONS
     mixup_alpha: float = 0.0  # Beta(alpha, alpha) mixing weight; 0: off
+    pretrained: str = ''  # a deep checkpoint folder to start from (fine-tuning); '': none
 
     @classmethod
     def for_profile(cls, profile: str, **settings) -> TrainingConfig:
@@ -122,6 +123,9 @@ class TrainingConfig:
             raise ValueError(f'augmentations must name some of {AUGMENTATIONS}, got '
                              f'{self.augmentations!r}')
         self.augmentations = tuple(self.augmentations)
+        if not isinstance(self.pretrained, str):
+            raise ValueError(f'pretrained must be a checkpoint folder or empty, got '
+                             f'{self.pretrained!r}')
         fraction = self.validation_fraction
         if not isinstance(fraction, (int, float)) or not 0.0 < fraction < 1.0:
             raise ValueError(f'validation_fraction must be in (0, 1), got {fraction!r}')
@@ -146,7 +150,7 @@ PROFILES = dict(zip(PROFILE_NAMES, ({}, MODERN), strict=True))
 
 
 class DeepClassifier(Deployable):
-    """One of the eight models, trained as the original trained them."""
+    """A deep model (the original eight or a modern one), trained as its profile says."""
 
     CHECKPOINT_KIND = 'deep'
     MODEL_FILE = 'weights.pt'
@@ -179,6 +183,14 @@ class DeepClassifier(Deployable):
 
         from tactex_classify.models.architectures import build_model
         from tactex_classify.training.augmentation import augment, mixup
+        from tactex_classify.training.fine_tuning import start_from
+        from tactex_classify.training.steps import (
+            averaged_copy,
+            batch_loss,
+            optimizer_for,
+            schedule_for,
+            training_step,
+        )
         config = self.config.check()
         X = check_windows(X)
         y = np.asarray(y, dtype=np.int64)
@@ -197,14 +209,16 @@ class DeepClassifier(Deployable):
         self.model_ = build_model(config.model, self.window_, self.n_channels_,
                                   len(self.classes_), keras_init=config.init == 'keras'
                                   ).to(device)
+        self.reset_ = start_from(self.model_, config.pretrained, config.model, self.window_,
+                                 self.channels_, self.classes_) if config.pretrained else []
         for layer in self.model_.modules():
             if isinstance(layer, torch.nn.BatchNorm1d):
                 layer.momentum = config.batchnorm_momentum
-        optimizer = _optimizer(self.model_, config)
+        optimizer = optimizer_for(self.model_, config)
         steps_per_epoch = max(1, math.ceil(train.size / config.batch_size))
-        schedule = _schedule(optimizer, config, steps_per_epoch)
+        schedule = schedule_for(optimizer, config, steps_per_epoch)
         loss_fn = torch.nn.CrossEntropyLoss(label_smoothing=config.label_smoothing)
-        averaged = _averaged(self.model_, config)
+        averaged = averaged_copy(self.model_, config)
         evaluated = averaged.module if averaged is not None else self.model_
         generator = torch.Generator(device=device).manual_seed(config.seed)
         data = torch.from_numpy(self.scaler_.transform(X)).to(device)
@@ -229,17 +243,12 @@ class DeepClassifier(Deployable):
                 if config.augmentations:
                     inputs = augment(inputs, config.augmentations, generator)
                 optimizer.zero_grad()
+                partners, weight = None, 1.0
                 if config.mixup_alpha:
                     weight = float(rng.beta(config.mixup_alpha, config.mixup_alpha))
                     inputs, partners = mixup(inputs, weight, generator)
-                    logits = self.model_(inputs)
-                    loss = weight * loss_fn(logits, expected) + \
-                        (1 - weight) * loss_fn(logits, expected[partners])
-                else:
-                    logits = self.model_(inputs)
-                    loss = loss_fn(logits, expected)
-                loss.backward()
-                torch.nn.utils.clip_grad_norm_(self.model_.parameters(), config.clip_norm)
+                loss_of = batch_loss(loss_fn, expected, partners, weight)
+                logits, loss = training_step(self.model_, inputs, loss_of, config.clip_norm)
                 optimizer.step()
                 if schedule is not None:
                     schedule.step()
@@ -307,7 +316,7 @@ class DeepClassifier(Deployable):
 
     @property
     def model_name(self) -> str:
-        """The model's name (one of the eight)."""
+        """The model's name (one of DEEP_MODELS)."""
         return self.config.model
 
     def checkpoint_fields(self) -> dict:
@@ -425,36 +434,3 @@ def _logits(model, data, classes: int) -> np.ndarray:
     with torch.inference_mode():
         return torch.cat([model(data[i:i + 256].to(device))
                           for i in range(0, len(data), 256)]).cpu().numpy()
-
-
-def _optimizer(model, config: TrainingConfig):
-    """Adamax as the original, or AdamW with decoupled weight decay."""
-    import torch
-    if config.optimizer == 'adamw':
-        return torch.optim.AdamW(model.parameters(), lr=config.learning_rate,
-                                 weight_decay=config.weight_decay)
-    return torch.optim.Adamax(model.parameters(), lr=config.learning_rate)
-
-
-def _schedule(optimizer, config: TrainingConfig, steps_per_epoch: int):
-    """Per-step learning-rate factor: none, or linear warm-up then cosine decay to 0."""
-    import torch
-    if config.schedule == 'constant':
-        return None
-    warmup = config.warmup_epochs * steps_per_epoch
-    total = max(config.epochs * steps_per_epoch, warmup + 1)
-
-    def factor(step: int) -> float:
-        if step < warmup:
-            return (step + 1) / warmup
-        return 0.5 * (1.0 + math.cos(math.pi * (step - warmup) / (total - warmup)))
-    return torch.optim.lr_scheduler.LambdaLR(optimizer, factor)
-
-
-def _averaged(model, config: TrainingConfig):
-    """An exponential moving average of the weights and BatchNorm statistics, or None."""
-    if not config.ema_decay:
-        return None
-    from torch.optim.swa_utils import AveragedModel, get_ema_multi_avg_fn
-    return AveragedModel(model, multi_avg_fn=get_ema_multi_avg_fn(config.ema_decay),
-                         use_buffers=True)
