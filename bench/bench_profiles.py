@@ -151,6 +151,17 @@ def load_or_simulate(data: Path | None, sweeps: int):
         return Dataset.load(data or build_dataset(Path(scratch), sweeps, steps=[]))
 
 
+def finish_plot(figure, axes, chance: float, title: str, path: Path) -> None:
+    """Chance as a dotted line, the title, the legend outside the data; save and close."""
+    import matplotlib.pyplot as plt
+    axes.axhline(100 * chance, color='k', linestyle=':', label='chance')
+    axes.set_title(title, fontsize=10)
+    axes.legend(loc='upper left', bbox_to_anchor=(1.01, 1.0), fontsize=8)
+    figure.tight_layout()
+    figure.savefig(path, dpi=120)
+    plt.close(figure)
+
+
 def keep(out: Path, stem: str, summary: dict, markdown, plot) -> None:
     """Write OUT/STEM.json, STEM.md (`markdown(summary)`) and STEM.png (`plot`)."""
     out.mkdir(parents=True, exist_ok=True)

@@ -24,7 +24,7 @@ import time
 os.environ.setdefault('OMP_WAIT_POLICY', 'PASSIVE')
 
 from bench_architectures import configuration  # noqa: E402  (one row configuration)
-from bench_profiles import keep  # noqa: E402
+from bench_profiles import finish_plot, keep  # noqa: E402
 from bench_textures import build_dataset, TACTEX  # noqa: E402
 import numpy as np  # noqa: E402
 
@@ -108,15 +108,10 @@ def plot(summary: dict, path: Path) -> None:
         axes.bar(positions, [100 * np.mean(row['accuracy'][key]) for row in rows], width,
                  yerr=[100 * np.std(row['accuracy'][key]) for row in rows], capsize=3,
                  label=f'{key} alone' if key != 'vote' else 'soft vote')
-    axes.axhline(100 * summary['chance'], color='k', linestyle=':', label='chance')
     axes.set_xticks(np.arange(len(rows)) + width * (len(keys) - 1) / 2,
                     [row['name'] for row in rows])
     axes.set_ylabel('grouped accuracy (%)')
-    axes.set_title('soft voting across window sizes', fontsize=10)
-    axes.legend(loc='upper left', bbox_to_anchor=(1.01, 1.0), fontsize=8)
-    figure.tight_layout()
-    figure.savefig(path, dpi=120)
-    plt.close(figure)
+    finish_plot(figure, axes, summary['chance'], 'soft voting across window sizes', path)
 
 
 def main() -> int:

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from tactex_classify.data.dataset import Dataset
-from tactex_classify.evaluation.grid_report import summarise, table, write_report
+from tactex_classify.evaluation.grid_report import pareto_front, summarise, table, write_report
 from tactex_classify.evaluation.model_grid import (
     Cell,
     dataset_digest,
@@ -225,3 +225,27 @@ def test_a_grid_killed_midway_resumes_without_recomputing_finished_cells(tmp_pat
     assert re.search(r'\| cnn_2( \(not converged\))? \|', report)
     assert '| extratrees (baseline) |' in report
     assert (out / 'accuracy.png').is_file() and (out / 'cost.png').is_file()
+
+
+def test_each_deep_row_gives_its_paired_difference_to_the_best_baseline_with_a_95_interval():
+    results = [fake_result('cnn_3', 'grouped', fold, accuracy)
+               for fold, accuracy in ((1, 0.9), (2, 0.8), (3, 0.7))]
+    results += [fake_result('minirocket', 'grouped', fold, accuracy)
+                for fold, accuracy in ((1, 0.8), (2, 0.75), (3, 0.5))]
+    results += [fake_result('extratrees', 'grouped', fold, 0.4) for fold in (1, 2, 3)]
+    rows = {row['model']: row for row in summarise(results, {64: ['a', 'b']})}
+    versus = rows['cnn_3']['vs_best_baseline']
+    differences = [0.1, 0.05, 0.2]  # fold by fold against minirocket, the best baseline
+    half = 4.302653 * np.std(differences, ddof=1) / np.sqrt(3)  # t(0.975, 2 dof)
+    assert versus['baseline'] == 'minirocket' and versus['n'] == 3
+    assert versus['mean'] == pytest.approx(np.mean(differences))
+    assert (versus['low'], versus['high']) == pytest.approx(
+        (np.mean(differences) - half, np.mean(differences) + half), rel=1e-5)
+    assert 'vs_best_baseline' not in rows['minirocket']
+    assert '| +11.7 [-7.3, +30.6] vs minirocket |' in table(list(rows.values()))
+
+
+def test_the_pareto_front_keeps_the_points_no_other_beats_in_cost_and_accuracy():
+    points = [(10.0, 80.0), (1.0, 50.0), (5.0, 40.0), (2.0, 70.0), (20.0, 75.0), (1.0, 45.0)]
+    assert pareto_front(points) == [(1.0, 50.0), (2.0, 70.0), (10.0, 80.0)]
+    assert pareto_front([]) == []

@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 from tactex_sim.errors import SceneError, UnknownNameError
-from tactex_sim.scene import load_scene, parse_scene
+from tactex_sim.scene import load_scene, parse_scene, resolve_scene
 from tactex_sim.world import World
 
 SCENES = sorted((Path(__file__).resolve().parents[2] / 'config' / 'scenes').glob('*.toml'))
@@ -102,3 +102,19 @@ def test_unknown_texture_is_named():
                                                   'y_m': [0, 1]}]})
     with pytest.raises(UnknownNameError, match="unknown texture 'velvet'; known: brocade"):
         World(scene)
+
+
+def test_the_shifted_scene_is_the_uneven_one_recorded_by_another_arm():
+    uneven, shifted = (load_scene(resolve_scene(name)) for name in ('uneven_texture',
+                                                                    'shifted_texture'))
+    for same in ('sensor_rate_hz', 'timestep_s', 'effects', 'surface', 'patches'):
+        assert getattr(shifted, same) == getattr(uneven, same), same
+    assert shifted.sweep.speed_m_s * shifted.sweep.contact_s == pytest.approx(
+        uneven.sweep.speed_m_s * uneven.sweep.contact_s, rel=0.01)  # the same path length
+    assert shifted.sweep.edge_offset_rad > uneven.sweep.edge_offset_rad
+    assert shifted.variability.press_depth_m[0] > uneven.variability.press_depth_m[0]
+    body = shifted.effect_options['texture']
+    assert body['resonance_hz'] < 85 and body['damping_ratio'] > 0.12  # softer than the default
+    assert shifted.effect_options['sensor'] == {'accel_range_g': 8.0, 'gyro_range_dps': 500.0}
+    assert shifted.effect_options['imu_noise']['accel_sd'] == \
+        2 * uneven.effect_options['imu_noise']['accel_sd']

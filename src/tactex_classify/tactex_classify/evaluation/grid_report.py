@@ -71,11 +71,53 @@ def summarise(results: list[dict], classes: dict[int, list[str]]) -> list[dict]:
                            ('accuracy', 'macro_precision', 'macro_recall', 'macro_f1')},
                 'confusion': pooled.tolist()}
         rows.append(row)
+    _compare_with_best_baseline(rows, groups)
     order = {name: index for index, name in enumerate(ALL_MODELS)}
     # A row whose training had not converged is never ranked among the converged ones.
     return sorted(rows, key=lambda r: (r['window'], r['not_converged'],
                                        -_mean(r, 'grouped', 'accuracy'),
                                        order.get(r['model'], len(order))))
+
+
+def paired_difference(ours: dict, theirs: dict) -> dict | None:
+    """Mean and 95 % interval of ours - theirs over the keys both have (paired cells).
+
+    The interval is Student's t over the paired differences (n - 1 degrees of freedom);
+    with one pair it is that difference alone, and None without any.
+    """
+    from scipy import stats
+    shared = sorted(set(ours) & set(theirs))
+    if not shared:
+        return None
+    differences = np.array([ours[key] - theirs[key] for key in shared], dtype=float)
+    mean = float(differences.mean())
+    if len(differences) < 2:
+        return {'mean': mean, 'low': mean, 'high': mean, 'n': 1}
+    half = float(stats.t.ppf(0.975, len(differences) - 1) * differences.std(ddof=1)
+                 / np.sqrt(len(differences)))
+    return {'mean': mean, 'low': mean - half, 'high': mean + half, 'n': len(differences)}
+
+
+def _compare_with_best_baseline(rows: list[dict], groups: dict) -> None:
+    """Give each deep row its paired grouped difference to its window's best baseline.
+
+    Cells pair by seed and fold: the same training and test recordings for both models.
+    """
+    def accuracies(window: int, model: str) -> dict:
+        return {(c['cell']['seed'], c['cell']['fold']): c['accuracy']
+                for c in groups[(window, model)].get('grouped', [])}
+    for window in {row['window'] for row in rows}:
+        baselines = [row for row in rows if row['window'] == window and row['model'] in BASELINES
+                     and 'grouped' in row['schemes']]
+        if not baselines:
+            continue
+        best = max(baselines, key=lambda row: _mean(row, 'grouped', 'accuracy'))['model']
+        for row in rows:
+            if row['window'] == window and row['model'] not in BASELINES:
+                difference = paired_difference(accuracies(window, row['model']),
+                                               accuracies(window, best))
+                if difference is not None:
+                    row['vs_best_baseline'] = {'baseline': best, **difference}
 
 
 def _mean(row: dict, scheme: str, key: str) -> float:
@@ -108,7 +150,8 @@ def table(rows: list[dict], expected_cells: int | None = None) -> str:
     for scheme in SCHEMES:
         tag = 'honest' if scheme == 'grouped' else 'leaky'
         head += [f'accuracy ({tag})', f'precision ({tag})', f'recall ({tag})']
-    head += ['training s per fold', 'latency ms', 'cells']
+    head += ['training s per fold', 'latency ms', 'cells',
+             'vs best baseline (honest, paired, 95 % CI)']
     lines = ['| ' + ' | '.join(head) + ' |', '|' + '---|' * len(head)]
     for row in rows:
         grouped = row['schemes'].get('grouped', {})
@@ -125,9 +168,18 @@ def table(rows: list[dict], expected_cells: int | None = None) -> str:
         done = sum(values['cells'] for values in row['schemes'].values())
         cells += ['-' if train_s is None else f'{train_s["mean"]:.0f}',
                   '-' if latency is None else f'{latency["mean"]:.2f}',
-                  f'{done}' + (f' of {expected_cells}' if expected_cells else '')]
+                  f'{done}' + (f' of {expected_cells}' if expected_cells else ''),
+                  _versus(row.get('vs_best_baseline'))]
         lines.append('| ' + ' | '.join(cells) + ' |')
     return '\n'.join(lines) + '\n'
+
+
+def _versus(difference: dict | None) -> str:
+    """'+8.7 [+2.1, +15.3] vs multirocket' in points, or '-'."""
+    if difference is None:
+        return '-'
+    return (f'{100 * difference["mean"]:+.1f} [{100 * difference["low"]:+.1f}, '
+            f'{100 * difference["high"]:+.1f}] vs {difference["baseline"]}')
 
 
 def _model_label(model: str) -> str:
@@ -190,6 +242,15 @@ def _plot_accuracy(path: Path, rows: list[dict]) -> None:
     plt.close(figure)
 
 
+def pareto_front(points: list[tuple[float, float]]) -> list[tuple[float, float]]:
+    """The (cost, accuracy) points no other point beats in both, cheapest first."""
+    front: list[tuple[float, float]] = []
+    for cost, accuracy in sorted(points, key=lambda p: (p[0], -p[1])):
+        if not front or accuracy > front[-1][1]:
+            front.append((cost, accuracy))
+    return front
+
+
 def _plot_cost(path: Path, rows: list[dict]) -> None:
     figure, axes = plt.subplots(1, 2, figsize=(12, 4.5))
     markers = dict(zip(sorted({row['window'] for row in rows}), 'os^Dv', strict=False))
@@ -203,6 +264,16 @@ def _plot_cost(path: Path, rows: list[dict]) -> None:
                          color='C3' if row['model'] in BASELINES else 'C0')
             axis.annotate(f'{row["model"]} {row["window"]}', (grouped[key]['mean'], accuracy),
                           fontsize=6, xytext=(3, 2), textcoords='offset points')
+    for axis, key in zip(axes, ('train_s', 'latency_ms'), strict=True):
+        points = [(row['schemes']['grouped'][key]['mean'],
+                   100 * row['schemes']['grouped']['accuracy']['mean']) for row in rows
+                  if row['schemes'].get('grouped', {}).get(key)
+                  and row['schemes']['grouped'].get('accuracy')]
+        front = pareto_front(points)
+        if len(front) > 1:
+            axis.step(*zip(*front, strict=True), where='post', color='k', alpha=0.5,
+                      linewidth=1, label='Pareto front')
+            axis.legend(fontsize=7, loc='lower right')
     for axis, label in zip(axes, ('training time per fold (s)', 'latency of one window (ms)'),
                            strict=True):
         axis.set_xscale('log')
