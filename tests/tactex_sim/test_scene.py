@@ -111,8 +111,9 @@ def test_the_shifted_scene_is_the_uneven_one_recorded_by_another_arm():
         assert getattr(shifted, same) == getattr(uneven, same), same
     assert shifted.sweep.speed_m_s * shifted.sweep.contact_s == pytest.approx(
         uneven.sweep.speed_m_s * uneven.sweep.contact_s, rel=0.01)  # the same path length
-    assert shifted.sweep.edge_offset_rad > uneven.sweep.edge_offset_rad
-    assert shifted.variability.press_depth_m[0] > uneven.variability.press_depth_m[0]
+    assert shifted.variability.mount_tilt_rad > uneven.variability.mount_tilt_rad
+    assert shifted.sweep.speed_m_s > uneven.sweep.speed_m_s
+    assert shifted.variability.press_depth_m[0] < uneven.variability.press_depth_m[0]
     body = shifted.effect_options['texture']
     assert body['resonance_hz'] < 85 and body['damping_ratio'] > 0.12  # softer than the default
     assert shifted.effect_options['sensor'] == {'accel_range_g': 8.0, 'gyro_range_dps': 500.0}

@@ -1,0 +1,151 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""Learning curves: grouped accuracy against training recordings per texture, with the cost.
+
+From the simulated uneven-texture set (`--data`, or `--sweeps` per texture simulated),
+`--test` recordings per texture are held out once; from the rest, n recordings per
+texture (`--sizes`; a size beyond what the set holds is skipped and named) train each
+model of `--models`, `--draws` times with different draws, and every training is scored
+on the same held-out recordings. Deep models train with the `modern` profile and
+per-window scaling (its early stopping holds out some of the training recordings);
+baselines as they are. Each
+point keeps its accuracy and training seconds, so the curve shows where, if anywhere, a
+deep model overtakes the baselines and what each point costs.
+
+Points are kept in RESULTS/learning_curves.json as they finish and a run with the same
+data and settings resumes. Writes learning_curves.{json,md,png}.
+"""
+
+import hashlib
+import json
+import os
+from pathlib import Path
+import sys
+import time
+
+os.environ.setdefault('OMP_WAIT_POLICY', 'PASSIVE')
+
+from bench_architectures import configuration  # noqa: E402  (one row configuration)
+from bench_profiles import common_parser, finish_plot, keep, load_or_simulate  # noqa: E402
+from bench_sim_to_real import accuracy, draw  # noqa: E402
+from bench_window_voting import subset  # noqa: E402
+import numpy as np  # noqa: E402
+
+RESULTS = Path(__file__).parent / 'results' / 'learning_curves'
+
+
+def fit(config, data, device: str):
+    """A deep model (TrainingConfig) or a baseline (its name) fitted on `data`; seconds."""
+    from tactex_classify.training.deep_classifier import DeepClassifier, TrainingConfig
+    from tactex_classify.training.estimators import build_estimator
+    estimator = build_estimator(TrainingConfig(model=config)) if isinstance(config, str) \
+        else DeepClassifier(config, device=device)
+    started = time.perf_counter()
+    estimator.fit(data.X, data.y, data.classes, groups=data.trial, channels=data.channels)
+    return estimator, time.perf_counter() - started
+
+
+def markdown(summary: dict) -> str:
+    """Accuracy (mean ± sd over draws) and training seconds per model and size."""
+    sizes = summary['sizes']
+    lines = [f'Accuracy on {summary["test_windows"]} windows of {summary["test"]} held-out '
+             f'recordings per texture (chance {100 * summary["chance"]:.1f} %), trained on '
+             f'n recordings per texture, {summary["draws"]} draw(s) each; deep models: '
+             f'`modern` profile, per-window scaling, at most {summary["epochs"]} epochs; '
+             f'`{summary["command"].strip()}`.', '',
+             '| model | ' + ' | '.join(f'n = {n}' for n in sizes) + ' |',
+             '|---|' + '---|' * len(sizes)]
+    for model in summary['models']:
+        cells = []
+        for n in sizes:
+            point = summary['points'].get(f'{model}@{n}')
+            cells.append('-' if point is None else
+                         f'{100 * np.mean(point["accuracy"]):.1f} % '
+                         f'({np.mean(point["seconds"]):.0f} s)')
+        lines.append(f'| {model} | ' + ' | '.join(cells) + ' |')
+    if summary['skipped']:
+        lines += ['', 'Not in this set: ' + ', '.join(summary['skipped']) + '.']
+    return '\n'.join(lines) + '\n'
+
+
+def plot(summary: dict, path: Path) -> None:
+    """Accuracy against recordings per texture, one line per model (log x)."""
+    import matplotlib
+    matplotlib.use('Agg')
+    import matplotlib.pyplot as plt
+
+    figure, axes = plt.subplots(figsize=(8, 4.5))
+    for model in summary['models']:
+        points = [(n, summary['points'][f'{model}@{n}']) for n in summary['sizes']
+                  if f'{model}@{n}' in summary['points']]
+        if points:
+            axes.errorbar([n for n, _ in points],
+                          [100 * np.mean(p['accuracy']) for _, p in points],
+                          yerr=[100 * np.std(p['accuracy']) for _, p in points], marker='o',
+                          capsize=3, label=model)
+    axes.set_xscale('log')
+    axes.set_xticks(summary['sizes'], [str(n) for n in summary['sizes']])
+    axes.set_xlabel('training recordings per texture')
+    axes.set_ylabel('accuracy on held-out recordings (%)')
+    finish_plot(figure, axes, summary['chance'], 'learning curves', path)
+
+
+def main() -> int:
+    parser = common_parser(__doc__, RESULTS)
+    parser.add_argument('--sizes', default='5,10,20,40,80')
+    parser.add_argument('--test', type=int, default=5, help='held-out recordings per texture')
+    parser.add_argument('--draws', type=int, default=1)
+    parser.add_argument('--models', default='minirocket,multirocket,extratrees,cnn_3,'
+                        'cnn_attention,resnet,inception_time')
+    parser.add_argument('--device', default='cpu')
+    args = parser.parse_args()
+
+    started = time.monotonic()
+    dataset = load_or_simulate(args.data, args.sweeps)
+    rng = np.random.default_rng(args.seed)
+    held = []
+    for label in range(len(dataset.classes)):
+        recordings = np.unique(dataset.trial[dataset.y == label])
+        held += list(rng.choice(recordings, size=args.test, replace=False))
+    test = subset(dataset, np.isin(dataset.trial, held))
+    pool = np.setdiff1d(np.unique(dataset.trial), held)
+    available = min(np.unique(dataset.trial[np.isin(dataset.trial, pool) & (dataset.y == c)]
+                              ).size for c in range(len(dataset.classes)))
+    wanted = [int(n) for n in args.sizes.split(',')]
+    sizes = [n for n in wanted if n <= available]
+    models = [m.strip() for m in args.models.split(',') if m.strip()]
+    key = {'dataset': hashlib.sha256(dataset.X.tobytes()).hexdigest()[:16], 'test': args.test,
+           'draws': args.draws, 'epochs': args.epochs, 'seed': args.seed,
+           'device': args.device}
+    json_path = args.out / 'learning_curves.json'
+    kept = json.loads(json_path.read_text(encoding='utf-8')) if json_path.is_file() else {}
+    points = kept.get('points', {}) if all(kept.get(k) == v for k, v in key.items()) else {}
+    summary = {**key, 'sizes': sizes, 'models': models, 'test_windows': int(test.y.size),
+               'chance': 1 / len(dataset.classes), 'points': points,
+               'skipped': [f'n = {n} (the set holds {available} training recordings per '
+                           'texture)' for n in wanted if n > available],
+               'command': 'python bench/bench_learning_curves.py ' + ' '.join(sys.argv[1:])}
+    args.out.mkdir(parents=True, exist_ok=True)
+    for n in sizes:
+        for model in models:
+            if f'{model}@{n}' in points:
+                continue
+            point = {'accuracy': [], 'seconds': []}
+            for index in range(args.draws):
+                train = subset(dataset, draw(dataset, pool, n, np.random.default_rng(
+                    [args.seed, n, index])))
+                config = configuration(model, args.epochs, args.seed + index, 1)
+                estimator, seconds = fit(config, train, args.device)
+                point['accuracy'].append(accuracy(estimator, test))
+                point['seconds'].append(round(seconds, 1))
+            points[f'{model}@{n}'] = point
+            print(f'[{time.monotonic() - started:7.0f} s] n={n:3d} {model:16s} '
+                  f'{100 * np.mean(point["accuracy"]):5.1f} %, '
+                  f'{np.mean(point["seconds"]):.0f} s', flush=True)
+            json_path.write_text(json.dumps(summary, indent=1) + '\n', encoding='utf-8')
+    keep(args.out, 'learning_curves', summary, markdown, plot)
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())
