@@ -49,6 +49,19 @@ def configuration(model: str, epochs: int, seed: int, device_threads: int):
                                       scaling='window', threads=device_threads)
 
 
+def fit_timed(config, data, device: str = 'cpu'):
+    """A deep model (TrainingConfig) or a baseline (its name) fitted on the Dataset `data`,
+    and the seconds its fit took.
+    """
+    from tactex_classify.training.deep_classifier import DeepClassifier, TrainingConfig
+    from tactex_classify.training.estimators import build_estimator
+    estimator = build_estimator(TrainingConfig(model=config)) if isinstance(config, str) \
+        else DeepClassifier(config, device=device)
+    started = time.perf_counter()
+    estimator.fit(data.X, data.y, data.classes, groups=data.trial, channels=data.channels)
+    return estimator, time.perf_counter() - started
+
+
 def inference_ms(config, dataset, train, device: str) -> float:
     """Milliseconds per window to classify a batch of 256, after fitting one epoch."""
     from tactex_classify.training.deep_classifier import DeepClassifier, TrainingConfig

@@ -25,24 +25,13 @@ import time
 
 os.environ.setdefault('OMP_WAIT_POLICY', 'PASSIVE')
 
-from bench_architectures import configuration  # noqa: E402  (one row configuration)
+from bench_architectures import configuration, fit_timed  # noqa: E402  (one row's model)
 from bench_profiles import common_parser, finish_plot, keep, load_or_simulate  # noqa: E402
 from bench_sim_to_real import accuracy, draw  # noqa: E402
 from bench_window_voting import subset  # noqa: E402
 import numpy as np  # noqa: E402
 
 RESULTS = Path(__file__).parent / 'results' / 'learning_curves'
-
-
-def fit(config, data, device: str):
-    """A deep model (TrainingConfig) or a baseline (its name) fitted on `data`; seconds."""
-    from tactex_classify.training.deep_classifier import DeepClassifier, TrainingConfig
-    from tactex_classify.training.estimators import build_estimator
-    estimator = build_estimator(TrainingConfig(model=config)) if isinstance(config, str) \
-        else DeepClassifier(config, device=device)
-    started = time.perf_counter()
-    estimator.fit(data.X, data.y, data.classes, groups=data.trial, channels=data.channels)
-    return estimator, time.perf_counter() - started
 
 
 def markdown(summary: dict) -> str:
@@ -135,7 +124,7 @@ def main() -> int:
                 train = subset(dataset, draw(dataset, pool, n, np.random.default_rng(
                     [args.seed, n, index])))
                 config = configuration(model, args.epochs, args.seed + index, 1)
-                estimator, seconds = fit(config, train, args.device)
+                estimator, seconds = fit_timed(config, train, args.device)
                 point['accuracy'].append(accuracy(estimator, test))
                 point['seconds'].append(round(seconds, 1))
             points[f'{model}@{n}'] = point

@@ -30,6 +30,7 @@ import time
 
 os.environ.setdefault('OMP_WAIT_POLICY', 'PASSIVE')
 
+from bench_architectures import fit_timed  # noqa: E402  (one fit for every bench)
 from bench_profiles import finish_plot, keep  # noqa: E402  (the benches' shared writers)
 from bench_textures import build_dataset, TACTEX  # noqa: E402
 from bench_window_voting import subset  # noqa: E402
@@ -65,13 +66,8 @@ def accuracy(estimator, test) -> float:
 
 
 def fit(config, data):
-    """A deep model (config) or MultiRocket (None) fitted on `data`."""
-    from tactex_classify.training.deep_classifier import DeepClassifier, TrainingConfig
-    from tactex_classify.training.estimators import build_estimator
-    estimator = build_estimator(TrainingConfig(model='multirocket')) if config is None \
-        else DeepClassifier(config)
-    return estimator.fit(data.X, data.y, data.classes, groups=data.trial,
-                         channels=data.channels)
+    """A deep model (TrainingConfig) or MultiRocket (None) fitted on `data`."""
+    return fit_timed('multirocket' if config is None else config, data)[0]
 
 
 def markdown(summary: dict) -> str:

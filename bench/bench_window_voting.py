@@ -23,25 +23,13 @@ import time
 
 os.environ.setdefault('OMP_WAIT_POLICY', 'PASSIVE')
 
-from bench_architectures import configuration  # noqa: E402  (one row configuration)
+from bench_architectures import configuration, fit_timed  # noqa: E402  (one row's model)
 from bench_profiles import finish_plot, keep  # noqa: E402
 from bench_textures import build_dataset, TACTEX  # noqa: E402
 import numpy as np  # noqa: E402
 
 RESULTS = Path(__file__).parent / 'results' / 'window_voting'
 WINDOWS = (128, 256, 512)
-
-
-def fit_predict(config, train_set, test_set, device: str):
-    """Test-window probabilities of a model fitted on `train_set`; and its seconds."""
-    from tactex_classify.training.deep_classifier import DeepClassifier, TrainingConfig
-    from tactex_classify.training.estimators import build_estimator
-    estimator = build_estimator(TrainingConfig(model=config)) if isinstance(config, str) \
-        else DeepClassifier(config, device=device)
-    started = time.perf_counter()
-    estimator.fit(train_set.X, train_set.y, train_set.classes, groups=train_set.trial,
-                  channels=train_set.channels)
-    return estimator.predict_proba(test_set.X), time.perf_counter() - started
 
 
 def subset(dataset, keep):
@@ -61,7 +49,8 @@ def run_model(name, config, datasets, folds, device, started) -> dict:
         for window, dataset in zip(WINDOWS, datasets, strict=True):
             held_out = np.isin(dataset.trial, test_trials)
             test = subset(dataset, held_out)
-            proba, spent = fit_predict(config, subset(dataset, ~held_out), test, device)
+            estimator, spent = fit_timed(config, subset(dataset, ~held_out), device)
+            proba = estimator.predict_proba(test.X)
             probabilities.append(proba)
             tests.append(test)
             scores[str(window)].append(float(np.mean(proba.argmax(1) == test.y)))
