@@ -50,9 +50,7 @@ def configuration(model: str, epochs: int, seed: int, device_threads: int):
 
 
 def fit_timed(config, data, device: str = 'cpu'):
-    """A deep model (TrainingConfig) or a baseline (its name) fitted on the Dataset `data`,
-    and the seconds its fit took.
-    """
+    """(estimator, seconds): a deep model (TrainingConfig) or baseline (its name) fitted."""
     from tactex_classify.training.deep_classifier import DeepClassifier, TrainingConfig
     from tactex_classify.training.estimators import build_estimator
     estimator = build_estimator(TrainingConfig(model=config)) if isinstance(config, str) \
