@@ -3,8 +3,8 @@
 """Sim-to-real fine-tuning: accuracy on a shifted scene against its recordings per texture.
 
 A stand-in for a real arm: `config/scenes/shifted_texture.toml` records the same textures
-as the uneven-texture scene through a softer body, another mount angle, a deeper press, a
-faster sweep, twice the noise and wider chip ranges. The source is the uneven-texture set
+as the uneven-texture scene through a softer body, a lighter press, a faster sweep, twice
+the noise and wider chip ranges. The source is the uneven-texture set
 (`--source`, default simulated with `--source-sweeps` per texture); the target is the
 shifted scene (`--target`, default simulated with `--target-sweeps`). `--test` recordings
 per texture of the target are held out for scoring; from the rest, k recordings per

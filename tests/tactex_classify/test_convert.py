@@ -176,6 +176,39 @@ def test_cli_converts_and_reports(tmp_path, capsys):
     assert main(['convert', str(tmp_path / 'nothing'), '--out', str(tmp_path / 'e.npz')]) == 1
 
 
+def test_convert_refuses_an_existing_dataset_unless_forced(tmp_path, capsys):
+    stamps, values = ramp(64)
+    write_bag(tmp_path / 'a', stamps, values, metadata={'label': 'wood', 'trial': 1})
+    command = ['convert', str(tmp_path / 'a'), '--out', str(tmp_path / 'd.npz'), '--window',
+               '16', '--all-samples']
+    assert main(command) == 0
+    before = (tmp_path / 'd.npz').read_bytes()
+    capsys.readouterr()
+    assert main(command) == 1
+    err = capsys.readouterr().err
+    assert err.startswith('error: --out') and 'exists; give --force' in err
+    assert (tmp_path / 'd.npz').read_bytes() == before
+    assert main(command + ['--force']) == 0
+
+
+def test_two_recordings_with_one_trial_id_are_reported_not_renumbered(tmp_path, capsys):
+    stamps, values = ramp(40)
+    for name in ('first', 'second'):
+        write_bag(tmp_path / 'bags' / name, stamps, values, metadata={'label': 'x', 'trial': 5})
+    with pytest.raises(DatasetError, match=r'second \(trial 5, as first\).*--renumber'):
+        convert([tmp_path / 'bags'], window=10, hop=10, all_samples=True, **QUIET)
+    lines = []
+    data = convert([tmp_path / 'bags'], window=10, hop=10, all_samples=True, renumber=True,
+                   progress=lines.append)
+    assert sorted(set(data.trial.tolist())) == [5, 6]
+    assert any("trial 5 is first's; numbered 6" in line for line in lines)
+    second = [r for r in data.info['recordings'] if r['path'].endswith('second')]
+    assert second[0]['trial'] == 6 and second[0]['renumbered_from'] == 5
+    assert main(['convert', str(tmp_path / 'bags'), '--out', str(tmp_path / 'd.npz'),
+                 '--window', '10', '--all-samples']) == 1
+    assert 'pass --renumber' in capsys.readouterr().err
+
+
 def texture_estimate(end_ns, windows=2):
     time = T['builtin_interfaces/msg/Time']
     starts = [time(*divmod(int(end_ns - (windows - i) * 10**9), 10**9)) for i in range(windows)]

@@ -3,6 +3,7 @@
 """`tactex train`: a run folder with both schemes side by side, plots, metrics, a checkpoint."""
 
 import json
+import re
 
 from support.toy_windows import toy
 
@@ -24,7 +25,13 @@ def test_train_writes_the_report_with_both_schemes(tmp_path, capsys):
     metrics = json.loads((run / 'metrics.json').read_text())
     assert set(metrics['schemes']) == {'grouped', 'stratified'}
     assert metrics['schemes']['grouped']['sequence'][0]['windows'] == 1
-    assert 'report:' in capsys.readouterr().out
+    out = capsys.readouterr().out
+    assert 'report:' in out
+    assert out.count('accuracy') >= 8 + 2  # each fold of both schemes, then each scheme
+    assert re.search(r'grouped by recording \(honest\): accuracy [\d.]+ % over all windows; '
+                     r'per fold [\d.]+ / [\d.]+ / [\d.]+ / [\d.]+ \(mean [\d.]+ ± [\d.]+ %\)',
+                     out)
+    assert re.search(r'most confused: \w+ as \w+ \(\d+\)', out) or 'accuracy 100.0 %' in out
 
 
 def test_train_keeps_a_deployable_checkpoint(tmp_path):

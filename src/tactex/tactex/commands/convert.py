@@ -17,6 +17,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('paths', nargs='+', type=Path, metavar='BAG_OR_DIR',
                         help='recordings, or folders holding recordings')
     parser.add_argument('--out', type=Path, required=True, help='dataset path (.npz)')
+    parser.add_argument('--force', action='store_true',
+                        help='replace an existing dataset at --out (refused without it)')
+    parser.add_argument('--renumber', action='store_true',
+                        help='give recordings whose trial id another already has the next '
+                             'free ids (reported; refused without it)')
     parser.add_argument('--window', type=window_samples, default=128,
                         help='samples per window (128)')
     parser.add_argument('--hop', type=hop_samples, help='samples between window starts '
@@ -41,6 +46,10 @@ def run(args: argparse.Namespace) -> int:
     from tactex_classify.data.dataset import convert
 
     out = check_output_file(args.out, suffix='.npz', companions=('.json',))
+    existing = [path for path in (out, out.with_suffix('.json')) if path.exists()]
+    if existing and not args.force:
+        raise CommandError(f'--out {existing[0]} exists; give --force to replace it, or '
+                           'another --out')
     hop = args.hop or max(1, args.window // 2)
     if hop > args.window:
         raise CommandError(f'--hop {hop} is longer than --window {args.window}; use a hop '
@@ -60,7 +69,7 @@ def run(args: argparse.Namespace) -> int:
                                f'bags have {",".join(CHANNELS)}')
     dataset = convert(args.paths, window=args.window, hop=hop, label=args.label,
                       trial=args.trial, all_samples=args.all_samples, channels=channels,
-                      remaps=parse_topic_remaps(args.topic))
+                      remaps=parse_topic_remaps(args.topic), renumber=args.renumber)
     path = dataset.save(out)
     skipped = len(dataset.info['skipped'])
     print(f'wrote {path}: {len(dataset.X)} windows of {args.window} samples, '

@@ -75,7 +75,7 @@ def run(args: argparse.Namespace) -> int:
 
     from tactex_classify.errors import ClassifyError
     from tactex_classify.evaluation.cross_validation import cross_validate
-    from tactex_classify.evaluation.training_report import write_report
+    from tactex_classify.evaluation.training_report import console_summary, write_report
     from tactex_classify.training.deep_classifier import TrainingConfig
     from tactex_classify.training.estimators import build_estimator
 
@@ -110,6 +110,8 @@ def run(args: argparse.Namespace) -> int:
                                       progress=log) for scheme in schemes]
             for note in (n for result in results for n in result.notes):
                 log(f'note: {note}')
+            for line in console_summary(dataset, results):
+                log(line)
             settings = asdict(config) if args.model not in BASELINES else {
                 'model': args.model, 'seed': args.seed}
             settings['folds'] = args.folds

@@ -300,7 +300,7 @@ def window_starts(keep: np.ndarray, stamps_ns: np.ndarray, window: int, hop: int
 def convert(paths: Sequence[Path], *, window: int, hop: int, label: str | None = None,
             trial: int | None = None, all_samples: bool = False,
             rule: FilterRule = FilterRule(), channels: Sequence[str] | None = None,
-            remaps: Mapping[str, str] | None = None,
+            remaps: Mapping[str, str] | None = None, renumber: bool = False,
             progress: Callable[[str], None] = lambda line: print(line, file=sys.stderr)
             ) -> Dataset:
     """Turn recordings into a dataset; unreadable, unlabelled or short ones are named, skipped.
@@ -316,10 +316,15 @@ def convert(paths: Sequence[Path], *, window: int, hop: int, label: str | None =
         channels: the dataset's channels (a subset of CHANNELS); default every channel
             all recordings have (a recording without a magnetometer leaves mx, my, mz out).
         remaps: role -> topic name for bags whose topics are named otherwise.
+        renumber: give a recording whose trial id another one already has the next free
+            id (named in the progress and kept in the sidecar as `renumbered_from`);
+            without it such recordings are refused, as one id must name one recording.
+            A recording with no trial id always gets the next free one.
         progress: receives a line per recording.
 
     Raises:
-        DatasetError: bad window/hop or channels, or no window from any recording.
+        DatasetError: bad window/hop or channels, no window from any recording, or (without
+            `renumber`) two recordings with one trial id.
     """
     check_window(window, hop)
     recordings = recording_paths(paths, progress)
@@ -336,7 +341,8 @@ def convert(paths: Sequence[Path], *, window: int, hop: int, label: str | None =
         check_channel_names(channels)
     collector = WindowCollector(window, hop)
     report, skipped, rates = [], [], []
-    used_trials: set[int] = set()
+    used_trials: dict[int, str] = {}  # trial id -> the recording it names
+    duplicates: list[str] = []
 
     def skip(number: int, path: Path, reason: str) -> None:
         skipped.append({'path': str(path), 'reason': reason})
@@ -356,12 +362,22 @@ def convert(paths: Sequence[Path], *, window: int, hop: int, label: str | None =
                                'without one')
             continue
         trial_id = trial if trial is not None else recording.metadata.get('trial')
+        claimed = trial_id
+        if trial_id is not None and int(trial_id) in used_trials:
+            duplicates.append(f'{path.name} (trial {trial_id}, as {used_trials[int(trial_id)]})')
+            if not renumber:
+                continue
         if trial_id is None or int(trial_id) in used_trials:
             trial_id = max(used_trials, default=-1) + 1
-        used_trials.add(int(trial_id))
+            if claimed is not None:
+                progress(f'[{number}/{len(recordings)}] {path.name}: trial {claimed} is '
+                         f"{used_trials[int(claimed)]}'s; numbered {trial_id}")
+        used_trials[int(trial_id)] = path.name
         keep = keep_mask(recording, rule, all_samples, name)
         count = collector.add(name, trial_id, recording.stamps_ns, recording.values, keep)
         report.append({'path': str(path), 'label': name, 'trial': int(trial_id),
+                       **({'renumbered_from': int(claimed)} if claimed is not None
+                          and int(claimed) != int(trial_id) else {}),
                        'samples': int(recording.stamps_ns.size), 'kept': int(keep.sum()),
                        'windows': count, 'rate_hz': recording.rate_hz,
                        'ground_truth': recording.truth is not None,
@@ -373,6 +389,12 @@ def convert(paths: Sequence[Path], *, window: int, hop: int, label: str | None =
         rates.append(recording.rate_hz)
         progress(f'[{number}/{len(recordings)}] {path.name}: {name}, trial {trial_id}, '
                  f'{int(keep.sum())}/{recording.stamps_ns.size} samples kept, {count} windows')
+    if duplicates and not renumber:
+        raise DatasetError(f'{len(duplicates)} recording(s) carry a trial id another one has: '
+                           f'{"; ".join(duplicates[:3])}{"; ..." if len(duplicates) > 3 else ""}'
+                           '; one id must name one recording (grouped folds keep it whole): '
+                           'convert them apart, or pass --renumber to give them the next '
+                           'free ids')
     if not rates:
         reasons = '; '.join(f'{Path(s["path"]).name}: {s["reason"]}' for s in skipped[:3])
         raise DatasetError(f'no windows: all {len(recordings)} recording(s) skipped ({reasons}'

@@ -71,6 +71,9 @@ def cross_validate(dataset: Dataset, make: Callable[[], object], scheme: str, *,
                       groups=dataset.trial[train], channels=dataset.channels)
         result.proba[test] = estimator.predict_proba(dataset.X[test])
         result.fold[test] = index
+        right = np.mean(result.proba[test].argmax(axis=1) == dataset.y[test])
+        progress(f'{scheme} fold {index + 1}/{folds}: accuracy {100 * right:.1f} % on the '
+                 f'{len(test)} held-out windows')
         result.histories.append(getattr(estimator, 'history_', []))
     return result
 

@@ -47,6 +47,32 @@ def summarise(dataset: Dataset, results: list[CrossValidation]) -> dict:
     return summary
 
 
+def console_summary(dataset: Dataset, results: list[CrossValidation],
+                    confusions: int = 3) -> list[str]:
+    """Terminal lines per scheme: accuracy overall and per fold, the worst confusions.
+
+    A confusion reads "true as predicted (windows)".
+    """
+    lines = []
+    for result in results:
+        predicted = result.proba.argmax(axis=1)
+        folds = [float(np.mean(predicted[result.fold == f] == dataset.y[result.fold == f]))
+                 for f in np.unique(result.fold[result.fold >= 0])]
+        overall = 100 * np.mean(predicted == dataset.y)
+        lines.append(f'{LABELS[result.scheme]}: accuracy {overall:.1f} % over all windows; '
+                     'per fold ' + ' / '.join(f'{100 * a:.1f}' for a in folds) +
+                     f' (mean {100 * np.mean(folds):.1f} ± {100 * np.std(folds):.1f} %)')
+        matrix = confusion(dataset.y, predicted, len(dataset.classes))
+        np.fill_diagonal(matrix, 0)
+        worst = [index for index in np.argsort(matrix, axis=None)[::-1][:confusions]
+                 if matrix.flat[index] > 0]
+        if worst:
+            lines.append('  most confused: ' + ', '.join(
+                f'{dataset.classes[i // matrix.shape[1]]} as '
+                f'{dataset.classes[i % matrix.shape[1]]} ({matrix.flat[i]})' for i in worst))
+    return lines
+
+
 def write_report(folder: Path, dataset: Dataset, results: list[CrossValidation], *,
                  title: str, settings: dict, data_name: str) -> Path:
     """Write metrics.json, report.md and the PNGs into `folder`; return report.md."""
