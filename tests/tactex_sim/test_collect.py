@@ -93,3 +93,12 @@ def test_two_workers_record_the_same_bags_as_one(tmp_path):
         for name in files:
             assert (one / name).read_bytes() == (two / name).read_bytes(), f'{one.name}/{name}'
     assert sum('[4/4]' in line for line in lines) == 2
+
+
+def test_collect_help_lists_every_texture_name(capsys):
+    from tactex.cli import main
+    from tactex_sim.textures import TEXTURES
+    with pytest.raises(SystemExit):
+        main(['sim', 'collect', '--help'])
+    help_text = ' '.join(capsys.readouterr().out.split())
+    assert all(name in help_text for name in TEXTURES)

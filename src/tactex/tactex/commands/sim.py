@@ -27,8 +27,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     collect.add_argument('--sweeps', type=integer(1, 1000), default=25,
                          help='sweeps per texture (25)')
     collect.add_argument('--out', type=Path, required=True, help='folder for the bags (new)')
+    from tactex_sim.textures import TEXTURES  # numpy only: the names for the help
     collect.add_argument('--textures', nargs='+', metavar='NAME',
-                         help='only these textures (default: all 12)')
+                         help='only these textures (default: all): ' + ', '.join(
+                             f"'{name}'" if ' ' in name else name for name in TEXTURES))
     collect.add_argument('--workers', type=integer(1, 1024), default=None,
                          help='sweeps recorded at once, as Ray tasks (default 1: one after '
                               'another here); the bags are the same for any number')
