@@ -53,8 +53,24 @@ def test_a_configuration_is_a_command_line_that_exports_onnx_only_when_it_runs_i
     assert 'tactex export' not in native and '--epochs' not in native
     assert 'tactex convert bags --window 128 --hop 64' in native
     assert 'tactex export run/model --onnx' in onnx and '--epochs 7 --cv grouped' in onnx
-    assert onnx.splitlines()[-1] == ('tactex launch classify checkpoint:=run/model '
-                                     'threshold:=0.999 runtime:=onnxruntime')
+    launch = ('tactex launch classify checkpoint:=run/model threshold:=0.999 '
+              'runtime:=onnxruntime')
+    assert onnx.splitlines()[-2:] == [f'{launch} source:=sim   # in simulation',
+                                      f'{launch}   # on the arm: the sensor on '
+                                      'port:=/dev/ttyACM0']
+
+
+def test_a_configuration_that_is_also_another_is_named_once():
+    best = {**point('cnn_3', 1.0, 0.9, 0.999), 'runtime': 'native', 'earliness': 0.5}
+    results = {'size': {'name': 'quick', 'epochs': 7, 'folds': 4, 'textures': 12,
+                        'sweeps': 3}, 'seed': 0, 'total_s': 60,
+               'data': {'recordings': 36, 'rate_hz': 120.0},
+               'configurations': {'fastest': best, 'accurate': best, 'budget': None}}
+    text = markdown.render({**results, **{section.key: {'failed': 'not run'}
+                                          for section in markdown.SECTIONS}})
+    opening = text.split('## 1.')[0]
+    assert opening.count('tactex train') == 1
+    assert '**Most accurate**: the same configuration as "Fastest decision" above.' in opening
 
 
 def test_spectral_distance_is_zero_for_the_reference_and_grows_with_the_difference():
@@ -116,8 +132,8 @@ def test_the_quick_report_measures_every_section_and_opens_with_three_commands(t
         assert f'section {number}/7' in printed
     text = (out / 'report.md').read_text(encoding='utf-8')
     opening = text.split('## 1.')[0]
-    assert opening.count('tactex launch classify checkpoint:=run/model') + opening.count(
-        'no configuration decided') == 3
+    assert opening.count('source:=sim   # in simulation') + opening.count(
+        'no configuration decided') + opening.count('the same configuration as') == 3
     for number in range(1, 8):
         assert f'## {number}. ' in text
     pictures = sorted(p.name for p in out.glob('*.png'))

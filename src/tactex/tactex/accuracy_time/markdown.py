@@ -20,8 +20,10 @@ def command(point: dict, *, epochs: int, folds: int) -> str:
              '--out run']
     if point['runtime'] == 'onnxruntime':
         lines.append('tactex export run/model --onnx')
-    lines.append('tactex launch classify checkpoint:=run/model '
-                 f'threshold:={point["threshold"]:.10g} runtime:={point["runtime"]}')
+    classify = ('tactex launch classify checkpoint:=run/model '
+                f'threshold:={point["threshold"]:.10g} runtime:={point["runtime"]}')
+    lines += [f'{classify} source:=sim   # in simulation',
+              f'{classify}   # on the arm: the sensor on port:=/dev/ttyACM0']
     return '\n'.join(lines)
 
 
@@ -36,11 +38,17 @@ def render(results: dict) -> str:
                          'accuracy points of the most accurate)',
               'accurate': 'Most accurate',
               'budget': f'Best under a {BUDGET_S:g} s contact budget'}
+    shown: dict[tuple, str] = {}
     for key, title in titles.items():
         point = results['configurations'][key]
         if point is None:
             lines += [f'**{title}**: no configuration decided within {BUDGET_S:g} s.', '']
             continue
+        same = (point['model'], point['window'], point['threshold'], point['runtime'])
+        if same in shown:
+            lines += [f'**{title}**: the same configuration as {shown[same]} above.', '']
+            continue
+        shown[same] = f'"{title.split(" (")[0]}"'
         lines += [f'**{title}**: {point["model"]}, window {point["window"]}, threshold '
                   f'{point["threshold"]:.10g}: {percent(point["accuracy"])} of sweeps right after '
                   f'a median {point["contact_s"]:.2f} s of contact (earliness '
