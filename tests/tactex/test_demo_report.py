@@ -15,11 +15,12 @@ from tactex.demo.figures import (
     Estimate,
     live_figures,
     LiveSweep,
+    path_length,
     pathway_errors,
     plot_accuracy_against_time,
     plot_confusion,
     plot_pathway,
-    plot_sweep,
+    plot_sweeps,
 )
 from tactex_probe.closed_loop import true_normal
 from tactex_sim.scene import load_scene, resolve_scene
@@ -73,11 +74,11 @@ def test_accuracy_against_contact_time_follows_the_latest_estimate():
     assert accuracy.tolist() == [0.0, 0.0, 0.5, 1.0]
 
 
-def test_confusion_counts_true_against_decided():
+def test_confusion_counts_true_against_decided_and_sweeps_never_estimated():
     classes = ['mesh', 'wood']
     sweeps = [LiveSweep('wood', (Estimate('mesh', True, 1.0),)),
               LiveSweep('wood', (Estimate('wood', True, 1.0),)), LiveSweep('mesh', ())]
-    assert confusion(sweeps, classes).tolist() == [[0, 0], [1, 1]]
+    assert confusion(sweeps, classes).tolist() == [[0, 0, 1], [1, 1, 0]]  # last: none
 
 
 def test_nan_never_passes_and_the_contact_limit_is_a_share_of_the_probe_points():
@@ -114,7 +115,16 @@ def test_accuracy_must_reach_twice_chance_and_every_sweep_a_decision_within_its_
 
 def test_plots_are_written_even_from_empty_input(tmp_path):
     plot_pathway(tmp_path / 'a.png', np.zeros((0, 3)), np.zeros((0, 3)), SURFACE)
-    plot_sweep(tmp_path / 'b.png', [], 0.015, 'empty')
-    plot_confusion(tmp_path / 'c.png', np.zeros((2, 2), dtype=int), ['a', 'b'])
+    plot_sweeps(tmp_path / 'b.png', [], 0.0, 0.015)
+    plot_confusion(tmp_path / 'c.png', np.zeros((2, 3), dtype=int), ['a', 'b'])
     plot_accuracy_against_time(tmp_path / 'd.png', np.array([0.0]), np.array([math.nan]), 0.5)
     assert all((tmp_path / f'{n}.png').stat().st_size > 0 for n in 'abcd')
+
+
+def test_the_sweep_plot_reads_every_sweep_against_the_position_on_the_path(tmp_path):
+    positions = np.array([[0.10, 0.0, 0.01], [0.13, 0.0, 0.05], [0.16, 0.0, 0.01]])
+    assert path_length(positions) == pytest.approx(0.1)  # two 50 mm segments
+    sweeps = [(f'texture {k}', [(0.1 * i, i / 20, 5 <= i <= 15 + k, 0.015) for i in range(21)])
+              for k in range(3)]
+    plot_sweeps(tmp_path / 'sweeps.png', sweeps, path_length(positions), 0.015)
+    assert (tmp_path / 'sweeps.png').stat().st_size > 0

@@ -17,8 +17,13 @@ def _save(figure, path: Path, data: str) -> None:
     figure.text(0.5, 0.005, f'data: {data}', ha='center', va='bottom', fontsize=7,
                 color='dimgray', wrap=True)
     figure.tight_layout(rect=(0, 0.04, 1, 1))
-    figure.savefig(path, dpi=110)
+    figure.savefig(path, dpi=110, bbox_inches='tight')
     plt.close(figure)
+
+
+def _legend_outside(axis, **options) -> None:
+    """The legend right of the axes, where it hides no data."""
+    axis.legend(loc='upper left', bbox_to_anchor=(1.01, 1.0), fontsize=7, **options)
 
 
 def contact_time(path: Path, points: list[dict], data: str) -> None:
@@ -43,7 +48,7 @@ def contact_time(path: Path, points: list[dict], data: str) -> None:
     axes[0].set_ylabel('grouped-CV accuracy of the decision (%)')
     axes[0].set_title('k consecutive windows (summed log-probabilities)')
     axes[1].set_title("live node's threshold rule (median contact s at decision)")
-    axes[1].legend(fontsize=6, ncol=2)
+    _legend_outside(axes[1])
     _save(figure, path, data)
 
 
@@ -51,16 +56,13 @@ def compute_time(path: Path, rows: list[dict], data: str) -> None:
     """Section 2: accuracy against training time and against per-window latency."""
     figure, (train, latency) = plt.subplots(1, 2, figsize=(11, 4.2), sharey=True)
     markers = {'onnxruntime': 's'}
-    for row in rows:
-        accuracy = 100 * row['accuracy']
-        train.scatter(row['train_s'], accuracy, marker='o' if row['deep'] else '^')
-        train.annotate(row['model'], (row['train_s'], accuracy), fontsize=7, xytext=(4, 3),
-                       textcoords='offset points')
+    for index, row in enumerate(rows):  # one colour per model, named in the legend
+        accuracy, colour = 100 * row['accuracy'], f'C{index % 10}'
+        train.scatter(row['train_s'], accuracy, marker='o' if row['deep'] else '^',
+                      color=colour, label=row['model'])
         for runtime, value in row['latency'].items():
-            x = 1e3 * value['single_s']
-            latency.scatter(x, accuracy, marker=markers.get(runtime, 'o'))
-            latency.annotate(f'{row["model"]} ({runtime})', (x, accuracy), fontsize=7,
-                             xytext=(4, 3), textcoords='offset points')
+            latency.scatter(1e3 * value['single_s'], accuracy,
+                            marker=markers.get(runtime, 'o'), color=colour)
     train.set(xscale='log', xlabel='training time on every window (s, log)',
               ylabel='grouped-CV window accuracy (%)',
               title='training (circles deep, triangles baselines)')
@@ -68,6 +70,7 @@ def compute_time(path: Path, rows: list[dict], data: str) -> None:
                 title='inference (squares: onnxruntime)')
     for axis in (train, latency):
         axis.grid(alpha=0.3)
+    _legend_outside(latency)
     _save(figure, path, data)
 
 
@@ -101,20 +104,20 @@ def sweep_speed(path: Path, rows: list[dict], data: str) -> None:
               label='whole-sweep accuracy')
     axis.set(xlabel='sliding speed (mm/s)', ylabel='%', ylim=(0, 105))
     axis.grid(alpha=0.3)
-    axis.legend(fontsize=8)
+    _legend_outside(axis)
     _save(figure, path, data)
 
 
 def simulation_cost(path: Path, rows: list[dict], data: str) -> None:
     """Section 5: spectral distance against real-time factor."""
     figure, axis = plt.subplots(figsize=(8, 4.6))
-    for row in rows:
-        axis.scatter(row['real_time_factor'], row['distance_db'])
-        axis.annotate(row['variant'], (row['real_time_factor'], row['distance_db']),
-                      fontsize=7, xytext=(4, 3), textcoords='offset points')
+    for index, row in enumerate(rows):
+        axis.scatter(row['real_time_factor'], row['distance_db'], color=f'C{index % 10}',
+                     marker='os^Dv'[index // 10 % 5], label=row['variant'])
     axis.set(xlabel='real-time factor (simulated s per wall s)',
              ylabel='spectral distance to the reference (dB)')
     axis.grid(alpha=0.3)
+    _legend_outside(axis)
     _save(figure, path, data)
 
 
@@ -127,12 +130,12 @@ def filter_rate(path: Path, rows: list[dict], costs: list[dict], data: str) -> N
                     label=f'{rate:g} Hz')
     errors.set(xscale='log', yscale='log', xlabel='Madgwick gain beta (log)',
                ylabel='RMS attitude error after settling (deg, log)')
-    errors.legend(fontsize=8)
+    _legend_outside(errors)
     rates = [c['rate_hz'] for c in costs]
     cost.plot(rates, [c['stream_us'] for c in costs], 'o-', label='streaming (the node)')
     cost.plot(rates, [c['batch_us'] for c in costs], 's-', label='batch (compiled)')
     cost.set(xlabel='sample rate (Hz)', ylabel='cost per sample (us)', yscale='log')
-    cost.legend(fontsize=8)
+    _legend_outside(cost)
     for axis in (errors, cost):
         axis.grid(alpha=0.3)
     _save(figure, path, data)

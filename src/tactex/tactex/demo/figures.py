@@ -92,6 +92,12 @@ def pathway_errors(positions: np.ndarray, normals: np.ndarray, surface: Surface
     return np.array(normal_deg), np.array(position_mm)
 
 
+def path_length(positions: np.ndarray) -> float:
+    """Length (m) of the polyline through the probed contacts: the swept curve's, closely."""
+    positions = np.asarray(positions, dtype=float).reshape(-1, 3)
+    return float(np.linalg.norm(np.diff(positions, axis=0), axis=1).sum())
+
+
 def live_figures(sweeps: Sequence[LiveSweep]) -> dict[str, float]:
     """Accuracy of the decisions, the median contact seconds at a decision, the counts.
 
@@ -122,13 +128,14 @@ def accuracy_against_contact_time(sweeps: Sequence[LiveSweep], times_s: np.ndarr
 
 
 def confusion(sweeps: Sequence[LiveSweep], classes: Sequence[str]) -> np.ndarray:
-    """Counts of (true, decided) class; a sweep without an estimate counts nowhere."""
+    """Counts of (true, decided) class; the last column counts sweeps never estimated."""
     index = {name: i for i, name in enumerate(classes)}
-    matrix = np.zeros((len(classes), len(classes)), dtype=int)
+    matrix = np.zeros((len(classes), len(classes) + 1), dtype=int)
     for sweep in sweeps:
         decision = sweep.decision()
-        if decision is not None and decision.label in index:
-            matrix[index[sweep.truth], index[decision.label]] += 1
+        column = index.get(decision.label, len(classes)) if decision is not None \
+            else len(classes)
+        matrix[index[sweep.truth], column] += 1
     return matrix
 
 
@@ -162,11 +169,24 @@ def checks(summary: dict, probe_points: int, textures: int, contact_s: float) ->
     ]
 
 
-def _figure(width: float = 7.0, height: float = 4.0):
+def _figure(width: float = 8.0, height: float = 4.5, rows: int = 1):
     import matplotlib
     matplotlib.use('Agg')
     import matplotlib.pyplot as plt
-    return plt, *plt.subplots(figsize=(width, height))
+    return plt, *plt.subplots(rows, 1, figsize=(width, height), squeeze=True,
+                              sharex=rows > 1)
+
+
+def _save(plt, figure, path: Path) -> None:
+    """One house style: legends sit outside the data; nothing is cut at the edges."""
+    figure.tight_layout()
+    figure.savefig(path, dpi=110, bbox_inches='tight')
+    plt.close(figure)
+
+
+def _legend_outside(axes) -> None:
+    if axes.get_legend_handles_labels()[0]:
+        axes.legend(loc='upper left', bbox_to_anchor=(1.01, 1.0), fontsize=8)
 
 
 def plot_pathway(path: Path, positions: np.ndarray, normals: np.ndarray,
@@ -180,54 +200,74 @@ def plot_pathway(path: Path, positions: np.ndarray, normals: np.ndarray,
     scale = 6.0  # mm of arrow per unit normal
     truth = np.array([true_normal(surface, x) for x in positions[:, 0]]) if len(positions) \
         else np.zeros((0, 3))
+    tips = [1e3 * positions[:, [0, 2]]]
     for normal_set, colour, name in ((truth, '0.6', 'true normal'),
                                      (normals, 'tab:red', 'probed normal')):
         axes.quiver(1e3 * positions[:, 0], 1e3 * positions[:, 2], scale * normal_set[:, 0],
                     scale * normal_set[:, 2], color=colour, angles='xy', scale_units='xy',
                     scale=1.0, width=0.004, label=name)
+        tips.append(1e3 * positions[:, [0, 2]] + scale * normal_set[:, [0, 2]])
     axes.plot(1e3 * positions[:, 0], 1e3 * positions[:, 2], 'o', color='tab:red',
               label='probed contact')
-    axes.set(xlabel='x (mm, base_link)', ylabel='z (mm)', title='Pathway against the surface',
+    points = np.vstack(tips + [np.column_stack([1e3 * xs, 1e3 * surface.height(xs)])])
+    margin = 2.0  # mm around every arrow tip, so none is clipped
+    axes.set(xlim=(points[:, 0].min() - margin, points[:, 0].max() + margin),
+             ylim=(points[:, 1].min() - margin, points[:, 1].max() + margin),
+             xlabel='x (mm, base_link)', ylabel='z (mm)', title='Pathway against the surface',
              aspect='equal')
-    axes.legend(loc='best', fontsize=8)
-    figure.tight_layout()
-    figure.savefig(path, dpi=110)
-    plt.close(figure)
+    _legend_outside(axes)
+    _save(plt, figure, path)
 
 
-def plot_sweep(path: Path, feedback: Sequence[tuple[float, float, bool, float]],
-               commanded_m_s: float, title: str) -> None:
-    """Contact and sliding speed along one sweep (its action feedback)."""
-    plt, figure, axes = _figure()
-    data = np.array(feedback, dtype=float).reshape(-1, 4)
-    axes.plot(data[:, 0], 1e3 * data[:, 3], color='tab:blue', label='sliding speed')
-    axes.axhline(1e3 * commanded_m_s, color='tab:blue', linestyle='--', label='commanded')
-    axes.set(xlabel='time since the goal (s, wall)', ylabel='speed (mm/s)', title=title)
-    contact = axes.twinx()
-    contact.fill_between(data[:, 0], 0, data[:, 2], step='post', color='tab:green',
-                         alpha=0.2, label='in contact')
-    contact.set(ylim=(0, 1.05), ylabel='in contact')
-    lines = axes.get_legend_handles_labels()
-    extra = contact.get_legend_handles_labels()
-    axes.legend(lines[0] + extra[0], lines[1] + extra[1], loc='upper left', fontsize=8)
-    figure.tight_layout()
-    figure.savefig(path, dpi=110)
-    plt.close(figure)
+def plot_sweeps(path: Path, sweeps: Sequence[tuple[str, Sequence[tuple]]],
+                path_length_m: float, commanded_m_s: float) -> None:
+    """Sliding speed and contact of every recorded sweep against the position on the path.
+
+    Args:
+        path: the PNG to write.
+        sweeps: (label, action feedback) per sweep; feedback rows are (wall s, progress
+            0-1, in contact, sliding speed m/s).
+        path_length_m: the pathway's length (progress x length = position on it).
+        commanded_m_s: the commanded sliding speed, drawn as a line.
+    """
+    plt, figure, (speed, contact) = _figure(8.0, 6.0, rows=2)
+    grid = np.linspace(0.0, 1e3 * path_length_m, 200)
+    touching = []
+    for index, (_, feedback) in enumerate(sweeps):
+        data = np.array(feedback, dtype=float).reshape(-1, 4)
+        if not len(data):
+            continue
+        position = 1e3 * path_length_m * data[:, 1]
+        speed.plot(position, 1e3 * data[:, 3], color='tab:blue', alpha=0.25, linewidth=0.8,
+                   label='one sweep' if index == 0 else None)
+        order = np.argsort(position, kind='stable')
+        touching.append(np.interp(grid, position[order], data[order, 2], left=0.0,
+                                  right=0.0))
+    speed.axhline(1e3 * commanded_m_s, color='k', linestyle='--', label='commanded')
+    speed.set(ylabel='sliding speed (mm/s)',
+              title=f'{len(sweeps)} recorded sweeps along the probed pathway')
+    _legend_outside(speed)
+    if touching:
+        contact.fill_between(grid, 0, 100 * np.mean(touching, axis=0), color='tab:green',
+                             alpha=0.4, label='sweeps in contact')
+    contact.set(xlabel='position along the pathway (mm)', ylabel='in contact (%)',
+                ylim=(0, 105))
+    _legend_outside(contact)
+    _save(plt, figure, path)
 
 
 def plot_confusion(path: Path, matrix: np.ndarray, classes: Sequence[str]) -> None:
-    """The live decisions' confusion matrix (rows true, columns decided)."""
-    plt, figure, axes = _figure(7.5, 6.5)
+    """The live decisions' confusion matrix (rows true, columns decided, then none)."""
+    plt, figure, axes = _figure(8.0, 6.5)
     axes.imshow(matrix, cmap='Blues')
     for (row, column), count in np.ndenumerate(matrix):
         if count:
             axes.text(column, row, str(count), ha='center', va='center', fontsize=8)
-    axes.set_xticks(range(len(classes)), classes, rotation=60, ha='right', fontsize=7)
+    columns = list(classes) + ['no decision'] * (matrix.shape[1] - len(classes))
+    axes.set_xticks(range(len(columns)), columns, rotation=60, ha='right', fontsize=7)
     axes.set_yticks(range(len(classes)), classes, fontsize=7)
     axes.set(xlabel='decided', ylabel='true', title='Live decisions of classifier_node')
-    figure.tight_layout()
-    figure.savefig(path, dpi=110)
-    plt.close(figure)
+    _save(plt, figure, path)
 
 
 def plot_accuracy_against_time(path: Path, times_s: np.ndarray, accuracy: np.ndarray,
@@ -238,7 +278,5 @@ def plot_accuracy_against_time(path: Path, times_s: np.ndarray, accuracy: np.nda
     axes.axhline(100 * chance, color='0.5', linestyle=':', label='chance')
     axes.set(xlabel='contact time (s)', ylabel='accuracy (%)', ylim=(0, 101),
              title='Accuracy against contact time')
-    axes.legend(loc='lower right', fontsize=8)
-    figure.tight_layout()
-    figure.savefig(path, dpi=110)
-    plt.close(figure)
+    _legend_outside(axes)
+    _save(plt, figure, path)

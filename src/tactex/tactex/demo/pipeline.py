@@ -354,9 +354,9 @@ class Demo:
         }
         report.plot_pathway(self.folder / 'pathway.png', probe['positions'], probe['normals'],
                             self.scene.surface)
-        first = recorded[0]
-        report.plot_sweep(self.folder / 'sweep.png', first.feedback, first.speed_m_s,
-                          f'Sweep {first.trial} ({first.label})')
+        report.plot_sweeps(self.folder / 'sweep.png', [(run.label, run.feedback)
+                                                       for run in recorded],
+                           report.path_length(probe['positions']), recorded[0].speed_m_s)
         report.plot_confusion(self.folder / 'confusion.png',
                               report.confusion(live_sweeps, textures), textures)
         longest = max((e.contact_s for s in live_sweeps for e in s.estimates), default=1.0)
