@@ -133,6 +133,10 @@ def make_lying_files(w: Path) -> None:
     (w / 'swapped_checkpoint' / 'checkpoint.json').write_text(json.dumps(meta))
     shutil.copytree(w / 'minirocket', w / 'nested_checkpoint')
     (w / 'nested_checkpoint' / 'checkpoint.json').write_text('[' * 100_000 + ']' * 100_000)
+    (w / 'lying_run').mkdir()
+    (w / 'lying_run' / 'metrics.json').write_text(json.dumps({'schemes': {'grouped': 3}}))
+    (w / 'garbage_run').mkdir()
+    (w / 'garbage_run' / 'metrics.json').write_bytes(b'\xff\xfe\x00garbage')
     (w / 'link').symlink_to(w / 'folder')
     (w / 'dangling.onnx').symlink_to(w / 'nowhere.onnx')
     scene = STANDING_SCENE.replace('speed_m_s = 0.0', 'speed_m_s = 0.015')
@@ -292,6 +296,24 @@ BAD_INPUTS = {
              '{w}/full'),
         Case('compare {w}/data.npz --out {w}/readonly/g', '--out .*is not writable',
              '{w}/readonly/g', needs_non_root=True),
+    ],
+    'plot': [
+        Case('plot', 'the following arguments are required: RECORDING|RUN'),
+        Case('plot {w}/nothing', r'RECORDING\|RUN .*nothing does not exist'),
+        Case('plot {w}/folder', 'neither a recording .* nor a run: it holds none of '
+             'metrics.json, summary.json, results.json'),
+        Case('plot {w}/text.txt', 'neither a recording'),
+        Case('plot {w}/bags/wood_0000', 'a recording needs --out FILE.png'),
+        Case('plot {w}/bags/wood_0000 --out {w}/folder', '--out .*folder is a folder',
+             '{w}/folder'),
+        Case('plot {w}/bags/wood_0000 --out {w}/o.txt', '--out .*must end in .png', '{w}/o.txt'),
+        Case('plot {w}/fifobag/wood_0000 --out {w}/o.png', r'wood_0000.mcap is a FIFO',
+             '{w}/o.png'),
+        Case('plot {w}/grid --out {w}/o.png', "--out is for a recording; a run's plots go "
+             'into the run'),
+        Case('plot {w}/lying_run', r'metrics.json does not hold what a `tactex train` run '
+             'keeps'),
+        Case('plot {w}/garbage_run', r'metrics.json: not JSON'),
     ],
     'export': [
         Case('export {w}/minirocket', 'nothing to export: give --onnx'),

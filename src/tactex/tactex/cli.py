@@ -31,6 +31,7 @@ COMMANDS = {
     'train': 'Cross-validate a texture model (honest and leaky CV side by side), report.',
     'compare': 'Compare models x windows x seeds x folds on Ray (resumable), with the table.',
     'export': "Write a checkpoint's model as ONNX (for classifier_node without torch).",
+    'plot': "Draw a recording's channels, or a run's plots again from its kept numbers.",
     'launch': "Run a launch file's nodes as supervised processes (no ROS 2 launch needed).",
     'report': 'Reports across the system: accuracy-time (what accuracy costs in time).',
 }

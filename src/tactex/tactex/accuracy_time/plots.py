@@ -10,6 +10,7 @@ import matplotlib
 
 matplotlib.use('Agg')
 import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.ticker  # noqa: E402
 
 
 def _save(figure, path: Path, data: str) -> None:
@@ -21,9 +22,11 @@ def _save(figure, path: Path, data: str) -> None:
     plt.close(figure)
 
 
-def _legend_outside(axis, **options) -> None:
-    """The legend right of the axes, where it hides no data."""
-    axis.legend(loc='upper left', bbox_to_anchor=(1.01, 1.0), fontsize=7, **options)
+def _legend_outside(axis, source=None) -> None:
+    """`source`'s legend (default the axis's own) right of the axis, where it hides no data."""
+    handles, labels = (source or axis).get_legend_handles_labels()
+    if handles:
+        axis.legend(handles, labels, loc='upper left', bbox_to_anchor=(1.01, 1.0), fontsize=7)
 
 
 def contact_time(path: Path, points: list[dict], data: str) -> None:
@@ -43,6 +46,10 @@ def contact_time(path: Path, points: list[dict], data: str) -> None:
                   where='post', color='black', linewidth=1.5, label='Pareto front (all)')
         axis.axvline(2.0, color='tab:red', linestyle='--', linewidth=0.8, label='2 s budget')
         axis.set_xscale('log')
+        plain = matplotlib.ticker.FuncFormatter(lambda value, _: f'{value:g}')
+        axis.xaxis.set_major_formatter(plain)
+        axis.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+        axis.set_xticks([0.5, 1, 2, 4, 8])
         axis.set_xlabel('contact time a decision needs (s, log)')
         axis.grid(alpha=0.3)
     axes[0].set_ylabel('grouped-CV accuracy of the decision (%)')
@@ -70,7 +77,7 @@ def compute_time(path: Path, rows: list[dict], data: str) -> None:
                 title='inference (squares: onnxruntime)')
     for axis in (train, latency):
         axis.grid(alpha=0.3)
-    _legend_outside(latency)
+    _legend_outside(latency, source=train)
     _save(figure, path, data)
 
 

@@ -194,8 +194,7 @@ def write_report(folder: Path, results: list[dict], manifest: dict, *,
     (folder / 'summary.json').write_text(json.dumps(
         {'settings': manifest['settings'], 'data': manifest['data'], 'rows': rows},
         indent=1) + '\n', encoding='utf-8')
-    _plot_accuracy(folder / 'accuracy.png', rows)
-    _plot_cost(folder / 'cost.png', rows)
+    plot_grid(folder, rows)
     settings = manifest['settings']
     data = ', '.join(f'{window}: {d["windows"]} windows of {d["recordings"]} recordings'
                      for window, d in sorted(manifest['data'].items(), key=lambda i: int(i[0])))
@@ -216,6 +215,12 @@ def write_report(folder: Path, results: list[dict], manifest: dict, *,
     path = folder / 'report.md'
     path.write_text('\n'.join(lines), encoding='utf-8')
     return path
+
+
+def plot_grid(folder: Path, rows: list[dict]) -> None:
+    """accuracy.png and cost.png of a comparison's rows (as summary.json keeps them)."""
+    _plot_accuracy(folder / 'accuracy.png', rows)
+    _plot_cost(folder / 'cost.png', rows)
 
 
 def _plot_accuracy(path: Path, rows: list[dict]) -> None:

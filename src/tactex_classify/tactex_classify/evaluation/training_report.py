@@ -81,9 +81,7 @@ def write_report(folder: Path, dataset: Dataset, results: list[CrossValidation],
     (folder / 'metrics.json').write_text(json.dumps(
         {'title': title, 'data': data_name, 'settings': settings, 'schemes': summary},
         indent=2), encoding='utf-8')
-    _plot_confusions(folder / 'confusion.png', dataset.classes, summary)
-    _plot_learning(folder / 'learning_curves.png', summary)
-    _plot_sequence(folder / 'accuracy_vs_time.png', summary)
+    plot_run(folder, dataset.classes, summary)
     schemes = list(summary)
     lines = [f'# {title}', '',
              f'Data: `{data_name}`: {len(dataset.X)} windows of {dataset.X.shape[1]} samples '
@@ -121,6 +119,13 @@ def write_report(folder: Path, dataset: Dataset, results: list[CrossValidation],
     path = folder / 'report.md'
     path.write_text('\n'.join(lines), encoding='utf-8')
     return path
+
+
+def plot_run(folder: Path, classes: list[str], summary: dict) -> None:
+    """The run's three PNGs from its per-scheme summary (as metrics.json keeps it)."""
+    _plot_confusions(folder / 'confusion.png', classes, summary)
+    _plot_learning(folder / 'learning_curves.png', summary)
+    _plot_sequence(folder / 'accuracy_vs_time.png', summary)
 
 
 def _plot_confusions(path: Path, classes: list[str], summary: dict) -> None:
