@@ -8,6 +8,7 @@ With the simulator and Madgwick a Probe goal yields contacts, feedback and a pat
 
 import math
 from pathlib import Path
+import re
 import signal
 import subprocess
 import sys
@@ -112,6 +113,11 @@ def test_probe_goal_in_simulation_broadcasts_the_pathway(ros_context, tmp_path):
         assert z_axis == pytest.approx([first.x, first.y, first.z], abs=1e-6)
         client_node.create_subscription(PathwayMsg, 'probe/pathway', late.append, LATCHED)
         assert wait_for(lambda: late, 10) and len(late[-1].contacts) == 2  # transient-local
+        logs['probe'].flush()
+        logged = (tmp_path / 'probe.log').read_text()
+        assert 'probe 1/2: OK at (' in logged and 'probe 2/2: OK at (' in logged
+        assert re.search(r'probe goal succeeded: 2 of 2 probes touched in [\d.]+ s; pathway '
+                         r'in \S*pathway.json', logged), logged
     finally:
         executor.shutdown()
         client_node.destroy_node()

@@ -251,6 +251,12 @@ class ProbeNode(TactexNode):
                                                 - self._started_ns),
                               message=finished.message)
         self._last_outcome = f'{finished.outcome.value}: {finished.message}'.rstrip(': ')
+        contacts = len(finished.pathway.contacts)
+        seconds = result.elapsed.sec + result.elapsed.nanosec / 1e9
+        self.get_logger().info(
+            f'probe goal {finished.outcome.value}: {contacts} of {len(finished.pathway.probes)} '
+            f'probes touched in {seconds:.1f} s; pathway in {self._pathway_file}'
+            + (f' ({finished.message})' if finished.message else ''))
         if finished.outcome is Outcome.SUCCEEDED:
             goal_handle.succeed()
         elif finished.outcome is Outcome.CANCELED:
@@ -274,9 +280,18 @@ class ProbeNode(TactexNode):
                 self._goal_handle.publish_feedback(feedback_message(event))
             elif isinstance(event, Recorded):
                 self._broadcast(records, event.record.stamp_ns)
+                self._log_probe(event.record)
             elif isinstance(event, Finished):
                 self._broadcast(event.pathway.probes, event.pathway.stamp_ns)
                 self._finished.set_result(self._explorer.finished)
+
+    def _log_probe(self, record) -> None:
+        """One INFO line per finished probe: its outcome and where."""
+        x, y, z = record.position
+        total = self._explorer.parameters.probe_count if self._explorer else '?'
+        self.get_logger().info(f'probe {record.index + 1}/{total}: {record.status.name} at '
+                               f'({x:.4f}, {y:.4f}, {z:.4f}) m'
+                               + (f', {record.detail}' if record.detail else ''))
 
     def _broadcast(self, records, stamp: int) -> None:
         """Publish contacts, pathway and markers, and rewrite the pathway file."""
