@@ -297,6 +297,14 @@ BAD_INPUTS = {
         Case('compare {w}/data.npz --out {w}/readonly/g', '--out .*is not writable',
              '{w}/readonly/g', needs_non_root=True),
     ],
+    'param': [
+        Case('param', 'the following arguments are required: ACTION'),
+        Case('param get', 'the following arguments are required: NODE, NAME'),
+        Case('param set madgwick_node gain', 'the following arguments are required: VALUE'),
+        Case('param get madgwick_node gain --timeout 0', '--timeout 0.0: give a number of '
+             'seconds > 0'),
+        Case('param list madgwick_node --timeout nan', '--timeout nan: give a number'),
+    ],
     'plot': [
         Case('plot', 'the following arguments are required: RECORDING|RUN'),
         Case('plot {w}/nothing', r'RECORDING\|RUN .*nothing does not exist'),

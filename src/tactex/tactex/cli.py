@@ -33,6 +33,7 @@ COMMANDS = {
     'export': "Write a checkpoint's model as ONNX (for classifier_node without torch).",
     'plot': "Draw a recording's channels, or a run's plots again from its kept numbers.",
     'launch': "Run a launch file's nodes as supervised processes (no ROS 2 launch needed).",
+    'param': "List, get or set a running node's parameters (no ros2 CLI needed).",
     'report': 'Reports across the system: accuracy-time (what accuracy costs in time).',
 }
 
