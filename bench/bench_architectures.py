@@ -28,6 +28,7 @@ os.environ.setdefault('OMP_WAIT_POLICY', 'PASSIVE')
 
 from bench_profiles import (  # noqa: E402  (the grouped-fold benches' shared parts)
     common_parser,
+    finish_plot,
     keep,
     load_or_simulate,
     row_cells,
@@ -100,23 +101,16 @@ def plot(summary: dict, path: Path) -> None:
     import matplotlib.pyplot as plt
 
     figure, axes = plt.subplots(figsize=(8, 5))
-    for row in summary['rows']:
+    for index, row in enumerate(summary['rows']):
         seconds = np.mean([fold['seconds'] for fold in row['folds']])
-        colour = 'tab:grey' if row['kind'] == 'baseline' else 'tab:blue'
-        axes.errorbar(seconds, 100 * row['accuracy'], yerr=100 * row['sd'], fmt='o',
-                      color=colour, capsize=3)
-        axes.annotate(row['name'] + (' *' if row['not_converged'] else ''),
-                      (seconds, 100 * row['accuracy']), textcoords='offset points',
-                      xytext=(6, 4), fontsize=8)
-    axes.axhline(100 * summary['chance'], color='k', linestyle=':', label='chance')
+        axes.errorbar(seconds, 100 * row['accuracy'], yerr=100 * row['sd'],
+                      fmt='^' if row['kind'] == 'baseline' else 'o', color=f'C{index % 10}',
+                      capsize=3, label=row['name'] + (' *' if row['not_converged'] else ''))
     axes.set_xscale('log')
     axes.set_xlabel('training seconds per fold (log)')
     axes.set_ylabel('grouped accuracy (%); * not converged')
-    axes.set_title('architectures: accuracy against training cost', fontsize=10)
-    axes.legend(loc='lower right', fontsize=8)
-    figure.tight_layout()
-    figure.savefig(path, dpi=120)
-    plt.close(figure)
+    finish_plot(figure, axes, summary['chance'], 'architectures: accuracy against training '
+                'cost (triangles: baselines)', path)
 
 
 def _kept(path: Path, key: dict) -> dict:

@@ -291,6 +291,89 @@ def profiles() -> str:
             f'`profiles.png`):\n\n' + '\n'.join(table) + '\n')
 
 
+def _percent(values) -> str:
+    """Mean ± sd of shares, in percent."""
+    return f'{100 * np.mean(values):.1f} ± {100 * np.std(values):.1f} %'
+
+
+def architectures() -> str:
+    data = _json('architectures/architectures.json')
+    table = ['| model | grouped accuracy | epochs trained | training s per fold | inference ms '
+             'per window |', '|---|---|---|---|---|']
+    for row in data['rows']:
+        epochs = [fold['epochs'] for fold in row['folds'] if 'epochs' in fold]
+        mark = ' (not converged)' if row['not_converged'] else ''
+        table.append(f'| {TEXTURE_MODELS.get(row["name"], row["name"])}{mark} | '
+                     f'{100 * row["accuracy"]:.1f} ± {100 * row["sd"]:.1f} % | '
+                     f'{f"{np.mean(epochs):.0f}" if epochs else "-"} | '
+                     f'{np.mean([fold["seconds"] for fold in row["folds"]]):.0f} | '
+                     f'{row["inference_ms"]:.2f} |')
+    missing = f' Not run yet on this set: {", ".join(data["not_run"])}.' \
+        if data.get('not_run') else ''
+    return (f'Architectures on the set of the profile ablation (`{data["command"].strip()}`: '
+            f'{data["windows"]} windows of {data["recordings"]} simulated recordings, grouped '
+            f'{data["folds"]}-fold by recording, the same folds for every row; deep models '
+            f'with the `modern` profile and per-window scaling, at most {data["epochs"]} '
+            f'epochs, on {data["device"]}; chance {100 * data["chance"]:.1f} %; '
+            '`bench/results/architectures/`, with `architectures.png`, accuracy against '
+            f'training cost).{missing}\n\n' + '\n'.join(table) + '\n')
+
+
+def window_voting() -> str:
+    data = _json('window_voting/window_voting.json')
+    table = ['| model | 128 alone | 256 alone | 512 alone | soft vote of the three | '
+             'training s per fold (vote: the sum) |', '|---|---|---|---|---|---|']
+    for row in data['rows']:
+        cells = [_percent(row['accuracy'][key]) for key in ('128', '256', '512', 'vote')]
+        table.append(f'| {row["name"]} | ' + ' | '.join(cells) +
+                     f' | {sum(row["seconds"].values()):.0f} |')
+    windows = ', '.join(f'{count} of {size}' for size, count in data['windows'].items())
+    return (f'Soft voting across window sizes (`{data["command"].strip()}`: {windows} '
+            f'samples from the same {data["recordings"]} recordings, grouped '
+            f'{data["folds"]}-fold with the folds drawn once on the recordings; each length '
+            'scored on its own test windows, the vote on the 512-sample ones; chance '
+            f'{100 * data["chance"]:.1f} %; `bench/results/window_voting/`):\n\n'
+            + '\n'.join(table) + '\n')
+
+
+def sim_to_real() -> str:
+    data = _json('sim_to_real/sim_to_real.json')
+    ks = data['ks']
+    table = ['| setting | ' + ' | '.join(f'k = {k}' for k in ks) + ' |',
+             '|---|' + '---|' * len(ks)]
+    for setting, by_k in data['accuracy'].items():
+        table.append(f'| {setting} | ' + ' | '.join(_percent(by_k[str(k)]) for k in ks) + ' |')
+    return (f'Sim-to-real fine-tuning (`{data["command"].strip()}`, {data["seconds"] / 60:.0f} '
+            f'min): accuracy on {data["test_windows"]} windows of {data["test"]} held-out '
+            'recordings per texture of the shifted scene, trained on k recordings per texture '
+            f'of it (mean ± sd over {data["draws"]} draws); {data["model"]} with the `modern` '
+            f'profile and per-window scaling, {data["epochs"]} epochs, pretrained on '
+            f'{data["source_recordings"]} simulated recordings of the uneven-texture scene; '
+            f'chance {100 * data["chance"]:.1f} %; `bench/results/sim_to_real/`, with '
+            '`sim_to_real.png`:\n\n' + '\n'.join(table) + '\n')
+
+
+def learning_curves() -> str:
+    data = _json('learning_curves/learning_curves.json')
+    sizes = data['sizes']
+    table = ['| model | ' + ' | '.join(f'n = {n}' for n in sizes) + ' |',
+             '|---|' + '---|' * len(sizes)]
+    for model in data['models']:
+        cells = []
+        for n in sizes:
+            point = data['points'].get(f'{model}@{n}')
+            cells.append('-' if point is None else f'{100 * np.mean(point["accuracy"]):.1f} % '
+                         f'({np.mean(point["seconds"]):.0f} s)')
+        table.append(f'| {TEXTURE_MODELS.get(model, model)} | ' + ' | '.join(cells) + ' |')
+    return (f'Learning curves (`{data["command"].strip()}`): accuracy on '
+            f'{data["test_windows"]} windows of {data["test"]} held-out recordings per texture '
+            'against the recordings per texture the model trained on, with the training '
+            f'seconds of each point; {data["draws"]} draw(s); deep models with the `modern` '
+            f'profile and per-window scaling, at most {data["epochs"]} epochs; chance '
+            f'{100 * data["chance"]:.1f} %; `bench/results/learning_curves/`, with '
+            '`learning_curves.png`:\n\n' + '\n'.join(table) + '\n')
+
+
 def sim_collect() -> str:
     data = _json('sim_collect.json')
     one, two = data['runs']['1'], data['runs']['2']
@@ -557,7 +640,8 @@ SECTIONS: dict[str, Callable[[], str]] = {
     'textures': textures, 'init': init, 'kinematics': kinematics, 'sweep': sweep,
     'sim_collect': sim_collect, 'training': training, 'compare': compare,
     'compare_long': compare_long, 'online_latency': online_latency,
-    'sensor_stats': sensor_stats, 'channels': channels, 'profiles': profiles}
+    'sensor_stats': sensor_stats, 'channels': channels, 'profiles': profiles,
+    'architectures': architectures, 'window_voting': window_voting}
 
 
 def _wrapped(text: str) -> str:
