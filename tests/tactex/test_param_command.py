@@ -42,7 +42,7 @@ def test_list_get_and_set_speak_to_the_node_in_its_namespace(madgwick):
     assert listed.returncode == 0 and 'gain' in listed.stdout.split()
     assert tactex('get', '/left/madgwick_node', 'gain').stdout.strip() == '0.04'
     assert tactex('set', 'madgwick_node', 'gain', '1', '--namespace', 'left').stdout.strip() \
-        == "set /left/madgwick_node gain to 1.0"  # an integer where a double is: taken as one
+        == 'set /left/madgwick_node gain to 1.0'  # an integer where a double is: taken as one
     assert tactex('get', '/left/madgwick_node', 'gain').stdout.strip() == '1.0'
 
 

@@ -99,3 +99,20 @@ def test_nodes_publish_through_faults_and_a_disconnect(tmp_path, ros_context):
         stubborn = stop(nodes + ([emulator] if emulator else []))
     assert not stubborn, f'still running 10 s after SIGTERM: {stubborn}'
     assert os.path.lexists(link) is False
+
+
+def test_a_missing_sensor_is_named_with_its_fix_not_left_silent(tmp_path):
+    log = tmp_path / 'teensy.log'
+    with open(log, 'w') as err:
+        node = subprocess.Popen([BIN / 'teensy_node', '--ros-args', '-p',
+                                 f'port:={tmp_path / "ttyNONE"}'], env=ros_environment(),
+                                stderr=err)
+        try:
+            deadline = time.monotonic() + 20
+            while 'no sensor stream' not in log.read_text() and time.monotonic() < deadline:
+                time.sleep(0.2)
+        finally:
+            stop([node])
+    text = log.read_text()
+    assert f'no sensor stream: disconnected: cannot open {tmp_path / "ttyNONE"}' in text
+    assert 'dialout group' in text and 'sim:=true' in text

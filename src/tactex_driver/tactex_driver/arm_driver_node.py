@@ -170,7 +170,9 @@ class ArmDriverNode(TactexNode):
             self._next_attempt = now + self._backoff
             self._backoff = min(2 * self._backoff, self._max_backoff)
             self.get_logger().warning(f'servos unreachable ({err}); retrying in '
-                                      f'{self._next_attempt - now:.2f} s',
+                                      f'{self._next_attempt - now:.2f} s. Check the U2D2 '
+                                      'port, power, baud rate and servo IDs against '
+                                      'config/driver.yaml, or launch with sim:=true',
                                       throttle_duration_sec=5.0)
             return
         self._connected = True

@@ -85,6 +85,11 @@ class TeensyNode(TactexNode):
         array = DiagnosticArray(status=[status])
         array.header.stamp = self.get_clock().now().to_msg()
         self._diagnostics_pub.publish(array)
+        if values['link'] != 'connected':
+            self.get_logger().warning(
+                f'no sensor stream: {summary}. Check the port (ls -l {values["port"]}; the '
+                'user in the dialout group), that the Teensy runs the tactex firmware, or '
+                'launch with sim:=true to use the simulator', throttle_duration_sec=10.0)
 
     def destroy_node(self) -> None:
         """Stop the reader thread and close the port."""
