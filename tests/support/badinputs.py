@@ -305,6 +305,11 @@ BAD_INPUTS = {
              'seconds > 0'),
         Case('param list madgwick_node --timeout nan', '--timeout nan: give a number'),
     ],
+    'status': [
+        Case('status --duration 0', r'--duration 0.0: give seconds in \(0, 3600\]'),
+        Case('status --duration soon', "argument --duration: invalid float value: 'soon'"),
+        Case('status --duration inf', '--duration inf: give seconds'),
+    ],
     'plot': [
         Case('plot', 'the following arguments are required: RECORDING|RUN'),
         Case('plot {w}/nothing', r'RECORDING\|RUN .*nothing does not exist'),

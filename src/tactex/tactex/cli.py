@@ -34,6 +34,7 @@ COMMANDS = {
     'plot': "Draw a recording's channels, or a run's plots again from its kept numbers.",
     'launch': "Run a launch file's nodes as supervised processes (no ROS 2 launch needed).",
     'param': "List, get or set a running node's parameters (no ros2 CLI needed).",
+    'status': "One table of every running node's diagnostics (rates, latency, drops, state).",
     'report': 'Reports across the system: accuracy-time (what accuracy costs in time).',
 }
 
