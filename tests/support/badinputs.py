@@ -310,6 +310,11 @@ BAD_INPUTS = {
         Case('status --duration soon', "argument --duration: invalid float value: 'soon'"),
         Case('status --duration inf', '--duration inf: give seconds'),
     ],
+    'watch': [
+        Case('watch --count -1', '--count must be >= 0'),
+        Case('watch --timeout -3', '--timeout seconds in 0..86400'),
+        Case('watch --count many', "argument --count: invalid int value: 'many'"),
+    ],
     'plot': [
         Case('plot', 'the following arguments are required: RECORDING|RUN'),
         Case('plot {w}/nothing', r'RECORDING\|RUN .*nothing does not exist'),

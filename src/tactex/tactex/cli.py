@@ -35,6 +35,7 @@ COMMANDS = {
     'launch': "Run a launch file's nodes as supervised processes (no ROS 2 launch needed).",
     'param': "List, get or set a running node's parameters (no ros2 CLI needed).",
     'status': "One table of every running node's diagnostics (rates, latency, drops, state).",
+    'watch': 'Show the live texture estimates, their evidence and decisions.',
     'report': 'Reports across the system: accuracy-time (what accuracy costs in time).',
 }
 
