@@ -39,10 +39,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def full_name(node: str, namespace: str) -> str:
     """'/ns/node' from a bare or full node name and a namespace."""
-    if node.startswith('/'):
-        return node
-    namespace = namespace.strip('/')
-    return f'/{namespace}/{node}' if namespace else f'/{node}'
+    from tactex.ros_client import namespaced
+    return node if node.startswith('/') else namespaced(namespace, node)
 
 
 def as_type_of(current, value):
@@ -57,24 +55,13 @@ def as_type_of(current, value):
 
 def run(args: argparse.Namespace) -> int:
     """Ask the node; print the answer."""
-    import rclpy
     from rclpy.parameter import get_parameter_value, parameter_value_to_python
 
     if not args.timeout > 0:
         raise CommandError(f'--timeout {args.timeout}: give a number of seconds > 0')
-    import os
-
-    from rclpy.executors import SingleThreadedExecutor
-
-    from tactex.launching.environment import ros_environment
+    from tactex.ros_client import client_node
     node_name = full_name(args.node, args.namespace)
-    os.environ.update(ros_environment())  # the middleware settings the launched nodes have
-    context = rclpy.Context()
-    rclpy.init(context=context)
-    try:
-        client = rclpy.create_node('tactex_param', context=context)
-        executor = SingleThreadedExecutor(context=context)
-        executor.add_node(client)
+    with client_node('tactex_param') as (client, executor):
         caller = _Caller(client, executor, node_name, args.timeout)
         if args.action == 'list':
             for name in caller.list_names():
@@ -87,8 +74,6 @@ def run(args: argparse.Namespace) -> int:
                        args.value)
             print(f'set {node_name} {args.name} to '
                   f'{parameter_value_to_python(caller.get(args.name))!r}')
-    finally:
-        rclpy.try_shutdown(context=context)
     return 0
 
 

@@ -45,19 +45,13 @@ def table(statuses: dict[str, tuple[int, str, dict[str, str]]]) -> list[str]:
 
 def run(args: argparse.Namespace) -> int:
     """Listen, then print the table (exit 1 when nothing was heard)."""
-    import os
-
     from diagnostic_msgs.msg import DiagnosticArray
-    import rclpy
-    from rclpy.executors import SingleThreadedExecutor
 
-    from tactex.launching.environment import ros_environment
+    from tactex.ros_client import client_node, COMMAND, namespaced
     from tactex_common import topics
-    from tactex_common.ros import COMMAND
     if not 0 < args.duration <= 3600:
         raise CommandError(f'--duration {args.duration}: give seconds in (0, 3600]')
-    namespace = '/' + args.namespace.strip('/') if args.namespace.strip('/') else ''
-    os.environ.update(ros_environment())  # the middleware settings the launched nodes have
+    topic = namespaced(args.namespace, topics.DIAGNOSTICS)
     statuses: dict[str, tuple[int, str, dict[str, str]]] = {}
 
     def heard(array) -> None:
@@ -65,21 +59,13 @@ def run(args: argparse.Namespace) -> int:
             statuses[status.name] = (int.from_bytes(status.level, 'little')
                                      if isinstance(status.level, bytes) else int(status.level),
                                      status.message, {v.key: v.value for v in status.values})
-    context = rclpy.Context()
-    rclpy.init(context=context)
-    try:
-        node = rclpy.create_node('tactex_status', context=context)
-        node.create_subscription(DiagnosticArray, f'{namespace}/{topics.DIAGNOSTICS}', heard,
-                                 COMMAND)
-        executor = SingleThreadedExecutor(context=context)
-        executor.add_node(node)
+    with client_node('tactex_status') as (node, executor):
+        node.create_subscription(DiagnosticArray, topic, heard, COMMAND)
         deadline = time.monotonic() + args.duration
         while time.monotonic() < deadline:
             executor.spin_once(timeout_sec=min(0.1, max(deadline - time.monotonic(), 0.0)))
-    finally:
-        rclpy.try_shutdown(context=context)
     if not statuses:
-        raise CommandError(f'no diagnostics on {namespace}/{topics.DIAGNOSTICS} within '
+        raise CommandError(f'no diagnostics on {topic} within '
                            f'{args.duration:g} s: are the nodes running, under that '
                            'namespace (--namespace) and ROS_DOMAIN_ID?')
     print('\n'.join(table(statuses)))

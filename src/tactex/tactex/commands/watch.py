@@ -40,20 +40,12 @@ def line(message) -> str:
 
 def run(args: argparse.Namespace) -> int:
     """Show estimates until --count, --timeout or Ctrl-C."""
-    import os
-
-    import rclpy
-    from rclpy.executors import SingleThreadedExecutor
-
-    from tactex.launching.environment import ros_environment
+    from tactex.ros_client import client_node, COMMAND, namespaced
     from tactex_common import topics
-    from tactex_common.ros import COMMAND
     from tactex_msgs.msg import TextureEstimate
     if args.count < 0 or not 0 <= args.timeout <= 86400:
         raise CommandError('--count must be >= 0 and --timeout seconds in 0..86400')
-    namespace = '/' + args.namespace.strip('/') if args.namespace.strip('/') else ''
-    topic = f'{namespace}/{topics.TEXTURE_ESTIMATE}'
-    os.environ.update(ros_environment())
+    topic = namespaced(args.namespace, topics.TEXTURE_ESTIMATE)
     in_place = sys.stdout.isatty()
     shown = 0
     last = time.monotonic()
@@ -66,20 +58,16 @@ def run(args: argparse.Namespace) -> int:
             print('\r\033[K' + text, end='\n' if message.decided else '', flush=True)
         else:
             print(text, flush=True)
-    context = rclpy.Context()
-    rclpy.init(context=context)
     try:
-        node = rclpy.create_node('tactex_watch', context=context)
-        node.create_subscription(TextureEstimate, topic, heard, COMMAND)
-        executor = SingleThreadedExecutor(context=context)
-        executor.add_node(node)
-        while not args.count or shown < args.count:
-            executor.spin_once(timeout_sec=0.1)
-            if args.timeout and time.monotonic() - last > args.timeout:
-                raise CommandError(f'no estimate on {topic} for {args.timeout:g} s: is '
-                                   'classifier_node running there (tactex launch classify)?')
+        with client_node('tactex_watch') as (node, executor):
+            node.create_subscription(TextureEstimate, topic, heard, COMMAND)
+            while not args.count or shown < args.count:
+                executor.spin_once(timeout_sec=0.1)
+                if args.timeout and time.monotonic() - last > args.timeout:
+                    raise CommandError(f'no estimate on {topic} for {args.timeout:g} s: is '
+                                       'classifier_node running there (tactex launch '
+                                       'classify)?')
     finally:
-        rclpy.try_shutdown(context=context)
         if in_place:
             print()
     return 0
