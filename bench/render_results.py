@@ -641,7 +641,8 @@ SECTIONS: dict[str, Callable[[], str]] = {
     'sim_collect': sim_collect, 'training': training, 'compare': compare,
     'compare_long': compare_long, 'online_latency': online_latency,
     'sensor_stats': sensor_stats, 'channels': channels, 'profiles': profiles,
-    'architectures': architectures, 'window_voting': window_voting}
+    'architectures': architectures, 'window_voting': window_voting,
+    'sim_to_real': sim_to_real, 'learning_curves': learning_curves}
 
 
 def _wrapped(text: str) -> str:
