@@ -27,7 +27,7 @@ os.environ.setdefault('OMP_WAIT_POLICY', 'PASSIVE')
 
 from bench_architectures import configuration, fit_timed  # noqa: E402  (one row's model)
 from bench_profiles import common_parser, finish_plot, keep, load_or_simulate  # noqa: E402
-from bench_sim_to_real import accuracy, draw  # noqa: E402
+from bench_sim_to_real import accuracy, draw, hold_out  # noqa: E402
 from bench_window_voting import subset  # noqa: E402
 import numpy as np  # noqa: E402
 
@@ -91,13 +91,7 @@ def main() -> int:
 
     started = time.monotonic()
     dataset = load_or_simulate(args.data, args.sweeps)
-    rng = np.random.default_rng(args.seed)
-    held = []
-    for label in range(len(dataset.classes)):
-        recordings = np.unique(dataset.trial[dataset.y == label])
-        held += list(rng.choice(recordings, size=args.test, replace=False))
-    test = subset(dataset, np.isin(dataset.trial, held))
-    pool = np.setdiff1d(np.unique(dataset.trial), held)
+    test, pool = hold_out(dataset, args.test, np.random.default_rng(args.seed))
     available = min(np.unique(dataset.trial[np.isin(dataset.trial, pool) & (dataset.y == c)]
                               ).size for c in range(len(dataset.classes)))
     wanted = [int(n) for n in args.sizes.split(',')]

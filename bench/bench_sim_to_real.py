@@ -51,6 +51,16 @@ def shifted_dataset(folder: Path, sweeps: int) -> Path:
     return data
 
 
+def hold_out(dataset, per_texture: int, rng: np.random.Generator):
+    """(test set, the other recordings): `per_texture` recordings of each texture held out."""
+    held = []
+    for label in range(len(dataset.classes)):
+        recordings = np.unique(dataset.trial[dataset.y == label])
+        held += list(rng.choice(recordings, size=per_texture, replace=False))
+    return (subset(dataset, np.isin(dataset.trial, held)),
+            np.setdiff1d(np.unique(dataset.trial), held))
+
+
 def draw(target, recordings: np.ndarray, k: int, rng: np.random.Generator) -> np.ndarray:
     """Window mask of k recordings per texture drawn from `recordings`."""
     chosen = []
@@ -133,13 +143,7 @@ def main() -> int:
         folder = Path(scratch)
         source = Dataset.load(args.source or build_dataset(folder, args.source_sweeps, []))
         target = Dataset.load(args.target or shifted_dataset(folder, args.target_sweeps))
-        rng = np.random.default_rng(args.seed)
-        held = []
-        for label in range(len(target.classes)):
-            recordings = np.unique(target.trial[target.y == label])
-            held += list(rng.choice(recordings, size=args.test, replace=False))
-        test = subset(target, np.isin(target.trial, held))
-        pool = np.setdiff1d(np.unique(target.trial), held)
+        test, pool = hold_out(target, args.test, np.random.default_rng(args.seed))
         base = TrainingConfig.for_profile('modern', model=args.model, epochs=args.epochs,
                                           scaling='window', early_stopping=0, seed=args.seed)
         pretrained = fit(dataclasses.replace(base, early_stopping=30, epochs=100), source)
