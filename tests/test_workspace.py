@@ -27,6 +27,7 @@ LAUNCH_FILES = sorted((ROOT / 'launch').glob('*.launch.py'))
 # Everything else under src/ is a pure module (no ROS install needed to import it).
 ROS_FACING = frozenset({
     'tactex.demo.session',
+    'tactex.goal_client',
     'tactex.launching.ros_description',
     'tactex.ros_client',
     'tactex.soak.session',
@@ -35,6 +36,7 @@ ROS_FACING = frozenset({
     'tactex_classify.online.classifier_node',
     'tactex_classify.recording.recorder_node',
     'tactex_driver.arm_driver_node',
+    'tactex_probe.messages',
     'tactex_probe.probe_node',
     'tactex_sensor.madgwick_node',
     'tactex_sensor.teensy_node',
@@ -288,7 +290,8 @@ ROSDEP_KEYS = {'numpy': 'python3-numpy', 'scipy': 'python3-scipy', 'sklearn': 'p
                'numba': 'python3-numba', 'rosbags': 'python3-rosbags-pip',
                'mujoco': 'python3-mujoco-pip', 'torch': 'python3-pytorch-pip',
                'ray': 'python3-ray-pip', 'skops': 'python3-skops-pip', 'onnx': 'python3-onnx-pip',
-               'onnxruntime': 'python3-onnxruntime-pip', 'skl2onnx': 'python3-skl2onnx-pip'}
+               'onnxruntime': 'python3-onnxruntime-pip', 'skl2onnx': 'python3-skl2onnx-pip',
+               'tqdm': 'python3-tqdm'}
 STANDARD_LIBRARY = sys.stdlib_module_names | {'__future__'}
 
 

@@ -305,6 +305,31 @@ BAD_INPUTS = {
              'seconds > 0'),
         Case('param list madgwick_node --timeout nan', '--timeout nan: give a number'),
     ],
+    'probe': [
+        Case('probe --span -0.01', '--span: span must be .*got -0.01'),
+        Case('probe --step 0', '--step: step must be'),
+        Case('probe --direction 1 1 0', '--direction: direction must be a unit vector'),
+        Case('probe --start 0.1 0 nan', '--start: start must be 3 finite numbers'),
+        Case('probe --start 0.1 0', 'argument --start: expected 3 arguments'),
+        Case('probe --server-timeout 0', r'argument --server-timeout: must be a finite number '
+             '> 0'),
+        Case('probe --score --out {w}/folder', '--out .*folder is a folder', '{w}/folder'),
+        Case('probe --namespace nowhere --server-timeout 1', 'no probe action server on '
+             r'/nowhere/probe within 1 s: is its node running'),
+        Case('probe --namespace nowhere --score --out {w}/s.png', 'no node '
+             '/nowhere/mujoco_bridge answers', '{w}/s.png'),
+    ],
+    'sweep': [
+        Case('sweep --speed 0', r'argument --speed: must be a finite number > 0'),
+        Case('sweep --edge-offset 2', r'--edge-offset: edge_offset_rad must be in \[0, 1.5708\)'),
+        Case('sweep --press-depth 0.5', '--press-depth: press_depth_m must be in'),
+        Case('sweep --pathway {w}/nothing.json', '--pathway .*nothing.json does not exist'),
+        Case('sweep --pathway {w}/text.txt', '--pathway .*text.txt: .*give a file probe_node '
+             'wrote'),
+        Case('sweep --trial -1', 'argument --trial: must be a whole number'),
+        Case('sweep --namespace nowhere --server-timeout 1', 'no sweep action server on '
+             r'/nowhere/sweep within 1 s'),
+    ],
     'status': [
         Case('status --duration 0', r'--duration 0.0: give seconds in \(0, 3600\]'),
         Case('status --duration soon', "argument --duration: invalid float value: 'soon'"),

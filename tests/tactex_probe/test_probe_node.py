@@ -137,7 +137,8 @@ def test_servo_dropout_aborts_the_goal_with_the_reason(ros_context, tmp_path):
     from tactex_msgs.action import Probe
     from tactex_msgs.msg import Pathway as PathwayMsg
     from tactex_probe.closed_loop import start_joints
-    from tactex_probe.probe_node import parameters_from_goal, ProbeNode
+    from tactex_probe.messages import parameters_from_goal
+    from tactex_probe.probe_node import ProbeNode
 
     probe = ProbeNode(context=ros_context, parameter_overrides=[
         Parameter('pathway_file', value=str(tmp_path / 'pathway.json'))])

@@ -33,6 +33,8 @@ COMMANDS = {
     'export': "Write a checkpoint's model as ONNX (for classifier_node without torch).",
     'plot': "Draw a recording's channels, or a run's plots again from its kept numbers.",
     'launch': "Run a launch file's nodes as supervised processes (no ROS 2 launch needed).",
+    'probe': 'Send a Probe goal: progress, the contacts found, --score against the simulator.',
+    'sweep': 'Send a Sweep goal along the probed pathway: progress, contact and speed.',
     'param': "List, get or set a running node's parameters (no ros2 CLI needed).",
     'status': "One table of every running node's diagnostics (rates, latency, drops, state).",
     'watch': 'Show the live texture estimates, their evidence and decisions.',

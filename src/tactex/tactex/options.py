@@ -233,3 +233,13 @@ def staged_folder(path: Path) -> Iterator[Path]:
     finally:
         if staging.exists():
             shutil.rmtree(staging, ignore_errors=True)
+
+
+def add_goal_options(parser: argparse.ArgumentParser, node: str) -> None:
+    """--namespace, --server-timeout and --timeout of a command that sends `node` a goal."""
+    parser.add_argument('--namespace', default='', metavar='NS',
+                        help=f'namespace of {node} (e.g. left_arm)')
+    parser.add_argument('--server-timeout', type=number(), default=30.0, metavar='S',
+                        help=f'seconds to wait for {node} and for it to accept the goal (30)')
+    parser.add_argument('--timeout', type=number(), default=1800.0, metavar='S',
+                        help='seconds the goal may run before it is canceled (1800)')

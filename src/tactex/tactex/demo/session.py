@@ -35,9 +35,6 @@ from tactex_msgs.msg import Pathway, TextureEstimate
 BRIDGE_PARAMETERS = 'mujoco_bridge/set_parameters'
 CLASSIFIER_STATUS = 'tactex_classify: classifier_node'  # its diagnostics status name
 MADGWICK_STATUS = 'tactex_sensor: madgwick'
-# Seconds to wait for a goal's answer before sending it again (a request lost in discovery
-# gets none; an answer lost there is found in the action's status; tactex_common.goals).
-GOAL_ANSWER_S = 5.0
 
 
 class ProbeAborted(CommandError):
@@ -205,20 +202,8 @@ class SystemClient:
     def _send(self, sender: GoalSender, goal, timeout_s: float, what: str, alive,
               feedback=None):
         """Send a goal, again while refused or unanswered (nodes wait for the arm); its result."""
-        deadline = time.monotonic() + timeout_s
-        while True:
-            handle = sender.answer(goal, feedback, answer_s=GOAL_ANSWER_S,
-                                   timeout_s=max(0.0, deadline - time.monotonic()), alive=alive)
-            if handle is None:
-                if not alive():
-                    raise CommandError(f'{what}: a node stopped; the node logs say why')
-                raise CommandError(f'{what}: the goal was not answered within {timeout_s:g} s; '
-                                   'the node logs say why')
-            if handle.accepted:
-                break
-            if time.monotonic() > deadline:
-                raise CommandError(f'{what}: the goal was refused; the node logs say why')
-            time.sleep(1.0)
+        from tactex.goal_client import accepted_handle
+        handle = accepted_handle(sender, goal, timeout_s, what, alive, feedback)
         result = handle.get_result_async()
         self._wait(result.done, timeout_s, f'{what} did not finish', alive)
         return result.result()
