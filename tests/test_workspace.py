@@ -291,7 +291,7 @@ ROSDEP_KEYS = {'numpy': 'python3-numpy', 'scipy': 'python3-scipy', 'sklearn': 'p
                'mujoco': 'python3-mujoco-pip', 'torch': 'python3-pytorch-pip',
                'ray': 'python3-ray-pip', 'skops': 'python3-skops-pip', 'onnx': 'python3-onnx-pip',
                'onnxruntime': 'python3-onnxruntime-pip', 'skl2onnx': 'python3-skl2onnx-pip',
-               'tqdm': 'python3-tqdm'}
+               'tqdm': 'python3-tqdm', 'yaml': 'python3-yaml'}
 STANDARD_LIBRARY = sys.stdlib_module_names | {'__future__'}
 
 

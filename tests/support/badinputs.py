@@ -305,6 +305,13 @@ BAD_INPUTS = {
              'seconds > 0'),
         Case('param list madgwick_node --timeout nan', '--timeout nan: give a number'),
     ],
+    'doctor': [
+        Case('doctor --sensor-rate 0', 'argument --sensor-rate: must be a finite number > 0'),
+        Case('doctor --listen 100', 'argument --listen: must be a finite number > 0 and <= 60'),
+        Case('doctor --only gpu', "argument --only: invalid choice: 'gpu'"),
+        Case('doctor --arm-baud fast', 'argument --arm-baud: must be a whole number >= 1'),
+        Case('doctor --sensor-port', 'argument --sensor-port: expected one argument'),
+    ],
     'probe': [
         Case('probe --span -0.01', '--span: span must be .*got -0.01'),
         Case('probe --step 0', '--step: step must be'),

@@ -23,6 +23,7 @@ from tactex_sim.errors import SimError
 COMMANDS = {
     'description': 'Show the robot description, write its URDF or MJCF, check the URDF.',
     'demo': 'Run the whole pipeline in simulation through the launched nodes (make demo).',
+    'doctor': 'Hardware bring-up checks (ports, Teensy stream, servos, ROS settings) with fixes.',
     'emulate': 'Emulate hardware on a pseudo-terminal (teensy, dynamixel).',
     'sim': 'Simulation jobs: collect a synthetic texture dataset.',
     'record': 'Record the tactile topics, joint states and sweep segments (rosbag2, mcap).',

@@ -110,6 +110,16 @@ class ServoBus:
             models[servo] = model
         return models
 
+    def answering(self) -> dict[int, int]:
+        """Model number of every servo that answers a ping (the silent ones left out)."""
+        self._check_open()
+        models = {}
+        for servo in self.ids:
+            model, result, _error = self._packets.ping(self._port, servo)
+            if result == sdk.COMM_SUCCESS:
+                models[servo] = model
+        return models
+
     def write_byte(self, address: int, values: Sequence[int] | int) -> None:
         """Write one byte to every servo (a value each, or one for all), acknowledged."""
         self._check_open()
@@ -129,10 +139,17 @@ class ServoBus:
 
     def read_byte(self, address: int) -> dict[int, int]:
         """Read one byte from every servo."""
+        return self.read_unsigned(address, 1)
+
+    def read_unsigned(self, address: int, size: int, ids: Sequence[int] | None = None
+                      ) -> dict[int, int]:
+        """Read an unsigned 1-, 2- or 4-byte value from every servo (or those of `ids`)."""
         self._check_open()
+        read = {1: self._packets.read1ByteTxRx, 2: self._packets.read2ByteTxRx,
+                4: self._packets.read4ByteTxRx}[size]
         values = {}
-        for servo in self.ids:
-            value, result, error = self._packets.read1ByteTxRx(self._port, servo, address)
+        for servo in self.ids if ids is None else ids:
+            value, result, error = read(self._port, servo, address)
             self._raise_for(result, error, servo, f'read address {address}', alert_ok=True)
             values[servo] = value
         return values

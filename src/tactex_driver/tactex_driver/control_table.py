@@ -16,7 +16,13 @@ import numpy as np
 MODEL_NUMBER = 0  # 2 bytes
 FIRMWARE_VERSION = 6  # 1 byte
 ID = 7  # 1 byte
+BAUD_RATE = 8  # 1 byte, a code of BAUD_RATES
 OPERATING_MODE = 11  # 1 byte
+TEMPERATURE_LIMIT = 31  # 1 byte, degC (factory 80)
+MAX_VOLTAGE_LIMIT = 32  # 2 bytes, 0.1 V (factory 160)
+MIN_VOLTAGE_LIMIT = 34  # 2 bytes, 0.1 V (factory 95)
+MAX_POSITION_LIMIT = 48  # 4 bytes, counts (factory 4095); position mode only
+MIN_POSITION_LIMIT = 52  # 4 bytes, counts (factory 0)
 TORQUE_ENABLE = 64  # 1 byte
 HARDWARE_ERROR_STATUS = 70  # 1 byte
 PROFILE_ACCELERATION = 108  # 4 bytes
@@ -26,11 +32,21 @@ MOVING = 122  # 1 byte
 PRESENT_CURRENT = 126  # 2 bytes, signed
 PRESENT_VELOCITY = 128  # 4 bytes, signed
 PRESENT_POSITION = 132  # 4 bytes, signed
+PRESENT_INPUT_VOLTAGE = 144  # 2 bytes, 0.1 V
+PRESENT_TEMPERATURE = 146  # 1 byte, degC
 TABLE_SIZE = 256
 
 XM430_W350_MODEL = 1020
 STATE_BLOCK_START = PRESENT_CURRENT  # current, velocity, position: one sync read
 STATE_BLOCK_LENGTH = PRESENT_POSITION + 4 - PRESENT_CURRENT  # 10 bytes
+
+# Baud Rate (address 8) codes and their line rates; 1 (57600) is the factory setting.
+BAUD_RATES = {0: 9600, 1: 57600, 2: 115200, 3: 1_000_000, 4: 2_000_000, 5: 3_000_000,
+              6: 4_000_000, 7: 4_500_000}
+VOLT_PER_UNIT = 0.1
+# The XM430-W350's operating supply range and its recommended voltage (e-Manual).
+SUPPLY_RANGE_V = (10.0, 14.8)
+RECOMMENDED_V = 12.0
 
 MODE_POSITION = 3
 MODE_CURRENT_BASED_POSITION = 5

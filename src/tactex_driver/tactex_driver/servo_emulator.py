@@ -90,6 +90,12 @@ class Servo:
         self.table[ct.FIRMWARE_VERSION] = 48
         self.table[ct.ID] = self.servo_id
         self.table[ct.OPERATING_MODE] = ct.MODE_POSITION
+        self.table[ct.BAUD_RATE] = 3  # 1 Mbps, as the OpenMANIPULATOR-X ships
+        self.table[ct.TEMPERATURE_LIMIT] = 80
+        struct.pack_into('<HH', self.table, ct.MAX_VOLTAGE_LIMIT, 160, 95)
+        struct.pack_into('<ii', self.table, ct.MAX_POSITION_LIMIT, 4095, 0)
+        struct.pack_into('<H', self.table, ct.PRESENT_INPUT_VOLTAGE, 120)  # 12.0 V supply
+        self.table[ct.PRESENT_TEMPERATURE] = 32
         struct.pack_into('<i', self.table, ct.GOAL_POSITION, int(self.position))
         self._publish()
 

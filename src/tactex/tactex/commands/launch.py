@@ -18,14 +18,20 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help='list the launch files, or the arguments of NAME')
     parser.add_argument('--print', action='store_true', dest='print_only',
                         help='print the command line of every node and exit')
+    parser.add_argument('--no-checks', action='store_true', dest='no_checks',
+                        help="start hardware nodes without tactex doctor's checks of their "
+                             'ports first')
+
+
+FLAGS = {'--list': 'list', '--print': 'print_only', '--no-checks': 'no_checks'}
 
 
 def _overrides(items: list[str], args: argparse.Namespace) -> dict[str, str]:
-    """NAME:=VALUE pairs; --list and --print may also follow the launch file's name."""
+    """NAME:=VALUE pairs; the flags may also follow the launch file's name."""
     overrides = {}
     for item in items:
-        if item in ('--list', '--print'):
-            setattr(args, 'list' if item == '--list' else 'print_only', True)
+        if item in FLAGS:
+            setattr(args, FLAGS[item], True)
             continue
         name, sep, value = item.partition(':=')
         if not sep or not name:
@@ -65,4 +71,20 @@ def run(args: argparse.Namespace) -> int:
     except (LaunchError, ValueError) as err:
         print(f'error: {err}', file=sys.stderr)
         return 1
+    if not args.no_checks and not hardware_ready(nodes):
+        return 1
     return run_launch(nodes, values)
+
+
+def hardware_ready(nodes) -> bool:
+    """Run the bring-up checks of the hardware nodes; print and return False when one fails."""
+    from tactex.bringup import launch_checks, lines
+    checks = launch_checks(nodes)
+    if not any(check.failed for check in checks):
+        return True
+    for line in lines([check for check in checks if check.status != 'ok']):
+        print(line, file=sys.stderr)
+    print('error: the hardware is not ready (fixes above; `tactex doctor` checks it all); '
+          'launch with sim:=true to simulate it, or --no-checks to start the nodes anyway',
+          file=sys.stderr)
+    return False
