@@ -33,7 +33,7 @@ hunt: $(STAMP)
 bench: $(STAMP) $(MSGS_STAMP)
 	$(BIN)/python bench/run_all.py
 
-# Rewrite the README's generated figures from the outputs kept in bench/results/.
+# Rewrite the docs' generated figures (docs/*/*.md) from the outputs kept in bench/results/.
 results: $(STAMP)
 	$(BIN)/python bench/render_results.py
 

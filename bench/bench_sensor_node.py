@@ -12,6 +12,7 @@ Prints p50/p99/max of both and their ratio; target p99 < 5 ms.
 
 from __future__ import annotations
 
+from contextlib import nullcontext
 from pathlib import Path
 import subprocess
 import sys
@@ -65,8 +66,12 @@ def reference_latencies(link: Path) -> np.ndarray:
     return (np.array(received[:count]) - np.array(emulator.write_times_ns[:count])) / 1e6
 
 
-def node_latencies(link: Path) -> tuple[np.ndarray, int, int]:
-    """Write -> Imu received latency (ms) through teensy_node; also frames and messages."""
+def node_latencies(link: Path, beside=nullcontext) -> tuple[np.ndarray, int, int]:
+    """Write -> Imu received latency (ms) through teensy_node; also frames and messages.
+
+    `beside()` is entered once teensy_node runs and left after the stream: what runs
+    beside the node meanwhile (bench_observers.py: the live view, status, watch).
+    """
     import rclpy
     from rclpy.qos import qos_profile_sensor_data
     from sensor_msgs.msg import Imu
@@ -85,10 +90,11 @@ def node_latencies(link: Path) -> tuple[np.ndarray, int, int]:
             lambda msg: arrivals.append((time.time_ns(), msg.header.stamp.sec * 10**9
                                          + msg.header.stamp.nanosec)),
             qos_profile_sensor_data)
-        streamer = threading.Thread(target=emulator.run, args=(DURATION_S,), daemon=True)
-        streamer.start()
-        while streamer.is_alive():
-            rclpy.spin_once(listener, timeout_sec=0.01)
+        with beside():
+            streamer = threading.Thread(target=emulator.run, args=(DURATION_S,), daemon=True)
+            streamer.start()
+            while streamer.is_alive():
+                rclpy.spin_once(listener, timeout_sec=0.01)
         listener.destroy_node()
         rclpy.shutdown()
         node_process.terminate()

@@ -1,12 +1,13 @@
 # Copyright 2026 The tactex authors
 # SPDX-License-Identifier: Apache-2.0
-"""Write the README's benchmark figures from the outputs kept in bench/results/.
+"""Write the docs site's benchmark figures from the outputs kept in bench/results/.
 
-Every figure of the README sits in a generated section between `<!-- results:NAME -->`
-and `<!-- /results -->`; this script renders each section from the files the benchmarks
-left in bench/results/ and rewrites only what lies between the markers, so prose and
-figures cannot disagree with the kept outputs. `make results` runs it; `--check` exits 1
-(listing the stale sections) instead of writing, which the test suite uses.
+Every benchmark figure of the docs (docs/*/*.md) sits in a generated section between
+`<!-- results:NAME -->` and `<!-- /results -->`, each section on exactly one page; this
+script renders each from the files the benchmarks left in bench/results/ and rewrites only
+what lies between the markers, so prose and figures cannot disagree with the kept outputs.
+`make results` runs it; `--check` exits 1 (listing the stale sections) instead of writing,
+which the test suite uses. Figures are linked through docs/results, a link to bench/results.
 """
 
 from __future__ import annotations
@@ -22,7 +23,9 @@ import textwrap
 import numpy as np
 
 RESULTS = Path(__file__).parent / 'results'
-README = Path(__file__).parents[1] / 'README.md'
+DOCS = Path(__file__).parents[1] / 'docs'
+# bench/results/ as a page one folder below docs/ sees it (docs/results links there).
+FIGURES = '../results'
 SECTION = re.compile(r'(<!-- results:(?P<name>[a-z_]+) -->\n)(?P<body>.*?)(<!-- /results -->)',
                      re.DOTALL)
 WIDTH = 90
@@ -505,7 +508,7 @@ def compare() -> str:
             'measured with another cell and other jobs on the same cores. Best honest '
             f'accuracy per window (complete rows): {headline}.\n\n'
             + table(summary['rows'], expected) + '\n'
-            '![accuracy](bench/results/compare/accuracy.png)\n')
+            f'![accuracy]({FIGURES}/compare/accuracy.png)\n')
 
 
 def online_latency() -> str:
@@ -566,7 +569,7 @@ def compare_long() -> str:
     models = ','.join(sorted({row['model'] for row in rows}))
     windows = ','.join(str(w) for w in sorted({row['window'] for row in rows}))
     best = max(rows, key=lambda row: row['schemes']['grouped']['accuracy']['mean'])
-    kept = _json('compare/summary.json')  # the 5-epoch grid of the README's table
+    kept = _json('compare/summary.json')  # the 5-epoch grid of the docs' table
     short = next(r for r in kept['rows']
                  if r['model'] == best['model'] and r['window'] == best['window'])
     unfinished = [row['model'] for row in rows
@@ -646,7 +649,7 @@ SECTIONS: dict[str, Callable[[], str]] = {
 
 
 def _wrapped(text: str) -> str:
-    """Paragraphs wrapped at the README's width (tables as they are, bullets indented)."""
+    """Paragraphs wrapped at the docs' width (tables as they are, bullets indented)."""
     paragraphs = text.strip('\n').split('\n\n')
     return '\n\n'.join(part if part.startswith('|') else textwrap.fill(
         part, WIDTH, subsequent_indent='  ' if part.startswith('- ') else '',
@@ -658,17 +661,39 @@ def render() -> dict[str, str]:
     return {name: _wrapped(make()) for name, make in SECTIONS.items()}
 
 
+def pages() -> dict[Path, str]:
+    """The docs pages that may hold generated sections (docs/*/*.md), and their text."""
+    return {path: path.read_text(encoding='utf-8') for path in sorted(DOCS.glob('*/*.md'))
+            if path.parent.name not in ('results', 'reference')}
+
+
+def placed(texts: dict[Path, str], sections: dict[str, str]) -> dict[str, Path]:
+    """The page of each generated section.
+
+    Raises:
+        ValueError: a marker names no known section, a known one has no marker, or one
+            has more than one.
+    """
+    found = [(match['name'], path) for path, text in texts.items()
+             for match in SECTION.finditer(text)]
+    names = [name for name, _ in found]
+    unknown = sorted(set(names) - set(sections))
+    missing = sorted(set(sections) - set(names))
+    twice = sorted({name for name in names if names.count(name) > 1})
+    if unknown or missing or twice:
+        raise ValueError(f'docs markers: unknown {unknown}, missing {missing}, twice {twice}')
+    return {name: path for name, path in found}
+
+
 def rewrite(text: str, sections: dict[str, str]) -> str:
     """`text` with every generated section replaced by its rendering.
 
     Raises:
-        ValueError: a marker names no known section, or a known one has no marker.
+        ValueError: a marker names no known section.
     """
-    found = [match['name'] for match in SECTION.finditer(text)]
-    unknown = sorted(set(found) - set(sections))
-    missing = sorted(set(sections) - set(found))
-    if unknown or missing:
-        raise ValueError(f'README markers: unknown {unknown}, missing {missing}')
+    unknown = sorted({match['name'] for match in SECTION.finditer(text)} - set(sections))
+    if unknown:
+        raise ValueError(f'docs markers: unknown {unknown}')
     return SECTION.sub(lambda m: m.group(1) + sections[m['name']] + m.group(4), text)
 
 
@@ -678,20 +703,23 @@ def stale(text: str, sections: dict[str, str]) -> list[str]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Rewrite README.md's generated sections (or, with --check, only compare)."""
-    parser = argparse.ArgumentParser(description=__doc__)
+    """Rewrite the docs pages' generated sections (or, with --check, only compare)."""
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument('--check', action='store_true', help='compare only; exit 1 if stale')
     args = parser.parse_args(argv)
-    text = README.read_text(encoding='utf-8')
+    texts = pages()
     sections = render()
+    placed(texts, sections)
     if args.check:
-        names = stale(text, sections)
+        names = [name for text in texts.values() for name in stale(text, sections)]
         if names:
-            print(f'error: README sections out of date: {", ".join(names)}; run make results',
+            print(f'error: docs sections out of date: {", ".join(names)}; run make results',
                   file=sys.stderr)
             return 1
         return 0
-    README.write_text(rewrite(text, sections), encoding='utf-8')
+    for path, text in texts.items():
+        if (new := rewrite(text, sections)) != text:
+            path.write_text(new, encoding='utf-8')
     return 0
 
 

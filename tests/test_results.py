@@ -1,6 +1,6 @@
 # Copyright 2026 The tactex authors
 # SPDX-License-Identifier: Apache-2.0
-"""The README's benchmark figures are what bench/render_results.py makes of bench/results/."""
+"""The docs' benchmark figures are what bench/render_results.py makes of bench/results/."""
 
 import json
 from pathlib import Path
@@ -15,22 +15,35 @@ def _renderer():
     return load_script('bench/render_results.py')
 
 
-def test_every_generated_readme_section_equals_its_rendering_of_the_kept_outputs():
+def test_every_generated_docs_section_equals_its_rendering_of_the_kept_outputs():
     renderer = _renderer()
-    readme = (ROOT / 'README.md').read_text(encoding='utf-8')
+    pages = renderer.pages()
     sections = renderer.render()
-    assert renderer.rewrite(readme, sections) == readme
-    assert renderer.stale(readme, sections) == []
+    assert set(renderer.placed(pages, sections)) == set(renderer.SECTIONS)
+    for text in pages.values():
+        assert renderer.rewrite(text, sections) == text
+        assert renderer.stale(text, sections) == []
 
 
-def test_a_changed_figure_or_a_missing_marker_is_caught():
+def test_the_readme_holds_no_generated_section_and_the_check_passes():
+    assert '<!-- results:' not in (ROOT / 'README.md').read_text(encoding='utf-8')
+    assert _renderer().main(['--check']) == 0
+
+
+def test_a_changed_figure_a_missing_or_a_repeated_marker_is_caught():
     renderer = _renderer()
-    readme = (ROOT / 'README.md').read_text(encoding='utf-8')
+    pages = renderer.pages()
     sections = renderer.render()
-    assert renderer.stale(readme.replace(sections['driver'], 'a full cycle takes 0.1 ms\n'),
+    page = renderer.placed(pages, sections)['driver']
+    text = pages[page]
+    assert renderer.stale(text.replace(sections['driver'], 'a full cycle takes 0.1 ms\n'),
                           sections) == ['driver']
     with pytest.raises(ValueError, match=r"missing \['driver'\]"):
-        renderer.rewrite(readme.replace('<!-- results:driver -->', ''), sections)
+        renderer.placed({**pages, page: text.replace('<!-- results:driver -->', '')}, sections)
+    with pytest.raises(ValueError, match=r"twice \['driver'\]"):
+        renderer.placed({**pages, ROOT / 'docs' / 'x' / 'copy.md': text}, sections)
+    with pytest.raises(ValueError, match=r"unknown \['nothing'\]"):
+        renderer.rewrite('<!-- results:nothing -->\n<!-- /results -->', sections)
 
 
 def test_a_comparison_missing_cells_is_rendered_as_incomplete(tmp_path, monkeypatch):

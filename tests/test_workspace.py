@@ -31,6 +31,8 @@ ROS_FACING = frozenset({
     'tactex.launching.ros_description',
     'tactex.ros_client',
     'tactex.soak.session',
+    'tactex.view.server',
+    'tactex.view.view_node',
     'tactex_common.goals',
     'tactex_common.ros',
     'tactex_classify.online.classifier_node',
@@ -258,13 +260,13 @@ def test_the_tests_mirror_the_packages():
     """One folder of tests per package (plus the firmware), helpers in tests/support/.
 
     Hard cases and end-to-end tests are marked (`hard_case`, `integration`), not put
-    in folders of their own; at the top only the workspace's own rules and results.
+    in folders of their own; at the top only the workspace's own rules, results and docs.
     """
     tests = ROOT / 'tests'
     folders = {p.name for p in tests.iterdir() if p.is_dir() and p.name != '__pycache__'}
     assert folders == {*PACKAGES, 'firmware', 'support'}
     top = {p.name for p in tests.glob('*.py')}
-    assert top == {'conftest.py', 'test_workspace.py', 'test_results.py'}
+    assert top == {'conftest.py', 'test_workspace.py', 'test_results.py', 'test_docs.py'}
     helpers = [str(p.relative_to(tests)) for p in tests.rglob('*.py')
                if not p.name.startswith('test_') and p.name not in ('conftest.py',)
                and p.parent.name not in ('support', 'firmware')]
@@ -291,7 +293,8 @@ ROSDEP_KEYS = {'numpy': 'python3-numpy', 'scipy': 'python3-scipy', 'sklearn': 'p
                'mujoco': 'python3-mujoco-pip', 'torch': 'python3-pytorch-pip',
                'ray': 'python3-ray-pip', 'skops': 'python3-skops-pip', 'onnx': 'python3-onnx-pip',
                'onnxruntime': 'python3-onnxruntime-pip', 'skl2onnx': 'python3-skl2onnx-pip',
-               'tqdm': 'python3-tqdm', 'yaml': 'python3-yaml'}
+               'tqdm': 'python3-tqdm', 'yaml': 'python3-yaml',
+               'foxglove': 'python3-foxglove-sdk-pip'}
 STANDARD_LIBRARY = sys.stdlib_module_names | {'__future__'}
 
 

@@ -39,6 +39,7 @@ setup(
     entry_points={
         'console_scripts': [
             'tactex = tactex.cli:main',
+            'view_node = tactex.view.view_node:main',
         ],
     },
 )

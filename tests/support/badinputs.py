@@ -337,6 +337,13 @@ BAD_INPUTS = {
         Case('sweep --namespace nowhere --server-timeout 1', 'no sweep action server on '
              r'/nowhere/sweep within 1 s'),
     ],
+    'view': [
+        Case('view --port 70000', 'argument --port: must be a whole number in 0..65535'),
+        Case('view --host 256.0.0.1', "parameter host:='256.0.0.1' is refused; allowed: a host "
+             'this machine can listen on'),
+        Case('view --namespace a.b', 'argument --namespace: must be a ROS namespace'),
+        Case('view --host', 'argument --host: expected one argument'),
+    ],
     'status': [
         Case('status --duration 0', r'--duration 0.0: give seconds in \(0, 3600\]'),
         Case('status --duration soon', "argument --duration: invalid float value: 'soon'"),
@@ -346,6 +353,7 @@ BAD_INPUTS = {
         Case('watch --count -1', '--count must be >= 0'),
         Case('watch --timeout -3', '--timeout seconds in 0..86400'),
         Case('watch --count many', "argument --count: invalid int value: 'many'"),
+        Case('watch --namespace 9lives', 'argument --namespace: must be a ROS namespace'),
     ],
     'plot': [
         Case('plot', 'the following arguments are required: RECORDING|RUN'),

@@ -39,6 +39,7 @@ COMMANDS = {
     'param': "List, get or set a running node's parameters (no ros2 CLI needed).",
     'status': "One table of every running node's diagnostics (rates, latency, drops, state).",
     'watch': 'Show the live texture estimates, their evidence and decisions.',
+    'view': 'The live system in Foxglove (tactile channels, arm, pathway, estimates).',
     'report': 'Reports across the system: accuracy-time (what accuracy costs in time).',
 }
 

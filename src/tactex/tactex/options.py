@@ -235,9 +235,22 @@ def staged_folder(path: Path) -> Iterator[Path]:
             shutil.rmtree(staging, ignore_errors=True)
 
 
+ROS_NAME_SEGMENT = re.compile(r'^[A-Za-z_][A-Za-z0-9_]*$')
+
+
+def namespace(value: str) -> str:
+    """An argparse type: a ROS namespace (segments of letters, digits and _, split by /)."""
+    segments = value.strip('/').split('/') if value.strip('/') else []
+    if not all(ROS_NAME_SEGMENT.match(segment) for segment in segments):
+        raise argparse.ArgumentTypeError(
+            f'must be a ROS namespace such as left_arm or /robots/left (letters, digits and _, '
+            f'not starting with a digit, split by /), got {value!r}')
+    return value
+
+
 def add_goal_options(parser: argparse.ArgumentParser, node: str) -> None:
     """--namespace, --server-timeout and --timeout of a command that sends `node` a goal."""
-    parser.add_argument('--namespace', default='', metavar='NS',
+    parser.add_argument('--namespace', type=namespace, default='', metavar='NS',
                         help=f'namespace of {node} (e.g. left_arm)')
     parser.add_argument('--server-timeout', type=number(), default=30.0, metavar='S',
                         help=f'seconds to wait for {node} and for it to accept the goal (30)')

@@ -21,7 +21,7 @@ from tactex_sensor.protocol import FrameDecoder, Sample, VERSION
 
 RATE_TOLERANCE = 0.1  # of the expected frame rate
 MAX_DROPPED_SHARE = 0.01  # of the frames: more is a bad cable or a noisy line
-FIRMWARE = 'firmware/teensy_tactile (README: Teensy firmware)'
+FIRMWARE = 'firmware/teensy_tactile (docs/guides/real-arm.md, Teensy firmware)'
 CHIP_OF = {'accel': 'LSM9DS0 accelerometer', 'gyro': 'LSM9DS0 gyro',
            'mag': 'LSM9DS0 magnetometer', 'pressure': 'MPL115A2 pressure',
            'temperature': 'MPL115A2 temperature'}

@@ -11,7 +11,8 @@ parameter), converts the recordings (`tactex convert`), trains with grouped and
 stratified cross-validation (`tactex train`), starts the system again with the
 checkpoint and classifies fresh sweeps live through classifier_node (texture/estimate).
 It writes summary.json, the plots and every node's log under --out, prints each figure
-against its threshold (README, "The demo") and exits 1 naming a figure that misses it.
+against its threshold (docs/guides/quick-start.md, "The demo") and exits 1 naming a
+figure that misses it.
 """
 
 from __future__ import annotations

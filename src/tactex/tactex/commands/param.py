@@ -12,7 +12,7 @@ from __future__ import annotations
 import argparse
 
 from tactex.errors import CommandError
-from tactex.options import text
+from tactex.options import namespace, text
 
 SERVICE_TIMEOUT_S = 5.0
 
@@ -31,7 +31,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         if action == 'set':
             one.add_argument('value', metavar='VALUE',
                              help='new value, read as YAML: 0.5, true, 7, text, [1, 2]')
-        one.add_argument('--namespace', default='', metavar='NS',
+        one.add_argument('--namespace', type=namespace, default='', metavar='NS',
                          help='namespace of NODE when NODE is a bare name (e.g. left_arm)')
         one.add_argument('--timeout', type=float, default=SERVICE_TIMEOUT_S, metavar='S',
                          help=f'seconds to wait for the node ({SERVICE_TIMEOUT_S:g})')

@@ -15,6 +15,7 @@ import textwrap
 import time
 
 from tactex.errors import CommandError
+from tactex.options import namespace
 
 LEVELS = {0: 'OK', 1: 'WARN', 2: 'ERROR', 3: 'STALE'}
 VALUE_WIDTH = 72
@@ -22,7 +23,7 @@ VALUE_WIDTH = 72
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Register the options of this subcommand."""
-    parser.add_argument('--namespace', default='', metavar='NS',
+    parser.add_argument('--namespace', type=namespace, default='', metavar='NS',
                         help='namespace of the nodes (e.g. left_arm)')
     parser.add_argument('--duration', type=float, default=3.0, metavar='S',
                         help='seconds to listen (3)')

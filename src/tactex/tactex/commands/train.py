@@ -45,8 +45,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('--profile', default='original', choices=PROFILE_NAMES,
                         help="deep models: the original's training (default), or modern: "
                              'AdamW, warm-up + cosine, label smoothing, weight EMA, '
-                             'augmentation with mixup, early stopping (README, Training '
-                             'profiles)')
+                             'augmentation with mixup, early stopping (docs/guides/training.md, '
+                             'Training profiles)')
     parser.add_argument('--early-stopping', type=patience_epochs, default=None,
                         metavar='PATIENCE',
                         help='stop when the validation loss has not improved for PATIENCE '

@@ -15,11 +15,12 @@ import sys
 import time
 
 from tactex.errors import CommandError
+from tactex.options import namespace
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Register the options of this subcommand."""
-    parser.add_argument('--namespace', default='', metavar='NS',
+    parser.add_argument('--namespace', type=namespace, default='', metavar='NS',
                         help='namespace of classifier_node (e.g. left_arm)')
     parser.add_argument('--count', type=int, default=0, metavar='N',
                         help='stop after N estimates (0: until Ctrl-C)')

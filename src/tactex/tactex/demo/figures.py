@@ -3,7 +3,7 @@
 """The demo's figures: pathway accuracy, sweep quality, live decisions, thresholds and plots.
 
 Pure: takes numbers (contacts, sweep results, the estimates heard), returns numbers,
-checks them against the thresholds stated in the README, and draws the PNGs.
+checks them against the thresholds stated in docs/guides/quick-start.md, and draws the PNGs.
 """
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ from tactex_probe.closed_loop import nearest_surface_point, true_normal
 from tactex_probe.normals import angle_between
 from tactex_sim.scene import Surface
 
-# The thresholds each figure is held to (README, "The demo").
+# The thresholds each figure is held to (docs/guides/quick-start.md, "The demo").
 MIN_CONTACT_SHARE = 0.8  # of the probe points give a contact
 MAX_NORMAL_ERROR_DEG = 5.0  # mean, against the true surface
 MAX_POSITION_ERROR_MM = 2.0  # mean distance of a contact to the true surface
@@ -28,7 +28,7 @@ MAX_SPEED_ERROR = 0.10  # mean |measured - commanded| / commanded sliding speed
 # Accuracy, grouped by recording and live, at least this many times chance (1 / textures):
 # a pipeline that loses the labels or the channels on the way scores chance. How far above
 # that the textures can be told apart is the sensor's physics, not the pipeline's health
-# (README, Simulation); the figures themselves are reported.
+# (docs/topics/simulation.md); the figures themselves are reported.
 TIMES_CHANCE = 2.0
 MAX_MADGWICK_REJECTED = 0  # samples madgwick_node refused (beyond the chip's full scale)
 
