@@ -69,6 +69,21 @@ def sensor_node() -> str:
             f'{ratio:.1f}x a bare pyserial read of the same stream).\n')
 
 
+def observers() -> str:
+    text = _read('bench_observers.txt')
+    ref, view, watch = (_numbers(_line(text, key)) for key in
+                        ('nothing beside', 'tactex view', 'tactex status'))
+    verdict = 'under' if view[5] < 1.0 else 'over'
+    return (f'What watching costs `teensy_node` at 350 Hz (frame written -> Imu received; '
+            f'median p99 of 3 interleaved rounds, `python bench/bench_observers.py`): '
+            f'{ref[1]:.2f} ms with nothing beside it (rounds {ref[2]:.2f}-{ref[3]:.2f}); '
+            f'{watch[1]:.2f} ms with `tactex status` and `tactex watch` running '
+            f'({watch[5]:+.2f} ms); {view[1]:.2f} ms with the live view forwarding at its '
+            f'default `max_rate_hz` (60) to a subscribed WebSocket client ({view[5]:+.2f} ms, '
+            f'rounds {view[2]:.2f}-{view[3]:.2f}: {verdict} the 1 ms target on 2 shared cores, '
+            f'where the node, the view, the client and the emulator compete).\n')
+
+
 def madgwick() -> str:
     data = _json('madgwick.json')
     cost = {row.split('|')[1].strip(): _numbers(row.split('|')[2])
@@ -639,6 +654,7 @@ def sweep() -> str:
 
 SECTIONS: dict[str, Callable[[], str]] = {
     'sensor_decoder': sensor_decoder, 'sensor_node': sensor_node, 'madgwick': madgwick,
+    'observers': observers,
     'driver': driver, 'sim': sim, 'convert': convert, 'synthetic_set': synthetic_set,
     'textures': textures, 'init': init, 'kinematics': kinematics, 'sweep': sweep,
     'sim_collect': sim_collect, 'training': training, 'compare': compare,

@@ -183,6 +183,7 @@ def test_a_websocket_client_sees_every_channel_with_its_schema_and_the_messages(
         sample.linear_acceleration = Vector3(x=0.1, y=0.2, z=9.8)
         sample.angular_velocity = Vector3(x=math.nan, y=0.0, z=0.5)
         for _ in range(3):
+            sample.header.stamp = node.get_clock().now().to_msg()
             raw.publish(sample)
             pressure.publish(FluidPressure(header=sample.header, fluid_pressure=101325.0))
             joints.publish(JointState(header=sample.header, name=list(ARM),
@@ -191,6 +192,9 @@ def test_a_websocket_client_sees_every_channel_with_its_schema_and_the_messages(
                                              confidence=0.75, class_names=['cork', 'wood'],
                                              probabilities=[0.25, 0.75], decided=True))
             time.sleep(0.1)
+        for _ in range(5):  # 1 ms apart: above max_rate_hz (60), none of these is forwarded
+            sample.header.stamp.nanosec = (sample.header.stamp.nanosec + 1_000_000) % 10**9
+            raw.publish(sample)
         pathway.publish(Pathway(contacts=[Contact(position=Point(x=0.1, z=0.01),
                                                   normal=Vector3(z=1.0))]))
 
@@ -207,6 +211,7 @@ def test_a_websocket_client_sees_every_channel_with_its_schema_and_the_messages(
     assert channels[PATHWAY_CHANNEL]['schemaName'] == 'foxglove.SceneUpdate'
     assert channels['/tactile/imu/data_raw']['schemaName'] == 'tactex.ImuSample'
     assert channels['/tactile/imu/data_raw']['schemaEncoding'] == 'jsonschema'
+    assert len(received['/tactile/imu/data_raw']) == 3
     imu = received['/tactile/imu/data_raw'][0]
     assert imu['linear_acceleration'] == pytest.approx({'x': 0.1, 'y': 0.2, 'z': 9.8})
     assert imu['angular_velocity']['x'] is None  # NaN travels as null: valid JSON

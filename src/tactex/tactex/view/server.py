@@ -11,6 +11,7 @@ config/foxglove_layout.json. Started by `tactex view` or `view:=true` on a launc
 from __future__ import annotations
 
 import math
+import os
 
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 import foxglove
@@ -59,6 +60,17 @@ class ViewNode(TactexNode):
         tf_rate = self.declare_parameter('tf_rate_hz', 30.0, describe(
             description='most arm transforms per second sent', read_only=True,
             floating_point_range=[FloatingPointRange(from_value=1.0, to_value=1000.0)])).value
+        niceness = self.declare_parameter('nice', 10, describe(
+            description='scheduling niceness added to this process: the view yields the CPU '
+                        'to the nodes that measure and command (0: as they)', read_only=True,
+            integer_range=[IntegerRange(from_value=0, to_value=19, step=1)])).value
+        sample_rate = self.declare_parameter('max_rate_hz', 60.0, describe(
+            description='most messages per second forwarded per tactile channel (a display '
+                        'rate; 0: every sample, which costs the sensor path latency on a '
+                        'loaded machine: bench/bench_observers.py)', read_only=True,
+            floating_point_range=[FloatingPointRange(from_value=0.0, to_value=10000.0)])).value
+        self._sample_period_ns = int(1e9 / sample_rate) if sample_rate > 0 else 0
+        self._last_sample_ns: dict[str, int] = {}
         self._tf_period_ns = int(1e9 / tf_rate)
         self._last_tf_ns = 0
         self._server = None
@@ -69,6 +81,7 @@ class ViewNode(TactexNode):
             name = 'port' if 'in use' in str(err) else 'host'
             raise self.refused_parameter(name, f'a {name} this machine can listen on '
                                                f'({str(err).split(": ", 1)[-1]})') from None
+        os.nice(niceness)  # once listening: a refused host or port leaves the caller as it was
         self._tf = FrameTransformsChannel(TF_CHANNEL)
         self._pathway = SceneUpdateChannel(PATHWAY_CHANNEL)
         self._json = {topic: foxglove.Channel(
@@ -104,21 +117,38 @@ class ViewNode(TactexNode):
         self._json[topic].log(message, log_time=stamp_ns(header.stamp) or None)
         self.forwarded[channel_name(topic)] += 1
 
+    def _due(self, topic: str, header) -> bool:
+        """Whether a tactile sample on `topic` is forwarded (at most max_rate_hz of them)."""
+        stamp = stamp_ns(header.stamp)
+        if stamp - self._last_sample_ns.get(topic, -self._sample_period_ns) < \
+                self._sample_period_ns and stamp >= self._last_sample_ns.get(topic, 0):
+            return False
+        self._last_sample_ns[topic] = stamp
+        return True
+
     # -- the topics ---------------------------------------------------------------------
     def _on_imu_raw(self, msg: Imu) -> None:
+        if not self._due(topics.IMU_RAW, msg.header):
+            return
         self._log(topics.IMU_RAW, {'linear_acceleration': _vector(msg.linear_acceleration),
                                    'angular_velocity': _vector(msg.angular_velocity)},
                   msg.header)
 
     def _on_imu(self, msg: Imu) -> None:
+        if not self._due(topics.IMU_FILTERED, msg.header):
+            return
         q = msg.orientation
         self._log(topics.IMU_FILTERED, {'orientation': {**_vector(q), 'w': _number(q.w)}},
                   msg.header)
 
     def _on_mag(self, msg: MagneticField) -> None:
+        if not self._due(topics.MAG, msg.header):
+            return
         self._log(topics.MAG, {'magnetic_field': _vector(msg.magnetic_field)}, msg.header)
 
     def _on_pressure(self, msg: FluidPressure) -> None:
+        if not self._due(topics.PRESSURE, msg.header):
+            return
         self._log(topics.PRESSURE, {'fluid_pressure': _number(msg.fluid_pressure)}, msg.header)
 
     def _on_joints(self, msg: JointState) -> None:
