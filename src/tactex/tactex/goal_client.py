@@ -46,7 +46,7 @@ class Progress:
 
 
 @contextmanager
-def spinning(node, executor: SingleThreadedExecutor) -> Iterator[None]:
+def spinning(executor: SingleThreadedExecutor) -> Iterator[None]:
     """Spin `executor` in a thread for the block (goal answers arrive meanwhile)."""
     thread = threading.Thread(target=executor.spin, daemon=True)
     thread.start()
@@ -57,12 +57,11 @@ def spinning(node, executor: SingleThreadedExecutor) -> Iterator[None]:
         thread.join(timeout=5.0)
 
 
-def wait_until(condition: Callable[[], bool], timeout_s: float,
-               alive: Callable[[], bool] = lambda: True) -> bool:
-    """Poll `condition` until it holds (True), `timeout_s` passes or `alive()` fails."""
+def wait_until(condition: Callable[[], bool], timeout_s: float) -> bool:
+    """Poll `condition` until it holds (True) or `timeout_s` passes (False)."""
     deadline = time.monotonic() + timeout_s
     while not condition():
-        if time.monotonic() > deadline or not alive():
+        if time.monotonic() > deadline:
             return False
         time.sleep(POLL_S / 2)
     return True
@@ -120,7 +119,7 @@ def send_goal(node, executor, action_type, action_name: str, goal, *, what: str,
     """
     sender = GoalSender(node, action_type, action_name)
     latest: list[object] = []
-    with spinning(node, executor):
+    with spinning(executor):
         if not sender.client.wait_for_server(timeout_sec=server_timeout_s):
             raise CommandError(
                 f'no {what} action server on {action_name} within {server_timeout_s:g} s: is '

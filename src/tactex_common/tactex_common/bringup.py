@@ -16,6 +16,8 @@ from pathlib import Path
 import re
 import stat
 
+from tactex_common.files import file_kind
+
 OK, WARN, FAIL = 'ok', 'warn', 'fail'
 # Kernel names that change with the plug order; a udev rule gives a stable one.
 UNSTABLE_NAME = re.compile(r'^/dev/tty(ACM|USB)\d+$')
@@ -58,7 +60,7 @@ def port_checks(port: str, what: str) -> list[Check]:
                       'stable name')]
     mode = path.stat().st_mode
     if not stat.S_ISCHR(mode):
-        return [Check(name, FAIL, f'{port} is not a serial device (a {_kind(mode)})',
+        return [Check(name, FAIL, f'{port} is not a serial device (a {file_kind(mode)})',
                       f'give the {what} device node, e.g. /dev/ttyACM0 or a udev link')]
     if not os.access(path, os.R_OK | os.W_OK):
         group = _group_name(path.stat().st_gid)
@@ -76,14 +78,6 @@ def port_checks(port: str, what: str) -> list[Check]:
                             'control --reload-rules && sudo udevadm trigger`) and use its '
                             'stable name'))
     return checks
-
-
-def _kind(mode: int) -> str:
-    if stat.S_ISDIR(mode):
-        return 'folder'
-    if stat.S_ISFIFO(mode):
-        return 'FIFO'
-    return 'regular file' if stat.S_ISREG(mode) else 'special file'
 
 
 def _group_name(gid: int) -> str:

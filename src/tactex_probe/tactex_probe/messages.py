@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from builtin_interfaces.msg import Duration
 from geometry_msgs.msg import Point, Pose, Quaternion, Vector3
+import numpy as np
 from rclpy.time import Time
 from std_msgs.msg import ColorRGBA, Header
 from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
@@ -43,6 +44,16 @@ def goal_message(parameters: ProbeParameters) -> Probe.Goal:
     dx, dy, dz = parameters.direction
     return Probe.Goal(start=Point(x=x, y=y, z=z), direction=Vector3(x=dx, y=dy, z=dz),
                       **{name: getattr(parameters, name) for name in PARAMETER_RANGES})
+
+
+def contact_arrays(pathway) -> tuple[np.ndarray, np.ndarray]:
+    """(N x 3 positions, N x 3 normals) of a tactex_msgs/Pathway's contacts (N may be 0)."""
+    contacts = pathway.contacts
+    positions = np.array([[c.position.x, c.position.y, c.position.z] for c in contacts],
+                         dtype=float).reshape(-1, 3)
+    normals = np.array([[c.normal.x, c.normal.y, c.normal.z] for c in contacts],
+                       dtype=float).reshape(-1, 3)
+    return positions, normals
 
 
 def contact_message(record) -> Contact:

@@ -57,6 +57,7 @@ from tactex_common.stamps import stamp_ns
 from tactex_description.geometry import ARM_JOINT_NAMES
 from tactex_msgs.action import Sweep
 from tactex_msgs.msg import Contact, Pathway
+from tactex_probe.messages import contact_arrays
 from tactex_trajectory.errors import TrajectoryError
 from tactex_trajectory.monitor import MonitorSettings, SweepMonitor, SweepResult
 from tactex_trajectory.path import PathSettings
@@ -336,9 +337,7 @@ class SweepNode(TactexNode):
         if joints is None:
             raise ValueError(f'no {topics.JOINT_STATES} received yet: is the arm driver (or '
                              'the simulator) running?')
-        points = np.array([[c.position.x, c.position.y, c.position.z]
-                           for c in pathway.contacts])
-        normals = np.array([[c.normal.x, c.normal.y, c.normal.z] for c in pathway.contacts])
+        points, normals = contact_arrays(pathway)
         ok = np.array([c.status == Contact.STATUS_OK for c in pathway.contacts])
         settings = replace(self._settings, sliding_speed_m_s=float(goal.sliding_speed),
                            pose=replace(self._settings.pose,

@@ -17,8 +17,6 @@ import argparse
 import math
 from pathlib import Path
 
-import numpy as np
-
 from tactex.errors import CommandError
 from tactex.options import add_goal_options, check_output_file, text
 from tactex_probe.pathway import ContactStatus, DEFAULT_GOAL, PARAMETER_RANGES
@@ -88,6 +86,7 @@ def contact_lines(result) -> list[str]:
 def score(result, scene_name: str, out: Path) -> str:
     """The contacts' errors against the scene's surface, as a line; the plot at `out`."""
     from tactex.demo.figures import pathway_errors, plot_pathway
+    from tactex_probe.messages import contact_arrays
     from tactex_sim.errors import SimError
     from tactex_sim.scene import load_scene, resolve_scene
     try:
@@ -95,14 +94,11 @@ def score(result, scene_name: str, out: Path) -> str:
     except SimError as err:
         raise CommandError(f'--score: the simulator runs scene {scene_name!r}, which is not '
                            f"readable here ({err}); run it on the simulator's machine") from None
-    contacts = result.pathway.contacts
-    positions = np.array([[c.position.x, c.position.y, c.position.z]
-                          for c in contacts]).reshape(-1, 3)
-    normals = np.array([[c.normal.x, c.normal.y, c.normal.z] for c in contacts]).reshape(-1, 3)
+    positions, normals = contact_arrays(result.pathway)
     staged = out.with_name(f'.{out.name}.partial.png')
     plot_pathway(staged, positions, normals, surface)
     staged.replace(out)
-    if not len(contacts):
+    if not len(positions):
         return f'score against scene {scene_name}: no contact to score; plot in {out}'
     normal_deg, position_mm = pathway_errors(positions, normals, surface)
     return (f'score against scene {scene_name}: normal error {normal_deg.mean():.2f} deg mean, '

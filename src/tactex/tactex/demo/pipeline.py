@@ -210,6 +210,7 @@ class Demo:
         """Probe the line; the broadcast contacts and their errors against the surface."""
         from tactex.demo.figures import pathway_errors
         from tactex.demo.session import ProbeAborted, ProbeLine
+        from tactex_probe.messages import contact_arrays
         line = ProbeLine(PROBE_START_X_M, self.sizes.probe_span_m, self.sizes.probe_step_m,
                          start_z_m=PROBE_START_Z_M, descent_speed_m_s=PROBE_DESCENT_M_S)
         self.next_stage(f'probe {line.points} points from x = {1e3 * line.start_x_m:.0f} mm '
@@ -222,10 +223,7 @@ class Demo:
                 if attempt == ATTEMPTS:
                     raise CommandError(f'probing failed {ATTEMPTS} times: {err}') from None
                 self.say(f'  probing aborted: {err}; trying again')
-        positions = np.array([[c.position.x, c.position.y, c.position.z]
-                              for c in pathway.contacts]).reshape(-1, 3)
-        normals = np.array([[c.normal.x, c.normal.y, c.normal.z]
-                            for c in pathway.contacts]).reshape(-1, 3)
+        positions, normals = contact_arrays(pathway)
         normal_deg, position_mm = pathway_errors(positions, normals, self.scene.surface)
         self.say(f'  {len(pathway.contacts)} of {line.points} probes gave a contact, broadcast '
                  f'on probe/pathway and probe/contacts ({len(contacts.poses)} poses); normal '

@@ -34,6 +34,7 @@ from tactex_common import topics
 from tactex_common.ros import COMMAND, LATCHED, SENSOR_DATA, spin, TactexNode
 from tactex_common.stamps import stamp_ns
 from tactex_msgs.msg import Pathway, TextureEstimate
+from tactex_probe.messages import contact_arrays
 
 
 def _number(value: float) -> float | None:
@@ -119,10 +120,9 @@ class ViewNode(TactexNode):
 
     def _due(self, topic: str, header) -> bool:
         """Whether a tactile sample on `topic` is forwarded (at most max_rate_hz of them)."""
-        stamp = stamp_ns(header.stamp)
-        if stamp - self._last_sample_ns.get(topic, -self._sample_period_ns) < \
-                self._sample_period_ns and stamp >= self._last_sample_ns.get(topic, 0):
-            return False
+        stamp, last = stamp_ns(header.stamp), self._last_sample_ns.get(topic)
+        if last is not None and last <= stamp < last + self._sample_period_ns:
+            return False  # a stamp going back (a restart) is forwarded and starts anew
         self._last_sample_ns[topic] = stamp
         return True
 
@@ -161,8 +161,7 @@ class ViewNode(TactexNode):
         self.forwarded[TF_CHANNEL] += 1
 
     def _on_pathway(self, msg: Pathway) -> None:
-        points = [(c.position.x, c.position.y, c.position.z) for c in msg.contacts]
-        normals = [(c.normal.x, c.normal.y, c.normal.z) for c in msg.contacts]
+        points, normals = contact_arrays(msg)
         stamp = stamp_ns(msg.header.stamp)
         self._pathway.log(pathway_scene(points, normals, msg.header.frame_id, stamp),
                           log_time=stamp or None)
