@@ -294,7 +294,8 @@ ROSDEP_KEYS = {'numpy': 'python3-numpy', 'scipy': 'python3-scipy', 'sklearn': 'p
                'ray': 'python3-ray-pip', 'skops': 'python3-skops-pip', 'onnx': 'python3-onnx-pip',
                'onnxruntime': 'python3-onnxruntime-pip', 'skl2onnx': 'python3-skl2onnx-pip',
                'tqdm': 'python3-tqdm', 'yaml': 'python3-yaml',
-               'foxglove': 'python3-foxglove-sdk-pip'}
+               'foxglove': 'python3-foxglove-sdk-pip', 'mcap': 'python3-mcap-pip',
+               'lz4': 'python3-lz4'}
 STANDARD_LIBRARY = sys.stdlib_module_names | {'__future__'}
 
 

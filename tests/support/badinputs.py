@@ -17,6 +17,7 @@ import shutil
 import numpy as np
 
 from support.bagfactory import ramp, write_bag
+from support.foreign_bags import converted, custom_type_bag, imu_only, lying_files
 from tactex_classify.data.dataset import Dataset
 from tactex_classify.evaluation.model_grid import GridSettings, GridStore
 from tactex_classify.models.baselines import MiniRocketRidge
@@ -38,6 +39,21 @@ class Case:
 
     def __repr__(self) -> str:
         return ' '.join(self.argv)
+
+
+# Files in {w}/foreign (see make_foreign_recordings) and what their error says.
+FOREIGN = {
+    'truncated.bag': 'truncated or unindexed ROS 1 bag .*rosbag reindex',
+    'unclosed.bag.active': r'unindexed ROS 1 bag \(still .active',
+    'empty.bag': 'empty file',
+    'text.bag': 'not a ROS 1 bag',
+    'fifo.bag': r'FIFO \(named pipe\), not a regular file',
+    'huge.bag': 'truncated or unindexed ROS 1 bag',
+    'foxglove.mcap': 'holding json messages, not ROS 2',
+    'lab.bag': r'lab_msgs/msg/Tactile; fields ax, ay, az, p',
+    'other_imu.bag': r'sensor_msgs/msg/Imu on /imu/data \(90 messages, 30.0 Hz\): use --topic '
+                     'imu=/imu/data',
+}
 
 
 STANDING_SCENE = """name = "standing"
@@ -109,7 +125,17 @@ def make_workspace(w: Path) -> Path:
     (w / 'corrupt_checkpoint').mkdir()
     (w / 'corrupt_checkpoint' / 'checkpoint.json').write_bytes(b'\xff\xfe\x00garbage')
     make_lying_files(w)
+    make_foreign_recordings(w)
     return w
+
+
+def make_foreign_recordings(w: Path) -> None:
+    """Recordings made elsewhere that tactex cannot use as they are, in {w}/foreign."""
+    good = converted(w / 'bags' / 'wood_0000', w / 'ros1' / 'wood.bag')
+    lying_files(w / 'foreign', good)
+    custom_type_bag(w / 'foreign' / 'lab.bag')
+    log = 10**12 + np.arange(90) * 33_333_333
+    imu_only(w / 'foreign' / 'other_imu.bag', log, log, topics=('/imu/data',), ros1=True)
 
 
 def make_lying_files(w: Path) -> None:
@@ -155,7 +181,8 @@ BAD_INPUTS = {
         Case('convert {w}/bags', 'the following arguments are required: --out'),
         Case('convert {w}/nothing --out {w}/o.npz', 'BAG_OR_DIR .*nothing does not exist',
              OUT_NPZ),
-        Case('convert {w}/text.txt --out {w}/o.npz', r'BAG_OR_DIR .*text.txt is a file', OUT_NPZ),
+        Case('convert {w}/text.txt --out {w}/o.npz', r'BAG_OR_DIR .*text.txt is no recording',
+             OUT_NPZ),
         Case('convert {w}/folder --out {w}/o.npz', 'no recordings found', OUT_NPZ),
         Case('convert {w}/bags --out {w}/folder', '--out .*folder is a folder; give a file path',
              '{w}/folder'),
@@ -194,6 +221,19 @@ BAD_INPUTS = {
              'be a whole number in 0..4294967295', OUT_NPZ),
         Case('convert {w}/fifobag --out {w}/o.npz', r'wood_0000.mcap is a FIFO \(named pipe\), '
              'not a regular file', OUT_NPZ),
+        *[Case(f'convert {{w}}/foreign/{name} --out {{w}}/o.npz', f'no windows: .*{name}.*{why}',
+               OUT_NPZ) for name, why in FOREIGN.items()],
+    ],
+    'bag': [
+        Case('bag', 'the following arguments are required: ACTION'),
+        Case('bag info', 'the following arguments are required: RECORDING'),
+        Case('bag info {w}/nothing', 'RECORDING .*nothing does not exist'),
+        Case('bag info {w}/folder', 'no recordings in .*folder; give rosbag2 folders'),
+        Case('bag info {w}/text.txt', 'text.txt: not a recording'),
+        Case('bag info {w}/foreign', '7 of 9 recordings cannot be read'),
+        Case('bag info {w}/ros1/wood.bag --jason', 'unrecognized arguments: --jason'),
+        *[Case(f'bag info {{w}}/foreign/{name}', f'{name}: cannot read: .*{why}')
+          for name, why in FOREIGN.items() if name not in ('lab.bag', 'other_imu.bag')],
     ],
     'train': [
         Case('train {w}/nothing.npz --out {w}/run', 'need .*nothing.npz and its sidecar',

@@ -34,7 +34,7 @@ SWEEP_CONTACT_S = load_scene(resolve_scene(demo.SCENE)).sweep.contact_s
 def test_quick_demo_runs_every_stage_through_the_nodes_and_meets_its_thresholds(tmp_path):
     from rosbags.highlevel import AnyReader
 
-    from tactex_classify.data.bags import bag_parts
+    from tactex_classify.data.sources import bag_parts
     from tactex_common.interfaces import typestore
 
     out = tmp_path / 'demo'

@@ -121,13 +121,23 @@ def test_windows_exactly_at_the_recording_boundaries():
 def test_truncated_bag_is_reported_by_name_and_the_rest_converted(tmp_path):
     stamps, values = ramp(40)
     write_bag(tmp_path / 'good', stamps, values, metadata={'label': 'x', 'trial': 1})
-    write_bag(tmp_path / 'bad', stamps, values, metadata={'label': 'x', 'trial': 2})
-    (tmp_path / 'bad' / 'metadata.yaml').unlink()  # as after a crash
+    bad = write_bag(tmp_path / 'bad', stamps, values, metadata={'label': 'x', 'trial': 2})
+    (bad / 'metadata.yaml').unlink()  # as after a crash: no metadata, storage cut short
+    storage = bad / 'bad.mcap'
+    storage.write_bytes(storage.read_bytes()[:-100])
     lines = []
     data = convert([tmp_path], window=10, hop=10, all_samples=True, progress=lines.append)
     assert set(data.trial) == {1}
-    assert any('bad' in line and 'truncated' in line for line in lines)
+    assert any('bad' in line and 'truncated MCAP' in line for line in lines)
     assert data.info['skipped'][0]['path'].endswith('bad')
+
+
+def test_a_folder_that_lost_its_metadata_converts_as_it_is(tmp_path):
+    stamps, values = ramp(40)
+    write_bag(tmp_path / 'rec', stamps, values, metadata={'label': 'x', 'trial': 2})
+    (tmp_path / 'rec' / 'metadata.yaml').unlink()
+    data = convert([tmp_path], window=10, hop=10, all_samples=True, **QUIET)
+    assert set(data.trial) == {2} and len(data.X) == 4
 
 
 def test_corrupt_bag_file_is_reported(tmp_path):

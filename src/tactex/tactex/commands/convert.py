@@ -1,6 +1,6 @@
 # Copyright 2026 The tactex authors
 # SPDX-License-Identifier: Apache-2.0
-"""`tactex convert`: recordings (rosbag2) -> a windowed dataset (.npz + JSON), no ROS needed."""
+"""`tactex convert`: recordings (rosbag2, ROS 1, MCAP) -> a windowed dataset (.npz + JSON)."""
 
 from __future__ import annotations
 
@@ -15,7 +15,8 @@ from tactex_common.channels import CHANNELS
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Register the options of this subcommand."""
     parser.add_argument('paths', nargs='+', type=Path, metavar='BAG_OR_DIR',
-                        help='recordings, or folders holding recordings')
+                        help='recordings (rosbag2 folders, ROS 1 .bag, .mcap or .db3 '
+                        'files), or folders holding recordings')
     parser.add_argument('--out', type=Path, required=True, help='dataset path (.npz)')
     parser.add_argument('--force', action='store_true',
                         help='replace an existing dataset at --out (refused without it)')
@@ -44,6 +45,7 @@ def run(args: argparse.Namespace) -> int:
     """Convert and save."""
     from tactex_classify.data.bags import parse_topic_remaps
     from tactex_classify.data.dataset import convert
+    from tactex_classify.data.sources import is_recording
 
     out = check_output_file(args.out, suffix='.npz', companions=('.json',))
     existing = [path for path in (out, out.with_suffix('.json')) if path.exists()]
@@ -57,9 +59,9 @@ def run(args: argparse.Namespace) -> int:
     for path in args.paths:
         if not path.exists():
             raise CommandError(f'BAG_OR_DIR {path} does not exist')
-        if not path.is_dir():
-            raise CommandError(f'BAG_OR_DIR {path} is a file; give a bag folder (the folder '
-                               'holding metadata.yaml) or a folder of recordings')
+        if not (path.is_dir() or is_recording(path)):
+            raise CommandError(f'BAG_OR_DIR {path} is no recording; give a rosbag2 folder, a '
+                               'ROS 1 .bag, an .mcap or .db3 file, or a folder of recordings')
     channels = None
     if args.channels is not None:
         channels = [c.strip() for c in args.channels.split(',')]

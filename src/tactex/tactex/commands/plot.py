@@ -27,7 +27,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Draw; print what was written."""
-    from tactex_classify.data.bags import is_recording
+    from tactex_classify.data.sources import is_recording
     target = args.target
     if not target.exists():
         raise CommandError(f'RECORDING|RUN {target} does not exist')

@@ -87,14 +87,11 @@ def memory_report(samples: dict[str, list[tuple[float, int]]],
 
 def read_back(recording: Path) -> str:
     """Read every message of a recording and decode it; '' if it reads, else what failed."""
-    from rosbags.highlevel import AnyReader
-
-    from tactex_classify.data.bags import bag_parts
-    from tactex_common.interfaces import typestore
+    from tactex_classify.data.sources import bag_parts, open_part
     try:
         count = 0
         for part in bag_parts(recording):
-            with AnyReader([part], default_typestore=typestore()) as reader:
+            with open_part(part) as reader:
                 for connection, _, raw in reader.messages():
                     reader.deserialize(raw, connection.msgtype)
                     count += 1

@@ -1,18 +1,20 @@
 # Copyright 2026 The tactex authors
 # SPDX-License-Identifier: Apache-2.0
-"""Recordings read from rosbag2 (rosbags, no ROS): the tactile channels aligned on the IMU.
+"""Recordings read without ROS (rosbags): the tactile channels aligned on the IMU.
 
-A recording is one bag directory, or a directory of part bags written one after the
-other (the recorder splits every second so a crash loses at most the last part). Each
-part is read on its own: a corrupt part is named and left out, the others are kept.
+A recording is a rosbag2 folder, a folder of part bags, a ROS 1 bag or a lone MCAP or
+sqlite3 file (`tactex_classify.data.sources`). Each part is read on its own: a corrupt
+part is named and left out, the others are kept.
 
 Topics are found by role (`TOPIC_ROLES`): under any ROS namespace
 (`/left_arm/tactile/imu/data_raw`), with or without the leading slash, or where the
-caller remaps a role to a name of its own (`{'imu': '/my/imu'}`). The IMU stream is
-the reference: magnetometer and pressure samples are joined to each IMU sample by
-`tactex_classify.data.stream_alignment.align`. A recording without a magnetometer (or barometer)
-topic has no such channels, with a note. Metadata whose label is not text or whose
-trial is not an integer is refused by bag and key.
+caller remaps a role to a name of its own (`{'imu': '/my/imu'}`); a topic of another
+name is never taken silently: the error lists the topics of the role's type, with counts
+and rates. The IMU stream is the reference: magnetometer and pressure samples are joined
+to each IMU sample by `tactex_classify.data.stream_alignment.align`. A recording without
+a magnetometer (or barometer) topic has no such channels, with a note. Header stamps of
+0 (drivers that never set them) fall back to the log time, with a note. Metadata whose
+label is not text or whose trial is not an integer is refused by bag and key.
 """
 
 from __future__ import annotations
@@ -25,18 +27,14 @@ from pathlib import Path
 
 import numpy as np
 
+from tactex_classify.data.sources import bag_parts, explain, open_part
 from tactex_classify.data.stream_alignment import align, Stream
+from tactex_classify.data.topic_inventory import survey, TopicInventory
 from tactex_classify.errors import BagError
 from tactex_common import topics
 from tactex_common.channels import ACCEL, BARO, CHANNELS, GYRO, MAG
-from tactex_common.errors import RefusedFileError
-from tactex_common.files import check_regular
-from tactex_common.interfaces import typestore
-from tactex_common.naming import natural_sorted
 from tactex_common.stamps import gaps, stamp_ns
 
-PART_PREFIX = 'part_'
-MAX_METADATA_BYTES = 16 * 1024**2  # a bag's metadata.yaml
 # Role -> (topic relative to the recording's namespace, message type).
 TOPIC_ROLES = {
     'imu': (topics.IMU_RAW, 'sensor_msgs/msg/Imu'),
@@ -103,27 +101,6 @@ class Recording:
     def channel(self, name: str) -> np.ndarray:
         """The samples of one channel."""
         return self.values[:, self.channels.index(name)]
-
-
-def is_recording(path: Path) -> bool:
-    """True for a bag directory (even a truncated one) or a directory of part bags."""
-    return path.is_dir() and ((path / 'metadata.yaml').is_file()
-                              or any(path.glob('*.mcap')) or any(path.glob('*.db3'))
-                              or any(path.glob(f'{PART_PREFIX}*/')))
-
-
-def bag_parts(path: Path) -> list[Path]:
-    """The bag directories of a recording: itself, or its part bags in natural order.
-
-    Raises:
-        BagError: not a recording.
-    """
-    parts = natural_sorted(path.glob(f'{PART_PREFIX}*/')) if path.is_dir() else []
-    if parts:
-        return parts
-    if is_recording(path):
-        return [path]
-    raise BagError(f'{path}: not a rosbag2 directory nor a directory of part bags')
 
 
 def parse_topic_remaps(items: Sequence[str]) -> dict[str, str]:
@@ -219,6 +196,7 @@ class _Collected:
         self.joints: list[tuple[int, float]] = []
         self.metadata: dict = {}
         self.messages = 0
+        self.zero_stamps = 0  # header stamps of 0, replaced by the log time
 
     def merge(self, other: _Collected) -> None:
         for role in self.values:
@@ -232,11 +210,20 @@ class _Collected:
         self.joints += other.joints
         self.metadata.update(other.metadata)
         self.messages += other.messages
+        self.zero_stamps += other.zero_stamps
+
+    def stamp(self, message, log_ns: int) -> int:
+        """The header stamp, or the log time where a driver left it 0."""
+        stamp = stamp_ns(message.header.stamp)
+        if stamp == 0 and log_ns != 0:  # (a simulation's first sample is at 0 on both clocks)
+            self.zero_stamps += 1
+            return log_ns
+        return stamp
 
     def add(self, role: str, message, log_ns: int, path: Path) -> None:
         self.messages += 1
         if role in ROLE_CHANNELS:
-            self.stamps[role].append(stamp_ns(message.header.stamp))
+            self.stamps[role].append(self.stamp(message, log_ns))
             if role == 'imu':
                 a, w = message.linear_acceleration, message.angular_velocity
                 self.values[role].extend((a.x, a.y, a.z, w.x, w.y, w.z))
@@ -250,11 +237,11 @@ class _Collected:
         elif role == 'joints':
             speed = float(np.linalg.norm(message.velocity[:4])) if len(
                 message.velocity) else float('nan')
-            self.joints.append((stamp_ns(message.header.stamp) or log_ns, speed))
+            self.joints.append((self.stamp(message, log_ns), speed))
         elif role == 'metadata':
-            self.metadata.update(_parse_metadata(message.data, path))
+            self.metadata.update(parse_metadata(message.data, path))
         elif role in ('contact', 'edge'):
-            self.stamps[role].append(stamp_ns(message.header.stamp))
+            self.stamps[role].append(self.stamp(message, log_ns))
             if role == 'edge':
                 p, q = message.pose.position, message.pose.orientation
                 self.edge.extend((p.x, p.y, p.z))
@@ -269,46 +256,19 @@ class _Collected:
                       np.frombuffer(self.values[role]).reshape(-1, len(channels)))
 
 
-def _check_bag_files(part: Path) -> None:
-    """Refuse a part bag whose metadata or storage file is no regular file.
-
-    A FIFO would block the reader; metadata.yaml is also bounded by MAX_METADATA_BYTES.
-
-    Raises:
-        RefusedFileError: naming the file and what it is.
-    """
-    for item in part.iterdir():
-        if item.name == 'metadata.yaml':
-            check_regular(item, max_bytes=MAX_METADATA_BYTES)
-        elif item.suffix in ('.mcap', '.db3'):
-            check_regular(item)
-
-
-def _inventory(part: Path) -> dict[str, str]:
-    """Topic -> message type of one part bag, for topics holding messages.
-
-    Raises:
-        RefusedFileError: a file of the bag is no regular file (see `_check_bag_files`).
-    """
-    from rosbags.rosbag2 import Reader
-    _check_bag_files(part)
-    with Reader(part) as reader:
-        return {c.topic: c.msgtype for c in reader.connections if c.msgcount != 0}
-
-
 def recording_topics(path: Path, remaps: Mapping[str, str] | None = None) -> dict[str, str]:
-    """Role -> topic of a recording, from the readable parts' bag metadata (no messages read).
+    """Role -> topic of a recording, from the readable parts' indexes (no messages read).
 
     Raises:
-        BagError: not a recording, no readable part, or ambiguous topics.
+        BagError: not a recording, or ambiguous topics.
     """
-    available: dict[str, str] = {}
+    inventory = TopicInventory()
     for part in bag_parts(Path(path)):
         try:
-            available.update(_inventory(part))
-        except Exception:  # noqa: BLE001 - an unreadable part is named by read_recording
-            continue
-    return resolve_topics(available, remaps)
+            inventory.merge(survey(part))
+        except BagError:
+            continue  # an unreadable part is named by read_recording
+    return resolve_topics(inventory.types, remaps)
 
 
 def read_recording(path: Path, *, remaps: Mapping[str, str] | None = None,
@@ -316,7 +276,7 @@ def read_recording(path: Path, *, remaps: Mapping[str, str] | None = None,
     """Read and align one recording.
 
     Args:
-        path: a bag directory or a directory of part bags.
+        path: a recording (see `tactex_classify.data.sources`).
         remaps: role -> topic name, for bags whose topics have other names.
         channels: the channels wanted (a subset of CHANNELS); default every channel the
             recording has.
@@ -325,51 +285,40 @@ def read_recording(path: Path, *, remaps: Mapping[str, str] | None = None,
         BagError: no part can be read, no IMU messages, a wanted channel has no topic,
             or the metadata has the wrong types; the message says which.
     """
-    from rosbags.highlevel import AnyReader
-
     path = Path(path)
     parts = bag_parts(path)
-    collected, notes, dropped = _Collected(), [], {'unreadable_parts': 0}
-    roles: dict[str, str] = {}
-    inventories = {}
+    notes, dropped = [], {'unreadable_parts': 0}
+    inventory, readable = TopicInventory(), []
     for part in parts:
         try:
-            inventories[part] = _inventory(part)
-        except Exception as err:  # noqa: BLE001 - rosbags raises many unrelated types
+            inventory.merge(survey(part))
+            readable.append(part)
+        except BagError as err:
             dropped['unreadable_parts'] += 1
-            notes.append(f'part {part.name} skipped: {_why(err, part)}')
-    if not inventories:
-        raise BagError(f'{path}: cannot read: {notes[0].split(": ", 1)[1]}'
+            notes.append(f'part {part.name} skipped: {str(err).split(": cannot read: ")[-1]}')
+    if not readable:
+        raise BagError(f'{path}: cannot read: {notes[0].split(" skipped: ", 1)[1]}'
                        if len(parts) == 1 else f'{path}: cannot read any of its '
-                       f'{len(parts)} part bags')
-    roles = resolve_topics({t: m for inv in inventories.values() for t, m in inv.items()},
-                           remaps)
+                       f'{len(parts)} parts ({notes[0]})')
+    roles = resolve_topics(inventory.types, remaps)
     if 'imu' not in roles:
-        wanted = (remaps or {}).get('imu', f'/{topics.IMU_RAW}')
-        raise BagError(f'{path}: no messages on {wanted}; name the IMU topic with --topic '
-                       'imu=NAME')
+        expected = (remaps or {}).get('imu', topics.IMU_RAW)
+        raise BagError(f'{path}: {inventory.missing("imu", expected, TOPIC_ROLES["imu"][1])}')
     wanted_roles = _roles_for(channels, roles, path)
     by_topic = {topic: role for role, topic in roles.items()
                 if role in wanted_roles or role not in ROLE_CHANNELS}
-    for part in inventories:
-        part_data = _Collected()
+    collected = _Collected()
+    for part in readable:
         try:
-            # Bags without type definitions (ROS 2 Humble's) decode with the standard
-            # types and tactex_msgs, read from the package's .msg files.
-            with AnyReader([part], default_typestore=typestore()) as reader:
-                connections = [c for c in reader.connections if c.topic in by_topic]
-                for connection, log_ns, raw in reader.messages(connections=connections):
-                    part_data.add(by_topic[connection.topic],
-                                  reader.deserialize(raw, connection.msgtype), log_ns, path)
-        except BagError:
-            raise
-        except Exception as err:  # noqa: BLE001 - rosbags raises many unrelated types
+            collected.merge(_read_part(part, by_topic, path))
+        except BagError as err:
             if len(parts) == 1:
-                raise BagError(f'{path}: cannot read: {_why(err, part)}') from err
+                raise
             dropped['unreadable_parts'] += 1
-            notes.append(f'part {part.name} skipped: {_why(err, part)}')
-            continue
-        collected.merge(part_data)
+            notes.append(f'part {part.name} skipped: {str(err).split(": cannot read: ")[-1]}')
+    if collected.zero_stamps:
+        notes.append(f'{collected.zero_stamps} message(s) had header stamp 0 (a driver that '
+                     'never sets it): their log times used instead')
     if not collected.stamps['imu']:
         raise BagError(f'{path}: no readable messages on {roles["imu"]}')
     for role in ('mag', 'pressure'):
@@ -391,6 +340,26 @@ def read_recording(path: Path, *, remaps: Mapping[str, str] | None = None,
         joint_array[joint_order, 0].astype(np.int64), joint_array[joint_order, 1],
         tuple(aligned.channels[i] for i in order), _truth(collected, roles), dropped, notes,
         collected.messages)
+
+
+def _read_part(part: Path, by_topic: Mapping[str, str], path: Path) -> _Collected:
+    """The messages of one part on the topics of `by_topic` (topic -> role).
+
+    Raises:
+        BagError: the part cannot be read or a message does not decode; naming the part.
+    """
+    data = _Collected()
+    with open_part(part) as reader:
+        connections = [c for c in reader.connections if c.topic in by_topic]
+        try:
+            for connection, log_ns, raw in reader.messages(connections=connections):
+                data.add(by_topic[connection.topic],
+                         reader.deserialize(raw, connection.msgtype), log_ns, path)
+        except BagError:
+            raise
+        except Exception as err:  # noqa: BLE001 - rosbags raises many unrelated types
+            raise BagError(f'{part}: cannot read: {explain(err, part)}') from err
+    return data
 
 
 def _roles_for(channels: Sequence[str] | None, roles: Mapping[str, str], path: Path
@@ -436,16 +405,8 @@ def inside(stamps_ns: np.ndarray, spans: Sequence[tuple[int, int]]) -> np.ndarra
     return keep
 
 
-def _why(err: Exception, part: Path) -> str:
-    if isinstance(err, RefusedFileError):
-        return str(err)
-    if not (part / 'metadata.yaml').is_file():
-        return 'truncated or corrupt bag (no metadata.yaml)'
-    text = str(err).replace(str(part), '').strip(' :') or type(err).__name__
-    return f'{type(err).__name__}: {text}'
-
-
-def _parse_metadata(text: str, path: Path) -> dict:
+def parse_metadata(text: str, path: Path) -> dict:
+    """The recording/metadata JSON object of a recording at `path`."""
     try:
         value = json.loads(text)
     except json.JSONDecodeError as err:

@@ -23,12 +23,12 @@ import numpy as np
 
 from tactex_classify.data.bags import (
     inside,
-    is_recording,
     read_recording,
     Recording,
     recording_topics,
     ROLE_CHANNELS,
 )
+from tactex_classify.data.sources import is_recording
 from tactex_classify.data.stream_alignment import nearest
 from tactex_classify.errors import BagError, DatasetError
 from tactex_classify.models.checkpoint import MAX_CHANNELS, MAX_CLASSES, MAX_WINDOW

@@ -18,7 +18,7 @@ from pathlib import Path
 from rosbags.rosbag2 import StoragePlugin, Writer
 from rosbags.rosbag2.writer import CompressionFormat, CompressionMode
 
-from tactex_classify.data.bags import PART_PREFIX
+from tactex_classify.data.sources import PART_PREFIX
 from tactex_classify.errors import ClassifyError
 from tactex_common import topics
 from tactex_common.interfaces import typestore

@@ -1,0 +1,163 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""Every common recording format reads, to the same windows; what cannot be read says why.
+
+Formats: rosbag2 folders (MCAP, sqlite3, zstd by file or by message), a folder that lost
+its metadata.yaml, ROS 1 bags (plain, bz2, lz4), a lone .mcap or .db3 file, and a folder
+mixing them. Topics of other names are found by type and offered, never taken silently.
+"""
+
+import shutil
+
+import numpy as np
+import pytest
+from rosbags.rosbag2 import StoragePlugin
+from support.bagfactory import ramp, write_bag
+from support.foreign_bags import bare, converted, custom_type_bag, imu_only, lying_files, zeros_bag
+
+from tactex_classify.data import inflation
+from tactex_classify.data.bags import read_recording
+from tactex_classify.data.dataset import convert
+from tactex_classify.data.sources import open_part
+from tactex_classify.errors import BagError
+
+QUIET = {'progress': lambda line: None}
+
+
+@pytest.fixture(scope='module')
+def original(tmp_path_factory):
+    """A labelled recording with sweep segments, as the recorder writes it (rosbag2 MCAP)."""
+    stamps, values = ramp(300)
+    folder = tmp_path_factory.mktemp('formats') / 'rec'
+    return write_bag(folder, stamps, values, metadata={'label': 'wood', 'trial': 4},
+                     active=[(stamps[20], stamps[140]), (stamps[170], stamps[290])])
+
+
+def windows(path):
+    data = convert([path], window=16, hop=8, **QUIET)
+    return data.X, data.y, data.trial, data.classes
+
+
+FORMATS = {
+    'rosbag2 sqlite3 folder': lambda src, tmp: write_bag(
+        tmp / 'sqlite', *ramp(300), metadata={'label': 'wood', 'trial': 4},
+        active=[(ramp(300)[0][20], ramp(300)[0][140]), (ramp(300)[0][170], ramp(300)[0][290])],
+        storage=StoragePlugin.SQLITE3),
+    'ROS 1 bag': lambda src, tmp: converted(src, tmp / 'rec.bag'),
+    'ROS 1 bag, bz2 chunks': lambda src, tmp: converted(src, tmp / 'rec.bag', compress='bz2'),
+    'ROS 1 bag, lz4 chunks': lambda src, tmp: converted(src, tmp / 'rec.bag', compress='lz4'),
+    'bare .mcap': lambda src, tmp: bare(src, tmp / 'exported.mcap'),
+    'folder without metadata.yaml': lambda src, tmp: bare(src, tmp / 'lost' / 'lost.mcap').parent,
+    'zstd, file mode': lambda src, tmp: converted(src, tmp / 'zf', compress='zstd'),
+    'zstd, message mode': lambda src, tmp: converted(src, tmp / 'zm', compress='zstd',
+                                                     mode='message'),
+}
+
+
+@pytest.mark.parametrize('name', FORMATS)
+def test_the_same_recording_converts_to_identical_windows_in_every_format(name, original,
+                                                                          tmp_path):
+    expected = windows(original)
+    path = FORMATS[name](original, tmp_path)
+    got = windows(path)
+    assert len(expected[0]) > 10
+    for mine, theirs in zip(got, expected, strict=True):
+        np.testing.assert_array_equal(mine, theirs)
+
+
+def test_a_lone_db3_file_reads_as_it_is(tmp_path):
+    stamps, values = ramp(50)
+    folder = write_bag(tmp_path / 'db', stamps, values, metadata={'label': 'x', 'trial': 1},
+                       storage=StoragePlugin.SQLITE3)
+    lone = bare(folder, tmp_path / 'lone.db3', '.db3')
+    recording = read_recording(lone)
+    np.testing.assert_array_equal(recording.values, read_recording(folder).values)
+    assert recording.metadata['label'] == 'x'
+
+
+def test_a_folder_mixing_every_format_gives_one_recording_per_item(original, tmp_path):
+    mixed = tmp_path / 'mixed'
+    mixed.mkdir()
+    shutil.copytree(original, mixed / 'rosbag2')
+    converted(original, mixed / 'old.bag')
+    bare(original, mixed / 'exported.mcap')
+    lines = []
+    data = convert([mixed], window=16, hop=8, renumber=True, progress=lines.append)
+    assert len(data.info['recordings']) == 3 and not data.info['skipped']
+    assert len(data.X) == 3 * len(windows(original)[0])
+
+
+def test_header_stamps_of_zero_fall_back_to_the_log_time_with_a_note(tmp_path):
+    log = 10**12 + np.arange(100) * 10_000_000
+    for ros1, path in ((True, tmp_path / 'zero.bag'), (False, tmp_path / 'zero')):
+        recording = read_recording(imu_only(path, np.zeros(100), log, ros1=ros1))
+        np.testing.assert_array_equal(recording.stamps_ns, log)
+        assert any('header stamp 0' in note and '100 message' in note
+                   for note in recording.notes)
+        assert recording.rate_hz == pytest.approx(100.0)
+
+
+def test_an_imu_under_another_name_is_offered_with_count_and_rate_never_taken(tmp_path):
+    log = 10**12 + np.arange(300) * 33_333_333
+    path = imu_only(tmp_path / 'other.bag', log, log, topics=('/imu/data',), ros1=True)
+    with pytest.raises(BagError, match=r'no tactile/imu/data_raw; sensor_msgs/msg/Imu on '
+                       r'/imu/data \(300 messages, 30\.0 Hz\): use --topic imu=/imu/data'):
+        read_recording(path)
+    recording = read_recording(path, remaps={'imu': '/imu/data'})
+    assert recording.rate_hz == pytest.approx(30.0) and recording.values.shape == (300, 6)
+
+
+def test_two_imu_topics_of_other_names_are_both_offered(tmp_path):
+    log = 10**12 + np.arange(50) * 10_000_000
+    path = imu_only(tmp_path / 'two', log, log, topics=('/imu/data', '/camera/imu'))
+    with pytest.raises(BagError, match='on /camera/imu .*: use --topic imu=/camera/imu; '
+                       'sensor_msgs/msg/Imu on /imu/data .*: use --topic imu=/imu/data'):
+        read_recording(path)
+
+
+def test_a_custom_message_type_is_named_with_its_fields(tmp_path):
+    with pytest.raises(BagError, match=r'no topic of type sensor_msgs/msg/Imu; the recording '
+                       r'holds /tactile/raw \(lab_msgs/msg/Tactile; fields ax, ay, az, p\)'):
+        read_recording(custom_type_bag(tmp_path / 'lab.bag'))
+
+
+LYING = {
+    'truncated': 'truncated or unindexed ROS 1 bag .*rosbag reindex',
+    'active': r'unindexed ROS 1 bag \(still .active.*rosbag reindex',
+    'empty': 'empty file',
+    'text': r'not a ROS 1 bag \(it does not start with "#ROSBAG V2.0"\)',
+    'fifo': r'FIFO \(named pipe\), not a regular file',
+    'huge': 'truncated or unindexed ROS 1 bag',
+    'foxglove': r'MCAP file of profile \(none\) holding json messages, not ROS 2',
+}
+
+
+@pytest.fixture(scope='module')
+def lying(original, tmp_path_factory):
+    folder = tmp_path_factory.mktemp('lying')
+    return lying_files(folder, converted(original, folder / 'good.bag'))
+
+
+@pytest.mark.parametrize('kind', LYING)
+def test_a_file_no_reader_can_read_gets_one_reason_naming_it(kind, lying):
+    with pytest.raises(BagError, match=LYING[kind]) as raised:
+        read_recording(lying[kind])
+    assert str(lying[kind]) in str(raised.value)
+
+
+@pytest.mark.parametrize('compression', ['bz2', 'lz4', 'zstd'])
+def test_a_block_that_inflates_without_bound_is_refused(compression, tmp_path, monkeypatch):
+    monkeypatch.setattr(inflation, 'MIN_LIMIT_BYTES', 1024**2)
+    path = zeros_bag(tmp_path / ('bomb' + ('' if compression == 'zstd' else '.bag')),
+                     16 * 1024**2, compression)
+    assert sum(f.stat().st_size for f in [path, *path.glob('*')] if f.is_file()) < 1024**2
+    with pytest.raises(inflation.InflationError, match=f'a {compression}-compressed block '
+                       'inflates past'), open_part(path) as reader:
+        for _ in reader.messages():
+            pass
+
+
+def test_inflation_within_the_limit_is_untouched():
+    import bz2
+    data = bytes(range(256)) * 1000
+    assert inflation._bz2(bz2.compress(data) + bz2.compress(data)) == data + data
