@@ -224,6 +224,27 @@ BAD_INPUTS = {
         *[Case(f'convert {{w}}/foreign/{name} --out {{w}}/o.npz', f'no windows: .*{name}.*{why}',
                OUT_NPZ) for name, why in FOREIGN.items()],
     ],
+    'predict': [
+        Case('predict', 'the following arguments are required: CHECKPOINT, '
+             'RECORDING_OR_DATASET'),
+        Case('predict {w}/minirocket', 'required: RECORDING_OR_DATASET'),
+        Case('predict {w}/nothing {w}/bags', 'CHECKPOINT .*nothing does not exist'),
+        Case('predict {w}/corrupt_checkpoint {w}/data.npz', 'checkpoint.json'),
+        Case('predict {w}/minirocket {w}/nothing', 'RECORDING_OR_DATASET .*nothing does not '
+             'exist'),
+        Case('predict {w}/minirocket {w}/folder', 'no recordings or datasets in'),
+        Case('predict {w}/minirocket {w}/data.npz --out {w}/text.txt', '--out .*text.txt is a '
+             'file', '{w}/text.txt'),
+        Case('predict {w}/minirocket {w}/data.npz --out {w}/full', '--out .*full already holds '
+             'files', '{w}/full'),
+        Case('predict {w}/minirocket {w}/foreign/text.bag', 'text.bag: cannot read: not a ROS 1 '
+             'bag'),
+        Case('predict {w}/minirocket {w}/garbage.npz', 'garbage'),
+        Case('predict {w}/minirocket {w}/data.npz --threshold 2', 'argument --threshold'),
+        Case('predict {w}/minirocket {w}/data.npz --contact nope', 'argument --contact: invalid '
+             'choice'),
+        Case('predict {w}/minirocket {w}/bags --topic imu', "--topic 'imu' is not ROLE=TOPIC"),
+    ],
     'bag': [
         Case('bag', 'the following arguments are required: ACTION'),
         Case('bag info', 'the following arguments are required: RECORDING'),

@@ -33,6 +33,7 @@ COMMANDS = {
     'train': 'Cross-validate a texture model (honest and leaky CV side by side), report.',
     'compare': 'Compare models x windows x seeds x folds on Ray (resumable), with the table.',
     'export': "Write a checkpoint's model as ONNX (for classifier_node without torch).",
+    'predict': 'Apply a checkpoint to recordings or datasets: what classifier_node decides, when.',
     'plot': "Draw a recording's channels, or a run's plots again from its kept numbers.",
     'launch': "Run a launch file's nodes as supervised processes (no ROS 2 launch needed).",
     'probe': 'Send a Probe goal: progress, the contacts found, --score against the simulator.',

@@ -123,6 +123,8 @@ def _read_messages(reader, unit: Path, times: dict | None, metadata: dict, notes
                        and c.msgtype == TOPIC_ROLES['metadata'][1]}
     wanted = reader.connections if times is not None else [
         c for c in reader.connections if c.topic in metadata_topics]
+    if not wanted:
+        return  # (an empty list would read every message)
     done = 0
     for connection, log_ns, raw in reader.messages(connections=wanted):
         if times is not None:

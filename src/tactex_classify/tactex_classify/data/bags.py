@@ -103,6 +103,17 @@ class Recording:
         return self.values[:, self.channels.index(name)]
 
 
+def sample_values(role: str, message) -> tuple[float, ...]:
+    """The values of a sensor message (rclpy's or rosbags'), in ROLE_CHANNELS[role] order."""
+    if role == 'imu':
+        a, w = message.linear_acceleration, message.angular_velocity
+        return (a.x, a.y, a.z, w.x, w.y, w.z)
+    if role == 'mag':
+        m = message.magnetic_field
+        return (m.x, m.y, m.z)
+    return (message.fluid_pressure,)
+
+
 def parse_topic_remaps(items: Sequence[str]) -> dict[str, str]:
     """['imu=/my/imu', ...] -> {'imu': '/my/imu'}.
 
@@ -224,14 +235,7 @@ class _Collected:
         self.messages += 1
         if role in ROLE_CHANNELS:
             self.stamps[role].append(self.stamp(message, log_ns))
-            if role == 'imu':
-                a, w = message.linear_acceleration, message.angular_velocity
-                self.values[role].extend((a.x, a.y, a.z, w.x, w.y, w.z))
-            elif role == 'mag':
-                m = message.magnetic_field
-                self.values[role].extend((m.x, m.y, m.z))
-            else:
-                self.values[role].append(message.fluid_pressure)
+            self.values[role].extend(sample_values(role, message))
         elif role == 'active':
             self.active.append((log_ns, bool(message.data)))
         elif role == 'joints':
@@ -271,6 +275,27 @@ def recording_topics(path: Path, remaps: Mapping[str, str] | None = None) -> dic
     return resolve_topics(inventory.types, remaps)
 
 
+def readable_parts(path: Path, notes: list[str]) -> tuple[TopicInventory, list[Path]]:
+    """The inventory of a recording's readable parts, and those parts; notes name the rest.
+
+    Raises:
+        BagError: not a recording, or no part can be read (naming why).
+    """
+    parts = bag_parts(path)
+    inventory, readable = TopicInventory(), []
+    for part in parts:
+        try:
+            inventory.merge(survey(part))
+            readable.append(part)
+        except BagError as err:
+            notes.append(f'part {part.name} skipped: {str(err).split(": cannot read: ")[-1]}')
+    if not readable:
+        raise BagError(f'{path}: cannot read: {notes[0].split(" skipped: ", 1)[1]}'
+                       if len(parts) == 1 else f'{path}: cannot read any of its '
+                       f'{len(parts)} parts ({notes[0]})')
+    return inventory, readable
+
+
 def read_recording(path: Path, *, remaps: Mapping[str, str] | None = None,
                    channels: Sequence[str] | None = None) -> Recording:
     """Read and align one recording.
@@ -288,18 +313,8 @@ def read_recording(path: Path, *, remaps: Mapping[str, str] | None = None,
     path = Path(path)
     parts = bag_parts(path)
     notes, dropped = [], {'unreadable_parts': 0}
-    inventory, readable = TopicInventory(), []
-    for part in parts:
-        try:
-            inventory.merge(survey(part))
-            readable.append(part)
-        except BagError as err:
-            dropped['unreadable_parts'] += 1
-            notes.append(f'part {part.name} skipped: {str(err).split(": cannot read: ")[-1]}')
-    if not readable:
-        raise BagError(f'{path}: cannot read: {notes[0].split(" skipped: ", 1)[1]}'
-                       if len(parts) == 1 else f'{path}: cannot read any of its '
-                       f'{len(parts)} parts ({notes[0]})')
+    inventory, readable = readable_parts(path, notes)
+    dropped['unreadable_parts'] = len(parts) - len(readable)
     roles = resolve_topics(inventory.types, remaps)
     if 'imu' not in roles:
         expected = (remaps or {}).get('imu', topics.IMU_RAW)

@@ -134,20 +134,27 @@ def _plot_confusions(path: Path, classes: list[str], summary: dict) -> None:
     classes = [classes[i] for i in order]
     for axis, (scheme, values) in zip(axes[0], summary.items(), strict=True):
         matrix = np.array(values['confusion'], dtype=float)[np.ix_(order, order)]
-        rows = matrix / np.maximum(matrix.sum(axis=1, keepdims=True), 1)
-        axis.imshow(rows, cmap='Blues', vmin=0, vmax=1)
-        for (i, j), count in np.ndenumerate(matrix):
-            if count:
-                axis.text(j, i, int(count), ha='center', va='center', fontsize=7,
-                          color='white' if rows[i, j] > 0.5 else 'black')
-        axis.set_xticks(range(len(classes)), classes, rotation=60, ha='right', fontsize=7)
-        axis.set_yticks(range(len(classes)), classes, fontsize=7)
-        axis.set_xlabel('predicted')
-        axis.set_ylabel('true')
-        axis.set_title(f'{LABELS[scheme]}: {100 * values["accuracy"]:.1f} %')
+        draw_confusion(axis, matrix, classes, classes,
+                       f'{LABELS[scheme]}: {100 * values["accuracy"]:.1f} %')
     figure.tight_layout()
     figure.savefig(path, dpi=100)
     plt.close(figure)
+
+
+def draw_confusion(axis, matrix: np.ndarray, true: list[str], predicted: list[str],
+                   title: str) -> None:
+    """Counts (true rows x predicted columns), each row shaded by its share."""
+    rows = matrix / np.maximum(matrix.sum(axis=1, keepdims=True), 1)
+    axis.imshow(rows, cmap='Blues', vmin=0, vmax=1)
+    for (i, j), count in np.ndenumerate(matrix):
+        if count:
+            axis.text(j, i, int(count), ha='center', va='center', fontsize=7,
+                      color='white' if rows[i, j] > 0.5 else 'black')
+    axis.set_xticks(range(len(predicted)), predicted, rotation=60, ha='right', fontsize=7)
+    axis.set_yticks(range(len(true)), true, fontsize=7)
+    axis.set_xlabel('predicted')
+    axis.set_ylabel('true')
+    axis.set_title(title)
 
 
 def _plot_learning(path: Path, summary: dict) -> None:

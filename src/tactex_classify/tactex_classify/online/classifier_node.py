@@ -36,7 +36,7 @@ from sensor_msgs.msg import FluidPressure, Imu, MagneticField
 from std_msgs.msg import Bool, String
 from visualization_msgs.msg import Marker, MarkerArray
 
-from tactex_classify.data.bags import ROLE_CHANNELS
+from tactex_classify.data.bags import ROLE_CHANNELS, sample_values
 from tactex_classify.errors import ClassifyError
 from tactex_classify.online.evidence import EvidenceSettings
 from tactex_classify.online.live import CONTACT_SOURCES, LiveSettings, OnlineClassifier
@@ -65,16 +65,6 @@ SENSOR_QUEUE = QoSProfile(depth=256, reliability=SENSOR_DATA.reliability,
 
 class StartError(Exception):
     """The node cannot start: a refused checkpoint or a stream it does not fit."""
-
-
-def _values(role: str, message) -> tuple[float, ...]:
-    if role == 'imu':
-        a, w = message.linear_acceleration, message.angular_velocity
-        return (a.x, a.y, a.z, w.x, w.y, w.z)
-    if role == 'mag':
-        m = message.magnetic_field
-        return (m.x, m.y, m.z)
-    return (message.fluid_pressure,)
 
 
 def _time(ns: int) -> Time:
@@ -218,7 +208,7 @@ class ClassifierNode(TactexNode):
 
     def _callback(self, role: str):
         def on_sample(message) -> None:
-            self._enqueue((role, stamp_ns(message.header.stamp), _values(role, message),
+            self._enqueue((role, stamp_ns(message.header.stamp), sample_values(role, message),
                            time.monotonic_ns()))
         return on_sample
 

@@ -1,0 +1,124 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""`tactex predict`: a checkpoint applied to recordings or datasets, as classifier_node would."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+import sys
+
+from tactex.errors import CommandError
+from tactex.options import check_input_folder, check_output_folder, integer, number, staged_folder
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """Register the options of this subcommand."""
+    from tactex_classify.online.evidence import EvidenceSettings
+    from tactex_classify.online.live import CONTACT_SOURCES
+    from tactex_classify.online.runtime import RUNTIMES
+    defaults = EvidenceSettings()
+    parser.add_argument('checkpoint', type=Path, metavar='CHECKPOINT',
+                        help='checkpoint folder (RUN/model/ of `tactex train`): torch, '
+                             'MiniRocket, ExtraTrees, or ONNX with --runtime onnxruntime')
+    parser.add_argument('inputs', nargs='+', type=Path, metavar='RECORDING_OR_DATASET',
+                        help='recordings (any format `tactex bag info` reads; a folder: each '
+                             'recording in it) or datasets (.npz with its sidecar)')
+    parser.add_argument('--out', type=Path, help='folder for recordings.csv, windows.csv, '
+                        'summary.json and confusion.png (new; without it only printed)')
+    parser.add_argument('--runtime', choices=RUNTIMES, default='native',
+                        help='what runs the model (native: torch, numpy or scikit-learn)')
+    parser.add_argument('--threshold', type=number(at_least=0.0, at_most=1.0),
+                        default=defaults.threshold,
+                        help=f'decide above this posterior probability ({defaults.threshold})')
+    parser.add_argument('--min-windows', type=integer(1, 10_000), default=defaults.min_windows,
+                        help=f'windows before a decision ({defaults.min_windows})')
+    parser.add_argument('--change-nats', type=number(), default=defaults.change_nats,
+                        help=f'CUSUM threshold of a texture change ({defaults.change_nats})')
+    parser.add_argument('--contact', choices=CONTACT_SOURCES, default='auto',
+                        help='what keeps samples, as classifier_node (auto)')
+    parser.add_argument('--hop', type=integer(0, 100_000), default=0,
+                        help="samples between windows (0: the checkpoint's)")
+    parser.add_argument('--topic', action='append', default=[], metavar='ROLE=TOPIC',
+                        help='read a role from another topic, e.g. imu=/my/imu; repeatable')
+
+
+def run(args: argparse.Namespace) -> int:
+    """Replay every input; print and (with --out) write what the classifier said."""
+    from tqdm import tqdm
+
+    from tactex_classify.data.bags import parse_topic_remaps
+    from tactex_classify.data.dataset import Dataset, recording_paths
+    from tactex_classify.errors import ClassifyError
+    from tactex_classify.online.evidence import EvidenceSettings
+    from tactex_classify.online.live import LiveSettings
+    from tactex_classify.online.replay import replay_dataset, replay_recording
+    from tactex_classify.online.runtime import load_predictor
+
+    check_input_folder(args.checkpoint, 'CHECKPOINT')
+    if args.out is not None:
+        check_output_folder(args.out)
+    for path in args.inputs:
+        if not path.exists():
+            raise CommandError(f'RECORDING_OR_DATASET {path} does not exist')
+    remaps = parse_topic_remaps(args.topic)
+    predictor = load_predictor(args.checkpoint, args.runtime)
+    info = predictor.info
+    evidence = EvidenceSettings(args.threshold, args.min_windows, args.change_nats)
+    try:
+        live = LiveSettings(hop=args.hop, contact=args.contact)
+    except ValueError as err:
+        raise CommandError(str(err)) from None
+    datasets = [p for p in args.inputs if p.suffix == '.npz']
+    recordings = recording_paths([p for p in args.inputs if p.suffix != '.npz'],
+                                 progress=lambda line: print(line, file=sys.stderr))
+    if not datasets and not recordings:
+        raise CommandError('no recordings or datasets in '
+                           f'{", ".join(map(str, args.inputs))}')
+    results, failed = [], []
+    for path in datasets:
+        results += replay_dataset(predictor, Dataset.load(path), str(path), evidence)
+    for path in recordings:
+        with tqdm(desc=path.name, unit=' IMU samples', unit_scale=True, leave=False,
+                  disable=None, file=sys.stderr) as bar:
+            try:
+                results.append(replay_recording(predictor, path, live=live, evidence=evidence,
+                                                remaps=remaps, progress=bar.update))
+            except ClassifyError as err:
+                failed.append(str(err))
+    if failed and len(failed) == len(recordings) and not datasets:
+        raise CommandError(failed[0] if len(failed) == 1 else
+                           f'none of {len(failed)} recordings could be classified: {failed[0]}')
+    for message in failed:
+        print(f'warning: skipped {message}', file=sys.stderr)
+    _print(results, info)
+    if args.out is not None:
+        from tactex_classify.evaluation.prediction_report import write_report
+        settings = {'checkpoint': str(args.checkpoint), 'model_id': info.model_id,
+                    'runtime': predictor.runtime, 'threshold': args.threshold,
+                    'min_windows': args.min_windows, 'change_nats': args.change_nats,
+                    'contact': args.contact, 'hop': args.hop or info.stream.hop,
+                    'skipped': failed}
+        with staged_folder(args.out) as folder:
+            write_report(folder, results, list(info.classes), settings)
+        print(f'wrote {args.out}/ (recordings.csv, windows.csv, summary.json'
+              + (', confusion.png' if any(r.label for r in results) else '') + ')')
+    return 0
+
+
+def _print(results, info) -> None:
+    """One line per recording, then the accuracy grouped by recording when labelled."""
+    from tactex_classify.evaluation.prediction_report import scores
+    for r in results:
+        decided = (f'{r.decision} after {r.decided_s:.2f} s' if r.decision is not None else
+                   'no decision')
+        label = f' (label {r.label})' if r.label else ''
+        why = '' if r.windows else ' (' + (', '.join(
+            f'{k} {v}' for k, v in r.faults.items() if isinstance(v, int) and v) or
+            'no sample in contact') + ')'
+        print(f'{r.name}: {decided}, {len(r.windows)} windows{why}{label}')
+    summary = scores(results, list(info.classes))
+    if summary is not None:
+        print(f'accuracy by recording: {100 * summary["accuracy"]:.1f} % of '
+              f'{summary["recordings"]} ({summary["undecided"]} without a decision), '
+              f'{info.model_id}')

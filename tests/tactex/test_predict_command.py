@@ -1,0 +1,110 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""`tactex predict`: a checkpoint on recordings or datasets says what classifier_node would.
+
+It runs the live core (alignment, gaps, contact, rate check, evidence, decision) on each
+recording's messages in logged order, and writes per recording and per window CSVs, a
+summary and, with labels, a confusion with a no-decision column.
+"""
+
+import csv
+import json
+
+import numpy as np
+import pytest
+from support.bagfactory import write_bag
+from support.foreign_bags import converted
+
+from tactex.cli import main
+from tactex_classify.data.dataset import convert
+from tactex_classify.models.baselines import MiniRocketRidge
+
+RATE_HZ = 120.0
+PERIOD_NS = int(1e9 / RATE_HZ)
+
+
+def texture(kind: str, count: int, seed: int) -> np.ndarray:
+    """Ten channels of a texture: a 9 Hz ripple ('ridged') or a 31 Hz one ('fine')."""
+    rng = np.random.default_rng(seed)
+    t = np.arange(count) / RATE_HZ
+    frequency = 9.0 if kind == 'ridged' else 31.0
+    values = 0.2 * rng.normal(size=(count, 10)) + np.sin(2 * np.pi * frequency * t)[:, None]
+    values[:, 9] += 101_325.0
+    return values
+
+
+@pytest.fixture(scope='module')
+def lab(tmp_path_factory):
+    """Six labelled live-order recordings of two textures and a MiniRocket trained on them."""
+    root = tmp_path_factory.mktemp('predict')
+    for index in range(6):
+        kind = ('ridged', 'fine')[index % 2]
+        stamps = 10**12 + index * 10**11 + np.arange(600, dtype=np.int64) * PERIOD_NS
+        write_bag(root / 'recs' / f'{kind}_{index}', stamps, texture(kind, 600, index),
+                  metadata={'label': kind, 'trial': index, 'sensor_rate_hz': RATE_HZ},
+                  active=[(stamps[30], stamps[-30])], live_order=True)
+    dataset = convert([root / 'recs'], window=64, hop=32, progress=lambda line: None)
+    dataset.save(root / 'data.npz')
+    MiniRocketRidge(dilations=4).fit(dataset.X, dataset.y, dataset.classes).save(
+        root / 'model', hop=32, sampling_rate_hz=RATE_HZ)
+    return root
+
+
+def run(capsys, *argv):
+    code = main(['predict', *map(str, argv)])
+    out = capsys.readouterr()
+    return code, out.out, out.err
+
+
+def test_recordings_get_a_decision_a_time_and_the_files_beside(lab, tmp_path, capsys):
+    code, out, _ = run(capsys, lab / 'model', lab / 'recs', '--out', tmp_path / 'p')
+    assert code == 0
+    assert 'accuracy by recording: 100.0 % of 6 (0 without a decision)' in out
+    rows = list(csv.DictReader(open(tmp_path / 'p' / 'recordings.csv')))
+    assert [r['decision'] for r in rows] == [r['label'] for r in rows]
+    assert all(0 < float(r['decided_s']) < 5 for r in rows)
+    windows = list(csv.DictReader(open(tmp_path / 'p' / 'windows.csv')))
+    assert len(windows) == sum(int(r['windows']) for r in rows) > 6 * 10
+    assert {'p_fine', 'p_ridged'} <= set(windows[0])
+    summary = json.loads((tmp_path / 'p' / 'summary.json').read_text())
+    assert summary['scores']['accuracy'] == 1.0
+    assert summary['scores']['confusion']['predicted'][-1] == 'no decision'
+    assert (tmp_path / 'p' / 'confusion.png').stat().st_size > 1000
+
+
+def test_a_ros1_copy_of_a_recording_gives_the_same_windows_and_decision(lab, tmp_path, capsys):
+    old = converted(lab / 'recs' / 'ridged_0', tmp_path / 'ridged_0.bag')
+    outputs = []
+    for path, out in ((lab / 'recs' / 'ridged_0', tmp_path / 'a'), (old, tmp_path / 'b')):
+        assert run(capsys, lab / 'model', path, '--out', out)[0] == 0
+        outputs.append([row[1:] for row in csv.reader(open(out / 'windows.csv'))])
+    assert outputs[0] == outputs[1] and len(outputs[0]) > 10
+
+
+def test_a_threshold_of_one_never_decides(lab, capsys):
+    code, out, _ = run(capsys, lab / 'model', lab / 'recs' / 'fine_1', '--threshold', '1')
+    assert code == 0 and 'fine_1: no decision, 1' in out
+    assert '0.0 % of 1 (1 without a decision)' in out
+
+
+def test_a_dataset_goes_through_the_evidence_recording_by_recording(lab, capsys):
+    code, out, _ = run(capsys, lab / 'model', lab / 'data.npz')
+    assert code == 0 and out.count('data.npz#') == 6
+    assert 'accuracy by recording: 100.0 % of 6' in out
+
+
+def test_a_recording_at_another_rate_is_refused_naming_both_rates(lab, tmp_path, capsys):
+    stamps = 10**12 + np.arange(300, dtype=np.int64) * 33_333_333
+    write_bag(tmp_path / 'slow', stamps, texture('fine', 300, 9), metadata={'label': 'fine'},
+              active=[(stamps[0], stamps[-1])], live_order=True)
+    code, _, err = run(capsys, lab / 'model', tmp_path / 'slow')
+    assert code == 1
+    assert 'the model was trained at 120 Hz, the stream runs at 30 Hz' in err
+
+
+def test_a_channel_the_model_needs_and_the_recording_lacks_is_named(lab, tmp_path, capsys):
+    stamps = 10**12 + np.arange(300, dtype=np.int64) * PERIOD_NS
+    write_bag(tmp_path / 'nomag', stamps, texture('fine', 300, 9), mag_stamps_ns=[],
+              live_order=True)
+    code, _, err = run(capsys, lab / 'model', tmp_path / 'nomag')
+    assert code == 1 and 'has no tactile/imu/mag (mx, my, mz)' in err
