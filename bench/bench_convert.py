@@ -26,9 +26,9 @@ TS = get_typestore(Stores.ROS2_KILTED)
 T = TS.types
 
 
-def write_hour(path: Path) -> int:
-    """Write the recording; return its message count."""
-    count = RATE_HZ * SECONDS
+def write_hour(path: Path, rate_hz: int = RATE_HZ, seconds: int = SECONDS) -> int:
+    """Write the recording (IMU, magnetometer, pressure at `rate_hz`); return its messages."""
+    count = rate_hz * seconds
     rng = np.random.default_rng(0)
     vector = T['geometry_msgs/msg/Vector3']
     with Writer(path, version=9, storage_plugin=StoragePlugin.MCAP) as writer:
@@ -39,7 +39,7 @@ def write_hour(path: Path) -> int:
                                          typestore=TS)
         noise = rng.normal(size=(count, 10))
         for i in range(count):
-            stamp = 10**18 + i * (10**9 // RATE_HZ)
+            stamp = 10**18 + i * (10**9 // rate_hz)
             sec, nanosec = divmod(stamp, 10**9)
             header = T['std_msgs/msg/Header'](
                 stamp=T['builtin_interfaces/msg/Time'](sec=sec, nanosec=nanosec),

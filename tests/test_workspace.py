@@ -26,6 +26,7 @@ LAUNCH_FILES = sorted((ROOT / 'launch').glob('*.launch.py'))
 # Modules that may import rclpy and ROS message packages: the nodes and the ROS helpers.
 # Everything else under src/ is a pure module (no ROS install needed to import it).
 ROS_FACING = frozenset({
+    'tactex.bag_player',
     'tactex.demo.session',
     'tactex.goal_client',
     'tactex.launching.ros_description',

@@ -1,6 +1,6 @@
 # Copyright 2026 The tactex authors
 # SPDX-License-Identifier: Apache-2.0
-"""`tactex bag info`: what recordings hold, like `ros2 bag info`, for every format tactex reads."""
+"""`tactex bag info|play`: what recordings hold, and recordings played into the nodes."""
 
 from __future__ import annotations
 
@@ -10,6 +10,7 @@ from pathlib import Path
 import sys
 
 from tactex.errors import CommandError
+from tactex.options import namespace, number
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -26,23 +27,101 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     info.add_argument('--no-timing', action='store_true',
                       help='the summary from the index only (no rates, jitter or gaps; '
                            'instant on long recordings)')
+    play = sub.add_parser(
+        'play', help='publish recordings at their recorded timing (like ros2 bag play)',
+        description='Publish recordings (any format bag info reads; ROS 1 messages as their '
+        'ROS 2 types) at their recorded timing, one after another, so classifier_node, '
+        'tactex watch and the live view run on them. Ctrl-C stops it.')
+    play.add_argument('paths', nargs='+', type=Path, metavar='RECORDING')
+    play.add_argument('--rate-factor', type=number(), default=1.0, metavar='F',
+                      help="playback speed (ros2 bag play's --rate; here --rate means Hz): 2 "
+                           'plays twice as fast (1)')
+    play.add_argument('--start-offset', type=number(at_least=0.0), default=0.0, metavar='S',
+                      help='skip the first S seconds of each recording (0)')
+    play.add_argument('--duration', type=number(), metavar='S',
+                      help='play S seconds of each recording (default: all)')
+    play.add_argument('--loop', action='store_true', help='play again until Ctrl-C')
+    play.add_argument('--clock', action='store_true',
+                      help='publish /clock with the recorded time (for nodes with '
+                           'use_sim_time:=true, as classifier_node needs for sweep/active)')
+    play.add_argument('--topics', nargs='+', default=[], metavar='TOPIC',
+                      help='only these recorded topics (default: all)')
+    play.add_argument('--remap', action='append', default=[], metavar='OLD:=NEW',
+                      help='publish a recorded topic under another name; repeatable')
+    play.add_argument('--namespace', type=namespace, default='', metavar='NS',
+                      help='publish every topic under this namespace (e.g. left_arm)')
+    play.add_argument('--delay', type=number(at_least=0.0), default=1.0, metavar='S',
+                      help='wait S seconds after creating the publishers, for discovery (1)')
 
 
 def run(args: argparse.Namespace) -> int:
+    """Describe or play the recordings."""
+    for path in args.paths:
+        if not path.exists():
+            raise CommandError(f'RECORDING {path} does not exist')
+    return _play(args) if args.bag == 'play' else _info(args)
+
+
+def _recordings(paths: list[Path]) -> list[Path]:
+    from tactex_classify.data.dataset import recording_paths
+    recordings = recording_paths(paths, progress=lambda line: print(line, file=sys.stderr))
+    if not recordings:
+        raise CommandError(f'no recordings in {", ".join(map(str, paths))}; give rosbag2 '
+                           'folders, .bag, .mcap or .db3 files')
+    return recordings
+
+
+def _play(args: argparse.Namespace) -> int:
+    """Publish the recordings; report how many and how late."""
+    from tqdm import tqdm
+
+    from tactex.bag_playback import parse_remap, PlayOptions
+    from tactex_classify.data.sources import is_recording
+    from tactex_common.stopping import Stopped
+    for path in args.paths:
+        if not (path.is_dir() or is_recording(path)):
+            raise CommandError(f'RECORDING {path} is no recording; give a rosbag2 folder, a '
+                               'ROS 1 .bag, an .mcap or .db3 file')
+    try:
+        remaps = tuple(parse_remap(text) for text in args.remap)
+    except ValueError as err:
+        raise CommandError(str(err)) from None
+    options = PlayOptions(args.rate_factor, args.start_offset, args.duration,
+                          tuple(args.topics), remaps, args.namespace)
+    recordings = _recordings(args.paths)
+    from tactex.bag_player import play
+    bar = tqdm(desc='playing', unit=' s', bar_format='{desc}: {n:.1f} s of recording',
+               disable=None, file=sys.stderr)
+    summary = None
+    try:
+        summary = play(recordings, options, loop=args.loop, clock=args.clock,
+                       delay_s=args.delay, said=lambda line: print(line, file=sys.stderr),
+                       progress=lambda played: bar.update(played - bar.n))
+    except Stopped:
+        print('stopped', file=sys.stderr)
+    finally:
+        bar.close()
+    if summary is not None:
+        print(_lateness_line(summary))
+    return 0
+
+
+def _lateness_line(summary: dict) -> str:
+    if not summary.get('published'):
+        return 'published nothing (no topic of the recordings could be played)'
+    return (f'published {summary["published"]:,} messages ({summary["passes"]} recording '
+            f'pass(es)); lateness p50 {summary["p50_ms"]:.2f} ms, p99 {summary["p99_ms"]:.2f} '
+            f'ms, max {summary["max_ms"]:.1f} ms; {summary["late"]} later than 5 ms')
+
+
+def _info(args: argparse.Namespace) -> int:
     """Describe each recording."""
     from tqdm import tqdm
 
     from tactex_classify.data.bag_info import describe, format_text
-    from tactex_classify.data.dataset import recording_paths
     from tactex_classify.errors import BagError
 
-    for path in args.paths:
-        if not path.exists():
-            raise CommandError(f'RECORDING {path} does not exist')
-    recordings = recording_paths(args.paths, progress=lambda line: print(line, file=sys.stderr))
-    if not recordings:
-        raise CommandError(f'no recordings in {", ".join(map(str, args.paths))}; give rosbag2 '
-                           'folders, .bag, .mcap or .db3 files')
+    recordings = _recordings(args.paths)
     described, failed = [], []
     for path in recordings:
         with tqdm(desc=path.name, unit=' msg', unit_scale=True, leave=False, disable=None,

@@ -1,0 +1,131 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""`tactex bag play`: recordings published at their recorded timing, like `ros2 bag play`.
+
+What is published (topics chosen, renamed, namespaced; offset, duration, rate factor;
+ROS 1 messages as their ROS 2 types) is checked without ROS; the played recording into a
+launched classifier_node decides what `tactex predict` decides on it, when it does.
+"""
+
+from pathlib import Path
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+from support.bagfactory import TS, write_bag
+from support.foreign_bags import converted
+from support.livestream import PERIOD_NS, RATE_HZ, start_node, stop, write_checkpoints
+
+from tactex.bag_playback import Lateness, messages, parse_remap, PlayOptions
+from tactex_classify.online.live import LiveSettings
+from tactex_classify.online.replay import replay_recording
+from tactex_classify.online.runtime import load_predictor
+
+TACTEX = Path(sys.executable).parent / 'tactex'
+
+
+def texture_values(count: int, ridged: bool, seed: int = 0) -> np.ndarray:
+    """What livestream's checkpoints learnt: a 20 Hz vibration on ax when ridged."""
+    rng = np.random.default_rng(seed)
+    values = rng.normal(0, 0.05, (count, 10))
+    values[:, 0] += np.sin(2 * np.pi * 20 * np.arange(count) / RATE_HZ) * ridged
+    values[:, 2] += 9.8
+    values[:, 9] += 101_000
+    return values
+
+
+@pytest.fixture(scope='module')
+def recording(tmp_path_factory):
+    """Eight seconds of the ridged texture at 120 Hz, sliding from 1 s to 7 s."""
+    stamps = 10**12 + np.arange(960, dtype=np.int64) * PERIOD_NS
+    return write_bag(tmp_path_factory.mktemp('play') / 'ridged', stamps,
+                     texture_values(960, True), metadata={'label': 'ridged', 'trial': 1},
+                     active=[(stamps[120], stamps[840])], live_order=True)
+
+
+def test_messages_come_in_logged_order_with_their_instants(recording):
+    played = list(messages(recording, PlayOptions()))
+    assert len(played) == 3 * 960 + 2 + 1  # three streams, two segment messages, metadata
+    due = [m.due_s for m in played]
+    assert due == sorted(due) and due[0] == 0.0
+    assert due[-1] == pytest.approx(959 / RATE_HZ)
+
+
+def test_offset_duration_and_rate_factor_shape_the_timeline(recording):
+    played = list(messages(recording, PlayOptions(rate_factor=2.0, start_offset_s=1.0,
+                                                  duration_s=2.0)))
+    logged = [m.log_ns for m in played]
+    assert min(logged) >= 10**12 + 10**9 and max(logged) <= 10**12 + 3 * 10**9
+    assert max(m.due_s for m in played) == pytest.approx(1.0, abs=0.01)  # 2 s at twice speed
+
+
+def test_topics_are_chosen_renamed_and_namespaced(recording):
+    options = PlayOptions(topics=('tactile/imu/data_raw', '/sweep/active'),
+                          remaps=(parse_remap('/tactile/imu/data_raw:=/imu/data'),),
+                          namespace='left_arm')
+    assert {m.topic for m in messages(recording, options)} == {'/left_arm/imu/data',
+                                                                '/left_arm/sweep/active'}
+    with pytest.raises(ValueError, match='is not OLD:=NEW'):
+        parse_remap('/imu/data')
+
+
+def test_ros1_messages_play_as_their_ros2_types_header_seq_dropped(recording, tmp_path):
+    old = converted(recording, tmp_path / 'ridged.bag')
+    ros2 = sorted((m.log_ns, m.topic, m.msgtype, m.data)
+                  for m in messages(recording, PlayOptions()))
+    ros1 = sorted((m.log_ns, m.topic, m.msgtype, m.data) for m in messages(old, PlayOptions()))
+    assert [r[:3] for r in ros1] == [r[:3] for r in ros2]  # (equal log times in any order)
+    ros1, ros2 = ([r[1:] for r in rows] for rows in (ros1, ros2))
+    assert ros1 == ros2  # the same CDR bytes as the ROS 2 recording's
+    imu = next(r for r in ros1 if r[1] == 'sensor_msgs/msg/Imu')
+    assert not hasattr(TS.deserialize_cdr(imu[2], imu[1]).header, 'seq')
+
+
+def test_lateness_is_summarised_with_what_was_late():
+    lateness = Lateness()
+    for seconds in (0.0001, 0.0002, -0.001, 0.02):
+        lateness.add(seconds)
+    summary = lateness.summary()
+    assert summary['published'] == 4 and summary['late'] == 1
+    assert summary['max_ms'] == pytest.approx(20.0)
+
+
+@pytest.mark.slow
+@pytest.mark.ros
+def test_played_into_classifier_node_it_decides_what_predict_decides_when(
+        recording, tmp_path, ros_context):
+    import rclpy
+
+    from tactex_msgs.msg import TextureEstimate
+    checkpoint = write_checkpoints(tmp_path) / 'minirocket'
+    expected = replay_recording(load_predictor(checkpoint), recording,
+                                live=LiveSettings(contact='auto'))
+    assert expected.decision == 'ridged'
+    node = rclpy.create_node('play_test', context=ros_context)
+    estimates = []
+    node.create_subscription(TextureEstimate, 'texture/estimate', estimates.append, 100)
+    executor = rclpy.executors.SingleThreadedExecutor(context=ros_context)
+    executor.add_node(node)
+    classifier = start_node(checkpoint, 'contact:=auto', 'use_sim_time:=true')
+    try:
+        deadline = time.monotonic() + 60
+        while node.count_publishers('texture/estimate') == 0 and time.monotonic() < deadline:
+            executor.spin_once(timeout_sec=0.1)
+        player = subprocess.run([str(TACTEX), 'bag', 'play', str(recording), '--clock',
+                                 '--delay', '2'], capture_output=True, text=True, timeout=60)
+        assert player.returncode == 0, player.stderr
+        assert 'published 2,883 messages' in player.stdout
+        end = time.monotonic() + 5
+        while time.monotonic() < end:
+            executor.spin_once(timeout_sec=0.1)
+    finally:
+        output = stop(classifier)
+    decided = [e for e in estimates if e.decided]
+    assert decided, output
+    first = decided[0]
+    stamp_ns = first.header.stamp.sec * 10**9 + first.header.stamp.nanosec
+    hop_ns = 16 * PERIOD_NS  # the checkpoint's hop
+    assert first.label == expected.decision
+    assert abs(stamp_ns - expected.decisions[0][0]) <= hop_ns
