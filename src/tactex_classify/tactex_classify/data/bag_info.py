@@ -4,8 +4,9 @@
 
 The summary (storage, span, topics, types, counts) comes from the parts' indexes. The
 timing (each topic's median rate, the jitter of its periods, and the gaps longer than
-`GAP_PERIODS` median periods) needs every message's log time: the messages are read but
-not decoded. The label and metadata come from the recording/metadata topic.
+`GAP_PERIODS` median periods) needs every message's log time: a ROS 1 bag's index holds
+them; of rosbag2 and MCAP files the messages are read but not decoded. The label and
+metadata come from the recording/metadata topic.
 """
 
 from __future__ import annotations
@@ -121,6 +122,11 @@ def _read_messages(reader, unit: Path, times: dict | None, metadata: dict, notes
     metadata_topics = {c.topic for c in reader.connections
                        if c.topic.strip('/').endswith(TOPIC_ROLES['metadata'][0])
                        and c.msgtype == TOPIC_ROLES['metadata'][1]}
+    if times is not None and not reader.is2:  # a ROS 1 bag's index holds every log time
+        for connection in reader.connections:
+            times.setdefault(connection.topic, array('q')).extend(
+                entry.time for entry in connection.owner.indexes[connection.id])
+        times = None
     wanted = reader.connections if times is not None else [
         c for c in reader.connections if c.topic in metadata_topics]
     if not wanted:

@@ -38,7 +38,7 @@ from tactex_classify.online.live import LiveSettings, OnlineClassifier
 from tactex_classify.online.runtime import Predictor
 from tactex_common.stamps import stamp_ns
 
-STEP_EVERY = 8  # IMU samples between passes of the core
+STEP_HOPS = 4  # hops of IMU samples between passes of the core
 
 
 @dataclass
@@ -106,7 +106,7 @@ def replay_recording(predictor: Predictor, path: Path, *, live: LiveSettings | N
     by_topic = {roles[role]: role for role in (*needed, 'active', 'metadata') if role in roles}
     result = Replayed(str(path), None, 0)
     metadata: dict = {}
-    imu_samples = 0
+    imu_samples, step_every = 0, STEP_HOPS * classifier.windows.hop
     for part in parts:
         with open_part(part) as reader:
             connections = [c for c in reader.connections if c.topic in by_topic]
@@ -126,10 +126,10 @@ def replay_recording(predictor: Predictor, path: Path, *, live: LiveSettings | N
                                                log_ns)
                         if role == 'imu':
                             imu_samples += 1
-                            if imu_samples % STEP_EVERY == 0:
+                            if imu_samples % step_every == 0:
                                 _take(classifier, result, info.classes)
                                 if progress is not None:
-                                    progress(STEP_EVERY)
+                                    progress(step_every)
             except BagError:
                 raise
             except Exception as err:  # noqa: BLE001 - rosbags raises many unrelated types
