@@ -101,6 +101,10 @@ def make_workspace(w: Path) -> Path:
     stamps, values = ramp(64)
     write_bag(w / 'bags' / 'wood_0000', stamps, values, metadata={'label': 'wood', 'trial': 0})
     write_bag(w / 'bags' / 'wood_0001', stamps, values, metadata={'label': 'wood', 'trial': 1})
+    write_bag(w / 'mixed_rates' / 'wood_0000', stamps, values,
+              metadata={'label': 'wood', 'trial': 0})
+    write_bag(w / 'mixed_rates' / 'slow_0000', *ramp(64, period_ns=33_333_333),
+              metadata={'label': 'wood', 'trial': 1})
     write_bag(w / 'unlabelled' / 'rec', stamps, values)
     write_bag(w / 'odd_meta' / 'rec', stamps, values, metadata={'label': 7})
     for name, content in (('good', 'pdc,pac\n' + '1,2\n' * 40), ('ragged', 'pdc,pac\n1,2\n3\n'),
@@ -223,6 +227,19 @@ BAD_INPUTS = {
              'not a regular file', OUT_NPZ),
         *[Case(f'convert {{w}}/foreign/{name} --out {{w}}/o.npz', f'no windows: .*{name}.*{why}',
                OUT_NPZ) for name, why in FOREIGN.items()],
+        *[Case(f'convert {{w}}/bags --out {{w}}/o.npz --resample {value}', 'argument --resample: '
+               'must be a finite number > 0 and <= 100000', OUT_NPZ)
+          for value in ('0', 'nan', 'fast', '1e6')],
+        Case('convert {w}/bags --out {w}/o.npz --resample', 'argument --resample: expected one '
+             'argument', OUT_NPZ),
+        Case('convert {w}/bags --out {w}/o.npz --window 16', 'no windows: .*no sweep/active '
+             'topic, joint states or ground truth .*give --all-samples', OUT_NPZ),
+        Case('convert {w}/bags --out {w}/o.npz --window 16 --all-samples --resample 0.01',
+             'no windows: .*cannot resample 120 Hz to 0.01 Hz: .*at most 1000 times apart',
+             OUT_NPZ),
+        Case('convert {w}/mixed_rates --out {w}/o.npz --window 16 --all-samples',
+             r'recordings at different rates: 120 Hz \(wood_0000\), 30 Hz \(slow_0000\); '
+             'convert them separately or give --resample HZ', OUT_NPZ),
     ],
     'predict': [
         Case('predict', 'the following arguments are required: CHECKPOINT, '
@@ -316,7 +333,9 @@ BAD_INPUTS = {
         Case('compare {w}/garbage.npz --out {w}/g', 'garbage.npz is not a tactex dataset',
              '{w}/g'),
         Case('compare {w}/data.npz {w}/bags --out {w}/g', 'DATA mixes dataset files with '
-             'recording folders', '{w}/g'),
+             'recordings', '{w}/g'),
+        Case('compare {w}/data.npz {w}/ros1/wood.bag --out {w}/g', 'DATA mixes dataset files '
+             'with recordings', '{w}/g'),
         Case('compare {w}/data.npz {w}/data.npz --out {w}/g', 'two datasets of window 32',
              '{w}/g'),
         Case('compare {w}/folder --out {w}/g --windows 16', 'no recordings found', '{w}/g'),

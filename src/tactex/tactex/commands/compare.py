@@ -48,8 +48,9 @@ def windows(value: str) -> list[int]:
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Register the options of this subcommand."""
     parser.add_argument('data', nargs='+', type=Path, metavar='DATA',
-                        help='recordings (bag folders, or folders of them: converted per '
-                             'window, 50 %% overlap) or datasets (.npz, one per window)')
+                        help='recordings (rosbag2 folders, .bag, .mcap or .db3 files, or '
+                             'folders of them: converted per window, 50 %% overlap) or '
+                             'datasets (.npz, one per window)')
     parser.add_argument('--models', type=names, default=list(ALL_MODELS), metavar='NAME,...',
                         help='models to compare (default: the eight and both baselines)')
     parser.add_argument('--windows', type=windows, metavar='N,...',
@@ -176,16 +177,18 @@ def load_data(args: argparse.Namespace, store, log) -> tuple[dict, dict, list[in
     for path in args.data:
         if not path.exists():
             raise CommandError(f'DATA {path} does not exist')
-    npz = [path for path in args.data if path.is_file()]
+    from tactex_classify.data.sources import is_recording
+    for path in args.data:
+        if path.is_file() and path.suffix != '.npz' and not is_recording(path):
+            raise CommandError(f'DATA {path} is neither a dataset (.npz) nor a recording (a '
+                               'rosbag2 folder, .bag, .mcap or .db3 file) nor a folder of them')
+    npz = [path for path in args.data if path.suffix == '.npz']
     if npz and len(npz) != len(args.data):
-        raise CommandError('DATA mixes dataset files with recording folders: give datasets '
-                           '(.npz, one per window) or recordings, not both')
+        raise CommandError('DATA mixes dataset files with recordings: give datasets (.npz, '
+                           'one per window) or recordings, not both')
     if npz:
         datasets = {}
         for path in npz:
-            if path.suffix != '.npz':
-                raise CommandError(f'DATA {path} is neither a dataset (.npz) nor a folder of '
-                                   'recordings')
             dataset = Dataset.load(path)
             window = dataset.X.shape[1]
             if window in datasets:

@@ -8,7 +8,15 @@ import argparse
 from pathlib import Path
 
 from tactex.errors import CommandError
-from tactex.options import check_output_file, hop_samples, text, trial_id, window_samples
+from tactex.options import (
+    check_output_file,
+    hop_samples,
+    number,
+    text,
+    trial_id,
+    window_samples,
+)
+from tactex_classify.models.checkpoint import SAMPLING_RATE_RANGE_HZ
 from tactex_common.channels import CHANNELS
 
 
@@ -31,7 +39,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help='class of the recordings that carry no label (never replaces one)')
     parser.add_argument('--trial', type=trial_id, help='recording id of a single recording')
     parser.add_argument('--all-samples', action='store_true',
-                        help='keep every sample, not only "sliding in contact"')
+                        help='keep every sample, not only "sliding in contact" (needed for '
+                             'recordings without sweep/active, joint states or ground truth)')
+    parser.add_argument('--resample', type=number(at_most=SAMPLING_RATE_RANGE_HZ[1]),
+                        metavar='HZ',
+                        help='convert every recording onto this rate: each gap-free run '
+                             'interpolated onto a uniform grid at its measured rate, then '
+                             'resampled with an anti-aliasing polyphase filter (default: keep '
+                             'the measured rate; recordings of different rates are refused)')
     parser.add_argument('--channels', metavar='NAME,...',
                         help=f'the dataset channels, of {",".join(CHANNELS)} (default: '
                              'every channel all recordings have)')
@@ -71,11 +86,13 @@ def run(args: argparse.Namespace) -> int:
                                f'bags have {",".join(CHANNELS)}')
     dataset = convert(args.paths, window=args.window, hop=hop, label=args.label,
                       trial=args.trial, all_samples=args.all_samples, channels=channels,
-                      remaps=parse_topic_remaps(args.topic), renumber=args.renumber)
+                      remaps=parse_topic_remaps(args.topic), renumber=args.renumber,
+                      resample_hz=args.resample)
     path = dataset.save(out)
     skipped = len(dataset.info['skipped'])
     print(f'wrote {path}: {len(dataset.X)} windows of {args.window} samples, '
           f'{len(dataset.classes)} classes, {len(set(dataset.trial.tolist()))} recordings, '
-          f'channels {",".join(dataset.channels)}'
+          f'channels {",".join(dataset.channels)}, '
+          f'{dataset.info["sampling_rate_hz"]:.4g} Hz'
           + (f'; {skipped} skipped (see the sidecar)' if skipped else ''))
     return 0

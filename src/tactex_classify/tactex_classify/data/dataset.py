@@ -6,8 +6,9 @@
 sidecar's `channels` names; `y` class index; `trial` the recording a window came from;
 `t0` its start (s). Windows are cut per recording, only from samples where the sensor
 slid in contact over the labelled texture (the simulator's ground truth when the
-recording has it, else the segment topic, else a motion + pressure rule), and never
-across a gap in the stream.
+recording has it, else the segment topic, else a motion + pressure rule; a recording
+with none of these converts only with all_samples), and never across a gap in the stream.
+All recordings must share one rate (`resampling.common_rate`), or are resampled onto one.
 """
 
 from __future__ import annotations
@@ -28,6 +29,7 @@ from tactex_classify.data.bags import (
     recording_topics,
     ROLE_CHANNELS,
 )
+from tactex_classify.data.resampling import carry_mask, common_rate, resample
 from tactex_classify.data.sources import is_recording
 from tactex_classify.data.stream_alignment import nearest
 from tactex_classify.errors import BagError, DatasetError
@@ -42,6 +44,8 @@ FORMAT_VERSION = 1
 MAX_DATASET_BYTES = 8 * 1024**3
 MAX_SIDECAR_BYTES = 16 * 1024**2
 MAX_SIDECAR_DEPTH = 32
+NO_CONTACT_INFORMATION = ('no sweep/active topic, joint states or ground truth tell when the '
+                          'sensor slid in contact; give --all-samples to keep every sample')
 
 
 @dataclass(frozen=True)
@@ -301,6 +305,7 @@ def convert(paths: Sequence[Path], *, window: int, hop: int, label: str | None =
             trial: int | None = None, all_samples: bool = False,
             rule: FilterRule = FilterRule(), channels: Sequence[str] | None = None,
             remaps: Mapping[str, str] | None = None, renumber: bool = False,
+            resample_hz: float | None = None,
             progress: Callable[[str], None] = lambda line: print(line, file=sys.stderr)
             ) -> Dataset:
     """Turn recordings into a dataset; unreadable, unlabelled or short ones are named, skipped.
@@ -320,11 +325,14 @@ def convert(paths: Sequence[Path], *, window: int, hop: int, label: str | None =
             id (named in the progress and kept in the sidecar as `renumbered_from`);
             without it such recordings are refused, as one id must name one recording.
             A recording with no trial id always gets the next free one.
+        resample_hz: put every recording onto this rate (`resampling.resample`); without
+            it the recordings must share one rate.
         progress: receives a line per recording.
 
     Raises:
-        DatasetError: bad window/hop or channels, no window from any recording, or (without
-            `renumber`) two recordings with one trial id.
+        DatasetError: bad window/hop or channels, no window from any recording, (without
+            `renumber`) two recordings with one trial id, or (without `resample_hz`)
+            recordings of different rates.
     """
     check_window(window, hop)
     recordings = recording_paths(paths, progress)
@@ -373,22 +381,39 @@ def convert(paths: Sequence[Path], *, window: int, hop: int, label: str | None =
                 progress(f'[{number}/{len(recordings)}] {path.name}: trial {claimed} is '
                          f"{used_trials[int(claimed)]}'s; numbered {trial_id}")
         used_trials[int(trial_id)] = path.name
-        keep = keep_mask(recording, rule, all_samples, name)
-        count = collector.add(name, trial_id, recording.stamps_ns, recording.values, keep)
+        contactless = not all_samples and recording.active_ns is None \
+            and recording.truth is None and not recording.joint_stamps_ns.size
+        keep = np.zeros(recording.stamps_ns.size, dtype=bool) if contactless else \
+            keep_mask(recording, rule, all_samples, name)
+        series = [(recording.stamps_ns, recording.values, keep)]
+        if resample_hz:
+            try:
+                series = [(stamps, values, carry_mask(keep, recording.stamps_ns, stamps))
+                          for stamps, values in resample(recording.stamps_ns, recording.values,
+                                                         recording.rate_hz, resample_hz)]
+            except ValueError as err:
+                skip(number, path, str(err))
+                continue
+        count = sum(collector.add(name, trial_id, *run) for run in series)
+        samples = sum(int(stamps.size) for stamps, _, _ in series)
+        kept = sum(int(run_keep.sum()) for _, _, run_keep in series)
         report.append({'path': str(path), 'label': name, 'trial': int(trial_id),
                        **({'renumbered_from': int(claimed)} if claimed is not None
                           and int(claimed) != int(trial_id) else {}),
-                       'samples': int(recording.stamps_ns.size), 'kept': int(keep.sum()),
-                       'windows': count, 'rate_hz': recording.rate_hz,
+                       'samples': samples, 'kept': kept, 'windows': count,
+                       'rate_hz': resample_hz or recording.rate_hz,
+                       **({'resampled_from_hz': recording.rate_hz} if resample_hz else {}),
                        'ground_truth': recording.truth is not None,
                        'dropped': recording.dropped, 'notes': recording.notes})
         if not count:
-            skip(number, path, f'{int(keep.sum())} samples slid in contact, shorter than one '
-                               f'window of {window}')
+            skip(number, path, f'{samples} samples, shorter than one window of {window}'
+                 if samples < window else NO_CONTACT_INFORMATION if contactless else
+                 f'{kept} samples slid in contact, shorter than one window of {window}')
             continue
-        rates.append(recording.rate_hz)
+        rates.append((path.name, recording.rate_hz))
         progress(f'[{number}/{len(recordings)}] {path.name}: {name}, trial {trial_id}, '
-                 f'{int(keep.sum())}/{recording.stamps_ns.size} samples kept, {count} windows')
+                 f'{kept}/{samples} samples kept, {count} windows'
+                 + (f', resampled from {recording.rate_hz:.4g} Hz' if resample_hz else ''))
     if duplicates and not renumber:
         raise DatasetError(f'{len(duplicates)} recording(s) carry a trial id another one has: '
                            f'{"; ".join(duplicates[:3])}{"; ..." if len(duplicates) > 3 else ""}'
@@ -400,7 +425,7 @@ def convert(paths: Sequence[Path], *, window: int, hop: int, label: str | None =
         raise DatasetError(f'no windows: all {len(recordings)} recording(s) skipped ({reasons}'
                            f'{"; ..." if len(skipped) > 3 else ""})')
     return collector.dataset(channels, {
-        'sampling_rate_hz': float(np.median(rates)),
+        'sampling_rate_hz': float(resample_hz) if resample_hz else common_rate(rates),
         'filter': 'all samples' if all_samples else {
             'ground truth when present, else segment topic, else': rule.__dict__},
         'recordings': report, 'skipped': skipped, 'notes': notes})
