@@ -9,11 +9,14 @@ summary and, with labels, a confusion with a no-decision column.
 
 import csv
 import json
+import subprocess
+import sys
 
 import numpy as np
 import pytest
 from support.bagfactory import write_bag
 from support.foreign_bags import converted
+from support.livestream import write_checkpoints
 
 from tactex.cli import main
 from tactex_classify.data.dataset import convert
@@ -108,3 +111,15 @@ def test_a_channel_the_model_needs_and_the_recording_lacks_is_named(lab, tmp_pat
               live_order=True)
     code, _, err = run(capsys, lab / 'model', tmp_path / 'nomag')
     assert code == 1 and 'has no tactile/imu/mag (mx, my, mz)' in err
+
+
+@pytest.mark.slow
+def test_an_onnx_checkpoint_predicts_without_torch(lab, tmp_path):
+    checkpoint = write_checkpoints(tmp_path) / 'cnn'
+    code = ('import sys; from tactex.cli import main; '
+            f"code = main(['predict', '{checkpoint}', '{lab / 'recs' / 'fine_1'}', "
+            "'--runtime', 'onnxruntime']); print('torch' in sys.modules); sys.exit(code)")
+    done = subprocess.run([sys.executable, '-c', code], capture_output=True, text=True,
+                          timeout=300)
+    assert done.returncode == 0, done.stderr
+    assert 'fine_1: ' in done.stdout and done.stdout.strip().endswith('False')
