@@ -11,7 +11,8 @@ HEAVY = ('torch', 'rclpy', 'mujoco', 'sklearn', 'matplotlib')
 
 
 @pytest.mark.parametrize('argv', [['--help'], ['train', '--help'], ['convert', '--help'],
-                                  ['sim', '--help'], ['import', '--help']])
+                                  ['sim', '--help'], ['import', '--help'],
+                                  ['predict', '--help'], ['bag', 'play', '--help']])
 def test_help_imports_no_heavy_library(argv):
     code = ('import sys\n'
             'from tactex.cli import main\n'
