@@ -4,6 +4,7 @@
 
 import json
 from pathlib import Path
+import sys
 
 import pytest
 from support.scripts import load_script
@@ -48,15 +49,16 @@ def test_a_changed_figure_a_missing_or_a_repeated_marker_is_caught():
 
 def test_a_comparison_missing_cells_is_rendered_as_incomplete(tmp_path, monkeypatch):
     renderer = _renderer()
+    kept = sys.modules['results_common']  # where every section reads the kept outputs
     (tmp_path / 'compare').mkdir()
-    summary = json.loads((renderer.RESULTS / 'compare' / 'summary.json').read_text())
+    summary = json.loads((kept.RESULTS / 'compare' / 'summary.json').read_text())
     (tmp_path / 'compare' / 'run.json').write_bytes(
-        (renderer.RESULTS / 'compare' / 'run.json').read_bytes())
+        (kept.RESULTS / 'compare' / 'run.json').read_bytes())
     dropped = summary['rows'].pop()
     halved = summary['rows'][0]
     del halved['schemes']['stratified']
     (tmp_path / 'compare' / 'summary.json').write_text(json.dumps(summary))
-    monkeypatch.setattr(renderer, 'RESULTS', tmp_path)
+    monkeypatch.setattr(kept, 'RESULTS', tmp_path)
     text = renderer.compare()
     assert '**Incomplete**' in text and 'Complete:' not in text
     assert f'window {dropped["window"]} lacks {dropped["model"]}' in text

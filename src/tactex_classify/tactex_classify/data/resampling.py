@@ -22,7 +22,6 @@ from collections.abc import Sequence
 from fractions import Fraction
 
 import numpy as np
-from scipy.signal import firwin, resample_poly
 
 from tactex_classify.errors import DatasetError
 from tactex_common.stamps import gaps
@@ -93,6 +92,7 @@ def resample(stamps_ns: np.ndarray, values: np.ndarray, measured_hz: float, targ
     stamps_ns = np.asarray(stamps_ns, dtype=np.int64)
     if stamps_ns.size < 2:
         return []
+    from scipy.signal import firwin  # scipy.signal takes seconds to import: only when used
     ratio = resampling_ratio(measured_hz, target_hz)
     longest = max(ratio.numerator, ratio.denominator)
     taps = firwin(20 * longest + 1, 1 / longest, window=('kaiser', 5.0))  # resample_poly's
@@ -121,6 +121,7 @@ def _resample_run(stamps_ns: np.ndarray, values: np.ndarray, period_ns: float,
     grid_ns = np.arange(grid_size) * period_ns
     uniform = np.stack([np.interp(grid_ns, offsets_ns, channel)
                         for channel in ((values - centre) / scale).T], axis=1)
+    from scipy.signal import resample_poly
     up, down = ratio.numerator, ratio.denominator
     with np.errstate(over='ignore'):  # ringing past the largest float is held at it
         filtered = np.clip(centre + scale * resample_poly(

@@ -1,0 +1,393 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""Result sections of learning: the synthetic set, training, model grids, transfer."""
+
+import numpy as np
+from results_common import FIGURES, kept_json, TEXTURE_MODELS
+
+
+def _texture_run() -> dict:
+    return kept_json('textures/run.json')
+
+
+def synthetic_set() -> str:
+    run = _texture_run()
+    dataset = run['dataset']
+    collect = next(step for step in run['steps'] if ' sim collect ' in step['command'])
+    return (f'- On the synthetic set (`tactex sim collect`, 12 textures x '
+            f'{dataset["sweeps_per_texture"]} sweeps, {collect["seconds"] / 60:.1f} min in '
+            f'the last benchmark run), 128-sample windows with 50 % overlap give '
+            f'{dataset["windows"]} windows from {dataset["recordings"]} recordings (the '
+            f'original: 3962).\n')
+
+
+def textures() -> str:
+    run = _texture_run()
+    dataset = run['dataset']
+    lines = []
+    for model in run['models']:
+        metrics = kept_json(f'textures/{model}/metrics.json')
+        grouped, stratified = (metrics['schemes'][s] for s in ('grouped', 'stratified'))
+        eight = next(row for row in grouped['sequence'] if row['windows'] == 8)
+        label = TEXTURE_MODELS[model] if model in TEXTURE_MODELS else (
+            f'{model}, {metrics["settings"]["epochs"]} epochs, {metrics["settings"]["init"]} '
+            f'initialisation')
+        lines.append(f'| {label} | {100 * grouped["accuracy"]:.1f} % | '
+                     f'{100 * stratified["accuracy"]:.1f} % | {100 * eight["accuracy"]:.1f} % '
+                     f'({eight["touch_s"]:.1f} s of touch) |')
+    leak = [100 * (kept_json(f'textures/{m}/metrics.json')['schemes']['stratified']['accuracy']
+                   - kept_json(f'textures/{m}/metrics.json')['schemes']['grouped']['accuracy'])
+            for m in run['models']]
+    confused = []
+    for model in run['models']:
+        grouped = kept_json(f'textures/{model}/metrics.json')['schemes']['grouped']
+        matrix, names = np.array(grouped['confusion']), list(grouped['per_class'])
+        np.fill_diagonal(matrix, 0)
+        pairs = np.dstack(np.unravel_index(np.argsort(-matrix, axis=None)[:2], matrix.shape))[0]
+        confused.append(f'{TEXTURE_MODELS.get(model, model)}: ' + ', '.join(
+            f'{names[i]} as {names[j]} ({matrix[i, j]})' for i, j in pairs))
+    minutes = sum(step['seconds'] for step in run['steps']) / 60
+    return (f'Results on one build of the synthetic set (12 textures x '
+            f'{dataset["sweeps_per_texture"]} sweeps of the uneven-texture scene, '
+            f'{dataset["windows"]} windows of 128 samples, SHA-256 '
+            f'{dataset["sha256"][:12]}...; one `python bench/bench_textures.py` run, '
+            f'{minutes:.0f} min, reports in `bench/results/textures/`):\n\n'
+            '| classifier | grouped by recording (honest) | stratified windows (leaky) | '
+            'honest, 8 windows |\n|---|---|---|---|\n' + '\n'.join(lines) + '\n\n'
+            f'The leak of window-level cross-validation is {min(leak):.1f}-{max(leak):.1f} '
+            f'points here. The windows most often confused (grouped, true as predicted): '
+            + '; '.join(confused) + '.\n')
+
+
+def init() -> str:
+    data = kept_json('init.json')
+    cap = data['cap']
+    lines = ['| model | PyTorch init | Keras init |', '|---|---|---|']
+    for model in dict.fromkeys(row['model'] for row in data['results']):
+        cells = [', '.join(str(row['epochs']) if row['epochs'] else
+                           f'>{cap} ({100 * row["final_train_accuracy"]:.0f} %)'
+                           for row in data['results']
+                           if row['model'] == model and row['init'] == init_name)
+                 for init_name in ('pytorch', 'keras')]
+        lines.append(f'| {model} | {cells[0]} | {cells[1]} |')
+    return (f'Epochs to {100 * data["target"]:.0f} % training accuracy from each '
+            f'initialisation (`python bench/bench_init.py`: {data["windows"]} windows of '
+            f'{data["recordings_per_class"]} recordings per class of the synthetic set, seeds '
+            f'{", ".join(map(str, data["seeds"]))}, at most {cap} epochs):\n\n'
+            + '\n'.join(lines) + '\n')
+
+
+def sensor_stats() -> str:
+    run, table = kept_json('sensor_stats/run.json'), kept_json('sensor_stats/stats.json')
+    rows = [row for entry in table.values() for row in entry['channels'].values()]
+    rails = max(row['at_rails'] for row in rows)
+    beyond = sum(row['beyond_full_scale'] for row in rows)
+    rocking = [entry['channels']['gy'] for entry in table.values()]
+    accel = max(entry['channels'][axis]['max'] for entry in table.values()
+                for axis in ('ax', 'ay', 'az'))
+    tilts = [entry['madgwick_tilt_deg_median'] for entry in table.values()]
+    strongest = max(table, key=lambda texture: table[texture]['channels']['gy']['rms'])
+    return (f'- Measured by `python bench/bench_sensor_stats.py` ({run["started"]}: '
+            f'`{run["steps"][0]["command"]}` of the shipped `{run["scene"]}` scene, '
+            f'{len(table)} textures, then `tactex sim stats`; `bench/results/sensor_stats/`: '
+            f'the table and the four spectra): {beyond or "no"} samples beyond the full '
+            f'scale, {f"at most {100 * rails:.2f} %" if rails else "none"} of a channel\'s '
+            f'samples at a rail; the rocking axis (gy) at '
+            f'{min(r["rms"] for r in rocking):.2f}-{max(r["rms"] for r in rocking):.2f} rad/s '
+            f'RMS and at most {max(r["max"] for r in rocking):.2f} rad/s (the old model: 456 '
+            f'to 877 of about 900 sliding samples beyond 4.3 rad/s), the most on '
+            f'{strongest}; |accel| at most {accel:.1f} m/s^2 of the +-39 m/s^2 range; Madgwick '
+            f'tilt {min(tilts):.2f}-{max(tilts):.2f} deg median while sliding.\n')
+
+
+def channels() -> str:
+    data = kept_json('channels/ablation.json')
+    models = sorted({row['model'] for row in data['rows']})
+    groups = list(dict.fromkeys(row['group'] for row in data['rows']))
+    accuracy = {(row['group'], row['model']): row['grouped_accuracy'] for row in data['rows']}
+    table = ['| channels | ' + ' | '.join(TEXTURE_MODELS.get(m, m) for m in models) + ' |',
+             '|---|' + '---|' * len(models)]
+    table += [f'| {group} | ' + ' | '.join(f'{100 * accuracy[group, m]:.1f} %' for m in models)
+              + ' |' for group in groups]
+    return (f'Channel ablation (`{data["command"].strip()}`, {data["seconds"] / 60:.0f} min: 12 '
+            f'textures x {data["sweeps_per_texture"]} simulated sweeps, each channel group '
+            f'alone and all together, grouped {data["folds"]}-fold accuracy by recording, '
+            f'chance {100 * data["chance"]:.1f} %; `bench/results/channels/`, with '
+            f'`ablation.png`):\n\n' + '\n'.join(table) + '\n')
+
+
+def profiles() -> str:
+    data = kept_json('profiles/profiles.json')
+    rows = data['rows']
+    best = max((row for row in rows if row['kind'] == 'baseline'), key=lambda r: r['accuracy'])
+    table = ['| training | grouped accuracy | epochs trained | s per fold |', '|---|---|---|---|']
+    for row in rows:
+        epochs = [fold['epochs'] for fold in row['folds'] if 'epochs' in fold]
+        trained = f'{sum(epochs) / len(epochs):.0f}' if epochs else '-'
+        seconds = sum(fold['seconds'] for fold in row['folds']) / len(row['folds'])
+        name = TEXTURE_MODELS.get(row['name'], row['name'])
+        mark = ' (not converged)' if row['not_converged'] else ''
+        table.append(f'| {name}{mark} | {100 * row["accuracy"]:.1f} ± {100 * row["sd"]:.1f} % '
+                     f'| {trained} | {seconds:.0f} |')
+    return (f'Training profiles of {data["model"]}, each element of `modern` taken out once '
+            f'(`{data["command"].strip()}`, {data["seconds"] / 60:.0f} min: '
+            f'{data["windows"]} windows of {data["recordings"]} simulated recordings, grouped '
+            f'{data["folds"]}-fold by recording, the same folds for every row, at most '
+            f'{data["epochs"]} epochs; chance {100 * data["chance"]:.1f} %, best baseline '
+            f'{100 * best["accuracy"]:.1f} %; `bench/results/profiles/`, with '
+            f'`profiles.png`):\n\n' + '\n'.join(table) + '\n')
+
+
+def _percent(values) -> str:
+    """Mean ± sd of shares, in percent."""
+    return f'{100 * np.mean(values):.1f} ± {100 * np.std(values):.1f} %'
+
+
+def architectures() -> str:
+    data = kept_json('architectures/architectures.json')
+    table = ['| model | grouped accuracy | epochs trained | training s per fold | inference ms '
+             'per window |', '|---|---|---|---|---|']
+    for row in data['rows']:
+        epochs = [fold['epochs'] for fold in row['folds'] if 'epochs' in fold]
+        mark = ' (not converged)' if row['not_converged'] else ''
+        table.append(f'| {TEXTURE_MODELS.get(row["name"], row["name"])}{mark} | '
+                     f'{100 * row["accuracy"]:.1f} ± {100 * row["sd"]:.1f} % | '
+                     f'{f"{np.mean(epochs):.0f}" if epochs else "-"} | '
+                     f'{np.mean([fold["seconds"] for fold in row["folds"]]):.0f} | '
+                     f'{row["inference_ms"]:.2f} |')
+    missing = f' Not run yet on this set: {", ".join(data["not_run"])}.' \
+        if data.get('not_run') else ''
+    return (f'Architectures on the set of the profile ablation (`{data["command"].strip()}`: '
+            f'{data["windows"]} windows of {data["recordings"]} simulated recordings, grouped '
+            f'{data["folds"]}-fold by recording, the same folds for every row; deep models '
+            f'with the `modern` profile and per-window scaling, at most {data["epochs"]} '
+            f'epochs, on {data["device"]}; chance {100 * data["chance"]:.1f} %; '
+            '`bench/results/architectures/`, with `architectures.png`, accuracy against '
+            f'training cost).{missing}\n\n' + '\n'.join(table) + '\n')
+
+
+def window_voting() -> str:
+    data = kept_json('window_voting/window_voting.json')
+    table = ['| model | 128 alone | 256 alone | 512 alone | soft vote of the three | '
+             'training s per fold (vote: the sum) |', '|---|---|---|---|---|---|']
+    for row in data['rows']:
+        cells = [_percent(row['accuracy'][key]) for key in ('128', '256', '512', 'vote')]
+        table.append(f'| {row["name"]} | ' + ' | '.join(cells) +
+                     f' | {sum(row["seconds"].values()):.0f} |')
+    windows = ', '.join(f'{count} of {size}' for size, count in data['windows'].items())
+    return (f'Soft voting across window sizes (`{data["command"].strip()}`: {windows} '
+            f'samples from the same {data["recordings"]} recordings, grouped '
+            f'{data["folds"]}-fold with the folds drawn once on the recordings; each length '
+            'scored on its own test windows, the vote on the 512-sample ones; chance '
+            f'{100 * data["chance"]:.1f} %; `bench/results/window_voting/`):\n\n'
+            + '\n'.join(table) + '\n')
+
+
+def sim_to_real() -> str:
+    data = kept_json('sim_to_real/sim_to_real.json')
+    ks = data['ks']
+    table = ['| setting | ' + ' | '.join(f'k = {k}' for k in ks) + ' |',
+             '|---|' + '---|' * len(ks)]
+    for setting, by_k in data['accuracy'].items():
+        table.append(f'| {setting} | ' + ' | '.join(_percent(by_k[str(k)]) for k in ks) + ' |')
+    return (f'Sim-to-real fine-tuning (`{data["command"].strip()}`, {data["seconds"] / 60:.0f} '
+            f'min): accuracy on {data["test_windows"]} windows of {data["test"]} held-out '
+            'recordings per texture of the shifted scene, trained on k recordings per texture '
+            f'of it (mean ± sd over {data["draws"]} draws); {data["model"]} with the `modern` '
+            f'profile and per-window scaling, {data["epochs"]} epochs, pretrained on '
+            f'{data["source_recordings"]} simulated recordings of the uneven-texture scene; '
+            f'chance {100 * data["chance"]:.1f} %; `bench/results/sim_to_real/`, with '
+            '`sim_to_real.png`:\n\n' + '\n'.join(table) + '\n')
+
+
+def learning_curves() -> str:
+    data = kept_json('learning_curves/learning_curves.json')
+    sizes = data['sizes']
+    table = ['| model | ' + ' | '.join(f'n = {n}' for n in sizes) + ' |',
+             '|---|' + '---|' * len(sizes)]
+    for model in data['models']:
+        cells = []
+        for n in sizes:
+            point = data['points'].get(f'{model}@{n}')
+            cells.append('-' if point is None else f'{100 * np.mean(point["accuracy"]):.1f} % '
+                         f'({np.mean(point["seconds"]):.0f} s)')
+        table.append(f'| {TEXTURE_MODELS.get(model, model)} | ' + ' | '.join(cells) + ' |')
+    return (f'Learning curves (`{data["command"].strip()}`): accuracy on '
+            f'{data["test_windows"]} windows of {data["test"]} held-out recordings per texture '
+            'against the recordings per texture the model trained on, with the training '
+            f'seconds of each point; {data["draws"]} draw(s); deep models with the `modern` '
+            f'profile and per-window scaling, at most {data["epochs"]} epochs; chance '
+            f'{100 * data["chance"]:.1f} %; `bench/results/learning_curves/`, with '
+            '`learning_curves.png`:\n\n' + '\n'.join(table) + '\n')
+
+
+def training() -> str:
+    data = kept_json('training.json')
+    rows = ['| model | epochs/s before | epochs/s after | after / before | same weights |',
+            '|---|---|---|---|---|']
+    rows += [f'| {r["model"]} | {r["before_epochs_per_s"]:.3f} | {r["after_epochs_per_s"]:.3f} '
+             f'| {r["speedup"]:.2f}x | {"yes" if r["same_weights"] else "no"} |'
+             for r in data['loop']]
+    labels = ('1 cell x 1 thread', '1 cell x 2 threads', '2 cells x 1 thread')
+    cells = ['| model | ' + ' | '.join(labels) + ' |', '|---|---|---|---|']
+    cells += [f'| {r["model"]} | ' + ' | '.join(f'{r[label]:.3f}' for label in labels) + ' |'
+              for r in data['parallel']]
+    overhead = data['evaluation']
+    return (f'Training cost on this CPU (`python bench/bench_training.py`: one epoch of each '
+            f'model on {data["data"]}, one thread, the loop before this work (commit '
+            f'{data["before_commit"]}) and after it in the same run; load average '
+            f'{data["load_before"][0]:.1f} to {data["load_after"][0]:.1f}):\n\n'
+            + '\n'.join(rows) + '\n\n'
+            "The loop now gathers each epoch's shuffled windows once and slices batches from "
+            'them, adds loss and hits up where the model runs (no host round trip per batch, '
+            'which matters on a GPU) and predicts under `inference_mode`; it trains the same '
+            'weights bit for bit. On the CPU the convolutions and LSTMs are nearly all of an '
+            'epoch, so the loop itself had little to remove. What pays on two cores is how '
+            'they are shared, in epochs/s summed over the cells running:\n\n'
+            + '\n'.join(cells) + '\n\n'
+            f'Evaluation is cheap: the test fold of {overhead["test_windows"]} windows is '
+            f'classified in {overhead["predict_s"]:.2f} s against {overhead["epoch_s"]:.1f} s '
+            f'for an epoch of {overhead["model"]}, and early stopping\'s check of the '
+            f'held-out recordings adds about {100 * overhead["validation_share"]:.0f} % per '
+            'epoch.\n')
+
+
+def _option(command: str, name: str) -> str:
+    """The value given to option `name` in a recorded command line."""
+    words = command.split()
+    return words[words.index(name) + 1]
+
+
+def _grid_gaps(rows: list[dict], expected: int) -> list[str]:
+    """What the kept comparison lacks of every model at 128, 256 and 512 samples."""
+    from tactex_classify.models.registry import ALL_MODELS
+    done = {(row['window'], row['model']): sum(scheme['cells'] for scheme
+                                               in row['schemes'].values()) for row in rows}
+    gaps = []
+    for window in (128, 256, 512):
+        missing = [model for model in ALL_MODELS if (window, model) not in done]
+        partial = [f'{model} ({done[window, model]} of {expected} cells)' for model in ALL_MODELS
+                   if done.get((window, model), expected) < expected]
+        if len(missing) == len(ALL_MODELS):
+            gaps.append(f'window {window} did not run')
+        elif missing or partial:
+            gaps.append(f'window {window} lacks ' + ', '.join(missing + partial))
+    return gaps
+
+
+def _kept_grid(name: str) -> tuple[dict, dict, list[dict]]:
+    """A kept comparison's summary, its calls (run.json) and their `tactex compare` steps."""
+    summary, run = kept_json(f'{name}/summary.json'), kept_json(f'{name}/run.json')
+    grid = [step for call in run['calls'] for step in call['steps']
+            if step['command'].startswith('tactex compare ')]
+    return summary, run, grid
+
+
+def compare() -> str:
+    from tactex_classify.evaluation.grid_report import table
+    summary, run, grid = _kept_grid('compare')
+    settings = summary['settings']
+    seeds = {int(_option(step['command'], '--seeds')) for step in grid}
+    per_texture = {call['recordings_per_texture'] for call in run['calls']}
+    if len(seeds) != 1 or len(per_texture) != 1:
+        raise ValueError(f'the kept comparison mixes runs: seeds {seeds}, recordings per '
+                         f'texture {per_texture}')
+    seeds, per_texture = seeds.pop(), per_texture.pop()
+    expected = seeds * settings['folds'] * 2
+    cells = sum(scheme['cells'] for row in summary['rows'] for scheme in row['schemes'].values())
+    minutes = sum(step['seconds'] for step in grid) / 60
+    loads = [load for step in grid for load in step['load_average']]
+    data = sorted(summary['data'].items(), key=lambda item: int(item[0]))
+    windows = ', '.join(f'{d["windows"]} windows of {window} samples from {d["recordings"]} '
+                        'recordings' for window, d in data)
+    gaps = _grid_gaps(summary['rows'], expected)
+    best = {}
+    for row in summary['rows']:
+        accuracy = row['schemes']['grouped']['accuracy']['mean']
+        complete = sum(s['cells'] for s in row['schemes'].values()) == expected
+        if complete and accuracy > best.get(row['window'], (0, ''))[0]:
+            best[row['window']] = (accuracy, row['model'])
+    headline = '; '.join(f'at {window} samples, {model} with {100 * accuracy:.1f} %'
+                         for window, (accuracy, model) in sorted(best.items()))
+    headline = headline or 'no row is complete'
+    trained = [row['schemes']['grouped']['train_accuracy']['mean'] for row in summary['rows']
+               if row['schemes']['grouped'].get('train_accuracy')]
+    fitted = f'{100 * min(trained):.0f}-{100 * max(trained):.0f}'
+    held_out = [row['schemes']['grouped']['accuracy']['mean'] for row in summary['rows']
+                if row['schemes']['grouped'].get('train_accuracy')]
+    chance = 100 / len(data[0][1]['classes'])
+    status = ('**Incomplete**: ' + '; '.join(gaps) + '; the table holds only the cells that '
+              'finished (last column).' if gaps else
+              'Complete: every model at every window.')
+    return (f'The kept comparison (`python bench/bench_compare.py --recordings {per_texture} '
+            f'--folds {settings["folds"]} --epochs {settings["epochs"]} --seeds {seeds} '
+            f'--windows W`, W = 128, 256, 512 one after the other; outputs in '
+            f'`bench/results/compare/`): the first {per_texture} sweeps of each texture of '
+            f'the synthetic set, whole recordings ({windows}), {settings["folds"]}-fold '
+            f'cross-validation per scheme, {seeds} seed(s), every deep model trained for '
+            f'**{settings["epochs"]} epochs** where the original trained 250, one thread per '
+            "cell and two cells at a time on this machine's two shared cores: "
+            f'{cells} cells in {minutes:.0f} min of wall time (the 1-minute load average '
+            f'{min(loads):.1f}-{max(loads):.1f} as each window began and ended). {status} '
+            'With so few epochs the deep models are far from converged: they reach '
+            f'{fitted} % training accuracy (measured with '
+            'batch statistics while training) but, evaluated with the BatchNorm running '
+            "averages that Keras's momentum of 0.99 has barely moved in so few batches, they "
+            f'score {100 * min(held_out):.0f}-{100 * max(held_out):.0f} % on held-out '
+            f'recordings, where chance is {chance:.1f} %. Their rows measure what '
+            f'{settings["epochs"]} epochs buy, not what the architectures can do; the '
+            'baselines are the figures to trust here. Training time and latency were '
+            'measured with another cell and other jobs on the same cores. Best honest '
+            f'accuracy per window (complete rows): {headline}.\n\n'
+            + table(summary['rows'], expected) + '\n'
+            f'![accuracy]({FIGURES}/compare/accuracy.png)\n')
+
+
+def compare_long() -> str:
+    from tactex_classify.evaluation.grid_report import table
+    summary, run, grid = _kept_grid('compare_long')
+    settings = summary['settings']
+    command = grid[-1]['command']
+    seeds = int(_option(command, '--seeds'))
+    schemes = _option(command, '--cv')
+    expected = seeds * settings['folds'] * (2 if schemes == 'both' else 1)
+    per_texture = {call['recordings_per_texture'] for call in run['calls']}.pop()
+    minutes = sum(step['seconds'] for step in grid) / 60
+    loads = [load for step in grid for load in step['load_average']]
+    rows = summary['rows']
+    models = ','.join(sorted({row['model'] for row in rows}))
+    windows = ','.join(str(w) for w in sorted({row['window'] for row in rows}))
+    best = max(rows, key=lambda row: row['schemes']['grouped']['accuracy']['mean'])
+    kept = kept_json('compare/summary.json')  # the 5-epoch grid of the docs' table
+    short = next(r for r in kept['rows']
+                 if r['model'] == best['model'] and r['window'] == best['window'])
+    unfinished = [row['model'] for row in rows
+                  if sum(v['cells'] for v in row['schemes'].values()) < expected]
+    status = f' **Unfinished**: {", ".join(unfinished)}.' if unfinished else ''
+    baselines = [r for r in kept['rows']
+                 if r['window'] == best['window'] and r['model'] in ('minirocket', 'extratrees')]
+    baseline = max(baselines, key=lambda r: r['schemes']['grouped']['accuracy']['mean'])
+    fitted = [row['schemes']['grouped']['train_accuracy']['mean'] for row in rows]
+    stopping = (f'stopped when the loss on {100 * settings["validation_fraction"]:.0f} % of the '
+                'training recordings held out has not improved for '
+                f'{settings["early_stopping"]} epochs (the epochs column is the one kept)'
+                if settings['early_stopping'] else 'no early stopping')
+    return (f'The deep models trained longer (`python bench/bench_compare.py --grid '
+            f'compare_long --recordings {per_texture} --models {models} --windows {windows} '
+            f'--cv {schemes} --folds {settings["folds"]} --epochs {settings["epochs"]} '
+            f'--early-stopping {settings["early_stopping"]} --seeds {seeds}`, outputs in '
+            '`bench/results/compare_long/`): the same recordings, grouped by recording, '
+            f'{settings["epochs"]} epochs at most, {stopping}; '
+            f'{sum(r["schemes"]["grouped"]["cells"] for r in rows)} cells in {minutes:.0f} min '
+            f'on the two cores (load average {min(loads):.1f}-{max(loads):.1f}).{status} '
+            f'{best["model"]} reaches {100 * best["schemes"]["grouped"]["accuracy"]["mean"]:.1f} '
+            f'% on held-out recordings at {best["window"]} samples, against '
+            f'{100 * short["schemes"]["grouped"]["accuracy"]["mean"]:.1f} % after '
+            f'{kept["settings"]["epochs"]} epochs above: the deep '
+            f'models now fit their training windows ({100 * min(fitted):.0f}-'
+            f'{100 * max(fitted):.0f} %) but, with about '
+            f'{round(per_texture * (settings["folds"] - 1) / settings["folds"])} training '
+            'recordings per texture, generalise to new recordings less well than '
+            f'{baseline["model"]} ({100 * baseline["schemes"]["grouped"]["accuracy"]["mean"]:.1f}'
+            ' %) does on the same folds.\n\n'
+            + table(rows, expected) + '\n')
