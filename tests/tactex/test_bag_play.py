@@ -8,6 +8,7 @@ launched classifier_node decides what `tactex predict` decides on it, when it do
 """
 
 from pathlib import Path
+import signal
 import subprocess
 import sys
 import time
@@ -129,3 +130,17 @@ def test_played_into_classifier_node_it_decides_what_predict_decides_when(
     hop_ns = 16 * PERIOD_NS  # the checkpoint's hop
     assert first.label == expected.decision
     assert abs(stamp_ns - expected.decisions[0][0]) <= hop_ns
+
+
+@pytest.mark.slow
+@pytest.mark.ros
+def test_ctrl_c_stops_playback_cleanly_and_reports_what_was_played(recording):
+    player = subprocess.Popen([str(TACTEX), 'bag', 'play', str(recording), '--delay', '0.2'],
+                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    time.sleep(4)
+    player.send_signal(signal.SIGINT)
+    out, err = player.communicate(timeout=30)
+    assert player.returncode == 0, err
+    assert 'stopped by SIGINT' in err and 'Traceback' not in err
+    published = int(out.split('published ')[1].split(' ')[0].replace(',', ''))
+    assert 0 < published < 2883

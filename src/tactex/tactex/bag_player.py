@@ -12,11 +12,14 @@ time, as under `ros2 bag play --clock`. How late each publish was is kept.
 
 from __future__ import annotations
 
-from collections import deque
 from collections.abc import Callable, Iterator, Sequence
+import gc
 import importlib
 import itertools
 from pathlib import Path
+from queue import Queue
+import sys
+import threading
 import time
 
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
@@ -28,7 +31,7 @@ from tactex_common import topics
 
 CLOCK_HZ = 100.0
 READ_AHEAD = 4096  # messages read before they are due
-SPARE_S = 0.001  # stop reading ahead this long before the next message is due
+GIL_SWITCH_INTERVAL_S = 0.0005  # how soon the reader thread yields to a due publish
 SENSOR_TYPES = ('sensor_msgs/msg/Imu', 'sensor_msgs/msg/MagneticField',
                 'sensor_msgs/msg/FluidPressure', 'sensor_msgs/msg/Temperature',
                 'sensor_msgs/msg/JointState')
@@ -62,7 +65,8 @@ def play(paths: Sequence[Path], options: PlayOptions, *, loop: bool = False,
         progress: called with the seconds of recording played, twice a second.
 
     Returns:
-        The lateness summary, with 'passes' (recordings played through).
+        The lateness summary, with 'passes' (recordings played through) and 'stopped'
+        (the stop signal's name, '' when played to the end).
     """
     lateness, passes = Lateness(), 0
     with client_node('tactex_bag_play') as (node, _executor):
@@ -76,15 +80,23 @@ def play(paths: Sequence[Path], options: PlayOptions, *, loop: bool = False,
             publishers[topic] = node.create_publisher(kind, topic, LATCHED if latched
                                                       else PLAYED)
         clock_publisher = node.create_publisher(Clock, '/clock', PLAYED) if clock else None
+        # What the imports and rclpy built stays: the garbage collector's full passes over
+        # it paused playback for 100 ms and more.
+        gc.freeze()
+        sys.setswitchinterval(GIL_SWITCH_INTERVAL_S)
         time.sleep(delay_s)
-        while True:
-            for path in paths:
-                _play_one(path, options, publishers, clock_publisher, lateness, said,
-                          progress)
-                passes += 1
-            if not loop:
-                break
-    return {**lateness.summary(), 'passes': passes}
+        stopped = ''
+        try:
+            while True:
+                for path in paths:
+                    _play_one(path, options, publishers, clock_publisher, lateness, said,
+                              progress)
+                    passes += 1
+                if not loop:
+                    break
+        except KeyboardInterrupt as stop:  # Ctrl-C or a stop signal: report what was played
+            stopped = str(stop) or 'SIGINT'
+    return {**lateness.summary(), 'passes': passes, 'stopped': stopped}
 
 
 def _play_one(path: Path, options: PlayOptions, publishers: dict, clock_publisher,
@@ -95,7 +107,7 @@ def _play_one(path: Path, options: PlayOptions, publishers: dict, clock_publishe
         return
     started = time.monotonic()
     next_clock = next_report = 0.0
-    for outgoing in _read_ahead(itertools.chain([first], source), started):
+    for outgoing in _read_ahead(itertools.chain([first], source)):
         publisher = publishers.get(outgoing.topic)
         if publisher is None:
             continue
@@ -112,23 +124,29 @@ def _play_one(path: Path, options: PlayOptions, publishers: dict, clock_publishe
             next_report = now + 0.5
 
 
-def _read_ahead(source: Iterator[Outgoing], started: float) -> Iterator[Outgoing]:
-    """The messages of `source`, read ahead (up to READ_AHEAD) while the next is not due.
+def _read_ahead(source: Iterator[Outgoing]) -> Iterator[Outgoing]:
+    """The messages of `source`, read by a thread of their own up to READ_AHEAD ahead.
 
-    Reading and converting a message takes tens of microseconds: done in the time spent
-    waiting anyway, it is not added to the lateness of the messages due together.
+    Reading a message takes tens of microseconds and a new chunk of the bag tens of
+    milliseconds: done beside the publishing, neither delays a message that is due (the
+    reader yields the interpreter within GIL_SWITCH_INTERVAL_S when a publish is due).
     """
-    queue: deque[Outgoing] = deque()
-    for first in source:
-        queue.append(first)
-        while queue:
-            due = started + queue[0].due_s - SPARE_S
-            while len(queue) < READ_AHEAD and time.monotonic() < due:
-                following = next(source, None)
-                if following is None:
-                    break
-                queue.append(following)
-            yield queue.popleft()
+    queue: Queue = Queue(maxsize=READ_AHEAD)
+    end = object()
+
+    def read() -> None:
+        try:
+            for outgoing in source:
+                queue.put(outgoing)
+        except Exception as err:  # noqa: BLE001 - handed to the publishing thread
+            queue.put(err)
+        queue.put(end)
+
+    threading.Thread(target=read, name='bag-reader', daemon=True).start()
+    while (item := queue.get()) is not end:
+        if isinstance(item, Exception):
+            raise item
+        yield item
 
 
 def _wait_until(instant: float) -> None:

@@ -77,7 +77,6 @@ def _play(args: argparse.Namespace) -> int:
 
     from tactex.bag_playback import parse_remap, PlayOptions
     from tactex_classify.data.sources import is_recording
-    from tactex_common.stopping import Stopped
     for path in args.paths:
         if not (path.is_dir() or is_recording(path)):
             raise CommandError(f'RECORDING {path} is no recording; give a rosbag2 folder, a '
@@ -92,17 +91,15 @@ def _play(args: argparse.Namespace) -> int:
     from tactex.bag_player import play
     bar = tqdm(desc='playing', unit=' s', bar_format='{desc}: {n:.1f} s of recording',
                disable=None, file=sys.stderr)
-    summary = None
     try:
         summary = play(recordings, options, loop=args.loop, clock=args.clock,
                        delay_s=args.delay, said=lambda line: print(line, file=sys.stderr),
                        progress=lambda played: bar.update(played - bar.n))
-    except Stopped:
-        print('stopped', file=sys.stderr)
     finally:
         bar.close()
-    if summary is not None:
-        print(_lateness_line(summary))
+    if summary['stopped']:
+        print(f'stopped by {summary["stopped"]}', file=sys.stderr)
+    print(_lateness_line(summary))
     return 0
 
 
