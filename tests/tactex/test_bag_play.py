@@ -93,6 +93,17 @@ def test_lateness_is_summarised_with_what_was_late():
     assert summary['max_ms'] == pytest.approx(20.0)
 
 
+def test_lateness_percentiles_hold_to_a_hundredth_of_a_millisecond_in_bounded_memory():
+    lateness = Lateness()
+    for index in range(1, 1001):
+        lateness.add(index * 1e-5)  # 0.01 ms .. 10 ms
+    lateness.add(3600.0)  # an hour late: counted in the last bin, its size exact
+    summary = lateness.summary()
+    assert summary['p50_ms'] == pytest.approx(5.0, abs=0.025)  # bins of 0.01 ms
+    assert summary['p99_ms'] == pytest.approx(9.9, abs=0.025)
+    assert summary['max_ms'] == 3.6e6 and len(lateness.counts) == 100_001
+
+
 @pytest.mark.slow
 @pytest.mark.ros
 def test_played_into_classifier_node_it_decides_what_predict_decides_when(

@@ -13,16 +13,16 @@ Topics are chosen by name, renamed by `OLD:=NEW` remaps, and put under a namespa
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 import math
 from pathlib import Path
-
-import numpy as np
 
 from tactex_classify.data.sources import bag_parts, open_part
 from tactex_common.interfaces import typestore
 
 LATE_S = 0.005  # a publish this much after its instant is reported as late
+LATENESS_BIN_S = 1e-5  # resolution of the lateness percentiles
+LATENESS_BINS = 100_000  # up to one second; later ones share the last bin
 
 
 @dataclass(frozen=True)
@@ -136,24 +136,44 @@ def _ros1_to_cdr(reader, ros2, msgtype: str, raw: bytes, cache: dict) -> bytes:
     return bytes(ros2.serialize_cdr(migrated, msgtype))
 
 
-@dataclass
 class Lateness:
-    """How late each publish was after its instant (s), summarised."""
+    """How late each publish was after its instant, in bounded memory (a histogram).
 
-    late_s: list[float] = field(default_factory=list)
+    Lateness is counted in LATENESS_BIN_S bins up to LATENESS_BINS of them (the last
+    holds everything later), so a loop played for days keeps the same few kilobytes;
+    percentiles are the upper edges of their bins, the largest lateness is exact.
+    """
+
+    def __init__(self) -> None:
+        self.counts = [0] * (LATENESS_BINS + 1)
+        self.published = self.late = 0
+        self.max_s = 0.0
 
     def add(self, seconds: float) -> None:
-        """One publish, `seconds` after its instant (negative: early)."""
-        self.late_s.append(seconds)
+        """One publish, `seconds` after its instant (negative: early, counted as 0)."""
+        seconds = max(seconds, 0.0)
+        self.counts[min(int(seconds / LATENESS_BIN_S), LATENESS_BINS)] += 1
+        self.published += 1
+        self.late += seconds > LATE_S
+        self.max_s = max(self.max_s, seconds)
+
+    def percentile_ms(self, percent: float) -> float:
+        """The lateness (ms) that `percent` of the publishes did not exceed."""
+        needed = percent / 100 * self.published
+        seen = 0
+        for index, count in enumerate(self.counts):
+            seen += count
+            if seen >= needed:
+                return min((index + 1) * LATENESS_BIN_S, self.max_s) * 1e3
+        return self.max_s * 1e3
 
     def summary(self) -> dict:
         """Count, p50, p99 and max lateness (ms), and how many were later than LATE_S."""
-        if not self.late_s:
+        if not self.published:
             return {'published': 0}
-        late = np.maximum(np.asarray(self.late_s), 0.0) * 1e3
-        return {'published': len(late), 'p50_ms': float(np.percentile(late, 50)),
-                'p99_ms': float(np.percentile(late, 99)), 'max_ms': float(late.max()),
-                'late': int((late > LATE_S * 1e3).sum())}
+        return {'published': self.published, 'p50_ms': self.percentile_ms(50),
+                'p99_ms': self.percentile_ms(99), 'max_ms': self.max_s * 1e3,
+                'late': self.late}
 
 
 def topics_of(paths: Sequence[Path], options: PlayOptions) -> dict[str, str]:
