@@ -27,7 +27,7 @@ def recordings() -> str:
     return (f'- `python bench/bench_recordings.py` (a 1-hour 350 Hz recording, 3.78 million '
             f'messages, rewritten as a ROS 1 bag by rosbags): `read_recording` converts the '
             f"ROS 1 bag at {ratio:.2f}x the speed of rosbags' own read + deserialise "
-            f'({reference[1]:,.0f} messages/s; target 0.7x).\n'
+            f'({reference[1]:,.0f} messages/s; target 0.7x).\n\n'
             f'- `tactex bag info` on it, start-up included: the summary from the index in '
             f'{info["rosbag2 MCAP", "summary from the index"]:.1f} s for the rosbag2 MCAP '
             f'folder and {info["ROS 1 bag", "summary from the index"]:.1f} s for the ROS 1 '
@@ -50,7 +50,7 @@ def predict_play() -> str:
             f'messages): `tactex convert --all-samples` takes {convert_s:.0f} s; `tactex '
             f'predict` through the live core takes {rows["minirocket"][0]:.0f} s with '
             f'MiniRocket ({rows["minirocket"][1]:.2f}x) and {rows["cnn_3"][0]:.0f} s with '
-            f'cnn_3 ({rows["cnn_3"][1]:.2f}x); target 1.5x.\n'
+            f'cnn_3 ({rows["cnn_3"][1]:.2f}x); target 1.5x.\n\n'
             f'- `tactex bag play` of 350 Hz x 3 topics for 30 s: publish lateness p99 '
             f'{idle[-4]:.2f} ms, max {idle[-3]:.1f} ms on an idle machine (target 2 ms); '
             f'p99 {busy[-4]:.2f} ms, max {busy[-3]:.1f} ms with both cores busy.\n')
