@@ -201,7 +201,10 @@ def test_a_websocket_client_sees_every_channel_with_its_schema_and_the_messages(
     try:
         assert wait_for(lambda: f'ws://127.0.0.1:{port}' in log.read_text(), 30), \
             log.read_text()
-        time.sleep(1.0)  # discovery of the ROS side
+        # Discovery of the ROS side: the view subscribes to each topic (a fixed wait lost
+        # the samples on a loaded machine).
+        assert wait_for(lambda: all(publisher.get_subscription_count() for publisher in
+                                    (raw, pressure, joints, estimate)), 30)
         channels, received = asyncio.run(listen(port, 4.0, publish))
     finally:
         node.destroy_node()
