@@ -11,9 +11,10 @@ import re
 import numpy as np
 import pytest
 from support.bagfactory import ramp, write_bag
-from support.foreign_bags import bare, converted, imu_only
+from support.foreign_bags import bare, converted, imu_only, zeros_bag
 
 from tactex.cli import main
+from tactex_classify.data import inflation
 from tactex_classify.data.bag_info import describe
 
 PERIOD_NS = 10_000_000  # 100 Hz
@@ -96,3 +97,11 @@ def test_a_folder_of_recordings_describes_each(tmp_path, capsys):
     converted(tmp_path / 'all' / 'a', tmp_path / 'all' / 'b.bag')
     code, out, _ = run(capsys, '--no-timing', tmp_path / 'all')
     assert code == 0 and out.count('Recording:') == 2
+
+
+def test_a_block_that_inflates_without_bound_ends_in_one_error_line(tmp_path, capsys,
+                                                                     monkeypatch):
+    monkeypatch.setattr(inflation, 'MIN_LIMIT_BYTES', 1024**2)
+    code, _, err = run(capsys, zeros_bag(tmp_path / 'bomb', 16 * 1024**2, 'zstd'))
+    assert code == 1 and 'Traceback' not in err
+    assert re.search(r'^error: .*bomb: cannot read: a zstd-compressed block inflates past', err)

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import math
 from pathlib import Path
 
-from tactex_classify.data.sources import bag_parts, open_part
+from tactex_classify.data.sources import bag_parts, open_part, read_messages
 from tactex_common.interfaces import typestore
 
 LATE_S = 0.005  # a publish this much after its instant is reported as late
@@ -109,9 +109,7 @@ def messages(path: Path, options: PlayOptions,
                     refused.add(connection.topic)
                     skipped(f'{connection.topic}: {connection.msgtype} is not a ROS 2 type here')
             wanted = [c for c in wanted if c.topic not in refused]
-            if not wanted:
-                continue
-            for connection, log_ns, raw in reader.messages(connections=wanted):
+            for connection, log_ns, raw in read_messages(reader, part, wanted):
                 if first_ns is None:
                     first_ns = log_ns
                     start_ns = first_ns + int(options.start_offset_s * 1e9)

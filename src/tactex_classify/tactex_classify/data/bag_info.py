@@ -20,7 +20,15 @@ from pathlib import Path
 import numpy as np
 
 from tactex_classify.data.bags import parse_metadata, TOPIC_ROLES
-from tactex_classify.data.sources import bag_parts, kind, MAX_METADATA_BYTES, open_part
+from tactex_classify.data.sources import (
+    bag_parts,
+    explain,
+    kind,
+    MAX_METADATA_BYTES,
+    open_part,
+    read_messages,
+    reason,
+)
 from tactex_classify.errors import BagError
 from tactex_common.files import read_text
 
@@ -91,8 +99,11 @@ def describe(path: Path, *, timing: bool = True, progress=None) -> RecordingInfo
     parts, topics, times = [], {}, {}
     start, end, metadata, notes = None, None, {}, []
     for unit in bag_parts(path):
+        part_times, part_metadata = {}, {}
         try:
-            with open_part(unit) as reader:
+            with open_part(unit) as reader:  # a part counts only once all of it was read
+                _read_messages(reader, unit, part_times if timing else None, part_metadata,
+                               notes, progress)
                 parts.append(Part(str(unit), _storage(unit, reader), _size(unit)))
                 for connection in reader.connections:
                     known = topics.setdefault(connection.topic, TopicInfo(
@@ -102,11 +113,12 @@ def describe(path: Path, *, timing: bool = True, progress=None) -> RecordingInfo
                     first, last = reader.start_time, reader.end_time - 1
                     start = first if start is None else min(start, first)
                     end = last if end is None else max(end, last)
-                _read_messages(reader, unit, times if timing else None, metadata, notes,
-                               progress)
         except BagError as err:
-            parts.append(Part(str(unit), kind(unit), _size(unit),
-                              str(err).split(': cannot read: ')[-1]))
+            parts.append(Part(str(unit), kind(unit), _size(unit), reason(err)))
+            continue
+        metadata.update(part_metadata)
+        for topic, stamps in part_times.items():
+            times.setdefault(topic, array('q')).extend(stamps)
     if all(part.error for part in parts):
         raise BagError(f'{path}: cannot read: {parts[0].error}' if len(parts) == 1 else
                        f'{path}: cannot read any of its {len(parts)} parts')
@@ -129,10 +141,8 @@ def _read_messages(reader, unit: Path, times: dict | None, metadata: dict, notes
         times = None
     wanted = reader.connections if times is not None else [
         c for c in reader.connections if c.topic in metadata_topics]
-    if not wanted:
-        return  # (an empty list would read every message)
     done = 0
-    for connection, log_ns, raw in reader.messages(connections=wanted):
+    for connection, log_ns, raw in read_messages(reader, unit, wanted):
         if times is not None:
             times.setdefault(connection.topic, array('q')).append(log_ns)
         if connection.topic in metadata_topics:
@@ -141,6 +151,8 @@ def _read_messages(reader, unit: Path, times: dict | None, metadata: dict, notes
                     raw, connection.msgtype).data, unit))
             except BagError as err:
                 notes.append(str(err))
+            except Exception as err:  # noqa: BLE001 - one undecodable metadata message: a note
+                notes.append(f'{unit}: recording/metadata: {explain(err, unit)}')
         done += 1
         if progress is not None and done % 65536 == 0:
             progress(65536)

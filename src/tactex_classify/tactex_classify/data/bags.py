@@ -27,7 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
-from tactex_classify.data.sources import bag_parts, explain, open_part
+from tactex_classify.data.sources import bag_parts, decoded_messages, reason
 from tactex_classify.data.stream_alignment import align, Stream
 from tactex_classify.data.topic_inventory import survey, TopicInventory
 from tactex_classify.errors import BagError
@@ -282,17 +282,17 @@ def readable_parts(path: Path, notes: list[str]) -> tuple[TopicInventory, list[P
         BagError: not a recording, or no part can be read (naming why).
     """
     parts = bag_parts(path)
-    inventory, readable = TopicInventory(), []
+    inventory, readable, reasons = TopicInventory(), [], []
     for part in parts:
         try:
             inventory.merge(survey(part))
             readable.append(part)
         except BagError as err:
-            notes.append(f'part {part.name} skipped: {str(err).split(": cannot read: ")[-1]}')
+            reasons.append(reason(err))
+            notes.append(f'part {part.name} skipped: {reasons[-1]}')
     if not readable:
-        raise BagError(f'{path}: cannot read: {notes[0].split(" skipped: ", 1)[1]}'
-                       if len(parts) == 1 else f'{path}: cannot read any of its '
-                       f'{len(parts)} parts ({notes[0]})')
+        raise BagError(f'{path}: cannot read: {reasons[0]}' if len(parts) == 1 else
+                       f'{path}: cannot read any of its {len(parts)} parts ({notes[0]})')
     return inventory, readable
 
 
@@ -330,7 +330,7 @@ def read_recording(path: Path, *, remaps: Mapping[str, str] | None = None,
             if len(parts) == 1:
                 raise
             dropped['unreadable_parts'] += 1
-            notes.append(f'part {part.name} skipped: {str(err).split(": cannot read: ")[-1]}')
+            notes.append(f'part {part.name} skipped: {reason(err)}')
     if collected.zero_stamps:
         notes.append(f'{collected.zero_stamps} message(s) had header stamp 0 (a driver that '
                      'never sets it): their log times used instead')
@@ -361,19 +361,11 @@ def _read_part(part: Path, by_topic: Mapping[str, str], path: Path) -> _Collecte
     """The messages of one part on the topics of `by_topic` (topic -> role).
 
     Raises:
-        BagError: the part cannot be read or a message does not decode; naming the part.
+        BagError: the part cannot be read (UnreadablePart), or its metadata is refused.
     """
     data = _Collected()
-    with open_part(part) as reader:
-        connections = [c for c in reader.connections if c.topic in by_topic]
-        try:
-            for connection, log_ns, raw in reader.messages(connections=connections):
-                data.add(by_topic[connection.topic],
-                         reader.deserialize(raw, connection.msgtype), log_ns, path)
-        except BagError:
-            raise
-        except Exception as err:  # noqa: BLE001 - rosbags raises many unrelated types
-            raise BagError(f'{part}: cannot read: {explain(err, part)}') from err
+    for topic, log_ns, message in decoded_messages(part, by_topic):
+        data.add(by_topic[topic], message, log_ns, path)
     return data
 
 

@@ -16,6 +16,7 @@ the file, what is wrong with it and the fix.
 
 from __future__ import annotations
 
+from collections.abc import Collection, Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
 import re
@@ -107,9 +108,22 @@ def check_part(part: Path) -> None:
                 raise BagError(f'{item}: empty file')
 
 
+class UnreadablePart(BagError):
+    """A part of a recording no reader can read; `reason` says what is wrong and the fix."""
+
+    def __init__(self, part: Path, reason: str) -> None:
+        super().__init__(f'{part}: cannot read: {reason}')
+        self.reason = reason
+
+
+def reason(err: BagError) -> str:
+    """Why a part was refused: an UnreadablePart's reason, else the whole message."""
+    return err.reason if isinstance(err, UnreadablePart) else str(err)
+
+
 @contextmanager
 def open_part(part: Path):
-    """An open AnyReader on one part; its failures become one BagError naming the part.
+    """An open AnyReader on one part; its failures become one UnreadablePart.
 
     Bags without type definitions (ROS 2 Humble's) decode with the standard types and
     tactex_msgs, read from the package's .msg files.
@@ -122,11 +136,46 @@ def open_part(part: Path):
         reader = AnyReader([part], default_typestore=typestore())
         reader.open()
     except Exception as err:  # noqa: BLE001 - rosbags raises many unrelated types
-        raise BagError(f'{part}: cannot read: {explain(err, part)}') from err
+        raise UnreadablePart(part, explain(err, part)) from err
     try:
         yield reader
     finally:
         reader.close()
+
+
+def read_messages(reader, part: Path, connections: Sequence) -> Iterator[tuple]:
+    """`reader.messages` of `connections` in logged order, failures as one UnreadablePart.
+
+    No connection gives no message (rosbags reads every message for an empty list). What
+    the caller does with a message is outside the error mapping.
+    """
+    if not connections:
+        return
+    messages = reader.messages(connections=connections)
+    while True:
+        try:
+            item = next(messages)
+        except StopIteration:
+            return
+        except Exception as err:  # noqa: BLE001 - rosbags raises many unrelated types
+            raise UnreadablePart(part, explain(err, part)) from err
+        yield item
+
+
+def decoded_messages(part: Path, topics: Collection[str]) -> Iterator[tuple[str, int, object]]:
+    """(topic, log time, decoded message) of one part's `topics`, in logged order.
+
+    Raises:
+        UnreadablePart: the part cannot be opened, or a message cannot be read or decoded.
+    """
+    with open_part(part) as reader:
+        connections = [c for c in reader.connections if c.topic in topics]
+        for connection, log_ns, raw in read_messages(reader, part, connections):
+            try:
+                message = reader.deserialize(raw, connection.msgtype)
+            except Exception as err:  # noqa: BLE001 - rosbags raises many unrelated types
+                raise UnreadablePart(part, explain(err, part)) from err
+            yield connection.topic, log_ns, message
 
 
 def explain(err: Exception, part: Path) -> str:

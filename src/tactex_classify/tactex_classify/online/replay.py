@@ -31,7 +31,7 @@ from tactex_classify.data.bags import (
     TOPIC_ROLES,
 )
 from tactex_classify.data.dataset import Dataset
-from tactex_classify.data.sources import explain, open_part
+from tactex_classify.data.sources import decoded_messages
 from tactex_classify.errors import BagError
 from tactex_classify.online.evidence import Estimate, Evidence, EvidenceSettings
 from tactex_classify.online.live import LiveSettings, OnlineClassifier
@@ -108,32 +108,23 @@ def replay_recording(predictor: Predictor, path: Path, *, live: LiveSettings | N
     metadata: dict = {}
     imu_samples, step_every = 0, STEP_HOPS * classifier.windows.hop
     for part in parts:
-        with open_part(part) as reader:
-            connections = [c for c in reader.connections if c.topic in by_topic]
-            try:
-                for connection, log_ns, raw in reader.messages(connections=connections):
-                    role = by_topic[connection.topic]
-                    message = reader.deserialize(raw, connection.msgtype)
-                    if role == 'active':
-                        classifier.windows.set_active(bool(message.data), log_ns)
-                    elif role == 'metadata':
-                        metadata.update(_metadata(message.data, classifier))
-                    else:
-                        stamp = stamp_ns(message.header.stamp) or log_ns
-                        if not result.start_ns:
-                            result.start_ns = stamp
-                        classifier.windows.add(role, stamp, sample_values(role, message),
-                                               log_ns)
-                        if role == 'imu':
-                            imu_samples += 1
-                            if imu_samples % step_every == 0:
-                                _take(classifier, result, info.classes)
-                                if progress is not None:
-                                    progress(step_every)
-            except BagError:
-                raise
-            except Exception as err:  # noqa: BLE001 - rosbags raises many unrelated types
-                raise BagError(f'{part}: cannot read: {explain(err, part)}') from err
+        for topic, log_ns, message in decoded_messages(part, by_topic):
+            role = by_topic[topic]
+            if role == 'active':
+                classifier.windows.set_active(bool(message.data), log_ns)
+            elif role == 'metadata':
+                metadata.update(_metadata(message.data, classifier))
+            else:
+                stamp = stamp_ns(message.header.stamp) or log_ns
+                if not result.start_ns:
+                    result.start_ns = stamp
+                classifier.windows.add(role, stamp, sample_values(role, message), log_ns)
+                if role == 'imu':
+                    imu_samples += 1
+                    if imu_samples % step_every == 0:
+                        _take(classifier, result, info.classes)
+                        if progress is not None:
+                            progress(step_every)
     _take(classifier, result, info.classes)
     label = metadata.get('label')
     result.label = label if isinstance(label, str) and label.strip() else None
