@@ -59,14 +59,17 @@ def truncated(source: Path, target: Path, fraction: float = 0.5) -> Path:
 
 
 def imu_only(path: Path, header_ns, log_ns, *, topics=('/tactile/imu/data_raw',),
-             ros1: bool = False) -> Path:
+             ros1: bool = False, chunk_bytes: int | None = None) -> Path:
     """IMU messages with the given header stamps and log times on each of `topics`.
 
-    Stamps of 0 are what a driver that never sets them publishes.
+    Stamps of 0 are what a driver that never sets them publishes. A ROS 1 bag's chunks
+    close after `chunk_bytes` (rosbags' default: 1 MiB).
     """
     store = ROS1 if ros1 else TS
     writer = Ros1Writer(path) if ros1 else Writer(path, version=9,
                                                   storage_plugin=StoragePlugin.MCAP)
+    if chunk_bytes is not None:
+        writer.chunk_threshold = chunk_bytes
     with writer:
         connections = [writer.add_connection(topic, 'sensor_msgs/msg/Imu', typestore=store)
                        for topic in topics]
@@ -94,7 +97,7 @@ def _vector(types, x, y, z):
     return types['geometry_msgs/msg/Vector3'](x=float(x), y=float(y), z=float(z))
 
 
-def zeros_bag(path: Path, size: int, compression: str) -> Path:
+def zeros_bag(path: Path, size: int, compression: str, topic: str = '/bomb') -> Path:
     """One std_msgs/String of `size` zero bytes: a block that inflates far beyond its size.
 
     A ROS 1 bag with bz2 or lz4 chunks, or a rosbag2 folder of zstd messages ('zstd').
@@ -109,7 +112,7 @@ def zeros_bag(path: Path, size: int, compression: str) -> Path:
         writer.set_compression(Ros1Writer.CompressionFormat[compression.upper()])
         store, serialize = ROS1, ROS1.serialize_ros1
     with writer:
-        connection = writer.add_connection('/bomb', 'std_msgs/msg/String', typestore=store)
+        connection = writer.add_connection(topic, 'std_msgs/msg/String', typestore=store)
         writer.write(connection, 1, serialize(store.types['std_msgs/msg/String'](data=text),
                                               'std_msgs/msg/String'))
     return path

@@ -14,7 +14,7 @@ from support.bagfactory import ramp, write_bag
 from support.foreign_bags import bare, converted, imu_only, zeros_bag
 
 from tactex.cli import main
-from tactex_classify.data import inflation
+from tactex_classify.data import bag_info, inflation, mcap_index
 from tactex_classify.data.bag_info import describe
 
 PERIOD_NS = 10_000_000  # 100 Hz
@@ -61,6 +61,22 @@ def test_no_timing_reads_the_index_only(gappy, capsys):
     assert code == 0 and topic['count'] == 300 and topic['rate_hz'] is None
 
 
+def test_an_mcap_files_message_indexes_give_the_timing_reading_every_message_gives(
+        tmp_path, monkeypatch):
+    rng = np.random.default_rng(1)
+    log = 10**12 + np.arange(300) * PERIOD_NS + rng.integers(-500_000, 500_000, 300)
+    log[200:] += 300_000_000
+    path = imu_only(tmp_path / 'gappy', log, log)
+    listed = []
+    monkeypatch.setattr(bag_info, 'log_times',
+                        lambda files: listed.append(mcap_index.log_times(files)) or listed[-1])
+    from_indexes = describe(path)
+    assert listed and listed[0] is not None  # the indexes were read, and sufficed
+    monkeypatch.setattr(bag_info, 'log_times', lambda files: None)  # as if there were none
+    assert describe(path).topics == from_indexes.topics
+    assert from_indexes.topics[0].gap_count == 1
+
+
 def test_every_format_of_one_recording_gives_the_same_summary(tmp_path):
     stamps, values = ramp(120)
     folder = write_bag(tmp_path / 'rec', stamps, values, metadata={'label': 'cork', 'trial': 2})
@@ -74,6 +90,10 @@ def test_every_format_of_one_recording_gives_the_same_summary(tmp_path):
             (t.topic, t.msgtype, t.count, t.rate_hz) for t in infos[0].topics]
         assert (info.start_ns, info.end_ns) == (infos[0].start_ns, infos[0].end_ns)
     assert 'zstd compression by message' in infos[3].parts[0].storage
+    for path, info in zip(variants, infos, strict=True):  # the index's summary says the same
+        summary = describe(path, timing=False)
+        assert (summary.metadata, summary.messages, summary.start_ns, summary.end_ns) == (
+            info.metadata, info.messages, info.start_ns, info.end_ns)
 
 
 def test_the_label_is_shown_and_an_unreadable_part_is_listed_beside_the_rest(tmp_path, capsys):
@@ -101,7 +121,8 @@ def test_a_folder_of_recordings_describes_each(tmp_path, capsys):
 
 def test_a_block_that_inflates_without_bound_ends_in_one_error_line(tmp_path, capsys,
                                                                      monkeypatch):
-    monkeypatch.setattr(inflation, 'MIN_LIMIT_BYTES', 1024**2)
-    code, _, err = run(capsys, zeros_bag(tmp_path / 'bomb', 16 * 1024**2, 'zstd'))
+    monkeypatch.setattr(inflation, 'MIN_LIMIT_BYTES', 1024**2)  # (metadata is always read)
+    code, _, err = run(capsys, zeros_bag(tmp_path / 'bomb', 16 * 1024**2, 'zstd',
+                                         topic='/recording/metadata'))
     assert code == 1 and 'Traceback' not in err
     assert re.search(r'^error: .*bomb: cannot read: a zstd-compressed block inflates past', err)

@@ -18,7 +18,7 @@ from support.foreign_bags import bare, converted, custom_type_bag, imu_only, lyi
 from tactex_classify.data import inflation
 from tactex_classify.data.bags import read_recording
 from tactex_classify.data.dataset import convert
-from tactex_classify.data.sources import open_part
+from tactex_classify.data.sources import open_part, read_messages, UnreadablePart
 from tactex_classify.errors import BagError
 
 QUIET = {'progress': lambda line: None}
@@ -119,6 +119,33 @@ def test_a_custom_message_type_is_named_with_its_fields(tmp_path):
     with pytest.raises(BagError, match=r'no topic of type sensor_msgs/msg/Imu; the recording '
                        r'holds /tactile/raw \(lab_msgs/msg/Tactile; fields ax, ay, az, p\)'):
         read_recording(custom_type_bag(tmp_path / 'lab.bag'))
+
+
+def test_a_ros1_bag_opened_for_some_topics_indexes_only_their_chunks_and_counts_all(tmp_path):
+    from rosbags.rosbag1 import Writer as Ros1Writer
+    from rosbags.typesys import get_typestore, Stores
+    store = get_typestore(Stores.ROS1_NOETIC)
+    text = store.serialize_ros1(store.types['std_msgs/msg/String'](data='x' * 50),
+                                'std_msgs/msg/String')
+    path = tmp_path / 'two.bag'
+    with Ros1Writer(path) as writer:
+        writer.chunk_threshold = 2048  # many chunks; /b's messages in the first only
+        a, b = (writer.add_connection(topic, 'std_msgs/msg/String', typestore=store)
+                for topic in ('/a', '/b'))
+        for i in range(2000):
+            writer.write(a, 10**12 + i * 10**7, text)
+            if i < 10:
+                writer.write(b, 10**12 + i * 10**7, text)
+    with open_part(path) as reader:
+        span = (reader.start_time, reader.end_time)
+    with open_part(path, readable=lambda connection: connection.topic == '/b') as reader:
+        assert {c.topic: c.msgcount for c in reader.connections} == {'/a': 2000, '/b': 10}
+        assert (reader.start_time, reader.end_time) == span
+        assert sum(map(len, reader.readers[0].indexes.values())) < 100  # of 2010 entries
+        wanted = [c for c in reader.connections if c.topic == '/b']
+        assert len(list(read_messages(reader, path, wanted))) == 10
+        with pytest.raises(UnreadablePart, match='/a not opened for reading'):
+            list(read_messages(reader, path, reader.connections))
 
 
 LYING = {

@@ -4,8 +4,9 @@
 
 The summary (storage, span, topics, types, counts) comes from the parts' indexes. The
 timing (each topic's median rate, the jitter of its periods, and the gaps longer than
-`GAP_PERIODS` median periods) needs every message's log time: a ROS 1 bag's index holds
-them; of rosbag2 and MCAP files the messages are read but not decoded. The label and
+`GAP_PERIODS` median periods) needs every message's log time: a ROS 1 bag's index and an
+MCAP file's message indexes hold them; of other files (sqlite3, zstd-compressed files,
+MCAP without message indexes) the messages are read but not decoded. The label and
 metadata come from the recording/metadata topic.
 """
 
@@ -20,6 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from tactex_classify.data.bags import parse_metadata, TOPIC_ROLES
+from tactex_classify.data.mcap_index import log_times
 from tactex_classify.data.sources import (
     bag_parts,
     explain,
@@ -28,6 +30,7 @@ from tactex_classify.data.sources import (
     open_part,
     read_messages,
     reason,
+    STORAGE_SUFFIXES,
 )
 from tactex_classify.errors import BagError
 from tactex_common.files import read_text
@@ -100,8 +103,8 @@ def describe(path: Path, *, timing: bool = True, progress=None) -> RecordingInfo
     start, end, metadata, notes = None, None, {}, []
     for unit in bag_parts(path):
         part_times, part_metadata = {}, {}
-        try:
-            with open_part(unit) as reader:  # a part counts only once all of it was read
+        try:  # a part counts only once all of it was read
+            with open_part(unit, readable=None if timing else _is_metadata) as reader:
                 _read_messages(reader, unit, part_times if timing else None, part_metadata,
                                notes, progress)
                 parts.append(Part(str(unit), _storage(unit, reader), _size(unit)))
@@ -131,13 +134,14 @@ def describe(path: Path, *, timing: bool = True, progress=None) -> RecordingInfo
 def _read_messages(reader, unit: Path, times: dict | None, metadata: dict, notes: list[str],
                    progress) -> None:
     """Log times per topic (when `times` is a dict) and the recording's metadata messages."""
-    metadata_topics = {c.topic for c in reader.connections
-                       if c.topic.strip('/').endswith(TOPIC_ROLES['metadata'][0])
-                       and c.msgtype == TOPIC_ROLES['metadata'][1]}
+    metadata_topics = {c.topic for c in reader.connections if _is_metadata(c)}
     if times is not None and not reader.is2:  # a ROS 1 bag's index holds every log time
         for connection in reader.connections:
             times.setdefault(connection.topic, array('q')).extend(
                 entry.time for entry in connection.owner.indexes[connection.id])
+        times = None
+    elif times is not None and (indexed := _mcap_log_times(reader, unit)) is not None:
+        times.update(indexed)
         times = None
     wanted = reader.connections if times is not None else [
         c for c in reader.connections if c.topic in metadata_topics]
@@ -158,6 +162,28 @@ def _read_messages(reader, unit: Path, times: dict | None, metadata: dict, notes
             progress(65536)
     if progress is not None:
         progress(done % 65536)
+
+
+def _mcap_log_times(reader, unit: Path) -> dict[str, array] | None:
+    """The log times in an MCAP part's message indexes, when they list every message."""
+    files = sorted(unit.glob('*')) if unit.is_dir() else [unit]
+    storage = [f for f in files if f.suffix in STORAGE_SUFFIXES or f.name.endswith('.zstd')]
+    if not storage or any(f.suffix != '.mcap' for f in storage):
+        return None
+    indexed = log_times(storage)
+    counts: dict[str, int] = {}
+    for connection in reader.connections:
+        counts[connection.topic] = counts.get(connection.topic, 0) + connection.msgcount
+    if indexed is None or {t: len(v) for t, v in indexed.items() if len(v)} != {
+            t: n for t, n in counts.items() if n}:
+        return None
+    return indexed
+
+
+def _is_metadata(connection) -> bool:
+    """Whether a connection carries the recording's metadata (a JSON string)."""
+    topic, msgtype = TOPIC_ROLES['metadata']
+    return connection.topic.strip('/').endswith(topic) and connection.msgtype == msgtype
 
 
 def _timing(info: TopicInfo, stamps: np.ndarray, start_ns: int | None) -> None:

@@ -16,7 +16,7 @@ the file, what is wrong with it and the fix.
 
 from __future__ import annotations
 
-from collections.abc import Collection, Iterator, Sequence
+from collections.abc import Callable, Collection, Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
 import re
@@ -122,11 +122,13 @@ def reason(err: BagError) -> str:
 
 
 @contextmanager
-def open_part(part: Path):
+def open_part(part: Path, *, readable: Callable[[object], bool] | None = None):
     """An open AnyReader on one part; its failures become one UnreadablePart.
 
     Bags without type definitions (ROS 2 Humble's) decode with the standard types and
-    tactex_msgs, read from the package's .msg files.
+    tactex_msgs, read from the package's .msg files. With `readable`, a ROS 1 bag's
+    index is read only for the connections it accepts (the others' messages cannot be
+    read; their counts and times stay: `tactex_classify.data.ros1_index`).
     """
     from rosbags.highlevel import AnyReader
 
@@ -134,6 +136,9 @@ def open_part(part: Path):
     try:
         check_part(part)
         reader = AnyReader([part], default_typestore=typestore())
+        if readable is not None and not reader.is2:
+            from tactex_classify.data.ros1_index import PartialIndexReader
+            reader.readers = [PartialIndexReader(part, readable)]
         reader.open()
     except Exception as err:  # noqa: BLE001 - rosbags raises many unrelated types
         raise UnreadablePart(part, explain(err, part)) from err

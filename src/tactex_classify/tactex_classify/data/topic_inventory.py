@@ -77,7 +77,7 @@ def survey(part: Path) -> TopicInventory:
         BagError: the part cannot be opened (see `tactex_classify.data.sources.open_part`).
     """
     inventory = TopicInventory()
-    with open_part(part) as reader:
+    with open_part(part, readable=lambda connection: False) as reader:  # counts only
         for connection in reader.connections:
             if connection.msgcount == 0:
                 continue
