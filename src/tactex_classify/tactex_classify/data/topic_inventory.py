@@ -3,7 +3,7 @@
 """What a recording's topics are, from its parts' indexes: types, counts, rates, fields.
 
 No message is read: the counts and the time span come from the bag's index (metadata.yaml,
-the MCAP summary, the ROS 1 index), so the survey of a long recording takes a moment.
+the MCAP summary, the ROS 1 chunk records), so the survey of a long recording takes a moment.
 It answers "which topic holds the IMU?" when the expected name is not there.
 """
 
@@ -13,10 +13,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from tactex_classify.data.sources import open_part
-
-STANDARD_PACKAGES = ('std_msgs', 'sensor_msgs', 'geometry_msgs', 'builtin_interfaces',
-                     'tactex_msgs', 'trajectory_msgs', 'visualization_msgs',
-                     'diagnostic_msgs', 'rosgraph_msgs', 'tf2_msgs', 'nav_msgs')
+from tactex_common.interfaces import typestore
 
 
 @dataclass
@@ -77,6 +74,7 @@ def survey(part: Path) -> TopicInventory:
         BagError: the part cannot be opened (see `tactex_classify.data.sources.open_part`).
     """
     inventory = TopicInventory()
+    known = typestore().fielddefs  # the standard types and tactex_msgs: no fields listed
     with open_part(part, readable=lambda connection: False) as reader:  # counts only
         for connection in reader.connections:
             if connection.msgcount == 0:
@@ -84,7 +82,7 @@ def survey(part: Path) -> TopicInventory:
             topic = connection.topic
             inventory.types[topic] = connection.msgtype
             inventory.counts[topic] = inventory.counts.get(topic, 0) + connection.msgcount
-            if connection.msgtype.split('/')[0] not in STANDARD_PACKAGES:
+            if connection.msgtype not in known:
                 definition = reader.typestore.fielddefs.get(connection.msgtype)
                 if definition is not None:
                     inventory.fields[connection.msgtype] = tuple(
