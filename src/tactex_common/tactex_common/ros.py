@@ -7,12 +7,13 @@ This module imports rclpy; only nodes (and the launcher) import it.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 import importlib
 import sys
 import threading
 from typing import Any
 
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor, ParameterType
 import rclpy
 from rclpy.exceptions import (
@@ -91,6 +92,16 @@ class TactexNode(Node):
             problem = (f'is {_type_words(given.value)}'
                        if isinstance(err, InvalidParameterTypeException) else 'is out of range')
             raise self._refusal(name, given.value, problem, allowed(descriptor)) from None
+
+    def publish_diagnostics(self, publisher, level: bytes, name: str, message: str,
+                            values: Mapping[str, object], hardware_id: str = '') -> None:
+        """Publish the node's one DiagnosticStatus, its values as text, stamped now."""
+        status = DiagnosticStatus(
+            level=level, name=name, message=message, hardware_id=hardware_id,
+            values=[KeyValue(key=key, value=str(value)) for key, value in values.items()])
+        array = DiagnosticArray(status=[status])
+        array.header.stamp = self.get_clock().now().to_msg()
+        publisher.publish(array)
 
     def refused_parameter(self, name: str, allowed_values: str) -> NodeParameterError:
         """The error to raise for declared parameter `name`, whose value the node refuses."""

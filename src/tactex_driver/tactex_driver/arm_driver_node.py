@@ -8,7 +8,7 @@ from collections import deque
 import math
 import time
 
-from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 import numpy as np
 from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor
 from sensor_msgs.msg import JointState
@@ -299,12 +299,8 @@ class ArmDriverNode(TactexNode):
                   'last_error': self._last_error,
                   'hardware_errors': str(self._hardware_errors),
                   'loop_jitter_median_ms': f'{median:.3f}', 'loop_jitter_p99_ms': f'{p99:.3f}'}
-        status = DiagnosticStatus(level=level, name='tactex_driver: arm', message=message,
-                                  hardware_id=self._bus.port_name,
-                                  values=[KeyValue(key=k, value=v) for k, v in values.items()])
-        array = DiagnosticArray(status=[status])
-        array.header.stamp = self.get_clock().now().to_msg()
-        self._diagnostics_pub.publish(array)
+        self.publish_diagnostics(self._diagnostics_pub, level, 'tactex_driver: arm', message,
+                                 values, hardware_id=self._bus.port_name)
 
     def destroy_node(self) -> None:
         """Apply the torque policy and close the bus."""

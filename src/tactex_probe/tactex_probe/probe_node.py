@@ -16,7 +16,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from geometry_msgs.msg import Point, Pose, PoseArray
 from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
 from rclpy.action import ActionClient, ActionServer, CancelResponse, GoalResponse
@@ -361,11 +361,8 @@ class ProbeNode(TactexNode):
                   'samples_dropped': str(dropped), 'rejected_goals': str(self._rejected_goals),
                   'pathway_file': str(self._pathway_file),
                   **{f'{name}_age_s': age for name, age in ages.items()}}
-        status = DiagnosticStatus(level=level, name='tactex_probe: probe', message=message,
-                                  values=[KeyValue(key=k, value=v) for k, v in values.items()])
-        array = DiagnosticArray(status=[status])
-        array.header.stamp = self.get_clock().now().to_msg()
-        self._diagnostics_pub.publish(array)
+        self.publish_diagnostics(self._diagnostics_pub, level, 'tactex_probe: probe', message,
+                                 values)
 
 
 def main(args: list[str] | None = None) -> None:

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import dataclasses
 
-from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor, SetParametersResult
 from sensor_msgs.msg import Imu, MagneticField
 
@@ -125,11 +125,8 @@ class MadgwickNode(TactexNode):
         values = {'received': self._received, 'published': self._published,
                   'gain': self._filter.config.gain, 'restarts': self._filter.restarts,
                   **{f'rejected_{kind}': count for kind, count in rejected.items()}}
-        array = DiagnosticArray(status=[DiagnosticStatus(
-            level=level, name='tactex_sensor: madgwick', message=message,
-            values=[KeyValue(key=k, value=str(v)) for k, v in values.items()])])
-        array.header.stamp = self.get_clock().now().to_msg()
-        self._diagnostics_pub.publish(array)
+        self.publish_diagnostics(self._diagnostics_pub, level, 'tactex_sensor: madgwick', message,
+                                 values)
 
 
 def main(args: list[str] | None = None) -> None:

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import threading
 
-from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor
 from sensor_msgs.msg import FluidPressure, Imu, MagneticField, Temperature
 
@@ -76,15 +76,10 @@ class TeensyNode(TactexNode):
 
     def _publish_diagnostics(self) -> None:
         ok, summary, values = self._reader.health()
-        status = DiagnosticStatus(
-            level=DiagnosticStatus.OK if ok else (
-                DiagnosticStatus.ERROR if values['link'] != 'connected'
-                else DiagnosticStatus.WARN),
-            name='tactex_sensor: teensy', message=summary, hardware_id=values['port'],
-            values=[KeyValue(key=k, value=v) for k, v in values.items()])
-        array = DiagnosticArray(status=[status])
-        array.header.stamp = self.get_clock().now().to_msg()
-        self._diagnostics_pub.publish(array)
+        level = DiagnosticStatus.OK if ok else (
+            DiagnosticStatus.ERROR if values['link'] != 'connected' else DiagnosticStatus.WARN)
+        self.publish_diagnostics(self._diagnostics_pub, level, 'tactex_sensor: teensy', summary,
+                                 values, hardware_id=values['port'])
         if values['link'] != 'connected':
             self.get_logger().warning(
                 f'no sensor stream: {summary}. Check the port (ls -l {values["port"]}; the '

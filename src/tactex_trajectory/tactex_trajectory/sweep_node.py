@@ -29,7 +29,7 @@ from pathlib import Path
 import time
 
 from builtin_interfaces.msg import Duration, Time
-from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from geometry_msgs.msg import Point
 import numpy as np
 from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor
@@ -529,12 +529,8 @@ class SweepNode(TactexNode):
             level = DiagnosticStatus.WARN
         values = {'state': self._state, 'last_outcome': self._last_outcome or 'none',
                   'last_planning_ms': f'{self._last_planning_s * 1e3:.1f}'}
-        status = DiagnosticStatus(level=level, name='tactex_trajectory: sweep',
-                                  message=f'{self._state}; last: {self._last_outcome or "none"}',
-                                  values=[KeyValue(key=k, value=v) for k, v in values.items()])
-        array = DiagnosticArray(status=[status])
-        array.header.stamp = self.get_clock().now().to_msg()
-        self._diagnostics_pub.publish(array)
+        self.publish_diagnostics(self._diagnostics_pub, level, 'tactex_trajectory: sweep',
+                                 f'{self._state}; last: {self._last_outcome or "none"}', values)
 
     def destroy_node(self) -> None:
         """Close a recording that is still open."""
