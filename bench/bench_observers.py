@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import asyncio
 from contextlib import contextmanager
-import json
 from pathlib import Path
 import socket
 import subprocess
@@ -52,34 +51,6 @@ def processes(*argvs: list[str]):
         for process in running:
             process.terminate()
             process.wait(timeout=10)
-
-
-async def client(port: int, seconds: float) -> int:
-    """Subscribe to every channel of the view on `port` for `seconds`; messages received."""
-    import websockets
-    for _ in range(50):  # the server starts beside us
-        try:
-            connection = await websockets.connect(f'ws://127.0.0.1:{port}',
-                                                  subprotocols=['foxglove.sdk.v1'])
-            break
-        except OSError:
-            await asyncio.sleep(0.2)
-    received = 0
-    async with connection:
-        channels = []
-        while not channels:
-            message = json.loads(await connection.recv())
-            channels = message.get('channels', []) if message['op'] == 'advertise' else []
-        await connection.send(json.dumps({'op': 'subscribe', 'subscriptions': [
-            {'id': c['id'], 'channelId': c['id']} for c in channels]}))
-        deadline = time.monotonic() + seconds
-        while time.monotonic() < deadline:
-            try:
-                data = await asyncio.wait_for(connection.recv(), 0.2)
-            except TimeoutError:
-                continue
-            received += isinstance(data, bytes)
-    return received
 
 
 @contextmanager
@@ -131,6 +102,8 @@ def main() -> None:
 
 if __name__ == '__main__':
     if sys.argv[1:2] == ['--client']:  # the view's client, in a process of its own
-        print(asyncio.run(client(int(sys.argv[2]), 14.0)))
+        sys.path.insert(0, str(Path(__file__).resolve().parents[1] / 'tests'))
+        from support.foxglove_client import subscribe_all
+        print(len(asyncio.run(subscribe_all(int(sys.argv[2]), 14.0))[1]))
     else:
         main()

@@ -22,6 +22,7 @@ import time
 
 import numpy as np
 import pytest
+from support.foxglove_client import subscribe_all
 from support.processes import stop, wait_for
 from transforms3d.quaternions import quat2mat
 
@@ -124,34 +125,6 @@ def decoder(channel: dict):
     return protobuf_class(channel['schemaName'], base64.b64decode(channel['schema'])).FromString
 
 
-async def listen(port: int, seconds: float, publish) -> tuple[dict, dict]:
-    """Connect, subscribe to every channel, publish, collect: (channels, messages by topic)."""
-    import websockets
-    async with websockets.connect(f'ws://127.0.0.1:{port}',
-                                  subprotocols=['foxglove.sdk.v1']) as client:
-        channels = {}
-        while len(channels) < len(CHANNELS):
-            message = json.loads(await asyncio.wait_for(client.recv(), 10))
-            if message['op'] == 'advertise':
-                channels.update({c['topic']: c for c in message['channels']})
-        by_id = {c['id']: c for c in channels.values()}
-        await client.send(json.dumps({'op': 'subscribe', 'subscriptions': [
-            {'id': c['id'], 'channelId': c['id']} for c in channels.values()]}))
-        await asyncio.sleep(0.5)
-        publish()
-        received: dict[str, list] = {}
-        deadline = time.monotonic() + seconds
-        while time.monotonic() < deadline:
-            try:
-                data = await asyncio.wait_for(client.recv(), 0.2)
-            except TimeoutError:
-                continue
-            if isinstance(data, bytes) and data[0] == 1:
-                channel = by_id[int.from_bytes(data[1:5], 'little')]
-                received.setdefault(channel['topic'], []).append(decoder(channel)(data[13:]))
-    return channels, received
-
-
 @pytest.mark.integration
 @pytest.mark.ros
 def test_a_websocket_client_sees_every_channel_with_its_schema_and_the_messages(
@@ -205,10 +178,14 @@ def test_a_websocket_client_sees_every_channel_with_its_schema_and_the_messages(
         # the samples on a loaded machine).
         assert wait_for(lambda: all(publisher.get_subscription_count() for publisher in
                                     (raw, pressure, joints, estimate)), 30)
-        channels, received = asyncio.run(listen(port, 4.0, publish))
+        channels, payloads = asyncio.run(subscribe_all(
+            port, 4.0, channels_expected=len(CHANNELS), ready=publish))
     finally:
         node.destroy_node()
         stop([view])
+    received: dict[str, list] = {}
+    for channel, payload in payloads:
+        received.setdefault(channel['topic'], []).append(decoder(channel)(payload))
     assert set(channels) == CHANNELS
     assert channels[TF_CHANNEL]['schemaName'] == 'foxglove.FrameTransforms'
     assert channels[PATHWAY_CHANNEL]['schemaName'] == 'foxglove.SceneUpdate'
