@@ -7,9 +7,10 @@ rewritten as a ROS 1 bag by rosbags' converter. Then, each in a fresh process:
 - rosbags reads and deserialises every message of the ROS 1 bag (the reference) and
   `read_recording` reads, aligns and returns its 10 channels (target: at least 0.7x the
   reference's messages per second);
-- `tactex bag info --no-timing` (the index's summary; target under 2 s) and `tactex bag
-  info` (with every topic's rate, jitter and gaps; target under 15 s), on the rosbag2
-  folder and on the ROS 1 bag, command start-up included.
+- `tactex bag info --no-timing` (the index's summary: metadata.yaml, the ROS 1 chunk
+  records; target under 2 s) and `tactex bag info` (with every topic's rate, jitter and
+  gaps, from the MCAP message indexes and the ROS 1 index; target under 15 s), on the
+  rosbag2 folder and on the ROS 1 bag, command start-up included.
 """
 
 from pathlib import Path

@@ -31,11 +31,10 @@ def recordings() -> str:
             f'- `tactex bag info` on it, start-up included: the summary from the index in '
             f'{info["rosbag2 MCAP", "summary from the index"]:.1f} s for the rosbag2 MCAP '
             f'folder and {info["ROS 1 bag", "summary from the index"]:.1f} s for the ROS 1 '
-            f'bag (target 2 s: rosbags reads a ROS 1 index of 3.78 million entries in '
-            f'Python); with rates, jitter and gaps '
+            f'bag (its chunk records; target 2 s); with rates, jitter and gaps '
             f'{info["rosbag2 MCAP", "with rates, jitter, gaps"]:.1f} s and '
-            f'{info["ROS 1 bag", "with rates, jitter, gaps"]:.1f} s (target 15 s: every MCAP '
-            f'message is read for its log time; a ROS 1 index holds them).\n')
+            f'{info["ROS 1 bag", "with rates, jitter, gaps"]:.1f} s (the log times from the '
+            f'MCAP message indexes and the ROS 1 index; target 15 s).\n')
 
 
 def predict_play() -> str:
