@@ -6,32 +6,13 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import matplotlib
-
-matplotlib.use('Agg')
-import matplotlib.pyplot as plt  # noqa: E402
-import matplotlib.ticker  # noqa: E402
-
-
-def _save(figure, path: Path, data: str) -> None:
-    """Write `figure` with the line naming its data under it."""
-    figure.text(0.5, 0.005, f'data: {data}', ha='center', va='bottom', fontsize=7,
-                color='dimgray', wrap=True)
-    figure.tight_layout(rect=(0, 0.04, 1, 1))
-    figure.savefig(path, dpi=110, bbox_inches='tight')
-    plt.close(figure)
-
-
-def _legend_outside(axis, source=None) -> None:
-    """`source`'s legend (default the axis's own) right of the axis, where it hides no data."""
-    handles, labels = (source or axis).get_legend_handles_labels()
-    if handles:
-        axis.legend(handles, labels, loc='upper left', bbox_to_anchor=(1.01, 1.0), fontsize=7)
+from tactex_common import plotting
 
 
 def contact_time(path: Path, points: list[dict], data: str) -> None:
     """Section 1: accuracy against contact seconds, per model and window, Pareto front."""
-    figure, axes = plt.subplots(1, 2, figsize=(12, 4.6), sharey=True)
+    plt, figure, axes = plotting.figure(1, 2, sharey=True)
+    from matplotlib.ticker import FuncFormatter, NullFormatter  # after the backend is chosen
     keys = sorted({(p['model'], p['window']) for p in points})
     for model, window in keys:
         for axis, threshold_rule in zip(axes, (False, True), strict=True):
@@ -46,22 +27,22 @@ def contact_time(path: Path, points: list[dict], data: str) -> None:
                   where='post', color='black', linewidth=1.5, label='Pareto front (all)')
         axis.axvline(2.0, color='tab:red', linestyle='--', linewidth=0.8, label='2 s budget')
         axis.set_xscale('log')
-        plain = matplotlib.ticker.FuncFormatter(lambda value, _: f'{value:g}')
+        plain = FuncFormatter(lambda value, _: f'{value:g}')
         axis.xaxis.set_major_formatter(plain)
-        axis.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+        axis.xaxis.set_minor_formatter(NullFormatter())
         axis.set_xticks([0.5, 1, 2, 4, 8])
         axis.set_xlabel('contact time a decision needs (s, log)')
         axis.grid(alpha=0.3)
     axes[0].set_ylabel('grouped-CV accuracy of the decision (%)')
     axes[0].set_title('k consecutive windows (summed log-probabilities)')
     axes[1].set_title("live node's threshold rule (median contact s at decision)")
-    _legend_outside(axes[1])
-    _save(figure, path, data)
+    plotting.legend_outside(axes[1])
+    plotting.save(plt, figure, path, footnote=f'data: {data}')
 
 
 def compute_time(path: Path, rows: list[dict], data: str) -> None:
     """Section 2: accuracy against training time and against per-window latency."""
-    figure, (train, latency) = plt.subplots(1, 2, figsize=(11, 4.2), sharey=True)
+    plt, figure, (train, latency) = plotting.figure(1, 2, sharey=True)
     markers = {'onnxruntime': 's'}
     for index, row in enumerate(rows):  # one colour per model, named in the legend
         accuracy, colour = 100 * row['accuracy'], f'C{index % 10}'
@@ -77,13 +58,13 @@ def compute_time(path: Path, rows: list[dict], data: str) -> None:
                 title='inference (squares: onnxruntime)')
     for axis in (train, latency):
         axis.grid(alpha=0.3)
-    _legend_outside(latency, source=train)
-    _save(figure, path, data)
+    plotting.legend_outside(latency, source=train)
+    plotting.save(plt, figure, path, footnote=f'data: {data}')
 
 
 def probing(path: Path, rows: list[dict], data: str) -> None:
     """Section 3: normal and position error against probing time."""
-    figure, axes = plt.subplots(1, 2, figsize=(11, 4.2))
+    plt, figure, axes = plotting.figure(1, 2)
     for axis, key, label in ((axes[0], 'normal_mean_deg', 'mean normal error (deg)'),
                              (axes[1], 'position_mean_mm', 'mean position error (mm)')):
         for row in rows:
@@ -93,12 +74,12 @@ def probing(path: Path, rows: list[dict], data: str) -> None:
                           textcoords='offset points')
         axis.set(xlabel='total probing time of the line (simulated s)', ylabel=label)
         axis.grid(alpha=0.3)
-    _save(figure, path, data)
+    plotting.save(plt, figure, path, footnote=f'data: {data}')
 
 
 def sweep_speed(path: Path, rows: list[dict], data: str) -> None:
     """Section 4: contact fraction and accuracy against sliding speed."""
-    figure, axis = plt.subplots(figsize=(7, 4.2))
+    plt, figure, axis = plotting.figure()
     rows = [r for r in rows if not r['failed']]
     speeds = [r['speed_mm_s'] for r in rows]
     axis.plot(speeds, [100 * r['contact_fraction'] for r in rows], 'o-',
@@ -111,46 +92,46 @@ def sweep_speed(path: Path, rows: list[dict], data: str) -> None:
               label='whole-sweep accuracy')
     axis.set(xlabel='sliding speed (mm/s)', ylabel='%', ylim=(0, 105))
     axis.grid(alpha=0.3)
-    _legend_outside(axis)
-    _save(figure, path, data)
+    plotting.legend_outside(axis)
+    plotting.save(plt, figure, path, footnote=f'data: {data}')
 
 
 def simulation_cost(path: Path, rows: list[dict], data: str) -> None:
     """Section 5: spectral distance against real-time factor."""
-    figure, axis = plt.subplots(figsize=(8, 4.6))
+    plt, figure, axis = plotting.figure()
     for index, row in enumerate(rows):
         axis.scatter(row['real_time_factor'], row['distance_db'], color=f'C{index % 10}',
                      marker='os^Dv'[index // 10 % 5], label=row['variant'])
     axis.set(xlabel='real-time factor (simulated s per wall s)',
              ylabel='spectral distance to the reference (dB)')
     axis.grid(alpha=0.3)
-    _legend_outside(axis)
-    _save(figure, path, data)
+    plotting.legend_outside(axis)
+    plotting.save(plt, figure, path, footnote=f'data: {data}')
 
 
 def filter_rate(path: Path, rows: list[dict], costs: list[dict], data: str) -> None:
     """Section 6: RMS attitude error against gain per rate; cost per sample against rate."""
-    figure, (errors, cost) = plt.subplots(1, 2, figsize=(11, 4.2))
+    plt, figure, (errors, cost) = plotting.figure(1, 2)
     for rate in sorted({r['rate_hz'] for r in rows}):
         mine = [r for r in rows if r['rate_hz'] == rate]
         errors.plot([r['gain'] for r in mine], [r['rms_attitude_deg'] for r in mine], 'o-',
                     label=f'{rate:g} Hz')
     errors.set(xscale='log', yscale='log', xlabel='Madgwick gain beta (log)',
                ylabel='RMS attitude error after settling (deg, log)')
-    _legend_outside(errors)
+    plotting.legend_outside(errors)
     rates = [c['rate_hz'] for c in costs]
     cost.plot(rates, [c['stream_us'] for c in costs], 'o-', label='streaming (the node)')
     cost.plot(rates, [c['batch_us'] for c in costs], 's-', label='batch (compiled)')
     cost.set(xlabel='sample rate (Hz)', ylabel='cost per sample (us)', yscale='log')
-    _legend_outside(cost)
+    plotting.legend_outside(cost)
     for axis in (errors, cost):
         axis.grid(alpha=0.3)
-    _save(figure, path, data)
+    plotting.save(plt, figure, path, footnote=f'data: {data}')
 
 
 def whole_job(path: Path, stages: list[dict], data: str) -> None:
     """Section 7: stacked bars of seconds per stage (this run's wall time, arm time)."""
-    figure, axis = plt.subplots(figsize=(9, 3.8))
+    plt, figure, axis = plotting.figure()
     bars = ('wall time of this run', "arm's time (simulated s)")
     left = [0.0, 0.0]
     for stage in stages:
@@ -158,6 +139,6 @@ def whole_job(path: Path, stages: list[dict], data: str) -> None:
         axis.barh(bars, widths, left=left, label=stage['stage'])
         left = [a + b for a, b in zip(left, widths, strict=True)]
     axis.set(xlabel='seconds')
-    axis.legend(fontsize=7, ncol=3, loc='upper center', bbox_to_anchor=(0.5, -0.2))
+    plotting.legend_outside(axis)
     axis.grid(alpha=0.3, axis='x')
-    _save(figure, path, data)
+    plotting.save(plt, figure, path, footnote=f'data: {data}')

@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
+from tactex_common import plotting
 from tactex_probe.closed_loop import nearest_surface_point, true_normal
 from tactex_probe.normals import angle_between
 from tactex_sim.scene import Surface
@@ -169,30 +170,10 @@ def checks(summary: dict, probe_points: int, textures: int, contact_s: float) ->
     ]
 
 
-def _figure(width: float = 8.0, height: float = 4.5, rows: int = 1):
-    import matplotlib
-    matplotlib.use('Agg')
-    import matplotlib.pyplot as plt
-    return plt, *plt.subplots(rows, 1, figsize=(width, height), squeeze=True,
-                              sharex=rows > 1)
-
-
-def _save(plt, figure, path: Path) -> None:
-    """One house style: legends sit outside the data; nothing is cut at the edges."""
-    figure.tight_layout()
-    figure.savefig(path, dpi=110, bbox_inches='tight')
-    plt.close(figure)
-
-
-def _legend_outside(axes) -> None:
-    if axes.get_legend_handles_labels()[0]:
-        axes.legend(loc='upper left', bbox_to_anchor=(1.01, 1.0), fontsize=8)
-
-
 def plot_pathway(path: Path, positions: np.ndarray, normals: np.ndarray,
                  surface: Surface) -> None:
     """The probed contacts and normals over the true surface profile (x-z, base_link)."""
-    plt, figure, axes = _figure()
+    plt, figure, axes = plotting.figure()
     low, high = (positions[:, 0].min() - 0.01, positions[:, 0].max() + 0.01) \
         if len(positions) else (0.08, 0.22)
     xs = np.linspace(low, high, 400)
@@ -211,12 +192,12 @@ def plot_pathway(path: Path, positions: np.ndarray, normals: np.ndarray,
               label='probed contact')
     points = np.vstack(tips + [np.column_stack([1e3 * xs, 1e3 * surface.height(xs)])])
     margin = 2.0  # mm around every arrow tip, so none is clipped
-    axes.set(xlim=(points[:, 0].min() - margin, points[:, 0].max() + margin),
-             ylim=(points[:, 1].min() - margin, points[:, 1].max() + margin),
-             xlabel='x (mm, base_link)', ylabel='z (mm)', title='Pathway against the surface',
-             aspect='equal')
-    _legend_outside(axes)
-    _save(plt, figure, path)
+    axes.update_datalim([points.min(axis=0) - margin, points.max(axis=0) + margin])
+    axes.autoscale_view()
+    axes.set(xlabel='x (mm, base_link)', ylabel='z (mm)', title='Pathway against the surface',
+             aspect='equal', adjustable='datalim')  # the limits grown to fill the panel
+    plotting.legend_outside(axes)
+    plotting.save(plt, figure, path)
 
 
 def plot_sweeps(path: Path, sweeps: Sequence[tuple[str, Sequence[tuple]]],
@@ -230,7 +211,7 @@ def plot_sweeps(path: Path, sweeps: Sequence[tuple[str, Sequence[tuple]]],
         path_length_m: the pathway's length (progress x length = position on it).
         commanded_m_s: the commanded sliding speed, drawn as a line.
     """
-    plt, figure, (speed, contact) = _figure(8.0, 6.0, rows=2)
+    plt, figure, (speed, contact) = plotting.figure(2, 1, sharex=True)
     grid = np.linspace(0.0, 1e3 * path_length_m, 200)
     touching = []
     for index, (_, feedback) in enumerate(sweeps):
@@ -246,19 +227,19 @@ def plot_sweeps(path: Path, sweeps: Sequence[tuple[str, Sequence[tuple]]],
     speed.axhline(1e3 * commanded_m_s, color='k', linestyle='--', label='commanded')
     speed.set(ylabel='sliding speed (mm/s)',
               title=f'{len(sweeps)} recorded sweeps along the probed pathway')
-    _legend_outside(speed)
+    plotting.legend_outside(speed)
     if touching:
         contact.fill_between(grid, 0, 100 * np.mean(touching, axis=0), color='tab:green',
                              alpha=0.4, label='sweeps in contact')
     contact.set(xlabel='position along the pathway (mm)', ylabel='in contact (%)',
                 ylim=(0, 105))
-    _legend_outside(contact)
-    _save(plt, figure, path)
+    plotting.legend_outside(contact)
+    plotting.save(plt, figure, path)
 
 
 def plot_confusion(path: Path, matrix: np.ndarray, classes: Sequence[str]) -> None:
     """The live decisions' confusion matrix (rows true, columns decided, then none)."""
-    plt, figure, axes = _figure(8.0, 6.5)
+    plt, figure, axes = plotting.figure(classes=max(matrix.shape))
     axes.imshow(matrix, cmap='Blues')
     for (row, column), count in np.ndenumerate(matrix):
         if count:
@@ -267,16 +248,16 @@ def plot_confusion(path: Path, matrix: np.ndarray, classes: Sequence[str]) -> No
     axes.set_xticks(range(len(columns)), columns, rotation=60, ha='right', fontsize=7)
     axes.set_yticks(range(len(classes)), classes, fontsize=7)
     axes.set(xlabel='decided', ylabel='true', title='Live decisions of classifier_node')
-    _save(plt, figure, path)
+    plotting.save(plt, figure, path)
 
 
 def plot_accuracy_against_time(path: Path, times_s: np.ndarray, accuracy: np.ndarray,
                                chance: float) -> None:
     """Live accuracy against the seconds of contact behind the estimate."""
-    plt, figure, axes = _figure()
+    plt, figure, axes = plotting.figure()
     axes.plot(times_s, 100 * accuracy, color='tab:purple', label='classifier_node, live')
     axes.axhline(100 * chance, color='0.5', linestyle=':', label='chance')
     axes.set(xlabel='contact time (s)', ylabel='accuracy (%)', ylim=(0, 101),
              title='Accuracy against contact time')
-    _legend_outside(axes)
-    _save(plt, figure, path)
+    plotting.legend_outside(axes)
+    plotting.save(plt, figure, path)

@@ -16,6 +16,8 @@ from pathlib import Path
 
 import numpy as np
 
+from tactex_common import plotting
+
 # The system's faults, then the live stream's (played on the tactile topics during a sweep).
 FAULTS = ('sensor_unplug', 'crc_burst', 'servo_silence', 'node_kill', 'overflow',
           'clock_jump', 'burst', 'stamp_jitter', 'frozen', 'saturated')
@@ -188,10 +190,7 @@ def table(summary: dict) -> str:
 def plot_memory(path: Path, samples: dict[str, list[tuple[float, int]]],
                 faults: list[FaultRecord]) -> None:
     """RSS against time per node, each injected fault marked."""
-    import matplotlib
-    matplotlib.use('Agg')
-    from matplotlib import pyplot as plt
-    figure, axes = plt.subplots(figsize=(8, 4.5))
+    plt, figure, axes = plotting.figure()
     for name, points in samples.items():
         if points:
             t, rss = np.array(points, dtype=float).T
@@ -203,7 +202,5 @@ def plot_memory(path: Path, samples: dict[str, list[tuple[float, int]]],
                       rotation=90, va='top', ha='right', fontsize=7)
     axes.set(xlabel='time (min)', ylabel='RSS (MB)',
              title='Soak: resident memory per node (dashed: faults)')
-    axes.legend(fontsize=8, loc='center left')
-    figure.tight_layout()
-    figure.savefig(path, dpi=110)
-    plt.close(figure)
+    plotting.legend_outside(axes)
+    plotting.save(plt, figure, path)

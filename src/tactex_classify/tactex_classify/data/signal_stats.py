@@ -25,7 +25,7 @@ import numpy as np
 from tactex_classify.data.bags import read_recording, Recording
 from tactex_classify.data.dataset import FilterRule, keep_mask, recording_paths
 from tactex_classify.data.stream_alignment import nearest
-from tactex_common import chips
+from tactex_common import chips, plotting
 from tactex_common.channels import ACCEL, BARO, GYRO, MAG
 
 GROUPS = {'accel': ACCEL, 'gyro': GYRO, 'mag': MAG, 'baro': BARO}
@@ -214,13 +214,9 @@ def markdown(table: dict, limits: Limits) -> str:
 
 def plot_spectra(textures: dict[str, TextureSignals], folder: Path) -> list[Path]:
     """One PNG per channel group: the Welch spectrum (axes summed) of each texture."""
-    import matplotlib
-    matplotlib.use('Agg')
-    import matplotlib.pyplot as plt
-
     written = []
     for group, channels in GROUPS.items():
-        figure, axes = plt.subplots(figsize=(8, 4.5))
+        plt, figure, axes = plotting.figure()
         drawn = False
         for texture, entry in sorted(textures.items()):
             total = None
@@ -244,11 +240,9 @@ def plot_spectra(textures: dict[str, TextureSignals], folder: Path) -> list[Path
         axes.set_xlabel('frequency (Hz)')
         axes.set_ylabel(f'power ({UNITS[group]}^2/Hz, axes summed)')
         axes.set_title(f'{group} while sliding in contact')
-        axes.legend(fontsize=7, ncol=2)
+        plotting.legend_outside(axes)
         axes.grid(True, which='both', alpha=0.3)
         path = folder / f'spectrum_{group}.png'
-        figure.tight_layout()
-        figure.savefig(path, dpi=110)
-        plt.close(figure)
+        plotting.save(plt, figure, path)
         written.append(path)
     return written

@@ -15,14 +15,11 @@ from collections import defaultdict
 import json
 from pathlib import Path
 
-import matplotlib
+import numpy as np
 
-matplotlib.use('Agg')
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from tactex_classify.evaluation.cross_validation import confusion, metrics  # noqa: E402
-from tactex_classify.models.registry import ALL_MODELS, BASELINES, SCHEMES  # noqa: E402
+from tactex_classify.evaluation.cross_validation import confusion, metrics
+from tactex_classify.models.registry import ALL_MODELS, BASELINES, SCHEMES
+from tactex_common import plotting
 
 SCHEME_LABELS = {'grouped': 'grouped by recording (honest)',
                  'stratified': 'stratified windows (leaky)'}
@@ -225,8 +222,7 @@ def plot_grid(folder: Path, rows: list[dict]) -> None:
 
 def _plot_accuracy(path: Path, rows: list[dict]) -> None:
     windows = sorted({row['window'] for row in rows})
-    figure, axes = plt.subplots(1, max(len(windows), 1), figsize=(5.5 * max(len(windows), 1),
-                                                                  4.5), squeeze=False)
+    plt, figure, axes = plotting.figure(1, max(len(windows), 1), squeeze=False)
     for axis, window in zip(axes[0], windows, strict=False):
         picked = [row for row in rows if row['window'] == window]
         positions = np.arange(len(picked))
@@ -241,10 +237,8 @@ def _plot_accuracy(path: Path, rows: list[dict]) -> None:
         axis.set_xlabel('accuracy (%), mean ± sd over seeds and folds')
         axis.set_title(f'window {window}')
         axis.grid(axis='x', alpha=0.3)
-    axes[0][0].legend(fontsize=7, loc='lower right')
-    figure.tight_layout()
-    figure.savefig(path, dpi=100)
-    plt.close(figure)
+    plotting.legend_outside(axes[0][-1], source=axes[0][0])
+    plotting.save(plt, figure, path)
 
 
 def pareto_front(points: list[tuple[float, float]]) -> list[tuple[float, float]]:
@@ -257,7 +251,7 @@ def pareto_front(points: list[tuple[float, float]]) -> list[tuple[float, float]]
 
 
 def _plot_cost(path: Path, rows: list[dict]) -> None:
-    figure, axes = plt.subplots(1, 2, figsize=(12, 4.5))
+    plt, figure, axes = plotting.figure(1, 2)
     markers = dict(zip(sorted({row['window'] for row in rows}), 'os^Dv', strict=False))
     for row in rows:
         grouped = row['schemes'].get('grouped', {})
@@ -278,7 +272,7 @@ def _plot_cost(path: Path, rows: list[dict]) -> None:
         if len(front) > 1:
             axis.step(*zip(*front, strict=True), where='post', color='k', alpha=0.5,
                       linewidth=1, label='Pareto front')
-            axis.legend(fontsize=7, loc='lower right')
+            plotting.legend_outside(axis)
     for axis, label in zip(axes, ('training time per fold (s)', 'latency of one window (ms)'),
                            strict=True):
         axis.set_xscale('log')
@@ -287,6 +281,4 @@ def _plot_cost(path: Path, rows: list[dict]) -> None:
         axis.grid(alpha=0.3)
     axes[0].set_title('marker: window (' + ', '.join(
         f'{m} {w}' for w, m in markers.items()) + '); red: baselines', fontsize=8)
-    figure.tight_layout()
-    figure.savefig(path, dpi=100)
-    plt.close(figure)
+    plotting.save(plt, figure, path)

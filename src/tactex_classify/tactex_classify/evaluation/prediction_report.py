@@ -16,14 +16,11 @@ import csv
 import json
 from pathlib import Path
 
-import matplotlib
+import numpy as np
 
-matplotlib.use('Agg')
-import matplotlib.pyplot as plt  # noqa: E402 - after choosing the file backend
-import numpy as np  # noqa: E402
-
-from tactex_classify.evaluation.training_report import draw_confusion  # noqa: E402
-from tactex_classify.online.replay import Replayed  # noqa: E402
+from tactex_classify.evaluation.training_report import draw_confusion
+from tactex_classify.online.replay import Replayed
+from tactex_common import plotting
 
 NO_DECISION = 'no decision'
 
@@ -91,11 +88,9 @@ def _plain(value):
 def _plot(path: Path, scores_: dict) -> None:
     confusion = scores_['confusion']
     matrix = np.array(confusion['counts'], dtype=float)
-    size = max(5.0, 0.45 * len(confusion['predicted']) + 2)
-    figure, axis = plt.subplots(figsize=(size + 1, size))
+    classes = max(len(confusion['true']), len(confusion['predicted']))
+    plt, figure, axis = plotting.figure(classes=classes)
     draw_confusion(axis, matrix, confusion['true'], confusion['predicted'],
                    f'first decision per recording: {100 * scores_["accuracy"]:.1f} % of '
                    f'{scores_["recordings"]} ({scores_["undecided"]} undecided)')
-    figure.tight_layout()
-    figure.savefig(path, dpi=100)
-    plt.close(figure)
+    plotting.save(plt, figure, path)

@@ -4,15 +4,13 @@
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
-import matplotlib
+import numpy as np
 
-matplotlib.use('Agg')
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from tactex_classify.data.bags import Recording  # noqa: E402
+from tactex_classify.data.bags import Recording
+from tactex_common import plotting
 
 # Channel groups drawn on one axis each, with their SI unit.
 PANELS = ((('ax', 'ay', 'az'), 'acceleration (m/s²)'),
@@ -30,12 +28,16 @@ def plot_recording(path: Path, recording: Recording, kept: np.ndarray) -> None:
     """
     panels = [(names, unit) for names, unit in PANELS
               if any(name in recording.channels for name in names)]
-    figure, axes = plt.subplots(max(len(panels), 1), 1, figsize=(9, 2.0 * max(len(panels), 1)
-                                                                  + 0.8), sharex=True,
-                                squeeze=False)
+    columns = 1 if len(panels) <= 2 else 2  # a grid of house panels, two across at most
+    rows = max(math.ceil(len(panels) / columns), 1)
+    plt, figure, axes = plotting.figure(rows, columns, squeeze=False)
     seconds = (recording.stamps_ns - recording.stamps_ns[0]) / 1e9 \
         if recording.stamps_ns.size else np.zeros(0)
-    for axis, (names, unit) in zip(axes[:, 0], panels, strict=False):
+    for index, axis in enumerate(axes.flat):
+        if index >= len(panels):
+            axis.set_visible(False)
+            continue
+        names, unit = panels[index]
         for name in names:
             if name in recording.channels:
                 axis.plot(seconds, recording.values[:, recording.channels.index(name)],
@@ -44,13 +46,12 @@ def plot_recording(path: Path, recording: Recording, kept: np.ndarray) -> None:
             axis.fill_between(seconds, 0, 1, where=kept, transform=axis.get_xaxis_transform(),
                               color='tab:green', alpha=0.12, label='sliding in contact')
         axis.set_ylabel(unit, fontsize=8)
-        axis.legend(loc='upper left', bbox_to_anchor=(1.01, 1.0), fontsize=7)
+        if index + columns >= len(panels):  # nothing drawn below it
+            axis.set_xlabel('time since the first sample (s)')
+        plotting.legend_outside(axis)
         axis.grid(alpha=0.3)
     label = recording.metadata.get('label', 'unlabelled')
-    axes[0, 0].set_title(f'{recording.path.name}: {label}, {recording.stamps_ns.size} samples '
-                         f'at {recording.rate_hz:.0f} Hz, {int(kept.sum())} sliding in contact',
-                         fontsize=9)
-    axes[-1, 0].set_xlabel('time since the first sample (s)')
-    figure.tight_layout()
-    figure.savefig(path, dpi=110, bbox_inches='tight')
-    plt.close(figure)
+    figure.suptitle(f'{recording.path.name}: {label}, {recording.stamps_ns.size} samples at '
+                    f'{recording.rate_hz:.0f} Hz, {int(kept.sum())} sliding in contact',
+                    fontsize=9)
+    plotting.save(plt, figure, path)

@@ -11,20 +11,17 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-import matplotlib
+import numpy as np
 
-matplotlib.use('Agg')
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from tactex_classify.data.dataset import Dataset  # noqa: E402
-from tactex_classify.evaluation.cross_validation import (  # noqa: E402
+from tactex_classify.data.dataset import Dataset
+from tactex_classify.evaluation.cross_validation import (
     confusion,
     CrossValidation,
     metrics,
     sequence_accuracy,
 )
-from tactex_common.naming import natural_key, natural_sorted  # noqa: E402
+from tactex_common import plotting
+from tactex_common.naming import natural_key, natural_sorted
 
 LABELS = {'grouped': 'grouped by recording (honest)',
           'stratified': 'stratified windows (leaky)'}
@@ -129,16 +126,14 @@ def plot_run(folder: Path, classes: list[str], summary: dict) -> None:
 
 
 def _plot_confusions(path: Path, classes: list[str], summary: dict) -> None:
-    figure, axes = plt.subplots(1, len(summary), figsize=(7 * len(summary), 6), squeeze=False)
+    plt, figure, axes = plotting.figure(1, len(summary), classes=len(classes), squeeze=False)
     order = sorted(range(len(classes)), key=lambda i: natural_key(classes[i]))
     classes = [classes[i] for i in order]
     for axis, (scheme, values) in zip(axes[0], summary.items(), strict=True):
         matrix = np.array(values['confusion'], dtype=float)[np.ix_(order, order)]
         draw_confusion(axis, matrix, classes, classes,
                        f'{LABELS[scheme]}: {100 * values["accuracy"]:.1f} %')
-    figure.tight_layout()
-    figure.savefig(path, dpi=100)
-    plt.close(figure)
+    plotting.save(plt, figure, path)
 
 
 def draw_confusion(axis, matrix: np.ndarray, true: list[str], predicted: list[str],
@@ -158,43 +153,41 @@ def draw_confusion(axis, matrix: np.ndarray, true: list[str], predicted: list[st
 
 
 def _plot_learning(path: Path, summary: dict) -> None:
-    figure, axes = plt.subplots(1, 2, figsize=(11, 4))
-    drawn = False
+    plt, figure, axes = plotting.figure(1, 2)
+    drawn = 0  # one colour per fold, the same in both panels
     for scheme, values in summary.items():
         for fold, history in enumerate(values['histories']):
             if not history:
                 continue
-            drawn = True
+            colour, drawn = f'C{drawn % 10}', drawn + 1
             epochs = [h['epoch'] for h in history]
             label = f'{scheme} fold {fold + 1}'
-            axes[0].plot(epochs, [h['train_loss'] for h in history], label=label, lw=1)
-            axes[1].plot(epochs, [h['train_accuracy'] for h in history], lw=1)
+            axes[0].plot(epochs, [h['train_loss'] for h in history], label=label, lw=1,
+                         color=colour)
+            axes[1].plot(epochs, [h['train_accuracy'] for h in history], lw=1, color=colour)
             if 'val_accuracy' in history[0]:
-                axes[1].plot(epochs, [h['val_accuracy'] for h in history], '--', lw=1)
+                axes[1].plot(epochs, [h['val_accuracy'] for h in history], '--', lw=1,
+                             color=colour)
     axes[0].set_xlabel('epoch')
     axes[0].set_ylabel('training loss')
     axes[1].set_xlabel('epoch')
     axes[1].set_ylabel('accuracy (dashed: early-stopping split)')
     if drawn:
-        axes[0].legend(fontsize=6)
+        plotting.legend_outside(axes[1], source=axes[0])
     else:
         axes[0].text(0.5, 0.5, 'no epochs: not an iteratively trained model',
                      ha='center', transform=axes[0].transAxes)
-    figure.tight_layout()
-    figure.savefig(path, dpi=100)
-    plt.close(figure)
+    plotting.save(plt, figure, path)
 
 
 def _plot_sequence(path: Path, summary: dict) -> None:
-    figure, axis = plt.subplots(figsize=(6, 4))
+    plt, figure, axis = plotting.figure()
     for scheme, values in summary.items():
         axis.plot([r['touch_s'] for r in values['sequence']],
                   [100 * r['accuracy'] for r in values['sequence']], 'o-', label=LABELS[scheme])
     axis.set_xlabel('touch time (s)')
     axis.set_ylabel('accuracy (%)')
     axis.set_xlim(left=0)
-    axis.legend()
+    plotting.legend_outside(axis)
     axis.grid(alpha=0.3)
-    figure.tight_layout()
-    figure.savefig(path, dpi=100)
-    plt.close(figure)
+    plotting.save(plt, figure, path)

@@ -1,0 +1,87 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""The house style of every figure tactex writes: one panel size, one dpi, legends outside.
+
+A figure is a grid of panels, each `PANEL_IN` inches (a confusion matrix's panel grows
+with its classes, `panel_in`), written at `DPI` at exactly that size: `save` lays the
+figure out tight, making room for the legends `legend_outside` puts right of their axes,
+so a legend never hides data and a PNG's size in pixels tells its grid of panels.
+Plots follow the probe along its path where the data knows the position on it.
+matplotlib is imported when a figure is made, with the file-only Agg backend.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+PANEL_IN = (5.5, 4.0)  # width, height of one panel (inches), legend outside included
+DPI = 110
+# A confusion matrix's panel: square cells of CELL_IN plus CONFUSION_MARGIN_IN for the
+# tick labels and the title; never smaller than PANEL_IN, wider by the same margin.
+CELL_IN = 0.35
+CONFUSION_MARGIN_IN = 2.0
+LEGEND_FONTSIZE = 7
+LEGEND_ROWS = 18  # entries in one legend column before the next column starts
+FOOTNOTE_IN = 0.25  # the strip under the panels a footnote takes
+
+
+def panel_in(classes: int | None = None) -> tuple[float, float]:
+    """One panel's (width, height) in inches; with `classes`, a confusion matrix's.
+
+    The rule for a confusion matrix of `classes` rows or columns (the larger): its side is
+    `CONFUSION_MARGIN_IN + CELL_IN * classes`, at least the panel's height, and it is as
+    much wider than high as the panel is.
+    """
+    width, height = PANEL_IN
+    if classes is None:
+        return width, height
+    side = max(height, CONFUSION_MARGIN_IN + CELL_IN * classes)
+    return side + width - height, side
+
+
+def figure(rows: int = 1, columns: int = 1, *, classes: int | None = None,
+           **subplots_kwargs):
+    """(pyplot, figure, axes) of `rows` x `columns` house-sized panels.
+
+    Args:
+        rows: panels down.
+        columns: panels across.
+        classes: for confusion matrices, the classes each panel shows (`panel_in`).
+        **subplots_kwargs: passed on to `pyplot.subplots` (sharex, squeeze, ...).
+    """
+    import matplotlib
+    matplotlib.use('Agg')
+    import matplotlib.pyplot as plt
+    width, height = panel_in(classes)
+    made, axes = plt.subplots(rows, columns, figsize=(width * columns, height * rows),
+                              **subplots_kwargs)
+    return plt, made, axes
+
+
+def legend_outside(axes, source=None) -> None:
+    """`source`'s legend (default the axes' own) right of `axes`, where it hides no data."""
+    handles, labels = (source or axes).get_legend_handles_labels()
+    if handles:
+        axes.legend(handles, labels, loc='upper left', bbox_to_anchor=(1.02, 1.0),
+                    borderaxespad=0.0, fontsize=LEGEND_FONTSIZE,
+                    ncol=math.ceil(len(handles) / LEGEND_ROWS))
+
+
+def save(plt, figure, path: Path, footnote: str | None = None) -> None:
+    """Lay `figure` out tight (its legends too), write it at `DPI` to `path`, close it.
+
+    Args:
+        plt: pyplot, as `figure()` returned it.
+        figure: the figure to write.
+        path: the PNG to write.
+        footnote: a line under the panels (what data the figure shows), if any.
+    """
+    bottom = 0.0
+    if footnote:
+        figure.text(0.5, 0.005, footnote, ha='center', va='bottom', fontsize=LEGEND_FONTSIZE,
+                    color='dimgray', wrap=True)
+        bottom = FOOTNOTE_IN / figure.get_size_inches()[1]
+    figure.tight_layout(rect=(0, bottom, 1, 1))
+    figure.savefig(path, dpi=DPI)
+    plt.close(figure)
