@@ -145,3 +145,20 @@ def test_ctrl_c_cancels_the_probe_goal_before_the_command_ends(probed, system):
     assert 'probe goal canceled' in (system / 'probe.log').read_text()
     pathway = json.loads((system / 'pathway.json').read_text())
     assert len(pathway['probes']) == 3  # canceled before a contact: the last pathway stays
+
+
+def test_a_short_pathway_on_the_rising_flank_is_swept_to_the_end(system):
+    """Probed at x = 0.14-0.16 m, where the arm rests sagged below the goal its servos hold.
+
+    The sweep's goal steps the arm by that sag as it arrives; the sweep node took the step
+    for the arm leaving its start, ran its clock 0.37 s early, and aborted in the lift
+    ('the edge is 10.1 mm from where it is commanded ... (lift; tolerance 10 mm)').
+    """
+    probe = tactex('probe', '--namespace', 'left', '--start', '0.14', '0', '0.018', '--span',
+                   '0.02')
+    assert probe.returncode == 0, probe.stdout + probe.stderr
+    run = tactex('sweep', '--namespace', 'left')
+    assert run.returncode == 0, run.stdout + run.stderr + (system / 'sweep.log').read_text()
+    assert run.stdout.startswith('sweep goal succeeded\n')
+    speed = float(run.stdout.split('sliding speed ')[1].split()[0])
+    assert abs(speed - 15.0) < 1.5, run.stdout

@@ -17,6 +17,17 @@ SURFACE = SCENE.surface
 
 
 NORMAL_SD = math.radians(2.0)
+# A short pathway probed at x = 0.14-0.16 m (on the rising flank of the uneven plate) by
+# probe_node in the simulator, and where the arm rested after probing it (joint1..joint4,
+# gripper): the servos held a goal 2.6 mrad above at joints 2 and 3 (their sag), so a
+# sweep's trajectory, planned from the measured joints, steps the arm by SAG_STEP (0.9 mm
+# at the edge) as it arrives.
+FLANK_POINTS = np.array([[0.13933, 0.0, 0.00988], [0.14966, 0.0, 0.01083],
+                         [0.15995, 0.0, 0.01373]])
+FLANK_NORMALS = np.array([[0.0332, 0.0010, 0.9994], [-0.1620, -0.0027, 0.9868],
+                          [-0.2912, -0.0045, 0.9567]])
+FLANK_REST = np.array([0.0011, -0.1689, 0.0994, 1.5386, 0.0])
+SAG_STEP = np.array([0.0, 0.0026, 0.0026, 0.0002])
 
 
 def wave_pathway(seed=0, *, step=0.01, start=0.085, end=0.22, position_sd=0.001,

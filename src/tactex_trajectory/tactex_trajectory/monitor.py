@@ -5,8 +5,13 @@
 The sweep node feeds `SweepMonitor` every joint state and pressure sample with its time
 since the trajectory was sent. The trajectory's own clock starts when the arm is seen to
 leave its start as the plan does (so delivery latency and servo lag do not count as
-tracking error); until then the arm is at rest and the pressure is its baseline. The
-monitor says whether the edge is in contact (the
+tracking error); until then the arm is at rest and the pressure is its baseline. Leaving
+the start is measured along the plan's first motion and farther than the step a servo
+makes when the trajectory replaces what it held: a servo holds its goal sagged under the
+load (a few mrad, about 1 mm at the edge), the plan starts at the measured joints, so the
+goal steps by the sag at once; counted as the departure, that step started the clock up
+to 0.37 s early, and the descent and the lift (30 mm/s) read as 10 mm off their command.
+The monitor says whether the edge is in contact (the
 pressure above its out-of-contact baseline by a threshold), whether `sweep/active` is
 true (in the planned contact segment and in contact), and whether to abort: contact lost
 in the contact segment for longer than a tolerance, the force proxy over its limit, or
@@ -31,8 +36,9 @@ PRESS_STIFFNESS_N_M = OPEN_MANIPULATOR_X.joint('sensor_press').stiffness
 # The baseline is the median pressure while the edge is this far or farther above the
 # surface in the plan (m).
 BASELINE_CLEARANCE_M = 0.005
-# Edge travel from the start that marks the start of the motion, planned and measured (m).
-DEPARTURE_M = 0.001
+# Edge travel from the start, along the plan's first motion, that marks the start of the
+# motion, planned and measured (m): beyond the step of a servo's sag (about 1 mm).
+DEPARTURE_M = 0.003
 # Time constant of the sliding speed shown in the feedback (s).
 SPEED_SMOOTHING_S = 0.2
 
@@ -132,7 +138,8 @@ class SweepMonitor:
         self._tracking = 0.0
         self._abort = ''
         self._clear_until_s = self._clear_time()
-        self._planned_departure_s = self._departure_time()
+        self._planned_departure_s, self._departure_direction, self._departure_m = \
+            self._departure()
         self._offset_s: float | None = None
         self._rest_edge: np.ndarray | None = None
 
@@ -142,12 +149,28 @@ class SweepMonitor:
         fraction = 1.0 - BASELINE_CLEARANCE_M / self.plan.settings.approach_height_m
         return descend.start_s + max(0.0, fraction) * 0.5 * (descend.end_s - descend.start_s)
 
-    def _departure_time(self) -> float:
-        """When the planned edge has first travelled DEPARTURE_M from its start."""
+    def _departure(self) -> tuple[float, np.ndarray | None, float]:
+        """When, in which direction and how far the planned edge departs from its start.
+
+        The departure is DEPARTURE_M of travel (or half the plan's largest distance from
+        its start, when that is less); the direction is the start's to there. A plan that
+        never leaves its start departs at 0 in no direction.
+        """
         times = np.linspace(0.0, self.plan.trajectory.duration_s, 4000)
         edges = np.array([ARM.tool_pose(q)[0] for q in self._interpolant(times)])
-        moved = np.linalg.norm(edges - edges[0], axis=1) > DEPARTURE_M
-        return float(times[int(np.argmax(moved))]) if np.any(moved) else 0.0
+        distances = np.linalg.norm(edges - edges[0], axis=1)
+        threshold = min(DEPARTURE_M, 0.5 * float(np.max(distances)))
+        if threshold <= 1e-6:
+            return 0.0, None, DEPARTURE_M
+        index = int(np.argmax(distances >= threshold))
+        return float(times[index]), (edges[index] - edges[0]) / distances[index], threshold
+
+    def _departed(self, measured: np.ndarray) -> bool:
+        """Whether the measured edge has left its rest as the plan leaves its start."""
+        offset = measured - self._rest_edge
+        if self._departure_direction is None:
+            return float(np.linalg.norm(offset)) > self._departure_m
+        return float(offset @ self._departure_direction) >= self._departure_m
 
     @property
     def started(self) -> bool:
@@ -209,7 +232,7 @@ class SweepMonitor:
         if self._offset_s is None:
             if self._rest_edge is None:
                 self._rest_edge = measured
-            elif np.linalg.norm(measured - self._rest_edge) > DEPARTURE_M:
+            elif self._departed(measured):
                 self._offset_s = time_s - self._planned_departure_s
         t_s = self.trajectory_time(time_s)
         commanded, _ = ARM.tool_pose(self._interpolant(
