@@ -15,6 +15,14 @@ def stamp_ns(stamp) -> int:
     return int(stamp.sec) * 1_000_000_000 + int(stamp.nanosec)
 
 
+def stamp_or_log_ns(header_ns: int, log_ns: int) -> int:
+    """A logged message's header stamp, or its log time where a driver left the stamp 0.
+
+    A simulation's first sample is at 0 on both clocks: it stays 0.
+    """
+    return log_ns if header_ns == 0 else header_ns
+
+
 def gaps(stamps_ns: np.ndarray) -> np.ndarray:
     """True at step i when stamps i -> i+1 are more than GAP_FACTOR median periods apart.
 

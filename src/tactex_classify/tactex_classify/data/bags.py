@@ -33,7 +33,7 @@ from tactex_classify.data.topic_inventory import survey, TopicInventory
 from tactex_classify.errors import BagError
 from tactex_common import topics
 from tactex_common.channels import ACCEL, BARO, CHANNELS, GYRO, MAG
-from tactex_common.stamps import gaps, stamp_ns
+from tactex_common.stamps import gaps, stamp_ns, stamp_or_log_ns
 
 # Role -> (topic relative to the recording's namespace, message type).
 TOPIC_ROLES = {
@@ -225,10 +225,10 @@ class _Collected:
 
     def stamp(self, message, log_ns: int) -> int:
         """The header stamp, or the log time where a driver left it 0."""
-        stamp = stamp_ns(message.header.stamp)
-        if stamp == 0 and log_ns != 0:  # (a simulation's first sample is at 0 on both clocks)
+        header = stamp_ns(message.header.stamp)
+        stamp = stamp_or_log_ns(header, log_ns)
+        if stamp != header:
             self.zero_stamps += 1
-            return log_ns
         return stamp
 
     def add(self, role: str, message, log_ns: int, path: Path) -> None:

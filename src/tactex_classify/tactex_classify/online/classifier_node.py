@@ -41,6 +41,7 @@ from tactex_classify.errors import ClassifyError
 from tactex_classify.online.evidence import EvidenceSettings
 from tactex_classify.online.live import CONTACT_SOURCES, LiveSettings, OnlineClassifier
 from tactex_classify.online.runtime import load_predictor, RUNTIMES
+from tactex_classify.online.stream_health import stated_metadata
 from tactex_common import topics
 from tactex_common.ros import COMMAND, SENSOR_DATA, spin, TactexNode
 from tactex_common.stamps import stamp_ns
@@ -216,11 +217,8 @@ class ClassifierNode(TactexNode):
         self._enqueue(('active', self.get_clock().now().nanoseconds, message.data, 0))
 
     def _on_metadata(self, message: String) -> None:
-        try:
-            stated = json.loads(message.data)
-        except ValueError:
-            stated = None
-        if not isinstance(stated, dict) or 'sensor_rate_hz' not in stated:
+        stated = stated_metadata(message.data)
+        if 'sensor_rate_hz' not in stated:
             return
         self._enqueue(('rate', 0, stated['sensor_rate_hz'], 0))
 

@@ -148,6 +148,7 @@ class RingBuffer:
     """The newest `capacity` samples of one stream: stamps, values and arrival times."""
 
     def __init__(self, capacity: int, width: int) -> None:
+        self.capacity = capacity
         self.stamps = np.zeros(capacity, dtype=np.int64)
         self.values = np.zeros((capacity, width))
         self.arrivals = np.zeros(capacity, dtype=np.int64)
@@ -156,17 +157,18 @@ class RingBuffer:
 
     def append(self, stamp_ns: int, values, arrival_ns: int) -> int | None:
         """Store a sample; return the stamp of the sample it overwrote (None if none)."""
-        slot = self.count % len(self.stamps)
-        overwritten = int(self.stamps[slot]) if self.count >= len(self.stamps) else None
+        slot = self.count % self.capacity
+        overwritten = int(self.stamps[slot]) if self.count >= self.capacity else None
         self.stamps[slot], self.values[slot], self.arrivals[slot] = stamp_ns, values, arrival_ns
         self.count += 1
-        self.latest_ns = stamp_ns if self.latest_ns is None else max(self.latest_ns, stamp_ns)
+        if self.latest_ns is None or stamp_ns > self.latest_ns:
+            self.latest_ns = stamp_ns
         return overwritten
 
     def since(self, stamp_ns: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The held samples stamped after `stamp_ns`, in arrival order."""
-        held = min(self.count, len(self.stamps))
-        order = (np.arange(self.count - held, self.count) % len(self.stamps))
+        held = min(self.count, self.capacity)
+        order = (np.arange(self.count - held, self.count) % self.capacity)
         chosen = order[self.stamps[order] > stamp_ns]
         return self.stamps[chosen], self.values[chosen], self.arrivals[chosen]
 
@@ -263,8 +265,8 @@ class LiveWindows:
                          for role in self.roles}
         self._final_ns: int | None = None  # stamps up to here are final
         self._reference_count = 0  # IMU samples since the start
-        # IMU samples added since each other stream's last sample (how far it lags).
-        self._ahead = dict.fromkeys(self.roles[1:], 0)
+        # _reference_count at each other stream's last sample (how far it lags).
+        self._heard_at = dict.fromkeys(self.roles[1:], 0)
         self._recent = np.zeros(0, dtype=np.int64)  # newest aligned stamps
         self._rate_stamps: deque[int] = deque(maxlen=RATE_SPAN)  # newest IMU stamps, late too
         self._run_count = 0
@@ -317,10 +319,8 @@ class LiveWindows:
         if role == REFERENCE:
             self.counts['samples'] += 1
             self._reference_count += 1
-            for other in self._ahead:
-                self._ahead[other] += 1
         else:
-            self._ahead[role] = 0
+            self._heard_at[role] = self._reference_count
         if overwritten is not None and (self._final_ns is None or overwritten > self._final_ns):
             self.counts['overflow'] += 1
 
@@ -348,7 +348,7 @@ class LiveWindows:
             return None  # align's tolerance needs the streams' periods
         stalled = self.settings.max_lag_s * self.stream.sampling_rate_hz
         for role in self.roles[1:]:
-            if self._ahead[role] > stalled:
+            if self._reference_count - self._heard_at[role] > stalled:
                 continue  # stalled (or never started): not waited for
             latest = self._buffers[role].latest_ns
             if self._buffers[role].count < 2:

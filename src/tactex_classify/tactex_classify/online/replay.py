@@ -7,8 +7,9 @@ sensor sample with its header stamp and its log time as arrival, sweep/active wi
 log time, the stated rate from recording/metadata: what classifier_node's worker does
 with what its subscriptions receive. So alignment, gaps, resyncs, the contact rule, the
 rate check, the evidence and the decision are the node's own, not a copy. The core is
-polled every `STEP_EVERY` IMU samples and every window is classified (a node whose model
-keeps up).
+polled every `STEP_HOPS` hops of IMU samples and every window is classified (a node whose
+model keeps up). A long recording is decoded in a second process meanwhile
+(`tactex_classify.data.decoder_process`).
 
 A dataset has windows, not streams: each recording's windows go through `Evidence` in
 start order, restarting where consecutive windows do not touch (contact was lost).
@@ -18,7 +19,6 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
-import json
 from pathlib import Path
 
 import numpy as np
@@ -27,16 +27,15 @@ from tactex_classify.data.bags import (
     readable_parts,
     resolve_topics,
     ROLE_CHANNELS,
-    sample_values,
     TOPIC_ROLES,
 )
 from tactex_classify.data.dataset import Dataset
-from tactex_classify.data.sources import decoded_messages
+from tactex_classify.data.decoder_process import decoded_samples
 from tactex_classify.errors import BagError
 from tactex_classify.online.evidence import Estimate, Evidence, EvidenceSettings
 from tactex_classify.online.live import LiveSettings, OnlineClassifier
 from tactex_classify.online.runtime import Predictor
-from tactex_common.stamps import stamp_ns
+from tactex_classify.online.stream_health import stated_metadata
 
 STEP_HOPS = 4  # hops of IMU samples between passes of the core
 
@@ -107,18 +106,21 @@ def replay_recording(predictor: Predictor, path: Path, *, live: LiveSettings | N
     result = Replayed(str(path), None, 0)
     metadata: dict = {}
     imu_samples, step_every = 0, STEP_HOPS * classifier.windows.hop
-    for part in parts:
-        for topic, log_ns, message in decoded_messages(part, by_topic):
-            role = by_topic[topic]
+    add = classifier.windows.add
+    with decoded_samples(path, parts, by_topic,
+                         sum(inventory.counts.get(topic, 0) for topic in by_topic)) as samples:
+        for role, stamp, log_ns, data in samples:
             if role == 'active':
-                classifier.windows.set_active(bool(message.data), log_ns)
+                classifier.windows.set_active(data, log_ns)
             elif role == 'metadata':
-                metadata.update(_metadata(message.data, classifier))
+                stated = stated_metadata(data)
+                if 'sensor_rate_hz' in stated:
+                    classifier.rate.stated(stated['sensor_rate_hz'])
+                metadata.update(stated)
             else:
-                stamp = stamp_ns(message.header.stamp) or log_ns
                 if not result.start_ns:
                     result.start_ns = stamp
-                classifier.windows.add(role, stamp, sample_values(role, message), log_ns)
+                add(role, stamp, data, log_ns)
                 if role == 'imu':
                     imu_samples += 1
                     if imu_samples % step_every == 0:
@@ -135,19 +137,6 @@ def replay_recording(predictor: Predictor, path: Path, *, live: LiveSettings | N
         raise BagError(f'{path}: {classifier.last_fault}: classifier_node would refuse every '
                        'window; train a model on recordings at this rate')
     return result
-
-
-def _metadata(text: str, classifier: OnlineClassifier) -> dict:
-    """recording/metadata as the node reads it: the stated rate, and the label."""
-    try:
-        stated = json.loads(text)
-    except ValueError:
-        return {}
-    if not isinstance(stated, dict):
-        return {}
-    if 'sensor_rate_hz' in stated:
-        classifier.rate.stated(stated['sensor_rate_hz'])
-    return stated
 
 
 def _take(classifier: OnlineClassifier, result: Replayed, classes) -> None:

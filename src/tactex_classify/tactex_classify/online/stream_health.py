@@ -12,11 +12,13 @@
   over a sliding span, with hysteresis: off beyond the tolerance, back within half of it.
 - `window_fault`: a window no decision may come from: frozen (the motion channels repeat
   one sample) or saturated (a channel held at a chip's rail for half the window).
+- `stated_metadata`: recording/metadata as the live classifier reads it (the stated rate).
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
+import json
 import math
 
 import numpy as np
@@ -50,8 +52,11 @@ _RAILS = {**dict.fromkeys(ACCEL, (-_smallest_rail(chips.ACCEL_RANGES),
 
 def fits_float32(values: Sequence[float]) -> bool:
     """Every value finite and within float32's range (the models' input type)."""
-    # Plain floats: a handful per sample, on the live path; abs(NaN) <= x is False.
-    return all(abs(float(v)) <= FLOAT32_MAX for v in values)
+    # A plain loop: a handful of values per sample, on the live path; abs(NaN) <= x is False.
+    for value in values:
+        if not abs(float(value)) <= FLOAT32_MAX:
+            return False
+    return True
 
 
 class Timeline:
@@ -88,6 +93,15 @@ class Timeline:
             return HELD
         self.latest_ns, self._candidate_ns, self._candidate_count = stamp_ns, None, 0
         return RESTARTED
+
+
+def stated_metadata(text: str) -> dict:
+    """A recording/metadata message's JSON object ({} for anything else: the stream goes on)."""
+    try:
+        stated = json.loads(text)
+    except ValueError:
+        return {}
+    return stated if isinstance(stated, dict) else {}
 
 
 class RateJudge:
