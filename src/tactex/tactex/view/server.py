@@ -13,7 +13,7 @@ from __future__ import annotations
 import math
 import os
 
-from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 import foxglove
 from foxglove.channels import FrameTransformsChannel, SceneUpdateChannel
 from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
@@ -182,12 +182,8 @@ class ViewNode(TactexNode):
     def _publish_diagnostics(self) -> None:
         values = {'url': self.url, **{f'forwarded{name.replace("/", "_")}': str(count)
                                       for name, count in self.forwarded.items()}}
-        status = DiagnosticStatus(level=DiagnosticStatus.OK, name='tactex: view',
-                                  message=f'serving {self.url}',
-                                  values=[KeyValue(key=k, value=v) for k, v in values.items()])
-        array = DiagnosticArray(status=[status])
-        array.header.stamp = self.get_clock().now().to_msg()
-        self._diagnostics_pub.publish(array)
+        self.publish_diagnostics(self._diagnostics_pub, DiagnosticStatus.OK, 'tactex: view',
+                                 f'serving {self.url}', values)
 
 
 def serve(args: list[str] | None = None) -> None:

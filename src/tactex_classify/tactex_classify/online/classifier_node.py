@@ -23,7 +23,7 @@ import threading
 import time
 
 from builtin_interfaces.msg import Time
-from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 import numpy as np
 from rcl_interfaces.msg import (
     FloatingPointRange,
@@ -364,12 +364,9 @@ class ClassifierNode(TactexNode):
                   'resets': json.dumps(self._classifier.resets, sort_keys=True),
                   'queued': str(len(self._queue)),
                   **{f'faults_{name}': str(count) for name, count in faults.items()}}
-        status = DiagnosticStatus(level=level, name=f'tactex_classify: {self.get_name()}',
-                                  message=summary, hardware_id=self._info.model_id,
-                                  values=[KeyValue(key=k, value=v) for k, v in values.items()])
-        array = DiagnosticArray(status=[status])
-        array.header.stamp = self.get_clock().now().to_msg()
-        self._diagnostics_pub.publish(array)
+        self.publish_diagnostics(self._diagnostics_pub, level,
+                                 f'tactex_classify: {self.get_name()}', summary, values,
+                                 hardware_id=self._info.model_id)
 
     def _fault_totals(self) -> dict[str, int]:
         """Every fault count: the worker's, the stream's and the windows'."""
