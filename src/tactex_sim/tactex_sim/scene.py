@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from tactex_common.constants import MAX_SEED
+from tactex_common.constants import MAX_SEED, SLIDING_SPEED_M_S
 from tactex_common.errors import RefusedFileError
 from tactex_common.files import read_bytes
 from tactex_sim.errors import SceneError
@@ -93,7 +93,7 @@ class Patch:
 class Sweep:
     """The scripted sweep: sliding speed, contact duration, edge offset, start."""
 
-    speed_m_s: float = 0.015
+    speed_m_s: float = SLIDING_SPEED_M_S
     contact_s: float = 7.6
     edge_offset_rad: float = 0.35
     start_x_m: float = 0.13

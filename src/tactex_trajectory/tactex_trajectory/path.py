@@ -21,12 +21,14 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
-from scipy.interpolate import BSpline
-from scipy.linalg import eigh
 
 from tactex_trajectory.errors import PathError
+
+if TYPE_CHECKING:
+    from scipy.interpolate import BSpline
 
 DEGREE = 3
 # No path and no approach may span more than this (m): far beyond any arm's reach, and
@@ -431,6 +433,7 @@ def _fit(points: np.ndarray, normals: np.ndarray, settings: PathSettings) -> _Cu
     knots = np.concatenate([np.zeros(DEGREE), np.linspace(0.0, u[-1], intervals + 1),
                             np.full(DEGREE, u[-1])])
     count = len(knots) - DEGREE - 1
+    from scipy.interpolate import BSpline  # on use: 0.6 s that every command's start paid
     basis = BSpline(knots, np.eye(count), DEGREE, extrapolate=True)
     values = basis(u)
     slopes = basis.derivative()(u)
@@ -486,6 +489,7 @@ def _penalised_fit(design: np.ndarray, values: np.ndarray, weights: np.ndarray,
     (P'P v = mu (M'W'WM + P'P) v) makes every lam cheap; lam is searched on a grid of its
     logarithm, then refined by golden section.
     """
+    from scipy.linalg import eigh  # on use, as BSpline
     weighted = design * weights[:, None]
     observed = values * weights
     data = weighted.T @ weighted

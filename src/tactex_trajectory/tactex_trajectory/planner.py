@@ -21,6 +21,7 @@ import math
 
 import numpy as np
 
+from tactex_common.constants import SLIDING_SPEED_M_S
 from tactex_description.mjcf import EDGE_TIP_RADIUS_M
 from tactex_driver.errors import TrajectoryRejected
 from tactex_driver.playback import JointLimits, LIMIT_TOLERANCE, plan
@@ -76,7 +77,7 @@ class SweepSettings:
         pose: edge offset, press depth and residual tolerance.
     """
 
-    sliding_speed_m_s: float = 0.015
+    sliding_speed_m_s: float = SLIDING_SPEED_M_S
     approach_height_m: float = 0.02
     descent_speed_m_s: float = 0.03
     ramp_acceleration_m_s2: float = 0.05

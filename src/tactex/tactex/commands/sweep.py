@@ -16,19 +16,19 @@ from pathlib import Path
 
 from tactex.errors import CommandError
 from tactex.options import add_goal_options, check_input_file, number, text, trial_id
-from tactex_trajectory.planner import SweepSettings
+from tactex_common.constants import SLIDING_SPEED_M_S
 from tactex_trajectory.poses import PoseSettings
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Register the options of this subcommand."""
-    pose, sweep = PoseSettings(), SweepSettings()
+    pose = PoseSettings()  # (the planner's SweepSettings imports scipy: 0.6 s at start-up)
     parser.add_argument('--pathway', type=Path, metavar='FILE',
                         help='a pathway file to slide along (default: the one probe_node '
                              'broadcast on probe/pathway)')
-    parser.add_argument('--speed', type=number(), default=sweep.sliding_speed_m_s,
+    parser.add_argument('--speed', type=number(), default=SLIDING_SPEED_M_S,
                         metavar='M_S', help='sliding speed of the edge, m/s '
-                                            f'(default {sweep.sliding_speed_m_s:g}, the original)')
+                                            f'(default {SLIDING_SPEED_M_S:g}, the original)')
     parser.add_argument('--edge-offset', type=number(above=None, at_least=0.0),
                         default=pose.edge_offset_rad, metavar='RAD',
                         help='tilt of the sensor from the normal so its edge touches, rad, '
