@@ -2,7 +2,14 @@
 # SPDX-License-Identifier: Apache-2.0
 """Recordings in, windows out: bag reading, stream alignment, datasets, imports, statistics.
 
-- `bags`: a recording (rosbag2 folder) read into aligned channel arrays with its segments.
+- `sources`: what a recording is (rosbag2 folders, ROS 1 bags, lone MCAP and sqlite3 files)
+  and one reader of its parts' messages; `inflation` bounds decompression; `ros1_index`
+  opens a ROS 1 bag for a few topics; `mcap_index` reads MCAP message indexes.
+- `topic_inventory`: a recording's topics, types, counts and rates, and what to name.
+- `bags`: a recording read into aligned channel arrays with its segments.
+- `decoder_process`: a recording's messages decoded in a second process.
+- `bag_info`: what a recording holds (`tactex bag info`).
+- `resampling`: a recording onto a uniform time grid at another rate.
 - `stream_alignment`: joining streams of different rates onto the leading one's stamps.
 - `dataset`: windows, labels and recordings (`Dataset`, `convert`), the `.npz` format.
 - `importers`: other people's data (the MUN dataset, CSV files) into the same format.
