@@ -27,7 +27,8 @@ def vector(x, y, z):
 
 def write_bag(path: Path, stamps_ns, values, *, mag_stamps_ns=None, pressure_stamps_ns=None,
               active=None, metadata=None, joint_speed=None, namespace='/', names=None,
-              truth=None, estimates=None, storage=StoragePlugin.MCAP, live_order=False):
+              truth=None, estimates=None, storage=StoragePlugin.MCAP, live_order=False,
+              unreadable_imu_from=None):
     """Write a recording of `values` (n, 10), channel order, at header `stamps_ns`.
 
     Mag and pressure may use their own stamps (an empty list: no such topic); `active`
@@ -38,7 +39,8 @@ def write_bag(path: Path, stamps_ns, values, *, mag_stamps_ns=None, pressure_sta
     the simulator's ground-truth topics; `estimates` lists tactex_msgs/TextureEstimate
     messages for texture/estimate. IMU messages are logged one nanosecond apart after the
     first stamp (arrival order only), or with `live_order` at their stamps, interleaved with
-    the other streams as a live recorder logs them.
+    the other streams as a live recorder logs them. IMU messages from index
+    `unreadable_imu_from` on are cut short: they cannot be decoded.
     """
     values = np.asarray(values, dtype=float)
     mag_stamps_ns = stamps_ns if mag_stamps_ns is None else mag_stamps_ns
@@ -83,7 +85,9 @@ def write_bag(path: Path, stamps_ns, values, *, mag_stamps_ns=None, pressure_sta
                 linear_acceleration_covariance=np.zeros(9))
             # Logged in arrival order; the header carries the sensor's own stamp.
             logged = int(stamp) if live_order else int(stamps_ns[0]) + i
-            writer.write(imu, logged, TS.serialize_cdr(message, 'sensor_msgs/msg/Imu'))
+            data = TS.serialize_cdr(message, 'sensor_msgs/msg/Imu')
+            cut = unreadable_imu_from is not None and i >= unreadable_imu_from
+            writer.write(imu, logged, data[:20] if cut else data)
             if joint_speed is not None:
                 writer.write(joints, int(stamp), TS.serialize_cdr(T['sensor_msgs/msg/JointState'](
                     header=header(stamp), name=['joint1'], position=np.zeros(1),

@@ -15,8 +15,7 @@ import signal
 
 import numpy as np
 import pytest
-from rosbags.rosbag2 import StoragePlugin, Writer
-from support.bagfactory import header, T, TS, vector, write_bag
+from support.bagfactory import write_bag
 
 from tactex_classify.data import decoder_process
 from tactex_classify.data.bags import sample_values
@@ -107,37 +106,12 @@ def test_the_samples_are_the_messages_in_logged_order(lab, monkeypatch, spawn_fr
     assert [repr(item) for item in got] == [repr(item) for item in expected]  # NaN == NaN
 
 
-def broken_recording(path, good):
-    """The three sensor topics; the IMU's messages after the first `good` cut short."""
-    with Writer(path, version=9, storage_plugin=StoragePlugin.MCAP) as writer:
-        imu = writer.add_connection('/tactile/imu/data_raw', 'sensor_msgs/msg/Imu', typestore=TS)
-        mag = writer.add_connection('/tactile/imu/mag', 'sensor_msgs/msg/MagneticField',
-                                    typestore=TS)
-        pressure = writer.add_connection('/tactile/pressure', 'sensor_msgs/msg/FluidPressure',
-                                         typestore=TS)
-        for i in range(good + 10):
-            stamp = 10**12 + i * PERIOD_NS
-            message = T['sensor_msgs/msg/Imu'](
-                header=header(stamp),
-                orientation=T['geometry_msgs/msg/Quaternion'](x=0.0, y=0.0, z=0.0, w=1.0),
-                orientation_covariance=np.zeros(9), angular_velocity=vector(0, 0, i),
-                angular_velocity_covariance=np.zeros(9), linear_acceleration=vector(0, 0, 9.8),
-                linear_acceleration_covariance=np.zeros(9))
-            data = TS.serialize_cdr(message, 'sensor_msgs/msg/Imu')
-            writer.write(imu, stamp, data if i < good else data[:20])
-            writer.write(mag, stamp, TS.serialize_cdr(T['sensor_msgs/msg/MagneticField'](
-                header=header(stamp), magnetic_field=vector(1e-5, 0, 0),
-                magnetic_field_covariance=np.zeros(9)), 'sensor_msgs/msg/MagneticField'))
-            writer.write(pressure, stamp, TS.serialize_cdr(T['sensor_msgs/msg/FluidPressure'](
-                header=header(stamp), fluid_pressure=101_325.0, variance=0.0),
-                'sensor_msgs/msg/FluidPressure'))
-    return path
-
-
 @pytest.mark.parametrize('good', [0, 2500])
 def test_an_unreadable_message_is_the_same_unreadable_part_either_way(lab, tmp_path,
                                                                      monkeypatch, good):
-    path = broken_recording(tmp_path / 'broken', good)
+    stamps = 10**12 + np.arange(good + 10, dtype=np.int64) * PERIOD_NS
+    path = write_bag(tmp_path / 'broken', stamps, signal_values(good + 10, 2), live_order=True,
+                     unreadable_imu_from=good)
     with pytest.raises(UnreadablePart) as direct:
         for _ in decoded_messages(path, TOPICS):
             pass
