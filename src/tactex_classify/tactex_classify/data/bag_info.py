@@ -30,7 +30,7 @@ from tactex_classify.data.sources import (
     open_part,
     read_messages,
     reason,
-    STORAGE_SUFFIXES,
+    storage_files,
 )
 from tactex_classify.errors import BagError
 from tactex_common.files import read_text
@@ -166,8 +166,7 @@ def _read_messages(reader, unit: Path, times: dict | None, metadata: dict, notes
 
 def _mcap_log_times(reader, unit: Path) -> dict[str, array] | None:
     """The log times in an MCAP part's message indexes, when they list every message."""
-    files = sorted(unit.glob('*')) if unit.is_dir() else [unit]
-    storage = [f for f in files if f.suffix in STORAGE_SUFFIXES or f.name.endswith('.zstd')]
+    storage = storage_files(unit)
     if not storage or any(f.suffix != '.mcap' for f in storage):
         return None
     indexed = log_times(storage)

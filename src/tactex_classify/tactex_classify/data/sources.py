@@ -80,11 +80,18 @@ def _units(folder: Path) -> list[Path]:
     return natural_sorted(p for p in folder.iterdir() if p.suffix in STORAGE_SUFFIXES)
 
 
+def storage_files(part: Path) -> list[Path]:
+    """A part's storage files: a file part itself; a folder's .mcap, .db3 and .zstd files."""
+    if not part.is_dir():
+        return [part]
+    return sorted(p for p in part.iterdir()
+                  if p.suffix in STORAGE_SUFFIXES or p.name.endswith('.zstd'))
+
+
 def kind(part: Path) -> str:
     """What a part is, in words."""
     if part.is_dir():
-        storage = {p.suffix for p in part.iterdir() if p.suffix in STORAGE_SUFFIXES
-                   or p.name.endswith('.zstd')}
+        storage = {p.suffix for p in storage_files(part)}
         return 'rosbag2 folder' + (f' ({", ".join(sorted(storage))})' if storage else '')
     return FILE_KINDS.get(part.suffix, 'file')
 
