@@ -1,0 +1,100 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""How long choosing the next movement takes: 30 textures x 12 movements, the target 5 ms.
+
+Builds seeded out-of-fold evidence (5, 10 and 25 held-out sweeps per texture and
+movement) and times `Identification.next_movement()` of the `active` policy, from the
+uniform belief and from a belief sharpened by earlier sweeps, against the same
+expected-information-gain computed movement by movement (one numpy pass per movement,
+the straightforward way), measured in the same run on the same beliefs. Prints the
+median and p99 of each, the ratio between them and the margin to the 5 ms target.
+Writes bench/results/identification_choice.json.
+"""
+
+import json
+from pathlib import Path
+import time
+
+import numpy as np
+
+from tactex_classify.identification.evidence_table import EvidenceTable, MovementEvidence
+from tactex_classify.identification.posterior import entropy, normalised
+from tactex_classify.identification.selection import Identification
+
+RESULTS = Path(__file__).parent / 'results'
+TEXTURES, MOVEMENTS, TARGET_MS, REPEATS = 30, 12, 5.0, 300
+
+
+def evidence(sweeps: int, rng: np.random.Generator) -> list[MovementEvidence]:
+    """Seeded held-out probability vectors, each movement telling the textures apart its way."""
+    labels = np.repeat(np.arange(TEXTURES), sweeps)
+    movements = []
+    for index in range(MOVEMENTS):
+        logits = rng.normal(size=(len(labels), TEXTURES))
+        logits[np.arange(len(labels)), labels] += rng.uniform(0.5, 3.0, size=TEXTURES)[labels]
+        probabilities = np.exp(logits - logits.max(axis=1, keepdims=True))
+        movements.append(MovementEvidence(f'm{index}', 2.0 + index % 4,
+                                          probabilities / probabilities.sum(1, keepdims=True),
+                                          labels))
+    return movements
+
+
+def per_movement_choice(table: EvidenceTable, log_posterior: np.ndarray) -> int:
+    """The same choice, one movement at a time."""
+    posterior = np.exp(log_posterior)
+    gains = []
+    for movement in range(len(table.names)):
+        expected = 0.0
+        for texture in range(TEXTURES):
+            terms = table.held_out_log_likelihoods(movement, texture)
+            expected += posterior[texture] * np.mean(entropy(normalised(log_posterior + terms)))
+        gains.append((entropy(log_posterior) - expected) / table.seconds[movement])
+    return int(np.argmax(gains))
+
+
+def timed_ms(choose, repeats: int = REPEATS) -> np.ndarray:
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        choose()
+        times.append(time.perf_counter() - start)
+    return np.array(times) * 1e3
+
+
+def main() -> None:
+    rng = np.random.default_rng(0)
+    rows = []
+    print(f'{"sweeps per cell":>15}  {"belief":>9}  {"stacked p50/p99 ms":>19}  '
+          f'{"per movement p50/p99 ms":>24}  {"ratio":>6}  {"target":>7}')
+    for sweeps in (5, 10, 25):
+        movements = evidence(sweeps, rng)
+        table = EvidenceTable([f't{k}' for k in range(TEXTURES)], movements, 0.8)
+        identification = Identification(table, 'active')
+        beliefs = {'uniform': identification.log_posterior.copy()}
+        for chosen in (0, 1, 2):  # three sweeps of texture 0
+            identification.observe(chosen, movements[chosen].probabilities[0])
+        beliefs['sharpened'] = identification.log_posterior.copy()
+        for belief, log_posterior in beliefs.items():
+            identification.log_posterior = log_posterior
+            identification.movements = []
+            assert identification.next_movement() == per_movement_choice(table, log_posterior)
+            stacked = timed_ms(identification.next_movement)
+            looped = timed_ms(lambda t=table, b=log_posterior: per_movement_choice(t, b),
+                              REPEATS // 10)
+            row = {'sweeps_per_cell': sweeps, 'belief': belief,
+                   'stacked_ms': [float(np.median(stacked)), float(np.percentile(stacked, 99))],
+                   'per_movement_ms': [float(np.median(looped)),
+                                       float(np.percentile(looped, 99))]}
+            rows.append(row)
+            print(f'{sweeps:>15}  {belief:>9}  {row["stacked_ms"][0]:>8.2f} / '
+                  f'{row["stacked_ms"][1]:>8.2f}  {row["per_movement_ms"][0]:>11.2f} / '
+                  f'{row["per_movement_ms"][1]:>10.2f}  '
+                  f'{row["per_movement_ms"][0] / row["stacked_ms"][0]:>5.1f}x  '
+                  f'{TARGET_MS / row["stacked_ms"][1]:>6.1f}x')
+    (RESULTS / 'identification_choice.json').write_text(json.dumps(
+        {'textures': TEXTURES, 'movements': MOVEMENTS, 'target_ms': TARGET_MS,
+         'rows': rows}, indent=2) + '\n', encoding='utf-8')
+
+
+if __name__ == '__main__':
+    main()

@@ -1,0 +1,22 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""Active identification: choose each next movement to tell the remaining textures apart.
+
+Pure numpy, no ROS:
+- `posterior`: the belief over textures in log space and its tempered update.
+- `evidence_table`: what each movement's sweeps tell, from out-of-fold probability
+  vectors per (true texture, movement), and the expected information gain of each.
+- `selection`: the policies (active, random, fixed, round-robin) and one identification's
+  loop state: next movement, update, threshold and budgets.
+- `tempering`: the one exponent that keeps the independent-sweeps update honest.
+- `calibration`: temperature scaling of a model's probabilities and its calibration error.
+"""
+
+from tactex_classify.exports import lazy_exports
+
+_EXPORTS = {'EvidenceTable': 'evidence_table', 'MovementEvidence': 'evidence_table',
+            'Identification': 'selection', 'Budget': 'selection', 'POLICIES': 'selection',
+            'fit_tempering': 'tempering', 'fit_temperature': 'calibration',
+            'reliability': 'calibration'}
+__all__ = sorted(_EXPORTS)
+__getattr__ = lazy_exports(__name__, _EXPORTS)

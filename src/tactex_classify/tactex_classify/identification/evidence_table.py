@@ -1,0 +1,159 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""What each movement tells about the texture: out-of-fold probability vectors and their gain.
+
+For each movement the table keeps the calibrated class-probability vectors its model gave
+held-out sweeps (grouped by recording), with each sweep's true texture. The update
+(`posterior`) and the choice of the next movement both read these same vectors: the
+expected information gain of a movement under the current belief pi is
+
+    H(pi) - sum_c pi(c) * mean over the sweeps j of texture c of H(pi updated by q_j),
+
+the entropy the belief is expected to lose when the next sweep of that movement is one
+of its held-out sweeps of the texture drawn from pi, updated as the node would update.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+import math
+
+import numpy as np
+
+from tactex_classify.identification.posterior import (
+    checked_probabilities,
+    entropy,
+    log_sum_exp,
+    normalised,
+    tempered_log_likelihoods,
+)
+
+MAX_TEMPERING = 100.0
+
+
+@dataclass(frozen=True)
+class MovementEvidence:
+    """One movement's out-of-fold evidence.
+
+    Attributes:
+        name: the movement's name (as in config/movements.yaml).
+        contact_seconds: the edge's time in contact during one sweep of the movement.
+        probabilities: (sweeps, classes) class probabilities of held-out sweeps.
+        labels: (sweeps,) each sweep's true texture, an index into the classes.
+    """
+
+    name: str
+    contact_seconds: float
+    probabilities: np.ndarray
+    labels: np.ndarray
+
+
+class EvidenceTable:
+    """Every movement's out-of-fold evidence over one list of textures, ready for the loop.
+
+    Args:
+        classes: the texture names, in the models' class order.
+        movements: each movement's evidence; every texture needs at least one sweep in each.
+        tempering: the update's exponent tau (> 0, at most MAX_TEMPERING).
+
+    Raises:
+        ValueError: naming the movement, texture or value that is missing or malformed.
+    """
+
+    def __init__(self, classes: Sequence[str], movements: Sequence[MovementEvidence],
+                 tempering: float = 1.0) -> None:
+        self.classes = tuple(classes)
+        if not self.classes:
+            raise ValueError('no textures: the evidence needs at least one class')
+        if not movements:
+            raise ValueError('no movements: the evidence needs at least one')
+        names = [movement.name for movement in movements]
+        if len(set(names)) != len(names):
+            raise ValueError(f'movement names repeat: {names}')
+        if not (isinstance(tempering, (int, float)) and math.isfinite(tempering)
+                and 0.0 < tempering <= MAX_TEMPERING):
+            raise ValueError(f'tempering must be in (0, {MAX_TEMPERING:g}], got {tempering!r}')
+        self.names = tuple(names)
+        self.tempering = float(tempering)
+        self.seconds = np.array([self._seconds(movement) for movement in movements])
+        rows = [self._rows(movement) for movement in movements]
+        self.log_typical = np.stack([self._log_typical(terms, labels) for terms, labels in rows])
+        self._labels_of = [labels for _, labels in rows]
+        self._rows_of = [terms - self.log_typical[index] for index, (terms, _) in enumerate(rows)]
+        self._stacked = np.concatenate(self._rows_of)
+        self._movement_of = np.concatenate(
+            [np.full(len(labels), index) for index, (_, labels) in enumerate(rows)])
+        self._label_of = np.concatenate([labels for _, labels in rows])
+        self._share_of = np.concatenate(
+            [1.0 / np.bincount(labels, minlength=len(self.classes))[labels] for _, labels in rows])
+
+    @staticmethod
+    def _seconds(movement: MovementEvidence) -> float:
+        seconds = movement.contact_seconds
+        if not (isinstance(seconds, (int, float)) and math.isfinite(seconds) and seconds > 0):
+            raise ValueError(f'movement {movement.name!r}: contact_seconds must be finite and '
+                             f'> 0, got {seconds!r}')
+        return float(seconds)
+
+    def _rows(self, movement: MovementEvidence) -> tuple[np.ndarray, np.ndarray]:
+        """The movement's tempered log likelihood terms and labels, checked."""
+        classes = len(self.classes)
+        probabilities = np.asarray(movement.probabilities, dtype=float)
+        labels = np.asarray(movement.labels)
+        if probabilities.ndim != 2 or probabilities.shape[1] != classes:
+            raise ValueError(f'movement {movement.name!r}: probabilities must be (sweeps, '
+                             f'{classes}), got shape {probabilities.shape}')
+        for row in probabilities:
+            checked_probabilities(row, classes)
+        if labels.shape != (len(probabilities),) or not np.issubdtype(labels.dtype, np.integer):
+            raise ValueError(f'movement {movement.name!r}: labels must be one integer per '
+                             f'sweep ({len(probabilities)}), got {labels!r}')
+        if np.any(labels < 0) or np.any(labels >= classes):
+            raise ValueError(f'movement {movement.name!r}: labels must be in [0, {classes})')
+        missing = sorted(set(range(classes)) - set(labels.tolist()))
+        if missing:
+            raise ValueError(f'movement {movement.name!r} has no held-out sweep of '
+                             f'{", ".join(self.classes[i] for i in missing)}: record and '
+                             'cross-validate every texture under every movement')
+        return tempered_log_likelihoods(probabilities, self.tempering), labels.astype(int)
+
+    def _log_typical(self, terms: np.ndarray, labels: np.ndarray) -> np.ndarray:
+        """The log of Z(k), the mean of q(k)^tau, each true texture weighted alike."""
+        per_texture = np.stack([log_sum_exp(terms[labels == c], axis=0)
+                                - np.log(np.sum(labels == c)) for c in range(len(self.classes))])
+        return log_sum_exp(per_texture, axis=0) - np.log(len(self.classes))
+
+    def log_likelihood(self, movement: int, probabilities) -> np.ndarray:
+        """The update's term for one sweep of `movement` whose model answered `probabilities`.
+
+        Raises:
+            ValueError: probabilities of another length, not finite, or negative.
+        """
+        vector = checked_probabilities(probabilities, len(self.classes))
+        return tempered_log_likelihoods(vector, self.tempering) - self.log_typical[movement]
+
+    def held_out_log_likelihoods(self, movement: int, texture: int) -> np.ndarray:
+        """(sweeps, classes): the update's terms of `movement`'s held-out sweeps of `texture`."""
+        return self._rows_of[movement][self._labels_of[movement] == texture]
+
+    def information_gain(self, log_posterior: np.ndarray) -> np.ndarray:
+        """Expected entropy lost (nats) by one sweep of each movement, given the belief."""
+        log_posterior = normalised(np.asarray(log_posterior, dtype=float))
+        drawn = np.exp(log_posterior)[self._label_of] * self._share_of
+        expected = np.bincount(self._movement_of, weights=drawn * updated_entropy(
+            log_posterior, self._stacked), minlength=len(self.names))
+        return entropy(log_posterior) - expected
+
+
+def updated_entropy(log_posterior: np.ndarray, log_likelihoods: np.ndarray) -> np.ndarray:
+    """Entropy of the belief after each row of log likelihoods, in one exponential pass.
+
+    With d = a - max(a) for a = log posterior + log likelihood, the updated belief is
+    exp(d) / Z, whose entropy is log Z - sum(exp(d) * d) / Z.
+    """
+    shifted = log_posterior + log_likelihoods
+    shifted -= shifted.max(axis=1, keepdims=True)
+    weights = np.exp(shifted)
+    total = weights.sum(axis=1)
+    return np.log(total) - np.einsum('ij,ij->i', weights, shifted) / total

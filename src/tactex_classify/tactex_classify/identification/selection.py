@@ -1,0 +1,156 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""Which movement next, and when to stop: the policies and one identification's state.
+
+Policies (`POLICIES`):
+- `active`: the movement with the largest expected information gain per contact second
+  under the current belief (`EvidenceTable.information_gain`), as Fishel and Loeb's
+  Bayesian exploration chose each next movement (Fishel & Loeb 2012, Front. Neurorobot.
+  6:4);
+- `fixed`: the one movement with the largest gain per second from the starting belief,
+  repeated;
+- `random`: a movement drawn uniformly from the generator seeded by `seed`;
+- `round-robin`: the movements in their file's order, again and again.
+
+Every policy picks only among movements that fit the remaining time budget, and ties go
+to the movement listed first, so a run is the same for the same seed. The loop stops
+when the leading texture's posterior exceeds the threshold (the live node's rule), when
+the movement budget is spent, or when no movement fits the time left.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+import math
+
+import numpy as np
+
+from tactex_classify.identification.evidence_table import EvidenceTable
+from tactex_classify.identification.posterior import normalised, uniform, updated
+
+POLICIES = ('active', 'random', 'fixed', 'round-robin')
+DECIDED, MOVEMENT_BUDGET, TIME_BUDGET = 'decided', 'movement budget', 'time budget'
+
+
+@dataclass(frozen=True)
+class Budget:
+    """When an identification stops.
+
+    Attributes:
+        threshold: stop when the leading posterior exceeds this (0..1; 1 never decides).
+        movements: at most this many movements (None: no limit).
+        seconds: at most this many contact seconds (None: no limit).
+    """
+
+    threshold: float = 0.99
+    movements: int | None = None
+    seconds: float | None = None
+
+    def __post_init__(self) -> None:
+        """Check the ranges.
+
+        Raises:
+            ValueError: naming the setting and its range.
+        """
+        if not (isinstance(self.threshold, (int, float)) and 0.0 <= self.threshold <= 1.0):
+            raise ValueError(f'threshold must be in [0, 1], got {self.threshold!r}')
+        if self.movements is not None and not (
+                isinstance(self.movements, int) and self.movements >= 1):
+            raise ValueError(f'the movement budget must be an integer >= 1, got '
+                             f'{self.movements!r}')
+        if self.seconds is not None and not (
+                isinstance(self.seconds, (int, float)) and math.isfinite(self.seconds)
+                and self.seconds > 0):
+            raise ValueError(f'the time budget must be finite and > 0 s, got {self.seconds!r}')
+
+
+class Identification:
+    """One identification: the belief, the movements run, the next choice and the stop.
+
+    Args:
+        table: the movements' out-of-fold evidence.
+        policy: one of POLICIES.
+        budget: threshold and budgets.
+        seed: the random policy's seed (the others ignore it).
+        log_prior: the starting belief's log (default: uniform over the textures).
+
+    Raises:
+        ValueError: an unknown policy or a prior that is not a finite log belief.
+    """
+
+    def __init__(self, table: EvidenceTable, policy: str, budget: Budget = Budget(),
+                 seed: int = 0, log_prior: np.ndarray | None = None) -> None:
+        if policy not in POLICIES:
+            raise ValueError(f'unknown policy {policy!r}; known: {", ".join(POLICIES)}')
+        classes = len(table.classes)
+        prior = uniform(classes) if log_prior is None else np.asarray(log_prior, dtype=float)
+        if prior.shape != (classes,) or not np.all(np.isfinite(prior)):
+            raise ValueError(f'the prior must be {classes} finite log probabilities')
+        self.table, self.policy, self.budget = table, policy, budget
+        self.log_posterior = normalised(prior)
+        self.movements: list[int] = []
+        self.contact_seconds = 0.0
+        self._rng = np.random.default_rng(seed)
+        gain = table.information_gain(self.log_posterior) / table.seconds
+        self._fixed = int(np.argmax(gain))
+
+    @property
+    def posterior(self) -> np.ndarray:
+        """The belief over the textures (sums to one)."""
+        return np.exp(self.log_posterior)
+
+    @property
+    def leader(self) -> int:
+        """The most probable texture now."""
+        return int(np.argmax(self.log_posterior))
+
+    @property
+    def stop_reason(self) -> str:
+        """Why the loop has stopped (DECIDED, MOVEMENT_BUDGET, TIME_BUDGET), or ''."""
+        if self.posterior[self.leader] > self.budget.threshold:
+            return DECIDED
+        if self.budget.movements is not None and len(self.movements) >= self.budget.movements:
+            return MOVEMENT_BUDGET
+        if not np.any(self._candidates()):
+            return TIME_BUDGET
+        return ''
+
+    def _candidates(self) -> np.ndarray:
+        """Which movements the policy may choose: those that fit the contact seconds left."""
+        if self.budget.seconds is None:
+            fits = np.ones(len(self.table.names), dtype=bool)
+        else:  # a movement that uses the budget up to rounding still fits
+            fits = self.contact_seconds + self.table.seconds <= self.budget.seconds * (1 + 1e-9)
+        if self.policy == 'fixed':
+            fits &= np.arange(len(fits)) == self._fixed
+        return fits
+
+    def next_movement(self) -> int | None:
+        """The movement to run next (its index in the table), or None once stopped."""
+        if self.stop_reason:
+            return None
+        fits = self._candidates()
+        candidates = np.flatnonzero(fits)
+        if self.policy == 'active':
+            gain = self.table.information_gain(self.log_posterior) / self.table.seconds
+            return int(candidates[np.argmax(gain[candidates])])
+        if self.policy == 'random':
+            return int(self._rng.choice(candidates))
+        order = np.roll(np.arange(len(fits)), -len(self.movements))
+        return int(next(index for index in order if fits[index]))
+
+    def observe(self, movement: int, probabilities) -> np.ndarray:
+        """Take one sweep of `movement` whose model answered `probabilities`; the new belief.
+
+        Raises:
+            ValueError: an unknown movement index, or probabilities that are not a finite
+                non-negative vector over the textures.
+        """
+        if not (isinstance(movement, (int, np.integer)) and 0 <= movement < len(self.table.names)):
+            raise ValueError(f'movement must be an index below {len(self.table.names)}, got '
+                             f'{movement!r}')
+        self.log_posterior = updated(self.log_posterior,
+                                     self.table.log_likelihood(int(movement), probabilities))
+        self.movements.append(int(movement))
+        self.contact_seconds += float(self.table.seconds[movement])
+        return self.posterior

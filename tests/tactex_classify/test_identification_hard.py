@@ -1,0 +1,139 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""Active identification's core under any probabilities, beliefs, exponents and budgets.
+
+Whatever a model answers (zeros, subnormals, 1e-300, ones, values above one, unnormalised),
+the belief stays finite and normalised and the expected information gain finite; a NaN,
+an infinity, a negative value or a wrong shape is refused with a ValueError naming it;
+calibration and the tempering fit stay finite on extreme probabilities; empty input is
+refused.
+"""
+
+import math
+
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from hypothesis.extra import numpy as hnp
+import numpy as np
+import pytest
+from support.hard_values import anything, NON_FINITE
+
+from tactex_classify.identification.calibration import calibrated, fit_temperature, reliability
+from tactex_classify.identification.evidence_table import EvidenceTable, MovementEvidence
+from tactex_classify.identification.selection import Budget, Identification, POLICIES
+from tactex_classify.identification.tempering import fit_tempering
+
+pytestmark = pytest.mark.hard_case
+
+# What a model can answer: any non-negative finite numbers, the breaking ones often.
+answers = st.one_of(st.sampled_from([0.0, -0.0, 5e-324, 1e-300, 1.0, 1e300]), st.floats(0.0, 1.0))
+
+
+@st.composite
+def evidence(draw):
+    """Texture names and 1-3 movements' evidence over them, with any answers."""
+    classes = draw(st.integers(1, 4))
+    movements = []
+    for index in range(draw(st.integers(1, 3))):
+        labels = np.array(list(range(classes)) + draw(st.lists(st.integers(0, classes - 1),
+                                                                max_size=3)))
+        probabilities = draw(hnp.arrays(np.float64, (len(labels), classes), elements=answers))
+        seconds = draw(st.sampled_from([1e-9, 0.5, 3.0, 1e6]))
+        movements.append(MovementEvidence(f'm{index}', seconds, probabilities, labels))
+    return [f't{k}' for k in range(classes)], movements
+
+
+@st.composite
+def tables(draw):
+    """An evidence table of any evidence, under an exponent from tiny to the largest."""
+    return EvidenceTable(*draw(evidence()), draw(st.sampled_from([1e-6, 0.3, 1.0, 100.0])))
+
+
+def assert_normalised(identification):
+    assert np.all(np.isfinite(identification.log_posterior))
+    assert identification.posterior.sum() == pytest.approx(1.0)
+
+
+@settings(max_examples=200, deadline=None)
+@given(tables(), st.sampled_from(POLICIES), st.integers(0, 2 ** 32 - 1), st.data())
+def test_any_answers_keep_the_belief_finite_and_normalised(table, policy, seed, data):
+    classes = len(table.classes)
+    identification = Identification(table, policy, Budget(movements=6), seed=seed)
+    assert np.all(np.isfinite(table.information_gain(identification.log_posterior)))
+    while (chosen := identification.next_movement()) is not None:
+        identification.observe(chosen, data.draw(hnp.arrays(np.float64, classes,
+                                                            elements=answers)))
+        assert_normalised(identification)
+        assert np.all(np.isfinite(table.information_gain(identification.log_posterior)))
+
+
+@pytest.mark.parametrize('answer', [[0.0, 0.0, 0.0], [1e-300, 1e-300, 1.0], [1.0, 1.0, 1.0],
+                                    [0.0, 1.0, 0.0], [5e-324, 0.0, 1e300]])
+def test_likelihoods_of_zero_tiny_and_one_keep_the_belief_normalised(answer):
+    labels = np.array([0, 1, 2])
+    table = EvidenceTable(['a', 'b', 'c'], [MovementEvidence('m', 1.0, np.eye(3), labels)])
+    identification = Identification(table, 'active')
+    for _ in range(50):
+        identification.observe(0, answer)
+        assert_normalised(identification)
+
+
+@given(st.lists(anything(), min_size=3, max_size=3).filter(
+    lambda values: any(not math.isfinite(v) or v < 0 for v in values)))
+def test_a_non_finite_or_negative_answer_is_refused_and_leaves_the_belief(answer):
+    table = EvidenceTable(['a', 'b', 'c'], [MovementEvidence('m', 1.0, np.eye(3), np.arange(3))])
+    identification = Identification(table, 'active')
+    before = identification.log_posterior.copy()
+    with pytest.raises(ValueError, match='finite and >= 0'):
+        identification.observe(0, answer)
+    assert np.array_equal(identification.log_posterior, before)
+    assert identification.movements == []
+
+
+@pytest.mark.parametrize('bad', [*NON_FINITE, -1.0])
+def test_non_finite_or_negative_evidence_prior_or_budget_is_refused(bad):
+    labels = np.arange(2)
+    with pytest.raises(ValueError, match='finite and >= 0'):
+        EvidenceTable(['a', 'b'], [MovementEvidence('m', 1.0, np.array([[bad, 1.0], [0.0, 1.0]]),
+                                                    labels)])
+    with pytest.raises(ValueError, match='contact_seconds'):
+        EvidenceTable(['a', 'b'], [MovementEvidence('m', bad, np.eye(2), labels)])
+    table = EvidenceTable(['a', 'b'], [MovementEvidence('m', 1.0, np.eye(2), labels)])
+    if not math.isfinite(bad):  # a log prior may be negative, not infinite
+        with pytest.raises(ValueError, match='prior'):
+            Identification(table, 'active', log_prior=np.array([bad, 0.0]))
+    with pytest.raises(ValueError, match='time budget'):
+        Budget(seconds=bad)
+    with pytest.raises(ValueError, match='tempering'):
+        EvidenceTable(['a', 'b'], [MovementEvidence('m', 1.0, np.eye(2), labels)], bad)
+
+
+def test_empty_input_is_refused():
+    with pytest.raises(ValueError, match='no textures'):
+        EvidenceTable([], [MovementEvidence('m', 1.0, np.zeros((0, 0)), np.zeros(0, int))])
+    with pytest.raises(ValueError, match='no held-out sweep'):
+        EvidenceTable(['a'], [MovementEvidence('m', 1.0, np.zeros((0, 1)), np.zeros(0, int))])
+    with pytest.raises(ValueError, match='samples'):
+        fit_temperature(np.zeros((0, 3)), np.zeros(0, int))
+    with pytest.raises(ValueError, match='samples'):
+        reliability(np.zeros((0, 3)), np.zeros(0, int))
+
+
+@settings(max_examples=100, deadline=None)
+@given(hnp.arrays(np.float64, st.tuples(st.integers(1, 20), st.integers(1, 4)), elements=answers),
+       st.data())
+def test_calibration_stays_finite_on_any_answers(probabilities, data):
+    labels = np.array(data.draw(st.lists(st.integers(0, probabilities.shape[1] - 1),
+                                         min_size=len(probabilities),
+                                         max_size=len(probabilities))))
+    temperature = fit_temperature(probabilities, labels)
+    assert 0.05 <= temperature <= 20.0
+    scaled = calibrated(probabilities, temperature)
+    assert np.all(np.isfinite(scaled)) and scaled.sum(axis=1) == pytest.approx(1.0)
+    assert 0.0 <= reliability(probabilities, labels).error <= 1.0
+
+
+@settings(max_examples=30, deadline=None)
+@given(evidence())
+def test_the_tempering_fit_stays_on_its_grid_for_any_answers(drawn):
+    assert 0.05 <= fit_tempering(*drawn, episodes_per_texture=2) <= 4.0
