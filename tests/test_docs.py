@@ -121,9 +121,10 @@ def known_parameters() -> set[str]:
     """Every parameter a node declares (the generated reference) or config/*.yaml sets."""
     reference = (DOCS / 'reference' / 'parameters.md').read_text(encoding='utf-8')
     names = set(re.findall(r'^\| `([^`]+)` \|', reference, re.MULTILINE))
-    for path in (ROOT / 'config').glob('*.yaml'):
+    for path in (ROOT / 'config').glob('*.yaml'):  # parameter files; movements.yaml is not
         for node in yaml.safe_load(path.read_text(encoding='utf-8')).values():
-            names |= _yaml_keys(node.get('ros__parameters', {}))
+            if isinstance(node, dict):
+                names |= _yaml_keys(node.get('ros__parameters', {}))
     return names
 
 

@@ -56,6 +56,24 @@ FOREIGN = {
 }
 
 
+MOVE = ('{{name: {name}, speed: {speed}, press_depth: {press}, edge_tilt: 0.5, '
+        'direction: {direction}, contact_length: {length}}}')
+# Movement files (in {w}/movements) that `--movements` must refuse, with their error.
+MOVEMENT_FILES = {
+    'empty.yaml': '',
+    'fast.yaml': 'movements:\n  - ' + MOVE.format(name='dash', speed=0.2, press=0.002,
+                                                  direction='forward', length=0.05),
+    'shallow.yaml': 'movements:\n  - ' + MOVE.format(name='skim', speed=0.02, press=0.0005,
+                                                     direction='forward', length=0.05),
+    'short.yaml': 'movements:\n  - ' + MOVE.format(name='tap', speed=0.04, press=0.002,
+                                                   direction='forward', length=0.02),
+    'sideways.yaml': 'movements:\n  - ' + MOVE.format(name='side', speed=0.02, press=0.002,
+                                                      direction='sideways', length=0.05),
+    'long.yaml': 'movements:\n  - ' + MOVE.format(name='far', speed=0.02, press=0.002,
+                                                  direction='forward', length=0.5),
+    'typo.yaml': 'movements:\n  - {name: a, sped: 0.02}\n',
+}
+
 STANDING_SCENE = """name = "standing"
 seed = 1
 effects = ["contact", "compliance", "texture"]
@@ -119,6 +137,9 @@ def make_workspace(w: Path) -> Path:
     (w / 'scenes' / 'standing.toml').write_text(STANDING_SCENE)
     (w / 'scenes' / 'binary.toml').write_bytes(b'\xff\xfe\x00name')
     (w / 'broken.launch.py').write_text('LAUNCH = (\n')
+    (w / 'movements').mkdir()
+    for name, text in MOVEMENT_FILES.items():
+        (w / 'movements' / name).write_text(text)
     dataset = Dataset.load(w / 'data.npz')
     GridStore(w / 'grid').open(GridSettings(folds=2, epochs=3), {32: dataset}, {32: 'data'})
     (w / 'readonly').mkdir()
@@ -547,6 +568,25 @@ BAD_INPUTS = {
         Case('sim collect --out {w}/link', '--out .*link is a symbolic link', '{w}/link'),
         Case('sim collect --out {w}/bagsout --address nohost', 'argument --address: must be '
              'HOST:PORT', '{w}/bagsout'),
+        Case('sim collect --out {w}/bagsout --movements {w}/nothing.yaml',
+             '--movements .*nothing.yaml does not exist', '{w}/bagsout'),
+        Case('sim collect --out {w}/bagsout --movements {w}/movements/empty.yaml',
+             '--movements .*empty.yaml: no movements', '{w}/bagsout'),
+        Case('sim collect --out {w}/bagsout --movements {w}/movements/fast.yaml',
+             r'movement 1 \(dash\): speed must be a number in \[0.005, 0.05\] m/s',
+             '{w}/bagsout'),
+        Case('sim collect --out {w}/bagsout --movements {w}/movements/shallow.yaml',
+             r'\(skim\): press_depth must be a number in \[0.0015, ', '{w}/bagsout'),
+        Case('sim collect --out {w}/bagsout --movements {w}/movements/short.yaml',
+             'movement tap: its contact .* is too short for one window of 128 samples',
+             '{w}/bagsout'),
+        Case('sim collect --out {w}/bagsout --movements {w}/movements/sideways.yaml',
+             'direction must be one of forward, backward', '{w}/bagsout'),
+        Case('sim collect --out {w}/bagsout --movements {w}/movements/long.yaml',
+             "movement far slides 500 mm; the scene's swept path holds 114 mm", '{w}/bagsout'),
+        Case('sim collect --out {w}/bagsout --movements {w}/movements/typo.yaml',
+             'unknown keys sped; missing speed, press_depth', '{w}/bagsout'),
+        Case('sim collect --out {w}/bagsout --movements {w}/folder', 'is a folder', '{w}/bagsout'),
     ],
     'record': [
         Case('record --out {w}/full', '--out .*already holds files', '{w}/full'),

@@ -205,3 +205,6 @@ OPEN_MANIPULATOR_X = RobotGeometry(
         'sensor_link': Inertial(0.0150, (0.0, 0.0, 0.004), (1.2e-6, 1.2e-6, 1.7e-6)),
     },
 )
+
+# The compliant body's travel along its axis: no body compresses further, welded or not.
+PRESS_TRAVEL_M = -OPEN_MANIPULATOR_X.joint('sensor_press').lower

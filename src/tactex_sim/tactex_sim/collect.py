@@ -1,18 +1,25 @@
 # Copyright 2026 The tactex authors
 # SPDX-License-Identifier: Apache-2.0
-"""Synthetic texture datasets: scripted sweeps over every texture, one labelled bag each."""
+"""Synthetic texture datasets: scripted sweeps over every texture, one labelled bag each.
+
+With a movement file, every texture is swept under every movement: the movement's speed,
+press depth, tilt, direction and contact length replace the scene's nominal sweep, the
+scene's variability drawn around them; each recording's metadata names its movement.
+"""
 
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import asdict
+from dataclasses import asdict, replace
 from pathlib import Path
 import tempfile
 import time
+import zlib
 
 import numpy as np
 
 from tactex_common.cluster import ray_session, run_tasks
+from tactex_description.movements import Movement, MovementSet
 from tactex_sim.errors import SceneError, SimError
 from tactex_sim.recording import SweepBag
 from tactex_sim.scene import Scene
@@ -55,7 +62,11 @@ def check_collectable(scene: Scene) -> None:
         raise SceneError(f'{where}: [variability] press_depth_m mean must be > 0 and its sd '
                          f'>= 0 (got {list(spread.press_depth_m)}): the edge never presses '
                          'into the surface')
-    start, end = sweep.start_x_m, sweep.start_x_m + sweep.speed_m_s * sweep.contact_s
+    if sweep.direction not in (1, -1):
+        raise SceneError(f'{where}: [sweep] direction must be 1 (towards +x) or -1, got '
+                         f'{sweep.direction!r}')
+    start, end = sorted((sweep.start_x_m, sweep.start_x_m
+                         + sweep.direction * sweep.speed_m_s * sweep.contact_s))
     if not any(p.y_m[0] <= 0.0 <= p.y_m[1] and p.x_m[0] < end and p.x_m[1] > start
                for p in scene.patches):
         raise SceneError(f'{where}: no patch lies on the swept path (x {start:.3f}..{end:.3f} '
@@ -63,9 +74,37 @@ def check_collectable(scene: Scene) -> None:
                          'start_x_m')
 
 
+def movement_scene(scene: Scene, movement: Movement) -> Scene:
+    """The scene with its nominal sweep replaced by `movement`, its variability kept.
+
+    The movement slides along the scene's swept path from its start (forward) or back to
+    it (backward).
+
+    Raises:
+        SceneError: the movement slides further than the scene's swept path.
+    """
+    path_m = scene.sweep.speed_m_s * scene.sweep.contact_s
+    if movement.contact_length_m > path_m + 1e-9:
+        raise SceneError(f'{scene.path or scene.name}: movement {movement.name} slides '
+                         f"{1e3 * movement.contact_length_m:.0f} mm; the scene's swept path "
+                         f'holds {1e3 * path_m:.0f} mm ([sweep] speed_m_s x contact_s): '
+                         'shorten its contact_length')
+    backward = movement.direction == 'backward'
+    sweep = replace(scene.sweep, speed_m_s=movement.speed_m_s, contact_s=movement.contact_s,
+                    edge_offset_rad=movement.edge_tilt_rad, direction=-1 if backward else 1,
+                    start_x_m=scene.sweep.start_x_m
+                    + (movement.contact_length_m if backward else 0.0))
+    spread = replace(scene.variability, press_depth_m=(movement.press_depth_m,
+                                                       scene.variability.press_depth_m[1]))
+    return replace(scene, sweep=sweep, variability=spread)
+
+
 def record_sweep(scene: Scene, texture_name: str, trial: int, out: Path,
-                 seed_sequence: np.random.SeedSequence) -> Path:
-    """Simulate one sweep over `texture_name` and write it to out/<texture>_<trial>."""
+                 seed_sequence: np.random.SeedSequence, movement: str = '') -> Path:
+    """Simulate one sweep over `texture_name` and write it to out/<texture>[_<movement>]_<trial>.
+
+    `movement` names the movement `scene` was made for (`movement_scene`), if any.
+    """
     rng = np.random.default_rng(seed_sequence)
     parameters = SweepParameters.draw(scene, rng)
     plan = plan_sweep(scene, parameters)
@@ -75,8 +114,9 @@ def record_sweep(scene: Scene, texture_name: str, trial: int, out: Path,
                   drift_pa_per_s=parameters.drift_pa_per_s)
     metadata = {'label': texture_name, 'trial': trial, 'surface': scene.surface.kind,
                 'scene': scene.name, 'source': 'tactex_sim', 'sensor_rate_hz':
-                scene.sensor_rate_hz, 'sweep': asdict(parameters)}
-    path = out / f'{slug(texture_name)}_{trial:04d}'
+                scene.sensor_rate_hz, 'sweep': asdict(parameters),
+                **({'movement': movement} if movement else {})}
+    path = out / f'{slug(texture_name)}{"_" + movement if movement else ""}_{trial:04d}'
     over_texture = 0
     with SweepBag(path, metadata, time_offset_ns=trial * RECORDING_SPACING_NS) as bag:
         def write(sample: Sample) -> None:
@@ -93,26 +133,30 @@ def record_sweep(scene: Scene, texture_name: str, trial: int, out: Path,
     return path
 
 
-def recorded_sweep(scene: Scene, texture_name: str, trial: int,
+def recorded_sweep(scenes: dict[str, Scene], movement: str, texture_name: str, trial: int,
                    seed_sequence: np.random.SeedSequence) -> tuple[str, dict[str, bytes]]:
     """One sweep recorded where this runs: its bag's folder name and files (path -> bytes).
 
     A Ray task on any node: the bag is written to a scratch folder there and comes back
-    as bytes, so the caller writes every bag into its own output folder.
+    as bytes, so the caller writes every bag into its own output folder. `scenes` maps
+    each movement's name ('' without movements) to its scene.
     """
     with tempfile.TemporaryDirectory(prefix='tactex-sweep-') as scratch:
-        path = record_sweep(scene, texture_name, trial, Path(scratch), seed_sequence)
+        path = record_sweep(scenes[movement], texture_name, trial, Path(scratch),
+                            seed_sequence, movement)
         return path.name, {str(item.relative_to(path)): item.read_bytes()
                            for item in sorted(path.rglob('*')) if item.is_file()}
 
 
 def collect(scene: Scene, sweeps: int, out: Path, *, textures: Sequence[str] = tuple(TEXTURES),
             progress: Callable[[str], None] = print, workers: int | None = None,
-            address: str | None = None) -> list[Path]:
-    """Record `sweeps` sweeps of every texture; deterministic for the scene's seed.
+            address: str | None = None, movements: MovementSet | None = None) -> list[Path]:
+    """Record `sweeps` sweeps of every texture (under every movement); deterministic.
 
-    Each sweep draws from its own seed (scene seed, texture, sweep number), so the bags
-    are the same whatever the number of workers and the order sweeps finish in.
+    Each sweep draws from its own seed (scene seed, texture, sweep number, and the
+    movement's name), so the bags are the same whatever the number of workers, the order
+    sweeps finish in, and the order of the movement file. Trial numbers run over
+    movements, then textures, then sweeps, so they stay unique across movements.
 
     Args:
         scene: a collectable scene.
@@ -124,16 +168,21 @@ def collect(scene: Scene, sweeps: int, out: Path, *, textures: Sequence[str] = t
             after another; more start a local Ray instance with that many cores.
         address: a Ray cluster to run the sweeps on (every node needs tactex installed);
             `workers` then caps the sweeps in flight (None: as many as it takes).
+        movements: sweep every texture under each of these (None: the scene's sweep).
 
     Raises:
-        SceneError: the scene cannot slide in contact over a patch (`check_collectable`).
+        SceneError: the scene, or a movement in it, cannot slide in contact over a patch
+            (`check_collectable`, `movement_scene`).
         SimError: a sweep is unreachable or never touched the patch.
         ClusterError: Ray cannot be started or reached.
     """
-    check_collectable(scene)
+    scenes = collectable_scenes(scene, movements)
     out.mkdir(parents=True, exist_ok=True)
-    jobs = [(name, texture_index * sweeps + sweep,
-             np.random.SeedSequence([scene.seed, TEXTURES_INDEX[name], sweep]))
+    per_movement = len(textures) * sweeps
+    jobs = [(movement, name, movement_index * per_movement + texture_index * sweeps + sweep,
+             np.random.SeedSequence([scene.seed, TEXTURES_INDEX[name], sweep,
+                                     *([zlib.crc32(movement.encode())] if movement else [])]))
+            for movement_index, movement in enumerate(scenes)
             for texture_index, name in enumerate(textures) for sweep in range(sweeps)]
     paths: dict[int, Path] = {}
     start = time.monotonic()
@@ -144,8 +193,9 @@ def collect(scene: Scene, sweeps: int, out: Path, *, textures: Sequence[str] = t
         progress(f'[{len(paths)}/{len(jobs)}] {path.name}  (about {eta:.0f} s left)')
 
     if (workers or 1) == 1 and address is None:
-        for index, (name, trial, sequence) in enumerate(jobs):
-            finished(index, record_sweep(scene, name, trial, out, sequence))
+        for index, (movement, name, trial, sequence) in enumerate(jobs):
+            finished(index, record_sweep(scenes[movement], name, trial, out, sequence,
+                                         movement))
     else:
         def write(index: int, result: tuple[str, dict[str, bytes]]) -> None:
             folder = out / result[0]
@@ -155,9 +205,29 @@ def collect(scene: Scene, sweeps: int, out: Path, *, textures: Sequence[str] = t
             finished(index, folder)
 
         with ray_session(address=address, cpus=None if address else workers):
-            run_tasks(recorded_sweep, jobs, shared=(scene,), on_result=write,
+            run_tasks(recorded_sweep, jobs, shared=(scenes,), on_result=write,
                       max_in_flight=workers if address else None)
     return [paths[index] for index in range(len(jobs))]
+
+
+def collectable_scenes(scene: Scene, movements: MovementSet | None = None) -> dict[str, Scene]:
+    """Each movement's name and scene ('' and the scene itself without movements), checked.
+
+    Raises:
+        SceneError: as `check_collectable` and `movement_scene`, naming the movement.
+    """
+    check_collectable(scene)
+    if movements is None:
+        return {'': scene}
+    scenes = {movement.name: movement_scene(scene, movement) for movement in movements.movements}
+    for name, each in scenes.items():
+        try:
+            check_collectable(each)
+            plan_sweep(each, SweepParameters.nominal(each))
+        except SimError as err:
+            raise SceneError(f'movement {name}: {err}; lower its edge_tilt or press_depth, or '
+                             'shorten its contact_length') from None
+    return scenes
 
 
 TEXTURES_INDEX = {name: index for index, name in enumerate(TEXTURES)}

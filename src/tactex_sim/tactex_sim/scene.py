@@ -91,12 +91,13 @@ class Patch:
 
 @dataclass(frozen=True)
 class Sweep:
-    """The scripted sweep: sliding speed, contact duration, edge offset, start."""
+    """The scripted sweep: sliding speed, contact duration, edge offset, start, direction."""
 
     speed_m_s: float = SLIDING_SPEED_M_S
     contact_s: float = 7.6
     edge_offset_rad: float = 0.35
     start_x_m: float = 0.13
+    direction: int = 1  # +1 slides towards +x from start_x_m, -1 towards -x
 
 
 @dataclass(frozen=True)

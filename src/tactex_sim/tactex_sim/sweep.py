@@ -44,6 +44,16 @@ class SweepParameters:
     heading_rad: float
     noise_scale: float
     drift_pa_per_s: float
+    direction: int = 1
+
+    @classmethod
+    def nominal(cls, scene: Scene) -> SweepParameters:
+        """The scene's sweep as laid out, before any variability is drawn."""
+        sweep = scene.sweep
+        return cls(start_x_m=sweep.start_x_m, speed_m_s=sweep.speed_m_s,
+                   press_depth_m=scene.variability.press_depth_m[0],
+                   edge_offset_rad=sweep.edge_offset_rad, heading_rad=0.0, noise_scale=1.0,
+                   drift_pa_per_s=0.0, direction=sweep.direction)
 
     @classmethod
     def draw(cls, scene: Scene, rng: np.random.Generator) -> SweepParameters:
@@ -62,7 +72,8 @@ class SweepParameters:
             edge_offset_rad=sweep.edge_offset_rad + rng.normal(0.0, spread.mount_tilt_rad),
             heading_rad=rng.uniform(-spread.heading_rad, spread.heading_rad),
             noise_scale=max(0.2, 1.0 + rng.normal(0.0, spread.noise_scale)),
-            drift_pa_per_s=rng.normal(0.0, spread.drift_pa_per_s))
+            drift_pa_per_s=rng.normal(0.0, spread.drift_pa_per_s),
+            direction=sweep.direction)
 
 
 @dataclass(frozen=True)
@@ -98,7 +109,7 @@ def plan_sweep(scene: Scene, parameters: SweepParameters, duration_s: float | No
     seed = np.array([0.0, 0.3, 0.0, 1.0])
     for i, t in enumerate(times):
         travel = parameters.speed_m_s * min(max(t - slide_start, 0.0), contact_s)
-        x = parameters.start_x_m + travel
+        x = parameters.start_x_m + parameters.direction * travel
         height = float(surface.height(x))
         slope = float(surface.slope(x))
         normal = surface.normal(x)

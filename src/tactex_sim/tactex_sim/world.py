@@ -23,7 +23,7 @@ from typing import Any
 import mujoco
 import numpy as np
 
-from tactex_description.geometry import JOINT_STATE_NAMES, OPEN_MANIPULATOR_X
+from tactex_description.geometry import JOINT_STATE_NAMES, OPEN_MANIPULATOR_X, PRESS_TRAVEL_M
 from tactex_description.mjcf import build_mjcf, IMU_SITE, SENSOR_EDGE_GEOM, SENSOR_GEOM
 from tactex_sim.effects import Effect, effect_class, EFFECTS, Reading
 from tactex_sim.errors import SimError
@@ -33,8 +33,6 @@ from tactex_sim.textures import texture as find_texture
 
 SURFACE_GEOM = 'surface'
 PRESS_STIFFNESS_N_M = OPEN_MANIPULATOR_X.joint('sensor_press').stiffness
-# The compliant body's travel: no body compresses further, welded or not.
-PRESS_TRAVEL_M = -OPEN_MANIPULATOR_X.joint('sensor_press').lower
 # The most simulated seconds per wall second the bridge is asked for (0: as fast as it can).
 MAX_RATE_FACTOR = 1000.0
 # A placed arm settles this long under its servos before its clock starts (s): it sags

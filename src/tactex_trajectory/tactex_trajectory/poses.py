@@ -26,7 +26,7 @@ import math
 
 import numpy as np
 
-from tactex_description.geometry import OPEN_MANIPULATOR_X
+from tactex_description.geometry import OPEN_MANIPULATOR_X, PRESS_TRAVEL_M
 from tactex_description.kinematics import PlanarArm
 from tactex_description.mjcf import EDGE_TIP_RADIUS_M
 from tactex_trajectory.errors import SweepRefused
@@ -43,7 +43,6 @@ CONTINUITY_DEPTH = 6
 # Planned poses keep this far inside the joint limits, so the trajectory between them
 # (and the arm's tracking) stays inside too (rad).
 LIMIT_MARGIN_RAD = 0.02
-PRESS_TRAVEL_M = -OPEN_MANIPULATOR_X.joint('sensor_press').lower
 ARM = PlanarArm.from_geometry(OPEN_MANIPULATOR_X, TOOL_FRAME)
 
 

@@ -9,6 +9,7 @@ from pathlib import Path
 
 from tactex.errors import CommandError
 from tactex.options import (
+    check_input_file,
     check_input_folder,
     check_output_folder,
     integer,
@@ -27,6 +28,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     collect.add_argument('--sweeps', type=integer(1, 1000), default=25,
                          help='sweeps per texture (25)')
     collect.add_argument('--out', type=Path, required=True, help='folder for the bags (new)')
+    collect.add_argument('--movements', type=Path, metavar='YAML',
+                         help='sweep every texture under every movement of this file (e.g. '
+                              'config/movements.yaml), --sweeps per texture and movement; '
+                              'each recording names its movement')
     from tactex_sim.textures import TEXTURES  # numpy only: the names for the help
     collect.add_argument('--textures', nargs='+', metavar='NAME',
                          help='only these textures (default: all): ' + ', '.join(
@@ -80,7 +85,7 @@ def _stats(args: argparse.Namespace) -> int:
 
 def _collect(args: argparse.Namespace) -> int:
     """Record the sweeps."""
-    from tactex_sim.collect import check_collectable, collect
+    from tactex_sim.collect import collect, collectable_scenes
     from tactex_sim.scene import load_scene, resolve_scene
     from tactex_sim.textures import TEXTURES
 
@@ -93,9 +98,21 @@ def _collect(args: argparse.Namespace) -> int:
     if len(set(textures)) != len(textures):
         raise CommandError('--textures names a texture twice')
     scene = load_scene(resolve_scene(args.scene))
-    check_collectable(scene)
+    movements = _movements(args.movements, scene.sensor_rate_hz) if args.movements else None
+    collectable_scenes(scene, movements)
     with staged_folder(args.out) as folder:
         paths = collect(scene, args.sweeps, folder, textures=textures,
-                        workers=args.workers, address=args.address)
+                        workers=args.workers, address=args.address, movements=movements)
     print(f'wrote {len(paths)} recordings to {args.out}')
     return 0
+
+
+def _movements(path: Path, sample_rate_hz: float):
+    """The movement file, each movement checked against the arm and the scene's rate."""
+    from tactex_description.movements import load_movements, MovementError
+
+    check_input_file(path, '--movements')
+    try:
+        return load_movements(path, sample_rate_hz=sample_rate_hz)
+    except MovementError as err:
+        raise CommandError(f'--movements {err}') from None

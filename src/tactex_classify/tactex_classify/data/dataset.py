@@ -397,7 +397,9 @@ def convert(paths: Sequence[Path], *, window: int, hop: int, label: str | None =
         count = sum(collector.add(name, trial_id, *run) for run in series)
         samples = sum(int(stamps.size) for stamps, _, _ in series)
         kept = sum(int(run_keep.sum()) for _, _, run_keep in series)
+        movement = recording.metadata.get('movement')
         report.append({'path': str(path), 'label': name, 'trial': int(trial_id),
+                       **({'movement': movement} if isinstance(movement, str) else {}),
                        **({'renumbered_from': int(claimed)} if claimed is not None
                           and int(claimed) != int(trial_id) else {}),
                        'samples': samples, 'kept': kept, 'windows': count,

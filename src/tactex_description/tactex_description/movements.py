@@ -1,0 +1,198 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""Candidate movements of the sensor edge on a pathway, read from a file and held to the arm.
+
+A movement is one way to sweep: the edge's sliding speed, its press depth into the
+surface, its tilt from the normal (the sweep's edge offset angle), the direction along
+the pathway and how much of the pathway it covers in contact. Active identification
+chooses among them; `tactex sim collect --movements` records every texture under each.
+The file (config/movements.yaml, SI units):
+
+    window: 128            # samples each movement's sweeps are classified in
+    movements:
+      - {name: slow_light, speed: 0.010, press_depth: 0.0015, edge_tilt: 0.35,
+         direction: forward, contact_length: 0.04}
+
+Limits held here, so that no listed movement asks the arm or the sensor for what it
+cannot do: a press of at least MIN_PRESS_DEPTH_M (the sweep's default; shallower presses
+lose contact on the uneven plate's crests) and less than the compliant body's travel
+(`geometry.PRESS_TRAVEL_M`), a tilt in [0, pi/2) as the sweep's poses accept, a speed in
+SPEED_RANGE_M_S, and a contact that holds at least one window at the sensor's rate.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+import math
+from pathlib import Path
+import re
+
+import yaml
+
+from tactex_common.files import read_text
+from tactex_description.geometry import PRESS_TRAVEL_M
+
+MIN_PRESS_DEPTH_M = 0.0015
+# Faster than 50 mm/s, the sweep's speed ramps (0.05 m/s^2) take more than 25 mm at each
+# end of the demo's 100 mm pathway; slower than 5 mm/s, three 128-sample windows at 120 Hz
+# cover under 11 mm. In simulation the edge holds 0.96-1.04 of the commanded speed in
+# mid-contact from 10 to 40 mm/s (config/movements.yaml, 6 sweeps each).
+SPEED_RANGE_M_S = (0.005, 0.05)
+DIRECTIONS = ('forward', 'backward')
+MAX_MOVEMENTS = 32
+MAX_FILE_BYTES = 1024 * 1024
+NAME = re.compile(r'^[A-Za-z][A-Za-z0-9_-]{0,63}$')
+KEYS = ('name', 'speed', 'press_depth', 'edge_tilt', 'direction', 'contact_length')
+
+
+class MovementError(ValueError):
+    """A movement file that cannot be used, with the file, the movement, the key and the fix."""
+
+
+@dataclass(frozen=True)
+class Movement:
+    """One candidate movement.
+
+    Attributes:
+        name: how the movement is called in recordings, models and reports.
+        speed_m_s: the edge's sliding speed.
+        press_depth_m: the edge's commanded indentation along the normal.
+        edge_tilt_rad: the sensor's tilt from the normal (the Sweep goal's edge_offset_angle).
+        direction: 'forward' (along the pathway's order) or 'backward'.
+        contact_length_m: the length of pathway slid along in contact.
+    """
+
+    name: str
+    speed_m_s: float
+    press_depth_m: float
+    edge_tilt_rad: float
+    direction: str
+    contact_length_m: float
+
+    @property
+    def contact_s(self) -> float:
+        """Seconds in contact at the sliding speed."""
+        return self.contact_length_m / self.speed_m_s
+
+
+@dataclass(frozen=True)
+class MovementSet:
+    """The candidate movements of one file and the window they are classified in."""
+
+    movements: tuple[Movement, ...]
+    window: int
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        """The movements' names, in the file's order."""
+        return tuple(movement.name for movement in self.movements)
+
+    def by_name(self, name: str) -> Movement:
+        """The movement called `name`.
+
+        Raises:
+            MovementError: no movement has that name (the known ones are listed).
+        """
+        for movement in self.movements:
+            if movement.name == name:
+                return movement
+        raise MovementError(f'unknown movement {name!r}; known: {", ".join(self.names)}')
+
+
+def _number(raw: dict, key: str, where: str, low: float, high: float, unit: str,
+            why: str) -> float:
+    value = raw.get(key)
+    if isinstance(value, bool) or not isinstance(value, (int, float)) \
+            or not math.isfinite(value) or not low <= value <= high:
+        raise MovementError(f'{where}: {key} must be a number in [{low:g}, {high:g}] {unit} '
+                            f'({why}), got {value!r}')
+    return float(value)
+
+
+def movement_from(raw, where: str) -> Movement:
+    """One movement from its mapping in the file.
+
+    Raises:
+        MovementError: a missing or unknown key, or a value outside the arm's limits.
+    """
+    if not isinstance(raw, dict):
+        raise MovementError(f'{where}: a movement is a mapping of {", ".join(KEYS)}, got '
+                            f'{raw!r}')
+    unknown = sorted(str(key) for key in set(raw) - set(KEYS))
+    missing = [key for key in KEYS if key not in raw]
+    if unknown or missing:
+        raise MovementError(f'{where}: ' + '; '.join(
+            part for part in (f'unknown keys {", ".join(unknown)}' if unknown else '',
+                              f'missing {", ".join(missing)}' if missing else '') if part)
+            + f' (a movement has exactly {", ".join(KEYS)})')
+    name = raw['name']
+    if not isinstance(name, str) or not NAME.match(name):
+        raise MovementError(f'{where}: name must start with a letter and hold only letters, '
+                            f'digits, _ and - (at most 64), got {name!r}')
+    where = f'{where} ({name})'
+    if raw['direction'] not in DIRECTIONS:
+        raise MovementError(f'{where}: direction must be one of {", ".join(DIRECTIONS)}, got '
+                            f'{raw["direction"]!r}')
+    low_speed, high_speed = SPEED_RANGE_M_S
+    return Movement(
+        name=name,
+        speed_m_s=_number(raw, 'speed', where, low_speed, high_speed, 'm/s',
+                          "the arm's sliding speeds"),
+        press_depth_m=_number(raw, 'press_depth', where, MIN_PRESS_DEPTH_M,
+                              PRESS_TRAVEL_M - 1e-4, 'm', "the sweep's least press to the "
+                              "compliant body's travel"),
+        edge_tilt_rad=_number(raw, 'edge_tilt', where, 0.0, math.pi / 2 - 1e-3, 'rad',
+                              'from the normal to lying flat'),
+        direction=raw['direction'],
+        contact_length_m=_number(raw, 'contact_length', where, 1e-3, 1.0, 'm',
+                                 'of pathway slid along in contact'))
+
+
+def load_movements(path: Path | str, *, sample_rate_hz: float | None = None) -> MovementSet:
+    """The movement file at `path`, every movement checked against the arm's limits.
+
+    Args:
+        path: a movements YAML file.
+        sample_rate_hz: the sensor's rate; given, each movement's contact must hold at
+            least one window of the file's `window` samples.
+
+    Raises:
+        MovementError: an unreadable file, no movements, repeated names, a value outside
+            the limits or a contact too short for one window, naming each.
+        RefusedFileError: not a regular file, or larger than MAX_FILE_BYTES.
+    """
+    try:
+        document = yaml.safe_load(read_text(path, max_bytes=MAX_FILE_BYTES))
+    except (yaml.YAMLError, UnicodeDecodeError) as err:
+        raise MovementError(f'{path}: not a YAML movement file ({err})') from None
+    if not isinstance(document, dict) or not isinstance(document.get('movements'), list) \
+            or not document['movements']:
+        raise MovementError(f'{path}: no movements: the file needs a non-empty list '
+                            '`movements:` (see config/movements.yaml)')
+    unknown = sorted(str(key) for key in set(document) - {'movements', 'window'})
+    if unknown:
+        raise MovementError(f'{path}: unknown top-level keys {", ".join(unknown)} (known: '
+                            'movements, window)')
+    window = document.get('window', 128)
+    if isinstance(window, bool) or not isinstance(window, int) or not 8 <= window <= 4096:
+        raise MovementError(f'{path}: window must be an integer of samples in [8, 4096], got '
+                            f'{window!r}')
+    raws = document['movements']
+    if len(raws) > MAX_MOVEMENTS:
+        raise MovementError(f'{path}: {len(raws)} movements; at most {MAX_MOVEMENTS}')
+    movements = tuple(movement_from(raw, f'{path}: movement {index + 1}')
+                      for index, raw in enumerate(raws))
+    names = [movement.name for movement in movements]
+    repeated = sorted({name for name in names if names.count(name) > 1})
+    if repeated:
+        raise MovementError(f'{path}: movement names repeat: {", ".join(repeated)}')
+    if sample_rate_hz is not None:
+        for movement in movements:
+            samples = movement.contact_s * sample_rate_hz
+            if samples < window:
+                raise MovementError(
+                    f'{path}: movement {movement.name}: its contact ({movement.contact_s:.2f} '
+                    f's, {samples:.0f} samples at {sample_rate_hz:g} Hz) is too short for one '
+                    f'window of {window} samples: lengthen contact_length, slow down, or '
+                    'lower window')
+    return MovementSet(movements, window)

@@ -1,0 +1,111 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""`tactex sim collect --movements`: every texture swept under every movement, each named.
+
+The movement's speed, press depth, tilt, direction and contact length replace the scene's
+nominal sweep (its variability drawn around them); trial ids stay unique across
+movements; a bag is the same whatever the order of the movement file; convert keeps each
+recording's movement; a movement the arm cannot sweep is refused before any bag.
+"""
+
+import json
+from pathlib import Path
+import tomllib
+
+import numpy as np
+import pytest
+
+from tactex.cli import main
+from tactex_classify.data.bags import read_recording
+from tactex_description.movements import load_movements
+from tactex_sim.collect import collect, movement_scene
+from tactex_sim.errors import SceneError
+from tactex_sim.scene import parse_scene
+
+ROOT = Path(__file__).resolve().parents[2]
+SCENE = parse_scene(tomllib.loads((ROOT / 'config' / 'scenes' / 'uneven_texture.toml')
+                                  .read_text()), 'uneven_texture')
+FORWARD = ('{name: ahead, speed: 0.02, press_depth: 0.002, edge_tilt: 0.4, '
+           'direction: forward, contact_length: 0.03}')
+BACKWARD = ('{name: back, speed: 0.03, press_depth: 0.0025, edge_tilt: 0.5, '
+            'direction: backward, contact_length: 0.045}')
+
+
+def movement_file(tmp_path, *rows, name='movements.yaml'):
+    path = tmp_path / name
+    path.write_text('window: 64\nmovements:\n' + ''.join(f'  - {row}\n' for row in rows))
+    return load_movements(path, sample_rate_hz=SCENE.sensor_rate_hz)
+
+
+def metadata(path: Path) -> dict:
+    return read_recording(path).metadata
+
+
+def test_every_texture_is_swept_under_every_movement_with_unique_trials(tmp_path):
+    movements = movement_file(tmp_path, FORWARD, BACKWARD)
+    paths = collect(SCENE, 2, tmp_path / 'bags', textures=('wood', 'carpet wool'),
+                    movements=movements, progress=lambda line: None)
+    assert [p.name for p in paths] == [
+        'wood_ahead_0000', 'wood_ahead_0001', 'carpet_wool_ahead_0002', 'carpet_wool_ahead_0003',
+        'wood_back_0004', 'wood_back_0005', 'carpet_wool_back_0006', 'carpet_wool_back_0007']
+    for path in paths:
+        meta = metadata(path)
+        movement = movements.by_name(meta['movement'])
+        assert meta['trial'] == int(path.name[-4:])
+        assert abs(meta['sweep']['speed_m_s'] / movement.speed_m_s - 1) <= 2 * 0.04 + 1e-9
+        assert meta['sweep']['direction'] == (-1 if movement.direction == 'backward' else 1)
+
+
+def test_a_backward_movement_slides_towards_the_start_over_its_contact_length(tmp_path):
+    movements = movement_file(tmp_path, FORWARD, BACKWARD)
+    for movement, path in zip(movements.movements, collect(
+            SCENE, 1, tmp_path / 'bags', textures=('wood',), movements=movements,
+            progress=lambda line: None), strict=True):
+        recording = read_recording(path)
+        truth = recording.truth
+        sliding = np.zeros(truth.edge_ns.size, dtype=bool)
+        for start, end in recording.active_ns:
+            sliding |= (truth.edge_ns >= start) & (truth.edge_ns <= end)
+        x = truth.edge_m[sliding, 0]
+        travel = (x[-1] - x[0]) * (1 if movement.direction == 'forward' else -1)
+        # The edge trails its plan (servos, the compliant body under friction), more when
+        # it pushes its tilted edge ahead (backward) than when it drags it.
+        assert 0.6 * movement.contact_length_m < travel < 1.1 * movement.contact_length_m, \
+            movement.name
+
+
+def test_a_bag_does_not_depend_on_the_order_of_the_movement_file(tmp_path):
+    one = collect(SCENE, 1, tmp_path / 'one', textures=('wood',),
+                  movements=movement_file(tmp_path, FORWARD, BACKWARD, name='a.yaml'),
+                  progress=lambda line: None)
+    two = collect(SCENE, 1, tmp_path / 'two', textures=('wood',),
+                  movements=movement_file(tmp_path, BACKWARD, FORWARD, name='b.yaml'),
+                  progress=lambda line: None)
+    back_one, back_two = one[1], two[0]
+    assert back_one.name == 'wood_back_0001' and back_two.name == 'wood_back_0000'
+    first, second = read_recording(back_one), read_recording(back_two)
+    assert np.array_equal(first.values, second.values)
+
+
+def test_convert_keeps_each_recordings_movement(tmp_path):
+    movements = movement_file(tmp_path, FORWARD, BACKWARD)
+    collect(SCENE, 1, tmp_path / 'bags', textures=('wood',), movements=movements,
+            progress=lambda line: None)
+    assert main(['convert', str(tmp_path / 'bags'), '--out', str(tmp_path / 'data.npz'),
+                 '--window', '64']) == 0
+    sidecar = json.loads((tmp_path / 'data.json').read_text())
+    assert sorted(r['movement'] for r in sidecar['recordings']) == ['ahead', 'back']
+
+
+def test_a_movement_the_arm_cannot_sweep_is_refused_before_any_bag(tmp_path):
+    steep = movement_file(tmp_path, FORWARD, '{name: steep, speed: 0.03, press_depth: 0.003, '
+                          'edge_tilt: 1.0, direction: forward, contact_length: 0.09}')
+    with pytest.raises(SceneError, match='movement steep: sweep point .* unreachable.*lower '
+                                         'its edge_tilt'):
+        collect(SCENE, 1, tmp_path / 'bags', textures=('wood',), movements=steep,
+                progress=lambda line: None)
+    assert not (tmp_path / 'bags').exists()
+    far = movement_file(tmp_path, '{name: far, speed: 0.02, press_depth: 0.002, edge_tilt: '
+                        '0.5, direction: forward, contact_length: 0.2}')
+    with pytest.raises(SceneError, match="far slides 200 mm; the scene's swept path holds 114"):
+        movement_scene(SCENE, far.movements[0])
