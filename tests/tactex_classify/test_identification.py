@@ -21,6 +21,7 @@ from tactex_classify.identification.selection import (
     DECIDED,
     Identification,
     MOVEMENT_BUDGET,
+    NONE_LEFT,
     POLICIES,
     TIME_BUDGET,
 )
@@ -187,12 +188,12 @@ def test_the_threshold_and_both_budgets_stop_the_loop():
         return identification
 
     decided = run(Budget(threshold=0.9), [0.7, 0.3])
-    assert decided.stop_reason == DECIDED and decided.posterior[0] > 0.9
+    assert decided.stop_reason() == DECIDED and decided.posterior[0] > 0.9
     counted = run(Budget(threshold=1.0, movements=3), [0.5, 0.5])
-    assert counted.stop_reason == MOVEMENT_BUDGET and len(counted.movements) == 3
+    assert counted.stop_reason() == MOVEMENT_BUDGET and len(counted.movements) == 3
     timed = run(Budget(threshold=1.0, seconds=8.0), [0.5, 0.5])
     # round-robin: 1.5 + 4.0 = 5.5 s, then only 'short' fits: 7.0 s, then nothing fits.
-    assert timed.stop_reason == TIME_BUDGET
+    assert timed.stop_reason() == TIME_BUDGET
     assert timed.movements == [0, 1, 0] and timed.contact_seconds == pytest.approx(7.0)
     assert run(Budget(threshold=1.0, seconds=1.0), [0.5, 0.5]).movements == []
 
@@ -247,3 +248,13 @@ def test_malformed_evidence_is_refused_naming_what_is_wrong():
         Identification(table, 'active').observe(0, [math.nan, 0, 1])
     with pytest.raises(ValueError, match='movement budget'):
         Budget(movements=0)
+
+
+def test_only_available_movements_are_chosen_and_none_left_stops_the_loop():
+    rows = separating((0, 1), 2, sure=0.55)
+    table = EvidenceTable(names(2), [movement(name, 1.0, rows) for name in 'abc'])
+    for policy in POLICIES:
+        identification = Identification(table, policy, Budget(threshold=1.0))
+        chosen = identification.next_movement(np.array([False, True, False]))
+        assert chosen == (1 if policy != 'fixed' else None)
+        assert identification.stop_reason(np.zeros(3, dtype=bool)) == NONE_LEFT

@@ -9,7 +9,8 @@ workspace test holds it), each with its public names in `__all__`:
 - `recording`: the recorder node writing the bags `data` reads;
 - `training`: the deep models' training loop, one constructor for every model;
 - `online`: a checkpoint applied to a live stream, evidence, the classifier node;
-- `identification`: the belief over textures across movements and the choice of the next;
-- `evaluation`: cross-validation, the model grid, their reports.
+- `evaluation`: cross-validation, the model grid, their reports;
+- `identification`: per-movement evidence, the belief over textures across movements,
+  the choice of the next movement, and its offline replay.
 `errors` holds the exceptions all of them raise.
 """

@@ -1,6 +1,10 @@
 # Copyright 2026 The tactex authors
 # SPDX-License-Identifier: Apache-2.0
-"""`tactex report accuracy-time`: what accuracy costs in time, measured across the system."""
+"""`tactex report`: what accuracy costs in time, and identification replayed offline.
+
+`accuracy-time` measures it across the system; `identification` replays the choice of
+each next movement on held-out recordings of every texture under every movement.
+"""
 
 from __future__ import annotations
 
@@ -9,7 +13,18 @@ from dataclasses import replace
 from pathlib import Path
 import time
 
-from tactex.options import check_output_folder, epoch_count, integer, seed_value, staged_folder
+from tactex.errors import CommandError
+from tactex.options import (
+    check_input_file,
+    check_output_folder,
+    epoch_count,
+    fold_count,
+    integer,
+    number,
+    seed_value,
+    staged_folder,
+)
+from tactex_classify.identification.selection import POLICIES as POLICY_NAMES  # numpy only
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -27,11 +42,54 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     accuracy.add_argument('--seed', type=seed_value, default=0)
     accuracy.add_argument('--threads', type=integer(1, 256), default=1,
                           help='torch threads while training (1)')
+    identification = sub.add_parser(
+        'identification', help='replay active identification and the comparison policies on '
+        'held-out recordings of every texture under every movement (identification.md + PNGs)')
+    identification.add_argument('data', type=Path,
+                                help='dataset converted from `tactex sim collect --movements` '
+                                     '(.npz with its sidecar)')
+    identification.add_argument('--out', type=Path, required=True, help='report folder (new)')
+    identification.add_argument('--movements', type=Path, metavar='YAML',
+                                help='the movement file the recordings were made with '
+                                     '(default config/movements.yaml)')
+    identification.add_argument('--policies', type=_policies, default=POLICY_NAMES,
+                                metavar='P[,P...]', help='comma-separated, of '
+                                f'{", ".join(POLICY_NAMES)} (default all)')
+    identification.add_argument('--threshold', type=number(above=None, at_least=0.0,
+                                                           at_most=1.0), default=0.99,
+                                help="stop when the leading texture's posterior exceeds this "
+                                     "(default 0.99, the live node's)")
+    identification.add_argument('--budget-movements', type=integer(1, 1000),
+                                help='at most this many movements per identification')
+    identification.add_argument('--budget-seconds', type=number(), metavar='S',
+                                help='at most this many contact seconds per identification')
+    identification.add_argument('--seeds', type=integer(1, 1000), default=10,
+                                help='episodes per (fold, texture), each with its own draw of '
+                                     'the held-out sweeps (10)')
+    identification.add_argument('--folds', type=fold_count, default=3,
+                                help='folds grouped by recording (3)')
+    identification.add_argument('--inner-folds', type=fold_count, default=3,
+                                help='folds within the training recordings for the evidence '
+                                     'and its calibration (3)')
+    identification.add_argument('--model', default='minirocket',
+                                help='the per-movement model (default minirocket)')
+    identification.add_argument('--seed', type=seed_value, default=0)
+
+
+def _policies(text: str) -> tuple[str, ...]:
+    names = tuple(name.strip() for name in text.split(',') if name.strip())
+    unknown = [name for name in names if name not in POLICY_NAMES]
+    if not names or unknown or len(set(names)) != len(names):
+        raise argparse.ArgumentTypeError(f'must be distinct names of {", ".join(POLICY_NAMES)}'
+                                         f' separated by commas, got {text!r}')
+    return names
 
 
 def run(args: argparse.Namespace) -> int:
     """Measure and write the report."""
     check_output_folder(args.out)
+    if args.report == 'identification':
+        return _identification(args)
     from tactex.accuracy_time.runner import write_report
     from tactex.accuracy_time.sizes import DEFAULT, QUICK
     size = QUICK if args.quick else DEFAULT
@@ -42,4 +100,44 @@ def run(args: argparse.Namespace) -> int:
         results = write_report(folder, size, seed=args.seed, threads=args.threads)
     print(f'report: {args.out / "report.md"} ({(time.monotonic() - started) / 60:.1f} min, '
           f'{results["total_s"]:.0f} s measuring)', flush=True)
+    return 0
+
+
+def _identification(args: argparse.Namespace) -> int:
+    """Replay identification on held-out recordings and write the report."""
+    from tactex_classify.data.dataset import Dataset
+    from tactex_classify.identification.movement_evidence import MovementDataError
+    from tactex_classify.identification.offline import replay, ReplaySettings
+    from tactex_classify.identification.report import write_report
+    from tactex_classify.identification.selection import Budget
+    from tactex_classify.models.registry import ALL_MODELS
+    from tactex_common.share import share_directory
+    from tactex_description.movements import load_movements, MovementError
+
+    if args.model not in ALL_MODELS:
+        raise CommandError(f'--model: unknown model {args.model!r}; known: '
+                           f'{", ".join(ALL_MODELS)}')
+    path = args.movements or share_directory('tactex') / 'config' / 'movements.yaml'
+    check_input_file(path, '--movements')
+    dataset = Dataset.load(args.data)
+    try:
+        movements = load_movements(path, sample_rate_hz=dataset.info.get('sampling_rate_hz'))
+    except MovementError as err:
+        raise CommandError(f'--movements {err}') from None
+    settings = ReplaySettings(
+        policies=args.policies, folds=args.folds, inner_folds=args.inner_folds,
+        seeds=args.seeds, model=args.model, seed=args.seed,
+        budget=Budget(args.threshold, args.budget_movements, args.budget_seconds))
+    started = time.monotonic()
+    try:
+        with staged_folder(args.out) as folder:
+            table = write_report(folder, replay(dataset, movements, settings), settings)
+    except MovementDataError as err:
+        raise CommandError(f'DATA {args.data}: {err}') from None
+    for policy, row in table['policies'].items():
+        print(f'{policy:12s} {100 * row["accuracy"]:5.1f} % right, median '
+              f'{row["median_contact_s"]:.1f} s of contact, {row["median_movements"]:.0f} '
+              'movements')
+    print(f'report: {args.out / "identification.md"} '
+          f'({(time.monotonic() - started) / 60:.1f} min)', flush=True)
     return 0

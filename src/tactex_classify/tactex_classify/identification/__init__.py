@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: Apache-2.0
 """Active identification: choose each next movement to tell the remaining textures apart.
 
-Pure numpy, no ROS:
+No ROS; the belief and the choice are pure numpy:
 - `posterior`: the belief over textures in log space and its tempered update.
 - `evidence_table`: what each movement's sweeps tell, from out-of-fold probability
   vectors per (true texture, movement), and the expected information gain of each.
@@ -10,6 +10,9 @@ Pure numpy, no ROS:
   loop state: next movement, update, threshold and budgets.
 - `tempering`: the one exponent that keeps the independent-sweeps update honest.
 - `calibration`: temperature scaling of a model's probabilities and its calibration error.
+- `movement_evidence`: one model per movement, its calibrated out-of-fold sweep vectors.
+- `offline`: every policy replayed on held-out recordings (nested, grouped folds).
+- `report`: identification.json, identification.md and their plots.
 """
 
 from tactex_classify.exports import lazy_exports

@@ -30,6 +30,7 @@ from tactex_classify.identification.posterior import normalised, uniform, update
 
 POLICIES = ('active', 'random', 'fixed', 'round-robin')
 DECIDED, MOVEMENT_BUDGET, TIME_BUDGET = 'decided', 'movement budget', 'time budget'
+NONE_LEFT = 'no movement left'
 
 
 @dataclass(frozen=True)
@@ -104,15 +105,21 @@ class Identification:
         """The most probable texture now."""
         return int(np.argmax(self.log_posterior))
 
-    @property
-    def stop_reason(self) -> str:
-        """Why the loop has stopped (DECIDED, MOVEMENT_BUDGET, TIME_BUDGET), or ''."""
+    def stop_reason(self, available: np.ndarray | None = None) -> str:
+        """Why the loop stops now (DECIDED, MOVEMENT_BUDGET, TIME_BUDGET, NONE_LEFT), or ''.
+
+        Args:
+            available: which movements can still be run (default: all); NONE_LEFT when
+                the policy's candidates are all unavailable.
+        """
         if self.posterior[self.leader] > self.budget.threshold:
             return DECIDED
         if self.budget.movements is not None and len(self.movements) >= self.budget.movements:
             return MOVEMENT_BUDGET
         if not np.any(self._candidates()):
             return TIME_BUDGET
+        if available is not None and not np.any(self._candidates() & available):
+            return NONE_LEFT
         return ''
 
     def _candidates(self) -> np.ndarray:
@@ -125,11 +132,16 @@ class Identification:
             fits &= np.arange(len(fits)) == self._fixed
         return fits
 
-    def next_movement(self) -> int | None:
-        """The movement to run next (its index in the table), or None once stopped."""
-        if self.stop_reason:
+    def next_movement(self, available: np.ndarray | None = None) -> int | None:
+        """The movement to run next (its index in the table), or None once stopped.
+
+        Args:
+            available: which movements can still be run (default: all), e.g. the held-out
+                sweeps an offline replay has left.
+        """
+        if self.stop_reason(available):
             return None
-        fits = self._candidates()
+        fits = self._candidates() & (True if available is None else np.asarray(available))
         candidates = np.flatnonzero(fits)
         if self.policy == 'active':
             gain = self.table.information_gain(self.log_posterior) / self.table.seconds

@@ -1,0 +1,135 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""Per-movement evidence from a dataset: one model per movement, sweep probabilities, calibrated.
+
+Each recording of a dataset made with `tactex sim collect --movements` (or recorded
+live under a named movement) belongs to one movement (the sidecar's `recordings`). For
+each movement, a model of its own (default: MiniRocket, the best deployable baseline at
+the movement file's window) classifies the movement's windows; one sweep's probability
+vector is the normalised geometric mean of its windows' probabilities (the evidence the
+live node sums, per window, divided by the window count: the windows overlap, so their
+product would be overconfident); one temperature per movement (`calibration`) then
+calibrates the sweep vectors. Every vector that later enters the evidence table is out
+of fold: grouped by recording, no sweep is judged by a model that saw it.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from sklearn.model_selection import StratifiedGroupKFold
+
+from tactex_classify.data.dataset import Dataset
+from tactex_classify.identification.calibration import calibrated, fit_temperature
+from tactex_classify.identification.evidence_table import MovementEvidence
+from tactex_classify.identification.posterior import normalised
+from tactex_classify.online.evidence import log_probabilities
+from tactex_classify.training.deep_classifier import TrainingConfig
+from tactex_classify.training.estimators import build_estimator
+
+DEFAULT_MODEL = 'minirocket'
+
+
+class MovementDataError(ValueError):
+    """A dataset that cannot give per-movement evidence, naming what is missing."""
+
+
+def trial_movements(dataset: Dataset) -> dict[int, str]:
+    """Each recording's movement, from the dataset's sidecar.
+
+    Raises:
+        MovementDataError: a recording names no movement.
+    """
+    movements = {int(row['trial']): row.get('movement') for row in
+                 dataset.info.get('recordings', []) if isinstance(row, dict) and 'trial' in row}
+    unnamed = sorted(trial for trial in np.unique(dataset.trial).tolist()
+                     if not isinstance(movements.get(trial), str))
+    if unnamed:
+        raise MovementDataError(
+            f'{len(unnamed)} recording(s) name no movement (trials {unnamed[:5]}'
+            f'{"..." if len(unnamed) > 5 else ""}): record them with `tactex sim collect '
+            "--movements`, or name each recording's movement in its recording/metadata")
+    return {trial: movements[trial] for trial in np.unique(dataset.trial).tolist()}
+
+
+def subset(dataset: Dataset, trials: Sequence[int]) -> Dataset:
+    """The windows of `trials`, every class kept."""
+    keep = np.isin(dataset.trial, np.asarray(list(trials)))
+    return Dataset(dataset.X[keep], dataset.y[keep], dataset.trial[keep], dataset.t0[keep],
+                   dataset.classes, dataset.info, dataset.channels)
+
+
+def sweep_vectors(dataset: Dataset, window_proba: np.ndarray
+                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(trials, labels, vectors): each recording's normalised geometric mean of its windows."""
+    trials = np.unique(dataset.trial)
+    logs = log_probabilities(window_proba)
+    vectors = np.stack([np.exp(normalised(logs[dataset.trial == trial].mean(axis=0)))
+                        for trial in trials])
+    labels = np.array([dataset.y[dataset.trial == trial][0] for trial in trials])
+    return trials, labels, vectors
+
+
+@dataclass(frozen=True)
+class FittedMovement:
+    """One movement's model and its calibrated out-of-fold sweep vectors."""
+
+    name: str
+    temperature: float
+    trials: np.ndarray
+    labels: np.ndarray
+    raw: np.ndarray  # out-of-fold sweep vectors before calibration
+    estimator: object  # fitted on every window of the movement
+
+    @property
+    def vectors(self) -> np.ndarray:
+        """The calibrated out-of-fold sweep vectors."""
+        return calibrated(self.raw, self.temperature)
+
+    def predict_sweeps(self, dataset: Dataset) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(trials, labels, calibrated vectors) of another dataset's recordings."""
+        trials, labels, raw = sweep_vectors(dataset, self.estimator.predict_proba(dataset.X))
+        return trials, labels, calibrated(raw, self.temperature)
+
+
+def make_estimator(model: str, seed: int) -> Callable[[], object]:
+    """A constructor of fresh estimators of `model` (a baseline or a deep model's defaults)."""
+    config = TrainingConfig.for_profile('modern', model=model, seed=seed, scaling='window',
+                                        epochs=60)
+    return lambda: build_estimator(config)
+
+
+def fit_movement(name: str, dataset: Dataset, *, model: str = DEFAULT_MODEL, folds: int = 3,
+                 seed: int = 0) -> FittedMovement:
+    """One movement's out-of-fold sweep vectors (grouped `folds`-fold), temperature and model.
+
+    Raises:
+        MovementDataError: a texture with fewer recordings than folds under this movement.
+    """
+    make = make_estimator(model, seed)
+    trials = np.unique(dataset.trial)
+    labels = np.array([dataset.y[dataset.trial == trial][0] for trial in trials])
+    counts = np.bincount(labels, minlength=len(dataset.classes))
+    if np.any(counts < folds):
+        short = [dataset.classes[c] for c in np.flatnonzero(counts < folds)]
+        raise MovementDataError(f'movement {name}: {", ".join(short)} recorded fewer than '
+                                f'{folds} times; record more sweeps or lower the folds')
+    window_proba = np.zeros((len(dataset.y), len(dataset.classes)))
+    splitter = StratifiedGroupKFold(folds, shuffle=True, random_state=seed)
+    for train, test in splitter.split(dataset.X[:, 0, 0], dataset.y, dataset.trial):
+        estimator = make()
+        estimator.fit(dataset.X[train], dataset.y[train], dataset.classes,
+                      groups=dataset.trial[train], channels=dataset.channels)
+        window_proba[test] = estimator.predict_proba(dataset.X[test])
+    trials, labels, raw = sweep_vectors(dataset, window_proba)
+    final = make()
+    final.fit(dataset.X, dataset.y, dataset.classes, groups=dataset.trial,
+              channels=dataset.channels)
+    return FittedMovement(name, fit_temperature(raw, labels), trials, labels, raw, final)
+
+
+def movement_evidence(fitted: FittedMovement, contact_seconds: float) -> MovementEvidence:
+    """The evidence table's row of a fitted movement."""
+    return MovementEvidence(fitted.name, contact_seconds, fitted.vectors, fitted.labels)

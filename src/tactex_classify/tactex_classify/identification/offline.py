@@ -1,0 +1,235 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""Identification replayed on held-out recordings: every policy on the same folds and draws.
+
+The recordings are split into `folds` folds grouped by recording and balanced per
+(texture, movement). For each fold, every movement's model, temperature, out-of-fold
+evidence and the tempering exponent come from the other folds only (nested: the
+evidence table's vectors are themselves out of fold within them); the held-out
+recordings then give, per movement, the calibrated sweep vectors an arm would have
+produced. An episode identifies one texture of the fold: each step takes the chosen
+movement's next held-out sweep of that texture, never the same sweep twice (a movement
+whose sweeps are used up is no longer available). Every policy sees the same sweeps in
+the same order for a (fold, texture, seed), so policies differ only by their choices.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+import time
+
+import numpy as np
+
+from tactex_classify.data.dataset import Dataset
+from tactex_classify.evaluation.cross_validation import confusion
+from tactex_classify.identification.calibration import reliability
+from tactex_classify.identification.evidence_table import EvidenceTable
+from tactex_classify.identification.movement_evidence import (
+    DEFAULT_MODEL,
+    fit_movement,
+    movement_evidence,
+    MovementDataError,
+    subset,
+    trial_movements,
+)
+from tactex_classify.identification.selection import Budget, Identification, POLICIES
+from tactex_classify.identification.tempering import fit_tempering
+from tactex_description.movements import MovementSet
+
+
+@dataclass(frozen=True)
+class ReplaySettings:
+    """What to replay: policies, stopping rules, folds, seeds and the per-movement model."""
+
+    policies: tuple[str, ...] = POLICIES
+    budget: Budget = Budget()
+    folds: int = 3
+    inner_folds: int = 3
+    seeds: int = 10
+    model: str = DEFAULT_MODEL
+    seed: int = 0
+
+
+@dataclass
+class Episode:
+    """One identification of one held-out texture by one policy."""
+
+    policy: str
+    fold: int
+    seed: int
+    texture: int
+    movements: list[int] = field(default_factory=list)
+    leaders: list[int] = field(default_factory=list)  # the leading texture after each step
+    contact_s: list[float] = field(default_factory=list)  # cumulative, after each step
+    arm_s: float = 0.0
+    wall_s: float = 0.0
+    stop_reason: str = ''
+    decided: bool = False
+
+    @property
+    def right(self) -> bool:
+        """The leader at the end is the true texture."""
+        return bool(self.leaders) and self.leaders[-1] == self.texture
+
+
+def assign_folds(trials: dict[int, tuple[str, str]], folds: int, seed: int) -> dict[int, int]:
+    """Each recording's fold: per (texture, movement) cell, a seeded shuffle dealt round-robin.
+
+    Raises:
+        MovementDataError: a cell with fewer recordings than folds.
+    """
+    cells: dict[tuple[str, str], list[int]] = {}
+    for trial, cell in sorted(trials.items()):
+        cells.setdefault(cell, []).append(trial)
+    rng = np.random.default_rng(seed)
+    fold_of = {}
+    for cell, members in sorted(cells.items()):
+        if len(members) < folds:
+            raise MovementDataError(f'{cell[0]} under movement {cell[1]} has '
+                                    f'{len(members)} recording(s); {folds} folds need at least '
+                                    f'{folds}: record more sweeps or lower --folds')
+        for index, trial in enumerate(rng.permutation(members)):
+            fold_of[int(trial)] = index % folds
+    return fold_of
+
+
+def replay(dataset: Dataset, movements: MovementSet, settings: ReplaySettings = ReplaySettings(),
+           progress: Callable[[str], None] = print) -> dict:
+    """Replay every policy on every fold; the episodes and what each movement's model did.
+
+    Raises:
+        MovementDataError: recordings without a movement, a movement of the dataset that
+            the file does not list (or the reverse), or too few recordings for the folds.
+    """
+    movement_of = trial_movements(dataset)
+    names = list(movements.names)
+    unknown = sorted(set(movement_of.values()) - set(names))
+    missing = sorted(set(names) - set(movement_of.values()))
+    if unknown or missing:
+        raise MovementDataError(
+            'the dataset and the movement file disagree: ' + '; '.join(part for part in (
+                f'recorded under movements the file lacks: {", ".join(unknown)}' if unknown
+                else '', f'no recording of {", ".join(missing)}' if missing else '') if part))
+    label_of = {int(t): int(dataset.y[dataset.trial == t][0]) for t in movement_of}
+    fold_of = assign_folds({t: (dataset.classes[label_of[t]], m)
+                            for t, m in movement_of.items()},
+                           settings.folds, settings.seed)
+    arm_s = _arm_seconds(dataset, movement_of, names)
+    classes = len(dataset.classes)
+    episodes: list[Episode] = []
+    held_out = {name: {'labels': [], 'vectors': []} for name in names}
+    tempering = []
+    for fold in range(settings.folds):
+        started = time.monotonic()
+        fitted, test, predict_s = [], [], []
+        for name in names:
+            own = [t for t, m in movement_of.items() if m == name]
+            fit = fit_movement(name, subset(dataset, [t for t in own if fold_of[t] != fold]),
+                               model=settings.model, folds=settings.inner_folds,
+                               seed=settings.seed)
+            began = time.perf_counter()
+            trials, labels, vectors = fit.predict_sweeps(
+                subset(dataset, [t for t in own if fold_of[t] == fold]))
+            predict_s.append((time.perf_counter() - began) / max(len(trials), 1))
+            fitted.append(fit)
+            test.append((labels, vectors))
+            held_out[name]['labels'] += labels.tolist()
+            held_out[name]['vectors'] += vectors.tolist()
+        evidence = [movement_evidence(fit, movements.by_name(fit.name).contact_s)
+                    for fit in fitted]
+        exponent = fit_tempering(dataset.classes, evidence, seed=settings.seed)
+        tempering.append(exponent)
+        table = EvidenceTable(dataset.classes, evidence, exponent)
+        for texture in range(classes):
+            for seed in range(settings.seeds):
+                order = np.random.default_rng([settings.seed, fold, texture, seed])
+                pools = [list(vectors[order.permutation(np.flatnonzero(labels == texture))])
+                         for labels, vectors in test]
+                for policy in settings.policies:
+                    episodes.append(_episode(table, policy, settings.budget, fold, seed,
+                                             texture, [list(pool) for pool in pools],
+                                             arm_s, predict_s))
+        progress(f'fold {fold + 1}/{settings.folds}: {len(names)} movements fitted, '
+                 f'tempering {exponent:.2f}, {classes * settings.seeds * len(settings.policies)}'
+                 f' episodes ({time.monotonic() - started:.0f} s)')
+    return {'episodes': episodes, 'held_out': held_out, 'tempering': tempering,
+            'arm_s': arm_s, 'movements': names, 'classes': list(dataset.classes),
+            'contact_s': [movements.by_name(name).contact_s for name in names]}
+
+
+def _episode(table: EvidenceTable, policy: str, budget: Budget, fold: int, seed: int,
+             texture: int, pools: list[list[np.ndarray]], arm_s: list[float],
+             predict_s: list[float]) -> Episode:
+    """One texture identified by one policy from the fold's held-out sweeps."""
+    identification = Identification(table, policy, budget, seed=seed)
+    episode = Episode(policy, fold, seed, texture)
+    began = time.perf_counter()
+    while (chosen := identification.next_movement(
+            np.array([bool(pool) for pool in pools]))) is not None:
+        identification.observe(chosen, pools[chosen].pop())
+        episode.movements.append(chosen)
+        episode.leaders.append(identification.leader)
+        episode.contact_s.append(identification.contact_seconds)
+        episode.arm_s += arm_s[chosen]
+        episode.wall_s += arm_s[chosen] + predict_s[chosen]
+    episode.wall_s += time.perf_counter() - began
+    episode.stop_reason = identification.stop_reason(np.array([bool(p) for p in pools]))
+    episode.decided = episode.stop_reason == 'decided'
+    return episode
+
+
+def _arm_seconds(dataset: Dataset, movement_of: dict[int, str], names: list[str]) -> list[float]:
+    """Median seconds the arm spends on one sweep of each movement (its whole recording)."""
+    rows = {int(row['trial']): row for row in dataset.info.get('recordings', [])}
+    seconds = []
+    for name in names:
+        spans = [rows[t]['samples'] / rows[t]['rate_hz'] for t, m in movement_of.items()
+                 if m == name and t in rows and rows[t].get('rate_hz')]
+        seconds.append(float(np.median(spans)) if spans else float('nan'))
+    return seconds
+
+
+def summary(result: dict, settings: ReplaySettings) -> dict:
+    """identification.json: per policy accuracy, contact seconds, movements, by step."""
+    episodes: list[Episode] = result['episodes']
+    longest = max((len(e.movements) for e in episodes), default=0)
+    policies = {}
+    for policy in settings.policies:
+        own = [e for e in episodes if e.policy == policy]
+        contact = np.array([e.contact_s[-1] if e.contact_s else 0.0 for e in own])
+        moves = np.array([len(e.movements) for e in own])
+        after = [float(np.mean([e.leaders[min(k, len(e.leaders)) - 1] == e.texture
+                                if e.leaders else False for e in own]))
+                 for k in range(1, longest + 1)]
+        stops = {}
+        for e in own:
+            stops[e.stop_reason] = stops.get(e.stop_reason, 0) + 1
+        policies[policy] = {
+            'accuracy': float(np.mean([e.right for e in own])),
+            'decided': float(np.mean([e.decided for e in own])),
+            'median_contact_s': float(np.median(contact)),
+            'p90_contact_s': float(np.percentile(contact, 90)),
+            'median_movements': float(np.median(moves)),
+            'median_arm_s': float(np.median([e.arm_s for e in own])),
+            'median_wall_s': float(np.median([e.wall_s for e in own])),
+            'accuracy_after_k': after, 'stops': stops}
+    per_movement = {}
+    for name, held in result['held_out'].items():
+        labels, vectors = np.array(held['labels']), np.array(held['vectors'])
+        calibration = reliability(vectors, labels)
+        per_movement[name] = {
+            'sweep_accuracy': float(np.mean(vectors.argmax(axis=1) == labels)),
+            'calibration_error': calibration.error, 'sweeps': int(len(labels)),
+            'confusion': confusion(labels, vectors.argmax(axis=1),
+                                   len(result['classes'])).tolist()}
+    return {'policies': policies, 'episodes': len(episodes) // max(len(settings.policies), 1),
+            'movements': per_movement, 'tempering': result['tempering'],
+            'classes': result['classes'], 'movement_names': result['movements'],
+            'contact_s': result['contact_s'], 'arm_s': result['arm_s'],
+            'settings': {'folds': settings.folds, 'inner_folds': settings.inner_folds,
+                         'seeds': settings.seeds, 'model': settings.model,
+                         'threshold': settings.budget.threshold,
+                         'budget_movements': settings.budget.movements,
+                         'budget_seconds': settings.budget.seconds}}
+

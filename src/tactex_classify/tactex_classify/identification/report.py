@@ -1,0 +1,172 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""The identification report: identification.json, identification.md and its PNGs.
+
+Plots: accuracy against contact seconds per policy (mean over folds x seeds, shaded one
+standard deviation), movements to decision, the movements `active` chose per true
+texture, arm and wall time beside contact time, the reliability of each movement's
+calibrated sweep probabilities, and each movement's confusion matrix (what shows whether
+any movement tells more than another).
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+
+from tactex_classify.evaluation.training_report import draw_confusion
+from tactex_classify.identification.calibration import reliability
+from tactex_classify.identification.offline import Episode, ReplaySettings, summary
+from tactex_common import plotting
+
+PLOTS = ('accuracy_vs_contact.png', 'movements_to_decision.png', 'active_choices.png',
+         'time.png', 'reliability.png', 'movement_confusions.png')
+
+
+def accuracy_curves(episodes: list[Episode], policy: str, grid_s: np.ndarray
+                    ) -> tuple[np.ndarray, np.ndarray]:
+    """Mean and sd over (fold, seed) of the share of textures whose leader is right by time t.
+
+    Before its first movement an episode has no leader (counted wrong); after its last,
+    its final leader stands.
+    """
+    groups: dict[tuple[int, int], list[np.ndarray]] = {}
+    for episode in episodes:
+        if episode.policy != policy:
+            continue
+        steps = np.searchsorted(np.asarray(episode.contact_s), grid_s, side='right')
+        right = np.array([0.0, *[leader == episode.texture for leader in episode.leaders]])
+        groups.setdefault((episode.fold, episode.seed), []).append(right[steps])
+    means = np.array([np.mean(rows, axis=0) for rows in groups.values()])
+    return means.mean(axis=0), means.std(axis=0)
+
+
+def write_report(folder: Path, result: dict, settings: ReplaySettings) -> dict:
+    """Write identification.json, identification.md and the PNGs into `folder`."""
+    folder.mkdir(parents=True, exist_ok=True)
+    table = summary(result, settings)
+    (folder / 'identification.json').write_text(json.dumps(table, indent=1) + '\n',
+                                                encoding='utf-8')
+    _plot_accuracy(folder / PLOTS[0], result['episodes'], settings.policies)
+    _plot_movements(folder / PLOTS[1], result['episodes'], settings.policies)
+    _plot_choices(folder / PLOTS[2], result)
+    _plot_time(folder / PLOTS[3], table)
+    _plot_reliability(folder / PLOTS[4], result)
+    _plot_confusions(folder / PLOTS[5], table)
+    (folder / 'identification.md').write_text(markdown(table), encoding='utf-8')
+    return table
+
+
+def markdown(table: dict) -> str:
+    """The report's text: the policies' table, each movement's model, the plots."""
+    settings = table['settings']
+    classes = len(table['classes'])
+    lines = ['# Active identification, replayed on held-out recordings', '',
+             f'{table["episodes"]} episodes per policy ({settings["folds"]} folds grouped by '
+             f'recording x {settings["seeds"]} seeds x {classes} textures; one episode moves '
+             f'accuracy by {100 / max(table["episodes"], 1):.2f} points). Per movement: '
+             f'{settings["model"]}, calibrated by temperature on out-of-fold sweeps '
+             f'({settings["inner_folds"]} inner folds); tempering exponent '
+             f'{", ".join(f"{t:.2f}" for t in table["tempering"])} (per fold). Threshold '
+             f'{settings["threshold"]:g}; budget {settings["budget_movements"] or "no limit on"}'
+             f' movements, {settings["budget_seconds"] or "no limit on"} contact seconds.', '',
+             '| policy | accuracy | decided | median contact (s) | p90 contact (s) | median '
+             'movements | median arm (s) | median wall (s) |', '|---|---|---|---|---|---|---|---|']
+    for policy, row in table['policies'].items():
+        lines.append(f'| {policy} | {100 * row["accuracy"]:.1f} % | {100 * row["decided"]:.0f} '
+                     f'% | {row["median_contact_s"]:.1f} | {row["p90_contact_s"]:.1f} | '
+                     f'{row["median_movements"]:.0f} | {row["median_arm_s"]:.1f} | '
+                     f'{row["median_wall_s"]:.1f} |')
+    lines += ['', '| movement | contact (s) | arm (s) | held-out sweeps | sweep accuracy | '
+              'calibration error |', '|---|---|---|---|---|---|']
+    for name, contact, arm in zip(table['movement_names'], table['contact_s'], table['arm_s'],
+                                  strict=True):
+        row = table['movements'][name]
+        lines.append(f'| {name} | {contact:.1f} | {arm:.1f} | {row["sweeps"]} | '
+                     f'{100 * row["sweep_accuracy"]:.1f} % | {row["calibration_error"]:.3f} |')
+    lines += ['', *[f'![{name}]({name})' for name in PLOTS], '']
+    return '\n'.join(lines)
+
+
+def _plot_accuracy(path: Path, episodes: list[Episode], policies: tuple[str, ...]) -> None:
+    longest = max((e.contact_s[-1] for e in episodes if e.contact_s), default=1.0)
+    grid = np.linspace(0.0, longest, 200)
+    plt, figure, axis = plotting.figure()
+    for index, policy in enumerate(policies):
+        mean, spread = accuracy_curves(episodes, policy, grid)
+        axis.plot(grid, 100 * mean, color=f'C{index}', label=policy)
+        axis.fill_between(grid, 100 * (mean - spread), 100 * (mean + spread),
+                          color=f'C{index}', alpha=0.15, lw=0)
+    axis.set_xlabel('contact seconds')
+    axis.set_ylabel('textures identified right (%)')
+    plotting.legend_outside(axis)
+    plotting.save(plt, figure, path, 'held-out recordings; band: one sd over folds x seeds')
+
+
+def _plot_movements(path: Path, episodes: list[Episode], policies: tuple[str, ...]) -> None:
+    counts = [[len(e.movements) for e in episodes if e.policy == p] for p in policies]
+    top = max((max(c, default=0) for c in counts), default=0)
+    plt, figure, axis = plotting.figure()
+    axis.hist(counts, bins=np.arange(0.5, top + 1.5), label=list(policies))
+    axis.set_xlabel('movements to decision (or to the budget)')
+    axis.set_ylabel('episodes')
+    plotting.legend_outside(axis)
+    plotting.save(plt, figure, path)
+
+
+def _plot_choices(path: Path, result: dict) -> None:
+    names, classes = result['movements'], result['classes']
+    counts = np.zeros((len(classes), len(names)), dtype=int)
+    for episode in result['episodes']:
+        if episode.policy == 'active':
+            for movement in episode.movements:
+                counts[episode.texture, movement] += 1
+    plt, figure, axis = plotting.figure(classes=max(len(classes), len(names)))
+    draw_confusion(axis, counts, classes, names, 'movements active chose, per true texture')
+    axis.set_xlabel('movement')
+    axis.set_ylabel('true texture')
+    plotting.save(plt, figure, path)
+
+
+def _plot_time(path: Path, table: dict) -> None:
+    policies = list(table['policies'])
+    plt, figure, axis = plotting.figure()
+    for offset, (key, label) in enumerate((('median_contact_s', 'contact'),
+                                           ('median_arm_s', 'arm'), ('median_wall_s', 'wall'))):
+        axis.bar(np.arange(len(policies)) + 0.27 * (offset - 1),
+                 [table['policies'][p][key] for p in policies], width=0.27, label=label)
+    axis.set_xticks(range(len(policies)), policies)
+    axis.set_ylabel('median seconds per identification')
+    plotting.legend_outside(axis)
+    plotting.save(plt, figure, path, 'arm: whole sweeps (approach, press, slide, lift); wall: '
+                  'arm + classification + choice')
+
+
+def _plot_reliability(path: Path, result: dict) -> None:
+    plt, figure, axis = plotting.figure()
+    axis.plot([0, 1], [0, 1], color='gray', lw=0.8, ls='--')
+    for index, (name, held) in enumerate(result['held_out'].items()):
+        bins = reliability(np.array(held['vectors']), np.array(held['labels']))
+        shown = bins.counts > 0
+        axis.plot(bins.confidence[shown], bins.accuracy[shown], 'o-', ms=3, lw=1,
+                  color=f'C{index % 10}', label=f'{name} (error {bins.error:.3f})')
+    axis.set_xlabel('confidence of the top texture')
+    axis.set_ylabel('share right')
+    plotting.legend_outside(axis)
+    plotting.save(plt, figure, path, 'held-out sweeps, calibrated per fold')
+
+
+def _plot_confusions(path: Path, table: dict) -> None:
+    names, classes = table['movement_names'], table['classes']
+    columns = min(4, len(names))
+    rows = -(-len(names) // columns)
+    plt, figure, axes = plotting.figure(rows, columns, classes=len(classes), squeeze=False)
+    for axis, name in zip(axes.flat, names, strict=False):
+        row = table['movements'][name]
+        draw_confusion(axis, np.array(row['confusion']), classes, classes,
+                       f'{name}: {100 * row["sweep_accuracy"]:.0f} % of sweeps')
+    for axis in list(axes.flat)[len(names):]:
+        axis.set_visible(False)
+    plotting.save(plt, figure, path, 'one held-out sweep each, argmax of its calibrated vector')

@@ -1,0 +1,148 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""`tactex report identification`: every policy replayed on the same held-out recordings.
+
+Nested and grouped: each fold's evidence comes from the other folds only; an episode
+never takes the same held-out sweep twice; the same inputs give the same report; the
+report holds the issue's JSON, a markdown table and its plots; a dataset without
+movements, or one that disagrees with the movement file, is refused naming why.
+"""
+
+import json
+
+import numpy as np
+import pytest
+
+from tactex.cli import main
+from tactex_classify.data.dataset import Dataset
+from tactex_classify.identification.movement_evidence import MovementDataError
+from tactex_classify.identification.offline import replay, ReplaySettings, summary
+from tactex_classify.identification.report import PLOTS, write_report
+from tactex_classify.identification.selection import Budget, POLICIES
+from tactex_description.movements import load_movements
+
+TEXTURES = ['felt', 'cork', 'wood']
+MOVEMENTS = {'tells_all': lambda texture: 3.0 * texture,  # offset of channel 0
+             'tells_wood': lambda texture: 3.0 * (texture == 2),
+             'tells_nothing': lambda texture: 0.0}
+RECORDINGS, WINDOWS, WINDOW = 4, 3, 32
+
+
+def movement_file(tmp_path, contact=(2.0, 1.0, 1.0)):
+    rows = ''.join(f'  - {{name: {name}, speed: 0.02, press_depth: 0.002, edge_tilt: 0.5, '
+                   f'direction: forward, contact_length: {0.02 * seconds}}}\n'
+                   for name, seconds in zip(MOVEMENTS, contact, strict=True))
+    path = tmp_path / 'movements.yaml'
+    path.write_text(f'window: {WINDOW}\nmovements:\n{rows}')
+    return path
+
+
+def dataset(tmp_path, named=True) -> Dataset:
+    rng = np.random.default_rng(0)
+    X, y, trial, rows = [], [], [], []
+    for movement, offset in MOVEMENTS.items():
+        for texture in range(len(TEXTURES)):
+            for _ in range(RECORDINGS):
+                number = len(rows)
+                windows = rng.normal(size=(WINDOWS, WINDOW, 10))
+                windows[:, :, 0] += offset(texture)
+                X.append(windows)
+                y += [texture] * WINDOWS
+                trial += [number] * WINDOWS
+                rows.append({'trial': number, 'label': TEXTURES[texture], 'samples': 300,
+                             'rate_hz': 120.0, **({'movement': movement} if named else {})})
+    data = Dataset(np.concatenate(X).astype(np.float32), np.array(y), np.array(trial),
+                   np.zeros(len(y)), TEXTURES, {'recordings': rows, 'sampling_rate_hz': 120.0})
+    return Dataset.load(data.save(tmp_path / ('data.npz' if named else 'unnamed.npz')))
+
+
+SETTINGS = ReplaySettings(folds=2, inner_folds=2, seeds=3, model='extratrees',
+                          budget=Budget(threshold=0.99, movements=6))
+
+
+@pytest.fixture(scope='module')
+def replayed(tmp_path_factory):
+    folder = tmp_path_factory.mktemp('replay')
+    return replay(dataset(folder), load_movements(movement_file(folder)), SETTINGS,
+                  progress=lambda line: None)
+
+
+def test_an_episode_never_takes_the_same_held_out_sweep_twice(replayed):
+    held_out_per_fold = RECORDINGS // SETTINGS.folds
+    for episode in replayed['episodes']:
+        for movement in set(episode.movements):
+            assert episode.movements.count(movement) <= held_out_per_fold
+    assert {e.stop_reason for e in replayed['episodes']} <= {
+        'decided', 'movement budget', 'no movement left'}
+
+
+def test_every_policy_identifies_every_texture_of_every_fold_for_every_seed(replayed):
+    episodes = replayed['episodes']
+    assert len(episodes) == len(POLICIES) * SETTINGS.folds * len(TEXTURES) * SETTINGS.seeds
+    for movement, held in replayed['held_out'].items():
+        assert len(held['labels']) == len(TEXTURES) * RECORDINGS, movement
+
+
+def test_active_never_starts_with_the_movement_that_tells_nothing(replayed):
+    nothing = list(MOVEMENTS).index('tells_nothing')
+    firsts = [e.movements[0] for e in replayed['episodes'] if e.policy == 'active']
+    assert firsts and nothing not in firsts
+    table = summary(replayed, SETTINGS)
+    assert table['movements']['tells_all']['sweep_accuracy'] > 0.9
+    assert table['movements']['tells_nothing']['sweep_accuracy'] < 0.7
+
+
+def test_the_same_inputs_give_the_same_report(tmp_path, replayed):
+    again = replay(dataset(tmp_path), load_movements(movement_file(tmp_path)), SETTINGS,
+                   progress=lambda line: None)
+    first, second = summary(replayed, SETTINGS), summary(again, SETTINGS)
+    for policy in POLICIES:
+        for key in ('accuracy', 'median_contact_s', 'accuracy_after_k'):
+            assert first['policies'][policy][key] == second['policies'][policy][key]
+
+
+def test_the_report_holds_the_json_the_markdown_and_every_plot(tmp_path, replayed):
+    table = write_report(tmp_path / 'report', replayed, SETTINGS)
+    kept = json.loads((tmp_path / 'report' / 'identification.json').read_text())
+    assert kept['episodes'] == SETTINGS.folds * len(TEXTURES) * SETTINGS.seeds
+    for policy in POLICIES:
+        row = kept['policies'][policy]
+        assert set(row) >= {'accuracy', 'median_contact_s', 'p90_contact_s',
+                            'median_movements', 'accuracy_after_k'}
+        assert 0.0 <= row['accuracy'] <= 1.0
+    assert table['policies'] == kept['policies']
+    text = (tmp_path / 'report' / 'identification.md').read_text()
+    assert '| active |' in text and '| tells_nothing |' in text
+    for name in PLOTS:
+        assert (tmp_path / 'report' / name).stat().st_size > 1000, name
+
+
+def test_recordings_without_a_movement_or_another_movement_file_are_refused(tmp_path):
+    with pytest.raises(MovementDataError, match='name no movement'):
+        replay(dataset(tmp_path, named=False), load_movements(movement_file(tmp_path)),
+               SETTINGS, progress=lambda line: None)
+    other = tmp_path / 'other.yaml'
+    other.write_text('window: 32\nmovements:\n  - {name: tells_all, speed: 0.02, press_depth: '
+                     '0.002, edge_tilt: 0.5, direction: forward, contact_length: 0.04}\n'
+                     '  - {name: sprint, speed: 0.04, press_depth: 0.002, edge_tilt: 0.5, '
+                     'direction: forward, contact_length: 0.08}\n')
+    with pytest.raises(MovementDataError, match='lacks: tells_nothing, tells_wood; no '
+                                                'recording of sprint'):
+        replay(dataset(tmp_path), load_movements(other), SETTINGS, progress=lambda line: None)
+    with pytest.raises(MovementDataError, match='cork under movement tells_all has 4 '
+                                                'recording.*5 folds'):
+        replay(dataset(tmp_path), load_movements(movement_file(tmp_path)),
+               ReplaySettings(folds=5), progress=lambda line: None)
+
+
+def test_the_command_writes_the_report_and_prints_each_policy(tmp_path, capsys):
+    dataset(tmp_path)  # writes tmp_path/data.npz and its sidecar
+    assert main(['report', 'identification', str(tmp_path / 'data.npz'), '--out',
+                 str(tmp_path / 'out'), '--movements', str(movement_file(tmp_path)),
+                 '--folds', '2', '--inner-folds', '2', '--seeds', '2', '--model',
+                 'extratrees', '--policies', 'active,fixed', '--budget-movements', '4']) == 0
+    printed = capsys.readouterr().out
+    assert 'active' in printed and 'fixed' in printed and 'random' not in printed
+    kept = json.loads((tmp_path / 'out' / 'identification.json').read_text())
+    assert list(kept['policies']) == ['active', 'fixed']
+    assert kept['settings']['budget_movements'] == 4
