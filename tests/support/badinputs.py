@@ -303,6 +303,14 @@ BAD_INPUTS = {
           for name, why in FOREIGN.items() if name not in ('lab.bag', 'other_imu.bag')],
     ],
     'train': [
+        Case('train {w}/data.npz --out {w}/run --movements {w}/nothing.yaml',
+             '--movements .*nothing.yaml does not exist', '{w}/run'),
+        Case('train {w}/data.npz --out {w}/run --movements {w}/movements/typo.yaml',
+             '--movements .*unknown keys sped', '{w}/run'),
+        Case('train {w}/data.npz --out {w}/run --movements {w}/movements/long.yaml',
+             'DATA .*data.npz: 6 recording.* name no movement', '{w}/run'),
+        Case('train {w}/data.npz --out {w}/run --movements {w}/movements/long.yaml --init '
+             '{w}/minirocket', '--init and --movements', '{w}/run'),
         Case('train {w}/nothing.npz --out {w}/run', 'need .*nothing.npz and its sidecar',
              '{w}/run'),
         Case('train {w}/garbage.npz --out {w}/run', 'garbage.npz is not a tactex dataset',
@@ -587,6 +595,7 @@ BAD_INPUTS = {
         Case('sim collect --out {w}/bagsout --movements {w}/movements/typo.yaml',
              'unknown keys sped; missing speed, press_depth', '{w}/bagsout'),
         Case('sim collect --out {w}/bagsout --movements {w}/folder', 'is a folder', '{w}/bagsout'),
+        Case('sim collect --out {w}/bagsout --seed -1', 'argument --seed', '{w}/bagsout'),
     ],
     'record': [
         Case('record --out {w}/full', '--out .*already holds files', '{w}/full'),

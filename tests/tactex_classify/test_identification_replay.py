@@ -10,51 +10,21 @@ movements, or one that disagrees with the movement file, is refused naming why.
 
 import json
 
-import numpy as np
 import pytest
+from support.movement_data import (
+    movement_dataset,
+    movement_file,
+    MOVEMENTS,
+    RECORDINGS,
+    TEXTURES,
+)
 
 from tactex.cli import main
-from tactex_classify.data.dataset import Dataset
 from tactex_classify.identification.movement_evidence import MovementDataError
 from tactex_classify.identification.offline import replay, ReplaySettings, summary
 from tactex_classify.identification.report import PLOTS, write_report
 from tactex_classify.identification.selection import Budget, POLICIES
 from tactex_description.movements import load_movements
-
-TEXTURES = ['felt', 'cork', 'wood']
-MOVEMENTS = {'tells_all': lambda texture: 3.0 * texture,  # offset of channel 0
-             'tells_wood': lambda texture: 3.0 * (texture == 2),
-             'tells_nothing': lambda texture: 0.0}
-RECORDINGS, WINDOWS, WINDOW = 4, 3, 32
-
-
-def movement_file(tmp_path, contact=(2.0, 1.0, 1.0)):
-    rows = ''.join(f'  - {{name: {name}, speed: 0.02, press_depth: 0.002, edge_tilt: 0.5, '
-                   f'direction: forward, contact_length: {0.02 * seconds}}}\n'
-                   for name, seconds in zip(MOVEMENTS, contact, strict=True))
-    path = tmp_path / 'movements.yaml'
-    path.write_text(f'window: {WINDOW}\nmovements:\n{rows}')
-    return path
-
-
-def dataset(tmp_path, named=True) -> Dataset:
-    rng = np.random.default_rng(0)
-    X, y, trial, rows = [], [], [], []
-    for movement, offset in MOVEMENTS.items():
-        for texture in range(len(TEXTURES)):
-            for _ in range(RECORDINGS):
-                number = len(rows)
-                windows = rng.normal(size=(WINDOWS, WINDOW, 10))
-                windows[:, :, 0] += offset(texture)
-                X.append(windows)
-                y += [texture] * WINDOWS
-                trial += [number] * WINDOWS
-                rows.append({'trial': number, 'label': TEXTURES[texture], 'samples': 300,
-                             'rate_hz': 120.0, **({'movement': movement} if named else {})})
-    data = Dataset(np.concatenate(X).astype(np.float32), np.array(y), np.array(trial),
-                   np.zeros(len(y)), TEXTURES, {'recordings': rows, 'sampling_rate_hz': 120.0})
-    return Dataset.load(data.save(tmp_path / ('data.npz' if named else 'unnamed.npz')))
-
 
 SETTINGS = ReplaySettings(folds=2, inner_folds=2, seeds=3, model='extratrees',
                           budget=Budget(threshold=0.99, movements=6))
@@ -63,7 +33,7 @@ SETTINGS = ReplaySettings(folds=2, inner_folds=2, seeds=3, model='extratrees',
 @pytest.fixture(scope='module')
 def replayed(tmp_path_factory):
     folder = tmp_path_factory.mktemp('replay')
-    return replay(dataset(folder), load_movements(movement_file(folder)), SETTINGS,
+    return replay(movement_dataset(folder), load_movements(movement_file(folder)), SETTINGS,
                   progress=lambda line: None)
 
 
@@ -93,8 +63,8 @@ def test_active_never_starts_with_the_movement_that_tells_nothing(replayed):
 
 
 def test_the_same_inputs_give_the_same_report(tmp_path, replayed):
-    again = replay(dataset(tmp_path), load_movements(movement_file(tmp_path)), SETTINGS,
-                   progress=lambda line: None)
+    again = replay(movement_dataset(tmp_path), load_movements(movement_file(tmp_path)),
+                   SETTINGS, progress=lambda line: None)
     first, second = summary(replayed, SETTINGS), summary(again, SETTINGS)
     for policy in POLICIES:
         for key in ('accuracy', 'median_contact_s', 'accuracy_after_k'):
@@ -119,7 +89,7 @@ def test_the_report_holds_the_json_the_markdown_and_every_plot(tmp_path, replaye
 
 def test_recordings_without_a_movement_or_another_movement_file_are_refused(tmp_path):
     with pytest.raises(MovementDataError, match='name no movement'):
-        replay(dataset(tmp_path, named=False), load_movements(movement_file(tmp_path)),
+        replay(movement_dataset(tmp_path, named=False), load_movements(movement_file(tmp_path)),
                SETTINGS, progress=lambda line: None)
     other = tmp_path / 'other.yaml'
     other.write_text('window: 32\nmovements:\n  - {name: tells_all, speed: 0.02, press_depth: '
@@ -128,15 +98,16 @@ def test_recordings_without_a_movement_or_another_movement_file_are_refused(tmp_
                      'direction: forward, contact_length: 0.08}\n')
     with pytest.raises(MovementDataError, match='lacks: tells_nothing, tells_wood; no '
                                                 'recording of sprint'):
-        replay(dataset(tmp_path), load_movements(other), SETTINGS, progress=lambda line: None)
+        replay(movement_dataset(tmp_path), load_movements(other), SETTINGS,
+               progress=lambda line: None)
     with pytest.raises(MovementDataError, match='cork under movement tells_all has 4 '
                                                 'recording.*5 folds'):
-        replay(dataset(tmp_path), load_movements(movement_file(tmp_path)),
+        replay(movement_dataset(tmp_path), load_movements(movement_file(tmp_path)),
                ReplaySettings(folds=5), progress=lambda line: None)
 
 
 def test_the_command_writes_the_report_and_prints_each_policy(tmp_path, capsys):
-    dataset(tmp_path)  # writes tmp_path/data.npz and its sidecar
+    movement_dataset(tmp_path)  # writes tmp_path/data.npz and its sidecar
     assert main(['report', 'identification', str(tmp_path / 'data.npz'), '--out',
                  str(tmp_path / 'out'), '--movements', str(movement_file(tmp_path)),
                  '--folds', '2', '--inner-folds', '2', '--seeds', '2', '--model',

@@ -5,6 +5,7 @@
 from __future__ import annotations
 
 import argparse
+from dataclasses import replace
 from pathlib import Path
 
 from tactex.errors import CommandError
@@ -14,6 +15,7 @@ from tactex.options import (
     check_output_folder,
     integer,
     ray_address,
+    seed_value,
     staged_folder,
 )
 
@@ -28,6 +30,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     collect.add_argument('--sweeps', type=integer(1, 1000), default=25,
                          help='sweeps per texture (25)')
     collect.add_argument('--out', type=Path, required=True, help='folder for the bags (new)')
+    collect.add_argument('--seed', type=seed_value,
+                         help="replace the scene's seed (e.g. a seed no test uses, for a "
+                              'held-out evaluation)')
     collect.add_argument('--movements', type=Path, metavar='YAML',
                          help='sweep every texture under every movement of this file (e.g. '
                               'config/movements.yaml), --sweeps per texture and movement; '
@@ -98,6 +103,8 @@ def _collect(args: argparse.Namespace) -> int:
     if len(set(textures)) != len(textures):
         raise CommandError('--textures names a texture twice')
     scene = load_scene(resolve_scene(args.scene))
+    if args.seed is not None:
+        scene = replace(scene, seed=args.seed)
     movements = _movements(args.movements, scene.sensor_rate_hz) if args.movements else None
     collectable_scenes(scene, movements)
     with staged_folder(args.out) as folder:

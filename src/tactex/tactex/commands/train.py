@@ -4,6 +4,8 @@
 
 Every model, the baselines included, leaves a deployable checkpoint in RUN/model/
 (`tactex_classify.models.checkpoint`): what `classifier_node` loads and `tactex export` reads.
+With `--movements`, one model per movement of the file, each with its calibration and
+out-of-fold evidence, in the identification bundle RUN/bundle/.
 """
 
 from __future__ import annotations
@@ -15,6 +17,7 @@ import time
 
 from tactex.errors import CommandError
 from tactex.options import (
+    check_input_file,
     check_output_folder,
     epoch_count,
     fold_count,
@@ -61,6 +64,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('--out', type=Path, required=True, help='run folder')
     parser.add_argument('--no-final', action='store_true',
                         help='skip training the deployable model (RUN/model/) on all windows')
+    parser.add_argument('--movements', type=Path, metavar='YAML',
+                        help='train one model per movement of this file (recordings from '
+                             '`tactex sim collect --movements`), each calibrated on grouped '
+                             'out-of-fold sweeps (--folds), into the identification bundle '
+                             'RUN/bundle/ (default model: minirocket)')
 
 
 def run(args: argparse.Namespace) -> int:
@@ -69,6 +77,8 @@ def run(args: argparse.Namespace) -> int:
 
     check_output_folder(args.out)
     dataset = Dataset.load(args.data)
+    if args.movements:
+        return _train_bundle(args, dataset)
     schemes = SCHEMES if args.cv == 'both' else (args.cv,)
     check_folds(dataset, schemes, args.folds)
     stream = None if args.no_final else deployable_stream(dataset)
@@ -184,3 +194,56 @@ def check_folds(dataset, schemes, folds: int) -> None:
     if len(dataset.y) < folds:
         raise CommandError(f'--folds {folds} needs at least {folds} windows; DATA has '
                            f'{len(dataset.y)}')
+
+
+def _train_bundle(args: argparse.Namespace, dataset) -> int:
+    """One calibrated model per movement and the tempering exponent, as RUN/bundle/."""
+    from tactex_classify.identification.bundle import save_bundle
+    from tactex_classify.identification.calibration import reliability
+    from tactex_classify.identification.movement_evidence import (
+        checked_movements,
+        fit_movement,
+        movement_evidence,
+        MovementDataError,
+        subset,
+    )
+    from tactex_classify.identification.tempering import fit_tempering
+    from tactex_classify.training.deep_classifier import TrainingConfig
+    from tactex_classify.training.estimators import build_estimator
+    from tactex_description.movements import load_movements, MovementError
+
+    if args.init:
+        raise CommandError('--init and --movements: fine-tune a single model, or train a '
+                           'bundle from scratch')
+    check_input_file(args.movements, '--movements')
+    try:
+        movements = load_movements(args.movements,
+                                   sample_rate_hz=dataset.info.get('sampling_rate_hz'))
+    except MovementError as err:
+        raise CommandError(f'--movements {err}') from None
+    stream = deployable_stream(dataset)
+    model = args.model or 'minirocket'
+    config = TrainingConfig.for_profile(
+        args.profile, model=model, epochs=args.epochs, scaling=args.scaling, seed=args.seed,
+        threads=args.threads,
+        **({} if args.early_stopping is None else {'early_stopping': args.early_stopping}))
+    fitted = []
+    try:
+        movement_of = checked_movements(dataset, movements)
+        for movement in movements.movements:
+            fit = fit_movement(movement.name, subset(dataset, [
+                trial for trial, name in movement_of.items() if name == movement.name]),
+                lambda: build_estimator(config), folds=args.folds, seed=args.seed)
+            print(f'{movement.name}: {100 * (fit.vectors.argmax(1) == fit.labels).mean():.1f} % '
+                  f'of {len(fit.labels)} sweeps right out of fold, temperature '
+                  f'{fit.temperature:.2f}, calibration error '
+                  f'{reliability(fit.vectors, fit.labels).error:.3f}', flush=True)
+            fitted.append(fit)
+        tempering = fit_tempering(dataset.classes, [movement_evidence(
+            fit, movements.by_name(fit.name).contact_s) for fit in fitted], seed=args.seed)
+    except MovementDataError as err:
+        raise CommandError(f'DATA {args.data}: {err}') from None
+    with staged_folder(args.out) as folder:
+        save_bundle(folder / 'bundle', fitted, movements, tempering, **stream)
+    print(f'bundle: {args.out / "bundle"} ({model} per movement, tempering {tempering:.2f})')
+    return 0

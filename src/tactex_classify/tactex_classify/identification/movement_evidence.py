@@ -28,6 +28,7 @@ from tactex_classify.identification.posterior import normalised
 from tactex_classify.online.evidence import log_probabilities
 from tactex_classify.training.deep_classifier import TrainingConfig
 from tactex_classify.training.estimators import build_estimator
+from tactex_description.movements import MovementSet
 
 DEFAULT_MODEL = 'minirocket'
 
@@ -52,6 +53,24 @@ def trial_movements(dataset: Dataset) -> dict[int, str]:
             f'{"..." if len(unnamed) > 5 else ""}): record them with `tactex sim collect '
             "--movements`, or name each recording's movement in its recording/metadata")
     return {trial: movements[trial] for trial in np.unique(dataset.trial).tolist()}
+
+
+def checked_movements(dataset: Dataset, movements: MovementSet) -> dict[int, str]:
+    """Each recording's movement, every one of them in `movements` and every movement recorded.
+
+    Raises:
+        MovementDataError: recordings without a movement, or the dataset and the movement
+            file disagree (both differences named).
+    """
+    movement_of = trial_movements(dataset)
+    unknown = sorted(set(movement_of.values()) - set(movements.names))
+    missing = sorted(set(movements.names) - set(movement_of.values()))
+    if unknown or missing:
+        raise MovementDataError(
+            'the dataset and the movement file disagree: ' + '; '.join(part for part in (
+                f'recorded under movements the file lacks: {", ".join(unknown)}' if unknown
+                else '', f'no recording of {", ".join(missing)}' if missing else '') if part))
+    return movement_of
 
 
 def subset(dataset: Dataset, trials: Sequence[int]) -> Dataset:
@@ -95,20 +114,26 @@ class FittedMovement:
 
 
 def make_estimator(model: str, seed: int) -> Callable[[], object]:
-    """A constructor of fresh estimators of `model` (a baseline or a deep model's defaults)."""
+    """A constructor of fresh estimators of `model` (deep: modern, window scaling, 60 epochs)."""
     config = TrainingConfig.for_profile('modern', model=model, seed=seed, scaling='window',
                                         epochs=60)
     return lambda: build_estimator(config)
 
 
-def fit_movement(name: str, dataset: Dataset, *, model: str = DEFAULT_MODEL, folds: int = 3,
+def fit_movement(name: str, dataset: Dataset, make: Callable[[], object], *, folds: int = 3,
                  seed: int = 0) -> FittedMovement:
     """One movement's out-of-fold sweep vectors (grouped `folds`-fold), temperature and model.
+
+    Args:
+        name: the movement.
+        dataset: its recordings' windows.
+        make: a constructor of fresh, unfitted estimators (`make_estimator`).
+        folds: grouped folds for the out-of-fold vectors.
+        seed: the folds' shuffle.
 
     Raises:
         MovementDataError: a texture with fewer recordings than folds under this movement.
     """
-    make = make_estimator(model, seed)
     trials = np.unique(dataset.trial)
     labels = np.array([dataset.y[dataset.trial == trial][0] for trial in trials])
     counts = np.bincount(labels, minlength=len(dataset.classes))

@@ -26,12 +26,13 @@ from tactex_classify.evaluation.cross_validation import confusion
 from tactex_classify.identification.calibration import reliability
 from tactex_classify.identification.evidence_table import EvidenceTable
 from tactex_classify.identification.movement_evidence import (
+    checked_movements,
     DEFAULT_MODEL,
     fit_movement,
+    make_estimator,
     movement_evidence,
     MovementDataError,
     subset,
-    trial_movements,
 )
 from tactex_classify.identification.selection import Budget, Identification, POLICIES
 from tactex_classify.identification.tempering import fit_tempering
@@ -102,15 +103,8 @@ def replay(dataset: Dataset, movements: MovementSet, settings: ReplaySettings = 
         MovementDataError: recordings without a movement, a movement of the dataset that
             the file does not list (or the reverse), or too few recordings for the folds.
     """
-    movement_of = trial_movements(dataset)
+    movement_of = checked_movements(dataset, movements)
     names = list(movements.names)
-    unknown = sorted(set(movement_of.values()) - set(names))
-    missing = sorted(set(names) - set(movement_of.values()))
-    if unknown or missing:
-        raise MovementDataError(
-            'the dataset and the movement file disagree: ' + '; '.join(part for part in (
-                f'recorded under movements the file lacks: {", ".join(unknown)}' if unknown
-                else '', f'no recording of {", ".join(missing)}' if missing else '') if part))
     label_of = {int(t): int(dataset.y[dataset.trial == t][0]) for t in movement_of}
     fold_of = assign_folds({t: (dataset.classes[label_of[t]], m)
                             for t, m in movement_of.items()},
@@ -126,8 +120,8 @@ def replay(dataset: Dataset, movements: MovementSet, settings: ReplaySettings = 
         for name in names:
             own = [t for t, m in movement_of.items() if m == name]
             fit = fit_movement(name, subset(dataset, [t for t in own if fold_of[t] != fold]),
-                               model=settings.model, folds=settings.inner_folds,
-                               seed=settings.seed)
+                               make_estimator(settings.model, settings.seed),
+                               folds=settings.inner_folds, seed=settings.seed)
             began = time.perf_counter()
             trials, labels, vectors = fit.predict_sweeps(
                 subset(dataset, [t for t in own if fold_of[t] == fold]))

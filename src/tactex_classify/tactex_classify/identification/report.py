@@ -97,8 +97,9 @@ def _plot_accuracy(path: Path, episodes: list[Episode], policies: tuple[str, ...
     for index, policy in enumerate(policies):
         mean, spread = accuracy_curves(episodes, policy, grid)
         axis.plot(grid, 100 * mean, color=f'C{index}', label=policy)
-        axis.fill_between(grid, 100 * (mean - spread), 100 * (mean + spread),
-                          color=f'C{index}', alpha=0.15, lw=0)
+        axis.fill_between(grid, np.clip(100 * (mean - spread), 0, 100),
+                          np.clip(100 * (mean + spread), 0, 100), color=f'C{index}',
+                          alpha=0.15, lw=0)
     axis.set_xlabel('contact seconds')
     axis.set_ylabel('textures identified right (%)')
     plotting.legend_outside(axis)

@@ -1,0 +1,126 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""The identification bundle: a checkpoint per movement, its calibration and its evidence.
+
+`tactex train DATA --movements YAML --out RUN` writes RUN/bundle/: one checkpoint folder
+per movement (movements/<name>/, the format `tactex train` always writes, read back with
+its restricted loaders) and bundle.json: the textures, the stream, the tempering
+exponent and, per movement, its parameters, temperature and calibrated out-of-fold
+sweep vectors with their true textures (what the evidence table is built from), under a
+SHA-256 of its fields. Loading checks every checkpoint and refuses a bundle whose
+textures differ from its checkpoints' or whose movements differ, in name, order or any
+parameter, from the movement file the caller runs.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+import json
+from pathlib import Path
+
+import numpy as np
+
+from tactex_classify.errors import CheckpointError
+from tactex_classify.identification.evidence_table import EvidenceTable, MovementEvidence
+from tactex_classify.identification.movement_evidence import FittedMovement
+from tactex_classify.models.checkpoint import (
+    CHECKSUM_FIELD,
+    load_checkpoint,
+    metadata_sha256,
+    save_checkpoint,
+    write_text_atomically,
+)
+from tactex_common.files import load_json
+from tactex_description.movements import Movement, MovementSet
+
+BUNDLE_FILE = 'bundle.json'
+FORMAT_VERSION = 1
+MAX_BUNDLE_BYTES = 64 * 1024 * 1024
+MAX_BUNDLE_DEPTH = 8
+
+
+@dataclass(frozen=True)
+class Bundle:
+    """A loaded bundle: the evidence table, each movement's model and temperature."""
+
+    classes: tuple[str, ...]
+    movements: tuple[Movement, ...]
+    temperatures: tuple[float, ...]
+    estimators: tuple[object, ...]
+    table: EvidenceTable
+
+
+def save_bundle(folder: Path, fitted: list[FittedMovement], movements: MovementSet,
+                tempering: float, *, hop: int, sampling_rate_hz: float) -> Path:
+    """Write the bundle of `fitted` (in the movement file's order) into `folder`."""
+    folder = Path(folder)
+    rows = []
+    for fit in fitted:
+        save_checkpoint(folder / 'movements' / fit.name, fit.estimator, hop=hop,
+                        sampling_rate_hz=sampling_rate_hz)
+        rows.append({**asdict(movements.by_name(fit.name)), 'temperature': fit.temperature,
+                     'labels': fit.labels.tolist(), 'vectors': fit.vectors.tolist()})
+    meta = {'format_version': FORMAT_VERSION, 'classes': list(fitted[0].estimator.classes_),
+            'window': movements.window, 'tempering': tempering, 'movements': rows}
+    meta[CHECKSUM_FIELD] = metadata_sha256(meta)
+    write_text_atomically(folder / BUNDLE_FILE, json.dumps(meta, indent=1))
+    return folder
+
+
+def load_bundle(folder: Path, movements: MovementSet) -> Bundle:
+    """Read a bundle written by `save_bundle` for the movements of `movements`.
+
+    Raises:
+        CheckpointError: a missing or edited bundle.json, a bad checkpoint, textures that
+            differ between the bundle and a checkpoint, or movements that differ from the
+            movement file (named).
+    """
+    folder = Path(folder)
+    try:
+        meta = load_json(folder / BUNDLE_FILE, max_bytes=MAX_BUNDLE_BYTES,
+                         max_depth=MAX_BUNDLE_DEPTH)
+    except FileNotFoundError:
+        raise CheckpointError(f'{folder}: missing {BUNDLE_FILE} (write a bundle with `tactex '
+                              'train DATA --movements YAML --out RUN`: RUN/bundle)') from None
+    except (UnicodeDecodeError, ValueError, OSError) as err:
+        raise CheckpointError(f'{folder}: refused {BUNDLE_FILE}: {err}') from None
+    if not isinstance(meta, dict) or meta.get('format_version') != FORMAT_VERSION:
+        raise CheckpointError(f'{folder}: not an identification bundle of format version '
+                              f'{FORMAT_VERSION}')
+    if meta.get(CHECKSUM_FIELD) != metadata_sha256(meta):
+        raise CheckpointError(f'{folder}: {BUNDLE_FILE} does not match its {CHECKSUM_FIELD}: '
+                              'edited or corrupt; train the bundle again')
+    try:
+        return _bundle(folder, meta, movements)
+    except (KeyError, TypeError, ValueError) as err:
+        raise CheckpointError(f'{folder}: malformed {BUNDLE_FILE}: {err!r}') from None
+
+
+def _bundle(folder: Path, meta: dict, movements: MovementSet) -> Bundle:
+    classes = tuple(meta['classes'])
+    stated = [Movement(**{key: row[key] for key in Movement.__dataclass_fields__})
+              for row in meta['movements']]
+    if [m.name for m in stated] != list(movements.names):
+        raise CheckpointError(f'{folder}: the bundle holds movements '
+                              f'{", ".join(m.name for m in stated)}; the movement file lists '
+                              f'{", ".join(movements.names)}: train a bundle for this file')
+    for movement in stated:
+        if movement != movements.by_name(movement.name):
+            raise CheckpointError(f'{folder}: movement {movement.name} was trained as '
+                                  f'{movement}, the file now says '
+                                  f'{movements.by_name(movement.name)}: train it again')
+    estimators, evidence = [], []
+    for movement, row in zip(stated, meta['movements'], strict=True):
+        info, estimator = load_checkpoint(folder / 'movements' / movement.name)
+        if tuple(info.classes) != classes:
+            raise CheckpointError(f'{folder}: movement {movement.name} classifies '
+                                  f'{", ".join(info.classes)}, the bundle '
+                                  f'{", ".join(classes)}')
+        estimators.append(estimator)
+        evidence.append(MovementEvidence(movement.name, movement.contact_s,
+                                         np.asarray(row['vectors'], dtype=float),
+                                         np.asarray(row['labels'], dtype=int)))
+    table = EvidenceTable(classes, evidence, float(meta['tempering']))  # ValueError: malformed
+    return Bundle(classes, tuple(stated), tuple(float(r['temperature'])
+                                                for r in meta['movements']),
+                  tuple(estimators), table)
