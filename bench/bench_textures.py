@@ -4,9 +4,11 @@
 
 Runs `tactex sim collect` (12 textures x 25 sweeps of the uneven-texture scene) once,
 `tactex convert` (128-sample windows, 50 % overlap) once, then `tactex train` for the
-two baselines and the deep models given on the command line (default: cnn_3 for 80
-epochs; the original's 250 epochs x 8 models take hours on one CPU), each with both CV
-schemes, all on that one dataset. Reports land in bench/results/textures/<model>/, and
+two baselines and the deep models given on the command line (default: cnn_3, at most
+80 epochs of the `modern` profile with per-window scaling, the recipe the profile
+ablation found best; `--profile original --scaling minmax` trains as the original did,
+whose 250 epochs x 8 models take hours on one CPU), each with both CV schemes, all on
+that one dataset. Reports land in bench/results/textures/<model>/, and
 bench/results/textures/run.json records the dataset (its SHA-256, windows, recordings),
 the commands and how long each step took; `bench/render_results.py` builds the README's
 texture table from these files only. `--data` retrains some models on a dataset an
@@ -24,6 +26,8 @@ import tempfile
 import time
 
 import numpy as np
+
+from tactex_classify.models.registry import BASELINES
 
 RESULTS = Path(__file__).parent / 'results' / 'textures'
 TACTEX = str(Path(sys.executable).parent / 'tactex')
@@ -67,6 +71,10 @@ def main() -> int:
     parser.add_argument('--epochs', type=int, default=80)
     parser.add_argument('--sweeps', type=int, default=25)
     parser.add_argument('--threads', type=int, default=2)
+    parser.add_argument('--profile', choices=('original', 'modern'), default='modern',
+                        help="deep models' training profile (baselines have none)")
+    parser.add_argument('--scaling', choices=('minmax', 'standard', 'window'), default='window',
+                        help="deep models' scaling")
     parser.add_argument('--keep-data', type=Path,
                         help='also keep the dataset (.npz + .json) here, e.g. for bench_init')
     parser.add_argument('--data', type=Path,
@@ -94,8 +102,11 @@ def main() -> int:
                 shutil.copy2(data.with_suffix(suffix), args.keep_data.with_suffix(suffix))
         for model in args.models:
             run = Path(folder) / model
+            recipe = [] if model in BASELINES else [
+                '--profile', args.profile, '--scaling', args.scaling]
             _timed([TACTEX, 'train', str(data), '--model', model, '--epochs', str(args.epochs),
-                    '--threads', str(args.threads), '--out', str(run), '--no-final'], steps)
+                    *recipe, '--threads', str(args.threads), '--out', str(run),
+                    '--no-final'], steps)
             target = RESULTS / model
             shutil.rmtree(target, ignore_errors=True)
             target.mkdir(parents=True)

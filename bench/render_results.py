@@ -8,8 +8,8 @@ script renders each from the files the benchmarks left in bench/results/ and rew
 what lies between the markers, so prose and figures cannot disagree with the kept outputs.
 `make results` runs it; `--check` exits 1 (listing the stale sections) instead of writing,
 which the test suite uses. Figures are linked through docs/results, a link to bench/results.
-The sections themselves are written by results_system, results_learning and
-results_recordings (what they share: results_common).
+The sections themselves are written by results_system, results_learning,
+results_recordings and results_identification (what they share: results_common).
 """
 
 from __future__ import annotations
@@ -22,6 +22,7 @@ import sys
 import textwrap
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))  # the result modules beside it
+from results_identification import identification  # noqa: E402
 from results_learning import (  # noqa: E402
     architectures,
     channels,
@@ -67,7 +68,7 @@ SECTIONS: dict[str, Callable[[], str]] = {
     'sensor_stats': sensor_stats, 'channels': channels, 'profiles': profiles,
     'architectures': architectures, 'window_voting': window_voting,
     'sim_to_real': sim_to_real, 'learning_curves': learning_curves,
-    'recordings': recordings, 'predict_play': predict_play}
+    'recordings': recordings, 'predict_play': predict_play, 'identification': identification}
 
 
 def _wrapped(text: str) -> str:

@@ -29,9 +29,11 @@ def textures() -> str:
         metrics = kept_json(f'textures/{model}/metrics.json')
         grouped, stratified = (metrics['schemes'][s] for s in ('grouped', 'stratified'))
         eight = next(row for row in grouped['sequence'] if row['windows'] == 8)
+        settings = metrics['settings']
         label = TEXTURE_MODELS[model] if model in TEXTURE_MODELS else (
-            f'{model}, {metrics["settings"]["epochs"]} epochs, {metrics["settings"]["init"]} '
-            f'initialisation')
+            f'{model}, modern profile, {settings["scaling"]} scaling, at most '
+            f'{settings["epochs"]} epochs' if settings.get('profile') == 'modern' else
+            f'{model}, {settings["epochs"]} epochs, {settings["init"]} initialisation')
         lines.append(f'| {label} | {100 * grouped["accuracy"]:.1f} % | '
                      f'{100 * stratified["accuracy"]:.1f} % | {100 * eight["accuracy"]:.1f} % '
                      f'({eight["touch_s"]:.1f} s of touch) |')

@@ -80,6 +80,7 @@ def test_the_report_holds_the_json_the_markdown_and_every_plot(tmp_path, replaye
         assert set(row) >= {'accuracy', 'median_contact_s', 'p90_contact_s',
                             'median_movements', 'accuracy_after_k'}
         assert 0.0 <= row['accuracy'] <= 1.0
+        assert list(row['first_three_movements']) == list(MOVEMENTS)
     assert table['policies'] == kept['policies']
     text = (tmp_path / 'report' / 'identification.md').read_text()
     assert '| active |' in text and '| tells_nothing |' in text

@@ -30,6 +30,7 @@ from tactex_classify.identification.posterior import (
 )
 
 MAX_TEMPERING = 100.0
+NEGLIGIBLE_MASS = 1e-9  # posterior mass left out of the expected gain (see information_gain)
 
 
 @dataclass(frozen=True)
@@ -138,11 +139,22 @@ class EvidenceTable:
         return self._rows_of[movement][self._labels_of[movement] == texture]
 
     def information_gain(self, log_posterior: np.ndarray) -> np.ndarray:
-        """Expected entropy lost (nats) by one sweep of each movement, given the belief."""
+        """Expected entropy lost (nats) by one sweep of each movement, given the belief.
+
+        Textures whose posterior, together, is below NEGLIGIBLE_MASS are left out of the
+        expectation (their sweeps would be drawn that rarely): the gain moves by at most
+        that mass times log(textures) nats, and choosing costs far less once the belief
+        has narrowed.
+        """
         log_posterior = normalised(np.asarray(log_posterior, dtype=float))
-        drawn = np.exp(log_posterior)[self._label_of] * self._share_of
-        expected = np.bincount(self._movement_of, weights=drawn * updated_entropy(
-            log_posterior, self._stacked), minlength=len(self.names))
+        posterior = np.exp(log_posterior)
+        order = np.argsort(posterior)
+        kept = np.ones(len(posterior), dtype=bool)
+        kept[order[np.cumsum(posterior[order]) < NEGLIGIBLE_MASS]] = False
+        rows = kept[self._label_of] if not kept.all() else slice(None)
+        drawn = posterior[self._label_of[rows]] * self._share_of[rows]
+        expected = np.bincount(self._movement_of[rows], weights=drawn * updated_entropy(
+            log_posterior, self._stacked[rows]), minlength=len(self.names))
         return entropy(log_posterior) - expected
 
 

@@ -143,7 +143,7 @@ def replay(dataset: Dataset, movements: MovementSet, settings: ReplaySettings = 
                 for policy in settings.policies:
                     episodes.append(_episode(table, policy, settings.budget, fold, seed,
                                              texture, [list(pool) for pool in pools],
-                                             arm_s, predict_s))
+                                             arm_s, predict_s, settings.seed))
         progress(f'fold {fold + 1}/{settings.folds}: {len(names)} movements fitted, '
                  f'tempering {exponent:.2f}, {classes * settings.seeds * len(settings.policies)}'
                  f' episodes ({time.monotonic() - started:.0f} s)')
@@ -154,9 +154,14 @@ def replay(dataset: Dataset, movements: MovementSet, settings: ReplaySettings = 
 
 def _episode(table: EvidenceTable, policy: str, budget: Budget, fold: int, seed: int,
              texture: int, pools: list[list[np.ndarray]], arm_s: list[float],
-             predict_s: list[float]) -> Episode:
-    """One texture identified by one policy from the fold's held-out sweeps."""
-    identification = Identification(table, policy, budget, seed=seed)
+             predict_s: list[float], base_seed: int) -> Episode:
+    """One texture identified by one policy from the fold's held-out sweeps.
+
+    The random policy draws from its own stream per (run seed, fold, texture, seed), so
+    its episodes do not all repeat one sequence of movements.
+    """
+    stream = int(np.random.SeedSequence([base_seed, fold, texture, seed]).generate_state(1)[0])
+    identification = Identification(table, policy, budget, seed=stream)
     episode = Episode(policy, fold, seed, texture)
     began = time.perf_counter()
     while (chosen := identification.next_movement(
@@ -196,9 +201,11 @@ def summary(result: dict, settings: ReplaySettings) -> dict:
         after = [float(np.mean([e.leaders[min(k, len(e.leaders)) - 1] == e.texture
                                 if e.leaders else False for e in own]))
                  for k in range(1, longest + 1)]
-        stops = {}
+        stops, first = {}, [0] * len(result['movements'])
         for e in own:
             stops[e.stop_reason] = stops.get(e.stop_reason, 0) + 1
+            for movement in e.movements[:3]:
+                first[movement] += 1
         policies[policy] = {
             'accuracy': float(np.mean([e.right for e in own])),
             'decided': float(np.mean([e.decided for e in own])),
@@ -207,7 +214,8 @@ def summary(result: dict, settings: ReplaySettings) -> dict:
             'median_movements': float(np.median(moves)),
             'median_arm_s': float(np.median([e.arm_s for e in own])),
             'median_wall_s': float(np.median([e.wall_s for e in own])),
-            'accuracy_after_k': after, 'stops': stops}
+            'accuracy_after_k': after, 'stops': stops,
+            'first_three_movements': dict(zip(result['movements'], first, strict=True))}
     per_movement = {}
     for name, held in result['held_out'].items():
         labels, vectors = np.array(held['labels']), np.array(held['vectors'])

@@ -92,8 +92,8 @@ class Identification:
         self.movements: list[int] = []
         self.contact_seconds = 0.0
         self._rng = np.random.default_rng(seed)
-        gain = table.information_gain(self.log_posterior) / table.seconds
-        self._fixed = int(np.argmax(gain))
+        self._gain_at_prior = table.information_gain(self.log_posterior) / table.seconds
+        self._fixed = int(np.argmax(self._gain_at_prior))
 
     @property
     def posterior(self) -> np.ndarray:
@@ -143,8 +143,9 @@ class Identification:
             return None
         fits = self._candidates() & (True if available is None else np.asarray(available))
         candidates = np.flatnonzero(fits)
-        if self.policy == 'active':
-            gain = self.table.information_gain(self.log_posterior) / self.table.seconds
+        if self.policy == 'active':  # before the first sweep the belief is the prior
+            gain = self._gain_at_prior if not self.movements else \
+                self.table.information_gain(self.log_posterior) / self.table.seconds
             return int(candidates[np.argmax(gain[candidates])])
         if self.policy == 'random':
             return int(self._rng.choice(candidates))

@@ -1,0 +1,63 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""Result section of active identification: policies on held-out recordings, choice cost."""
+
+from results_common import FIGURES, kept_json
+
+
+def identification() -> str:
+    report = kept_json('identification/identification.json')
+    run = kept_json('identification/run.json')
+    choice = kept_json('identification_choice.json')
+    settings = report['settings']
+    rows = ['| policy | accuracy | decided | median contact (s) | p90 contact (s) | median '
+            'movements | median arm (s) |', '|---|---|---|---|---|---|---|']
+    for policy, row in report['policies'].items():
+        rows.append(f'| {policy} | {100 * row["accuracy"]:.1f} % | {100 * row["decided"]:.0f} % '
+                    f'| {row["median_contact_s"]:.1f} | {row["p90_contact_s"]:.1f} | '
+                    f'{row["median_movements"]:.0f} | {row["median_arm_s"]:.1f} |')
+    steps = [k for k in (1, 2, 3, 5, 10, 20) if k <= min(
+        len(row['accuracy_after_k']) for row in report['policies'].values())]
+    same = len(set(report['contact_s'])) == 1  # then k movements are k x that contact
+    after = ['| policy | ' + ' | '.join(f'after {k}' + (f' ({k * report["contact_s"][0]:g} s)'
+                                                        if same else '') for k in steps)
+             + ' | first three movements |',
+             '|---|' + '---|' * (len(steps) + 1)]
+    for policy, row in report['policies'].items():
+        chosen = sorted(row.get('first_three_movements', {}).items(), key=lambda kv: -kv[1])
+        total = sum(count for _, count in chosen) or 1
+        after.append(f'| {policy} | ' + ' | '.join(
+            f'{100 * row["accuracy_after_k"][k - 1]:.1f} %' for k in steps) + ' | '
+            + ', '.join(f'{name} {100 * count / total:.0f} %' for name, count in chosen[:2])
+            + ' |')
+    movements = ['| movement | sweep accuracy | calibration error |', '|---|---|---|']
+    for name in report['movement_names']:
+        row = report['movements'][name]
+        movements.append(f'| {name} | {100 * row["sweep_accuracy"]:.1f} % | '
+                         f'{row["calibration_error"]:.3f} |')
+    widest = max(choice['rows'], key=lambda r: r['sweeps_per_cell'])
+    typical = min(choice['rows'], key=lambda r: r['sweeps_per_cell'])
+    minutes = sum(step['seconds'] or 0.0 for step in run['steps']) / 60
+    chance = 100 / len(report['classes'])
+    looped = typical['per_movement_ms'][0] / typical['stacked_ms'][0]
+    return (
+        f'Measured (`python bench/bench_identification_report.py`, {minutes:.0f} min: '
+        f'{len(report["classes"])} textures x {len(report["movement_names"])} movements x '
+        f'{run["sweeps_per_texture_and_movement"]} simulated sweeps on scene seed '
+        f'{run["scene_seed"]}, which no test uses; {settings["folds"]} folds grouped by '
+        f'recording, {settings["seeds"]} seeds, {report["episodes"]} episodes per policy; '
+        f'{settings["model"]} per movement; threshold {settings["threshold"]:g}; chance '
+        f'{chance:.1f} %; `bench/results/identification/`, with '
+        f'[the plots]({FIGURES}/identification/identification.md)):\n\n'
+        + '\n'.join(rows) + '\n\nAccuracy after k movements ('
+        + (f'every movement here holds {report["contact_s"][0]:g} s of contact; ' if same else '')
+        + 'an episode that stopped earlier keeps its last leader), and the two movements each '
+        'policy took most often among its first three:\n\n' + '\n'.join(after)
+        + '\n\nEach movement on its own, one held-out sweep '
+        '(`movement_confusions.png` has the confusion matrices):\n\n' + '\n'.join(movements)
+        + f'\n\nChoosing the next movement (`python bench/bench_identification.py`, '
+        f'{choice["textures"]} textures x {choice["movements"]} movements): p99 '
+        f'{typical["stacked_ms"][1]:.2f} ms with {typical["sweeps_per_cell"]} held-out sweeps '
+        f'per texture and movement, {widest["stacked_ms"][1]:.2f} ms with '
+        f'{widest["sweeps_per_cell"]} (target {choice["target_ms"]:g} ms); the same gain '
+        f'computed movement by movement took {looped:.0f}x longer.\n')
