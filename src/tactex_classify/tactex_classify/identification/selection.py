@@ -12,10 +12,11 @@ Policies (`POLICIES`):
 - `random`: a movement drawn uniformly from the generator seeded by `seed`;
 - `round-robin`: the movements in their file's order, again and again.
 
-Every policy picks only among movements that fit the remaining time budget, and ties go
-to the movement listed first, so a run is the same for the same seed. The loop stops
-when the leading texture's posterior exceeds the threshold (the live node's rule), when
-the movement budget is spent, or when no movement fits the time left.
+Every policy picks only among movements that fit the remaining time budget (and, in an
+offline replay, that still have a held-out sweep: `available`), and ties go to the
+movement listed first, so a run is the same for the same seed. The loop stops when the
+leading texture's posterior exceeds the threshold (the live node's rule), when the
+movement budget is spent, when no movement fits the time left, or when none is available.
 """
 
 from __future__ import annotations
