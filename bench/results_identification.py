@@ -38,10 +38,13 @@ def identification() -> str:
     widest = max(choice['rows'], key=lambda r: r['sweeps_per_cell'])
     typical = min(choice['rows'], key=lambda r: r['sweeps_per_cell'])
     minutes = sum(step['seconds'] or 0.0 for step in run['steps']) / 60
+    earlier = any(step['seconds'] is None for step in run['steps'])
     chance = 100 / len(report['classes'])
     looped = typical['per_movement_ms'][0] / typical['stacked_ms'][0]
     return (
-        f'Measured (`python bench/bench_identification_report.py`, {minutes:.0f} min: '
+        f'Measured (`python bench/bench_identification_report.py`, {minutes:.0f} min'
+        + (' for convert and report, the sweeps recorded earlier by the same collect with '
+           '`--bags`' if earlier else '') + ': '
         f'{len(report["classes"])} textures x {len(report["movement_names"])} movements x '
         f'{run["sweeps_per_texture_and_movement"]} simulated sweeps on scene seed '
         f'{run["scene_seed"]}, which no test uses; {settings["folds"]} folds grouped by '
