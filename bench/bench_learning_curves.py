@@ -28,7 +28,6 @@ os.environ.setdefault('OMP_WAIT_POLICY', 'PASSIVE')
 from bench_architectures import configuration, fit_timed  # noqa: E402  (one row's model)
 from bench_profiles import common_parser, finish_plot, keep, load_or_simulate  # noqa: E402
 from bench_sim_to_real import accuracy, draw, hold_out  # noqa: E402
-from bench_window_voting import subset  # noqa: E402
 import numpy as np  # noqa: E402
 
 RESULTS = Path(__file__).parent / 'results' / 'learning_curves'
@@ -115,7 +114,7 @@ def main() -> int:
                 continue
             point = {'accuracy': [], 'seconds': []}
             for index in range(args.draws):
-                train = subset(dataset, draw(dataset, pool, n, np.random.default_rng(
+                train = dataset.select(draw(dataset, pool, n, np.random.default_rng(
                     [args.seed, n, index])))
                 config = configuration(model, args.epochs, args.seed + index, 1)
                 estimator, seconds = fit_timed(config, train, args.device)

@@ -33,7 +33,6 @@ os.environ.setdefault('OMP_WAIT_POLICY', 'PASSIVE')
 from bench_architectures import fit_timed  # noqa: E402  (one fit for every bench)
 from bench_profiles import finish_plot, keep  # noqa: E402  (the benches' shared writers)
 from bench_textures import build_dataset, TACTEX  # noqa: E402
-from bench_window_voting import subset  # noqa: E402
 import numpy as np  # noqa: E402
 
 RESULTS = Path(__file__).parent / 'results' / 'sim_to_real'
@@ -57,7 +56,7 @@ def hold_out(dataset, per_texture: int, rng: np.random.Generator):
     for label in range(len(dataset.classes)):
         recordings = np.unique(dataset.trial[dataset.y == label])
         held += list(rng.choice(recordings, size=per_texture, replace=False))
-    return (subset(dataset, np.isin(dataset.trial, held)),
+    return (dataset.select(np.isin(dataset.trial, held)),
             np.setdiff1d(np.unique(dataset.trial), held))
 
 
@@ -156,7 +155,7 @@ def main() -> int:
         scores = {setting: {str(k): [] for k in ks} for setting in SETTINGS}
         for k in ks:
             for index in range(args.draws):
-                train = subset(target, draw(target, pool, k, np.random.default_rng(
+                train = target.select(draw(target, pool, k, np.random.default_rng(
                     [args.seed, k, index])))
                 seeded = dataclasses.replace(base, seed=args.seed + index)
                 results = {

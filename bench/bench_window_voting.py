@@ -32,13 +32,6 @@ RESULTS = Path(__file__).parent / 'results' / 'window_voting'
 WINDOWS = (128, 256, 512)
 
 
-def subset(dataset, keep):
-    """The windows `keep` selects, as a Dataset."""
-    from tactex_classify.data.dataset import Dataset
-    return Dataset(dataset.X[keep], dataset.y[keep], dataset.trial[keep], dataset.t0[keep],
-                   dataset.classes, dataset.info, dataset.channels)
-
-
 def run_model(name, config, datasets, folds, device, started) -> dict:
     """Per-length and voted accuracy of one model over the shared folds."""
     from tactex_classify.evaluation.window_voting import soft_vote, windows_inside
@@ -48,8 +41,8 @@ def run_model(name, config, datasets, folds, device, started) -> dict:
         probabilities, tests = [], []
         for window, dataset in zip(WINDOWS, datasets, strict=True):
             held_out = np.isin(dataset.trial, test_trials)
-            test = subset(dataset, held_out)
-            estimator, spent = fit_timed(config, subset(dataset, ~held_out), device)
+            test = dataset.select(held_out)
+            estimator, spent = fit_timed(config, dataset.select(~held_out), device)
             proba = estimator.predict_proba(test.X)
             probabilities.append(proba)
             tests.append(test)

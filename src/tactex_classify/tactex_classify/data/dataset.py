@@ -118,6 +118,11 @@ class Dataset:
         if n and (self.y.min() < 0 or self.y.max() >= len(self.classes)):
             raise DatasetError(f'y holds class indices outside 0..{len(self.classes) - 1}')
 
+    def select(self, keep: np.ndarray) -> Dataset:
+        """The windows `keep` (a mask or indices) selects, every class and the sidecar kept."""
+        return Dataset(self.X[keep], self.y[keep], self.trial[keep], self.t0[keep],
+                       self.classes, self.info, self.channels)
+
     def save(self, path: Path) -> Path:
         """Write path (.npz) and its JSON sidecar, each replaced whole; return the .npz path."""
         path = Path(path).with_suffix('.npz')

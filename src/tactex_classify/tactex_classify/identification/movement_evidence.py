@@ -74,10 +74,8 @@ def checked_movements(dataset: Dataset, movements: MovementSet) -> dict[int, str
 
 
 def subset(dataset: Dataset, trials: Sequence[int]) -> Dataset:
-    """The windows of `trials`, every class kept."""
-    keep = np.isin(dataset.trial, np.asarray(list(trials)))
-    return Dataset(dataset.X[keep], dataset.y[keep], dataset.trial[keep], dataset.t0[keep],
-                   dataset.classes, dataset.info, dataset.channels)
+    """The windows of the recordings `trials`, every class kept."""
+    return dataset.select(np.isin(dataset.trial, np.asarray(list(trials))))
 
 
 def sweep_vectors(dataset: Dataset, window_proba: np.ndarray
