@@ -19,9 +19,9 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
-from sklearn.model_selection import StratifiedGroupKFold
 
 from tactex_classify.data.dataset import Dataset
+from tactex_classify.evaluation.cross_validation import cross_validate
 from tactex_classify.identification.calibration import calibrated, fit_temperature
 from tactex_classify.identification.evidence_table import MovementEvidence
 from tactex_classify.identification.posterior import normalised
@@ -139,14 +139,8 @@ def fit_movement(name: str, dataset: Dataset, make: Callable[[], object], *, fol
         short = [dataset.classes[c] for c in np.flatnonzero(counts < folds)]
         raise MovementDataError(f'movement {name}: {", ".join(short)} recorded fewer than '
                                 f'{folds} times; record more sweeps or lower the folds')
-    window_proba = np.zeros((len(dataset.y), len(dataset.classes)))
-    splitter = StratifiedGroupKFold(folds, shuffle=True, random_state=seed)
-    for train, test in splitter.split(dataset.X[:, 0, 0], dataset.y, dataset.trial):
-        estimator = make()
-        estimator.fit(dataset.X[train], dataset.y[train], dataset.classes,
-                      groups=dataset.trial[train], channels=dataset.channels)
-        window_proba[test] = estimator.predict_proba(dataset.X[test])
-    trials, labels, raw = sweep_vectors(dataset, window_proba)
+    out_of_fold = cross_validate(dataset, make, 'grouped', folds=folds, seed=seed)
+    trials, labels, raw = sweep_vectors(dataset, out_of_fold.proba)
     final = make()
     final.fit(dataset.X, dataset.y, dataset.classes, groups=dataset.trial,
               channels=dataset.channels)
