@@ -190,6 +190,22 @@ def check_input_file(path: Path, option: str) -> Path:
     return path
 
 
+def movement_file(path: Path, sample_rate_hz: float | None):
+    """The `--movements` file, every movement held to the arm and to the sensor's rate.
+
+    Raises:
+        CommandError: the file is missing or unreadable, or a movement is refused (the
+            loader's reason, naming the movement and the key).
+    """
+    from tactex_description.movements import load_movements, MovementError
+
+    check_input_file(path, '--movements')
+    try:
+        return load_movements(path, sample_rate_hz=sample_rate_hz)
+    except MovementError as err:
+        raise CommandError(f'--movements {err}') from None
+
+
 def check_input_folder(path: Path, option: str) -> Path:
     """`path` is an existing folder."""
     path = Path(path)

@@ -20,6 +20,7 @@ from tactex.options import (
     epoch_count,
     fold_count,
     integer,
+    movement_file,
     number,
     seed_value,
     staged_folder,
@@ -112,18 +113,14 @@ def _identification(args: argparse.Namespace) -> int:
     from tactex_classify.identification.selection import Budget
     from tactex_classify.models.registry import ALL_MODELS
     from tactex_common.share import share_directory
-    from tactex_description.movements import load_movements, MovementError
 
     if args.model not in ALL_MODELS:
         raise CommandError(f'--model: unknown model {args.model!r}; known: '
                            f'{", ".join(ALL_MODELS)}')
     path = args.movements or share_directory('tactex') / 'config' / 'movements.yaml'
-    check_input_file(path, '--movements')
+    check_input_file(path, '--movements')  # before the dataset, which takes longer to read
     dataset = Dataset.load(args.data)
-    try:
-        movements = load_movements(path, sample_rate_hz=dataset.info.get('sampling_rate_hz'))
-    except MovementError as err:
-        raise CommandError(f'--movements {err}') from None
+    movements = movement_file(path, dataset.info.get('sampling_rate_hz'))
     settings = ReplaySettings(
         policies=args.policies, folds=args.folds, inner_folds=args.inner_folds,
         seeds=args.seeds, model=args.model, seed=args.seed,

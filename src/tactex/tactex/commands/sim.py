@@ -10,10 +10,10 @@ from pathlib import Path
 
 from tactex.errors import CommandError
 from tactex.options import (
-    check_input_file,
     check_input_folder,
     check_output_folder,
     integer,
+    movement_file,
     ray_address,
     seed_value,
     staged_folder,
@@ -105,21 +105,10 @@ def _collect(args: argparse.Namespace) -> int:
     scene = load_scene(resolve_scene(args.scene))
     if args.seed is not None:
         scene = replace(scene, seed=args.seed)
-    movements = _movements(args.movements, scene.sensor_rate_hz) if args.movements else None
+    movements = movement_file(args.movements, scene.sensor_rate_hz) if args.movements else None
     collectable_scenes(scene, movements)
     with staged_folder(args.out) as folder:
         paths = collect(scene, args.sweeps, folder, textures=textures,
                         workers=args.workers, address=args.address, movements=movements)
     print(f'wrote {len(paths)} recordings to {args.out}')
     return 0
-
-
-def _movements(path: Path, sample_rate_hz: float):
-    """The movement file, each movement checked against the arm and the scene's rate."""
-    from tactex_description.movements import load_movements, MovementError
-
-    check_input_file(path, '--movements')
-    try:
-        return load_movements(path, sample_rate_hz=sample_rate_hz)
-    except MovementError as err:
-        raise CommandError(f'--movements {err}') from None

@@ -17,11 +17,11 @@ import time
 
 from tactex.errors import CommandError
 from tactex.options import (
-    check_input_file,
     check_output_folder,
     epoch_count,
     fold_count,
     integer,
+    movement_file,
     patience_epochs,
     seed_value,
     staged_folder,
@@ -210,17 +210,11 @@ def _train_bundle(args: argparse.Namespace, dataset) -> int:
     from tactex_classify.identification.tempering import fit_tempering
     from tactex_classify.training.deep_classifier import TrainingConfig
     from tactex_classify.training.estimators import build_estimator
-    from tactex_description.movements import load_movements, MovementError
 
     if args.init:
         raise CommandError('--init and --movements: fine-tune a single model, or train a '
                            'bundle from scratch')
-    check_input_file(args.movements, '--movements')
-    try:
-        movements = load_movements(args.movements,
-                                   sample_rate_hz=dataset.info.get('sampling_rate_hz'))
-    except MovementError as err:
-        raise CommandError(f'--movements {err}') from None
+    movements = movement_file(args.movements, dataset.info.get('sampling_rate_hz'))
     stream = deployable_stream(dataset)
     model = args.model or 'minirocket'
     config = TrainingConfig.for_profile(
