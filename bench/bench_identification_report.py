@@ -14,22 +14,13 @@ import argparse
 import json
 from pathlib import Path
 import shutil
-import subprocess
 import sys
 import tempfile
-import time
+
+from bench_textures import TACTEX, timed  # one way to run and time a tactex step
 
 RESULTS = Path(__file__).parent / 'results' / 'identification'
-TACTEX = str(Path(sys.executable).parent / 'tactex')
 MOVEMENTS = Path(__file__).parents[1] / 'config' / 'movements.yaml'
-
-
-def timed(command: list[str], steps: list[dict]) -> None:
-    """Run a command (failing loudly) and note how long it took."""
-    start = time.monotonic()
-    subprocess.run(command, check=True)
-    steps.append({'command': ' '.join(['tactex', *command[1:]]),
-                  'seconds': round(time.monotonic() - start, 1)})
 
 
 def main() -> int:

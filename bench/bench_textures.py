@@ -33,7 +33,7 @@ RESULTS = Path(__file__).parent / 'results' / 'textures'
 TACTEX = str(Path(sys.executable).parent / 'tactex')
 
 
-def _timed(command: list[str], steps: list[dict]) -> None:
+def timed(command: list[str], steps: list[dict]) -> None:
     """Run a command (failing loudly) and note how long it took."""
     start = time.monotonic()
     subprocess.run(command, check=True)
@@ -44,9 +44,9 @@ def _timed(command: list[str], steps: list[dict]) -> None:
 def build_dataset(folder: Path, sweeps: int, steps: list[dict]) -> Path:
     """Simulate the uneven-texture set into `folder` and convert it; return the .npz."""
     bags, data = folder / 'bags', folder / 'sim128.npz'
-    _timed([TACTEX, 'sim', 'collect', '--scene', 'uneven_texture', '--sweeps', str(sweeps),
+    timed([TACTEX, 'sim', 'collect', '--scene', 'uneven_texture', '--sweeps', str(sweeps),
             '--out', str(bags)], steps)
-    _timed([TACTEX, 'convert', str(bags), '--out', str(data), '--window', '128'], steps)
+    timed([TACTEX, 'convert', str(bags), '--out', str(data), '--window', '128'], steps)
     return data
 
 
@@ -104,7 +104,7 @@ def main() -> int:
             run = Path(folder) / model
             recipe = [] if model in BASELINES else [
                 '--profile', args.profile, '--scaling', args.scaling]
-            _timed([TACTEX, 'train', str(data), '--model', model, '--epochs', str(args.epochs),
+            timed([TACTEX, 'train', str(data), '--model', model, '--epochs', str(args.epochs),
                     *recipe, '--threads', str(args.threads), '--out', str(run),
                     '--no-final'], steps)
             target = RESULTS / model
