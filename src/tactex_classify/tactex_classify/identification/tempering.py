@@ -19,7 +19,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from tactex_classify.identification.evidence_table import EvidenceTable, MovementEvidence
-from tactex_classify.identification.posterior import normalised, uniform
+from tactex_classify.identification.posterior import uniform, updated
 
 CANDIDATES = np.geomspace(0.05, 4.0, 41)
 
@@ -37,7 +37,7 @@ def replay_loss(table: EvidenceTable, draws: list[tuple[int, list[tuple[int, int
         log_posterior = uniform(len(table.classes))
         for movement, sweep in steps:
             terms = table.held_out_log_likelihoods(movement, texture)
-            log_posterior = normalised(log_posterior + terms[sweep % len(terms)])
+            log_posterior = updated(log_posterior, terms[sweep % len(terms)])
             losses.append(-log_posterior[texture])
     return float(np.mean(losses))
 
