@@ -32,12 +32,22 @@ WINDOWS = (128, 256, 512)
 def _timed(command: list[str], steps: list[dict]) -> None:
     """Run a command (failing loudly); note its time, the load around it and its exit status.
 
-    A grid interrupted by Ctrl-C keeps its finished cells, so its time is noted too.
+    A grid interrupted by Ctrl-C (or `timeout -s INT`, which signals the whole process
+    group) keeps its finished cells and writes its report: the child is waited for, and
+    its time is noted too.
     """
     start, load = time.monotonic(), os.getloadavg()[0]
     returncode = None
+    child = subprocess.Popen(command)
     try:
-        returncode = subprocess.run(command).returncode
+        returncode = child.wait()
+    except KeyboardInterrupt:
+        while returncode is None:  # the child had the same signal: let it write its report
+            try:
+                returncode = child.wait()
+            except KeyboardInterrupt:
+                pass
+        raise
     finally:
         steps.append({'command': ' '.join(['tactex', *command[1:]]),
                       'seconds': round(time.monotonic() - start, 1),
@@ -71,6 +81,18 @@ def first_recordings(bags: Path, per_texture: int, work: Path) -> Path:
     return subset
 
 
+def machine() -> dict:
+    """What ran the grid: cores and, where torch sees one, the GPU (its name and memory)."""
+    import torch
+    found = {'cpu_count': os.cpu_count(), 'gpu': None}
+    if torch.cuda.is_available():
+        properties = torch.cuda.get_device_properties(0)
+        found['gpu'] = {'name': properties.name,
+                        'memory_gib': round(properties.total_memory / 2**30, 1),
+                        'torch': torch.__version__}
+    return found
+
+
 def main() -> int:
     """Build the data if needed, run (or resume) the grid, note what was done."""
     parser = argparse.ArgumentParser(description=__doc__)
@@ -89,6 +111,11 @@ def main() -> int:
                         help='patience in epochs on held-out recordings (0: off)')
     parser.add_argument('--grid', default='compare',
                         help='folder under bench/results/ (default compare, the README table)')
+    parser.add_argument('--profile', default='original', choices=('original', 'modern'))
+    parser.add_argument('--scaling', default='minmax', choices=('minmax', 'standard', 'window'))
+    parser.add_argument('--device', default='cpu', choices=('auto', 'cpu', 'cuda'),
+                        help="the deep models' device (tactex compare --device)")
+    parser.add_argument('--cells-per-gpu', type=int, default=1)
     parser.add_argument('--windows', default=','.join(map(str, WINDOWS)),
                         help='comma-separated window sizes (default 128,256,512); a later call '
                              'with more windows adds them to the same grid')
@@ -113,11 +140,16 @@ def main() -> int:
     command = [TACTEX, 'compare', *map(str, datasets), '--epochs', str(args.epochs),
                '--folds', str(args.folds), '--seeds', str(args.seeds), '--cpus', str(args.cpus),
                '--cv', args.cv, '--early-stopping', str(args.early_stopping),
-               '--out', str(results)]
+               '--profile', args.profile, '--scaling', args.scaling, '--device', args.device,
+               '--cells-per-gpu', str(args.cells_per_gpu), '--out', str(results)]
     if args.models:
         command += ['--models', args.models]
     try:
         _timed(command, steps)
+    except KeyboardInterrupt:
+        print('interrupted: the finished cells and the report are kept; run again to resume',
+              file=sys.stderr)
+        return 130
     finally:
         path = results / 'run.json'
         record = json.loads(path.read_text(encoding='utf-8')) if path.is_file() else {
@@ -126,7 +158,7 @@ def main() -> int:
             record['datasets'][data.name] = hashlib.sha256(data.read_bytes()).hexdigest()
         record['calls'].append({'started': time.strftime('%Y-%m-%dT%H:%M:%S%z'),
                                 'cpus': args.cpus, 'recordings_per_texture': args.recordings,
-                                'steps': steps})
+                                'machine': machine(), 'steps': steps})
         results.mkdir(parents=True, exist_ok=True)
         path.write_text(json.dumps(record, indent=2) + '\n', encoding='utf-8')
     return 0

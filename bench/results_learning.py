@@ -2,8 +2,10 @@
 # SPDX-License-Identifier: Apache-2.0
 """Result sections of learning: the synthetic set, training, model grids, transfer."""
 
+import json
+
 import numpy as np
-from results_common import FIGURES, kept_json, TEXTURE_MODELS
+from results_common import FIGURES, kept_json, RESULTS, TEXTURE_MODELS
 
 
 def _texture_run() -> dict:
@@ -393,3 +395,83 @@ def compare_long() -> str:
             f'{baseline["model"]} ({100 * baseline["schemes"]["grouped"]["accuracy"]["mean"]:.1f}'
             ' %) does on the same folds.\n\n'
             + table(rows, expected) + '\n')
+
+
+def _mean_grouped(row: dict) -> float:
+    return row['schemes']['grouped']['accuracy']['mean']
+
+
+def compare_gpu() -> str:
+    """The comparison on the physical sensor run on a lent GPU: what finished, and its pace."""
+    import csv
+
+    from tactex_classify.evaluation.grid_report import table
+    from tactex_classify.models.registry import BASELINES
+    summary, run, grid = _kept_grid('compare_gpu')
+    settings, first = summary['settings'], grid[0]['command']
+    seeds, folds = int(_option(first, '--seeds')), settings['folds']
+    machines = {json.dumps(call['machine'], sort_keys=True) for call in run['calls']}
+    if len(machines) != 1 or not run['calls'][0]['machine']['gpu']:
+        raise ValueError(f'the kept GPU grid mixes machines or ran without a GPU: {machines}')
+    machine = run['calls'][0]['machine']
+    gpu = machine['gpu']
+    models = _option(first, '--models').split(',')
+    deep_models = [model for model in models if model not in BASELINES]
+    sharing = [int(_option(step['command'], '--cells-per-gpu')) for step in grid]
+    calls = ', '.join(
+        f'{step["seconds"] / 60:.1f} min with '
+        f'{_option(step["command"], "--models").count(",") + 1} models, {shared} cells per GPU'
+        for step, shared in zip(grid, sharing, strict=True))
+    stopped = all(step['returncode'] not in (0, None) for step in grid)
+    cells = [kept_json(str(path.relative_to(RESULTS))) for path
+             in sorted((RESULTS / 'compare_gpu' / 'cells').rglob('*.json'))]
+    deep = [cell for cell in cells if cell['cell']['model'] not in BASELINES]
+    pace = np.median([cell['epochs_per_s'] for cell in deep])
+    epochs = np.mean([cell['epochs_run'] for cell in deep])
+    with open(RESULTS / 'compare_gpu' / 'gpu_utilisation.csv', encoding='utf-8') as handle:
+        busy = [int(row['utilization_gpu_percent']) for row in csv.DictReader(handle)]
+    busy = np.percentile([value for value in busy if value > 0], [10, 50])
+    rows = {row['model']: row for row in summary['rows']}
+    ranked = sorted(rows, key=lambda name: -_mean_grouped(rows[name]))
+
+    def grouped(model: str) -> str:
+        return f'{model} {100 * _mean_grouped(rows[model]):.1f} % over ' \
+               f'{rows[model]["schemes"]["grouped"]["cells"]} fold(s)'
+    best_baseline = next(name for name in ranked if name in BASELINES)
+    deep_rows = [name for name in ranked if name not in BASELINES]
+    above = sum(_mean_grouped(rows[name]) > _mean_grouped(rows[best_baseline])
+                for name in deep_rows)
+    unfinished = [model for model in deep_models if model not in rows]
+    remaining_cells = len(deep_models) * seeds * folds - len(deep)
+    elapsed_min = sum(step['seconds'] for step in grid) / 60
+    eta_min = remaining_cells * epochs / (pace * sharing[0]) / 60
+    total = len(models) * seeds * folds
+    return (f'The comparison on the physical sensor, run on a GPU (`python '
+            f'bench/bench_compare.py --grid compare_gpu --recordings 20 --windows 128 --cv '
+            f'grouped --folds {folds} --seeds {seeds} --epochs {settings["epochs"]} '
+            f'--early-stopping {settings["early_stopping"]} --profile {settings["profile"]} '
+            f'--scaling {settings["scaling"]} --device cuda --cpus {machine["cpu_count"]} '
+            f'--cells-per-gpu {sharing[0]} --models {",".join(models)}`, outputs in '
+            f'`bench/results/compare_gpu/`). **Device: one {gpu["name"]}** '
+            f'({gpu["memory_gib"]:.0f} GiB, torch {gpu["torch"]}) with {machine["cpu_count"]} '
+            'cores, lent for 15 minutes a session; every other figure on this page came from '
+            f'the two CPU cores. Calls: {calls}' + (', each stopped at its time limit'
+                                                   if stopped else '') +
+            f'. **Incomplete**: {len(cells)} of {total} cells ({len(deep)} of them deep '
+            'models), so most rows hold one or two folds of the first seed: read them as a '
+            f'first look, not a ranking. Best so far: {grouped(deep_rows[0])}, against the '
+            f'best baseline {grouped(best_baseline)}; {above} of the {len(deep_rows)} deep '
+            'models with a finished cell score above it'
+            + (f' ({", ".join(unfinished)}: none finished)' if unfinished else '') + '.\n\n'
+            f'Pace: {sharing[0]} deep-model cells shared the GPU, each training at a median '
+            f'{pace:.2f} epochs per second (batch 32, augmentation on the cores), while the GPU '
+            f'reported {busy[1]:.0f} % busy (10th percentile {busy[0]:.0f} %): the processes '
+            'took turns on it, so per-step overhead, not arithmetic, set the pace. At the pace '
+            f'of the cells that finished, the {remaining_cells} deep cells left need about '
+            f'{eta_min:.0f} min more (the baselines run beside them on the cores), and the '
+            'full grid of the issue (three '
+            f'windows, both schemes, one seed: {2 * total} cells) about '
+            f'{2 * (elapsed_min + eta_min) / 60:.1f} h: the goal of one hour on a GPU is not '
+            'met with this setup.\n\n'
+            + table(summary['rows'], seeds * folds) + '\n'
+            f'![accuracy]({FIGURES}/compare_gpu/accuracy.png)\n')

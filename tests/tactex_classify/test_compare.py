@@ -245,6 +245,17 @@ def test_each_deep_row_gives_its_paired_difference_to_the_best_baseline_with_a_9
     assert '| +11.7 [-7.3, +30.6] vs minirocket |' in table(list(rows.values()))
 
 
+def test_a_single_pair_gives_a_difference_but_no_interval():
+    results = [fake_result('cnn_3', 'grouped', 1, 0.9),
+               fake_result('minirocket', 'grouped', 1, 0.6),
+               fake_result('minirocket', 'grouped', 2, 0.7)]
+    rows = {row['model']: row for row in summarise(results, {64: ['a', 'b']})}
+    versus = rows['cnn_3']['vs_best_baseline']
+    assert versus['n'] == 1 and versus['mean'] == pytest.approx(0.3)
+    assert versus['low'] is None and versus['high'] is None
+    assert '| +30.0 (one pair, no interval) vs minirocket |' in table(list(rows.values()))
+
+
 def test_the_pareto_front_keeps_the_points_no_other_beats_in_cost_and_accuracy():
     points = [(10.0, 80.0), (1.0, 50.0), (5.0, 40.0), (2.0, 70.0), (20.0, 75.0), (1.0, 45.0)]
     assert pareto_front(points) == [(1.0, 50.0), (2.0, 70.0), (10.0, 80.0)]

@@ -15,7 +15,7 @@ import sys
 from tactex.errors import CommandError
 from tactex_classify.errors import ClassifyError
 from tactex_common.errors import CommonError
-from tactex_common.stopping import raise_on_stop_signals, Stopped
+from tactex_common.stopping import as_stopped, raise_on_stop_signals
 from tactex_driver.errors import DriverError
 from tactex_sim.errors import SimError
 
@@ -99,7 +99,8 @@ def guarded(run) -> int:
     """
     try:
         return int(run())
-    except Stopped as stopped:
+    except KeyboardInterrupt as interrupt:
+        stopped = as_stopped(interrupt)
         print(f'error: stopped by {stopped}', file=sys.stderr)
         return stopped.exit_code
     except USER_ERRORS as error:

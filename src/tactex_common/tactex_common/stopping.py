@@ -34,8 +34,24 @@ class Stopped(KeyboardInterrupt):
         return 128 + self.signum
 
 
+_received: list[int] = []  # the stop signals that arrived, latest last
+
+
 def _raise_stopped(signum: int, _frame) -> None:
+    _received.append(signum)
     raise Stopped(signum)
+
+
+def as_stopped(interrupt: KeyboardInterrupt) -> Stopped:
+    """The stop an interrupt stands for, also one a library re-raised as a plain one.
+
+    Ray, for one, swallows the `Stopped` raised inside its wait and raises a bare
+    KeyboardInterrupt instead; the signal that arrived last is the one meant (SIGINT
+    when none did: Python's own Ctrl-C handler).
+    """
+    if isinstance(interrupt, Stopped):
+        return interrupt
+    return Stopped(_received[-1] if _received else signal.SIGINT)
 
 
 def raise_on_stop_signals() -> None:

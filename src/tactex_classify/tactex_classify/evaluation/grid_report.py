@@ -80,7 +80,7 @@ def paired_difference(ours: dict, theirs: dict) -> dict | None:
     """Mean and 95 % interval of ours - theirs over the keys both have (paired cells).
 
     The interval is Student's t over the paired differences (n - 1 degrees of freedom);
-    with one pair it is that difference alone, and None without any.
+    one pair has no interval (low and high None), and no pair gives None.
     """
     from scipy import stats
     shared = sorted(set(ours) & set(theirs))
@@ -89,7 +89,7 @@ def paired_difference(ours: dict, theirs: dict) -> dict | None:
     differences = np.array([ours[key] - theirs[key] for key in shared], dtype=float)
     mean = float(differences.mean())
     if len(differences) < 2:
-        return {'mean': mean, 'low': mean, 'high': mean, 'n': 1}
+        return {'mean': mean, 'low': None, 'high': None, 'n': 1}
     half = float(stats.t.ppf(0.975, len(differences) - 1) * differences.std(ddof=1)
                  / np.sqrt(len(differences)))
     return {'mean': mean, 'low': mean - half, 'high': mean + half, 'n': len(differences)}
@@ -172,9 +172,12 @@ def table(rows: list[dict], expected_cells: int | None = None) -> str:
 
 
 def _versus(difference: dict | None) -> str:
-    """'+8.7 [+2.1, +15.3] vs multirocket' in points, or '-'."""
+    """'+8.7 [+2.1, +15.3] vs multirocket' in points, '+8.7 (one pair) vs ...', or '-'."""
     if difference is None:
         return '-'
+    if difference['low'] is None:
+        return (f'{100 * difference["mean"]:+.1f} (one pair, no interval) vs '
+                f'{difference["baseline"]}')
     return (f'{100 * difference["mean"]:+.1f} [{100 * difference["low"]:+.1f}, '
             f'{100 * difference["high"]:+.1f}] vs {difference["baseline"]}')
 
