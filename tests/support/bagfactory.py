@@ -26,15 +26,19 @@ def vector(x, y, z):
 
 
 def write_bag(path: Path, stamps_ns, values, *, mag_stamps_ns=None, pressure_stamps_ns=None,
-              active=None, metadata=None, joint_speed=None, namespace='/', names=None,
+              active=None, metadata=None, joint_speed=None, joint_positions=None,
+              namespace='/', names=None,
               truth=None, estimates=None, storage=StoragePlugin.MCAP, live_order=False,
               unreadable_imu_from=None):
     """Write a recording of `values` (n, 10), channel order, at header `stamps_ns`.
 
     Mag and pressure may use their own stamps (an empty list: no such topic); `active`
     lists (start_ns, end_ns) spans for sweep/active; `metadata` goes to
-    recording/metadata as JSON. Topics live under `namespace` ('/left_arm/', or '' for
-    names without the leading slash), or take the names of `names` (role -> topic).
+    recording/metadata as JSON. `joint_speed` (one value per sample) writes joint_states
+    for joint1 alone; `joint_positions` ((n, 4) per sample) writes the four arm joints
+    (with `joint_speed` as joint1's velocity, if given). Topics live under `namespace`
+    ('/left_arm/', or '' for names without the leading slash), or take the names of
+    `names` (role -> topic).
     `truth` (contact: bool per sample, edge_m: (n, 3), texture: name per sample) writes
     the simulator's ground-truth topics; `estimates` lists tactex_msgs/TextureEstimate
     messages for texture/estimate. IMU messages are logged one nanosecond apart after the
@@ -67,7 +71,7 @@ def write_bag(path: Path, stamps_ns, values, *, mag_stamps_ns=None, pressure_sta
                 for stamp, state in ((start, True), (end, False)):
                     writer.write(segment, int(stamp), TS.serialize_cdr(
                         T['std_msgs/msg/Bool'](data=state), 'std_msgs/msg/Bool'))
-        if joint_speed is not None:
+        if joint_speed is not None or joint_positions is not None:
             joints = connect('joint_states', 'sensor_msgs/msg/JointState')
         if estimates is not None:
             estimate = connect('texture/estimate', 'tactex_msgs/msg/TextureEstimate')
@@ -88,11 +92,14 @@ def write_bag(path: Path, stamps_ns, values, *, mag_stamps_ns=None, pressure_sta
             data = TS.serialize_cdr(message, 'sensor_msgs/msg/Imu')
             cut = unreadable_imu_from is not None and i >= unreadable_imu_from
             writer.write(imu, logged, data[:20] if cut else data)
-            if joint_speed is not None:
+            if joint_speed is not None or joint_positions is not None:
+                arm = joint_positions is not None
                 writer.write(joints, int(stamp), TS.serialize_cdr(T['sensor_msgs/msg/JointState'](
-                    header=header(stamp), name=['joint1'], position=np.zeros(1),
-                    velocity=np.array([joint_speed[i]]), effort=np.zeros(0)),
-                    'sensor_msgs/msg/JointState'))
+                    header=header(stamp),
+                    name=['joint1', 'joint2', 'joint3', 'joint4'] if arm else ['joint1'],
+                    position=np.asarray(joint_positions[i], float) if arm else np.zeros(1),
+                    velocity=np.array([joint_speed[i]]) if joint_speed is not None
+                    else np.zeros(0), effort=np.zeros(0)), 'sensor_msgs/msg/JointState'))
         for i, stamp in enumerate(mag_stamps_ns):
             writer.write(mag, int(stamp), TS.serialize_cdr(T['sensor_msgs/msg/MagneticField'](
                 header=header(stamp), magnetic_field=vector(*values[i, 6:9]),

@@ -58,8 +58,9 @@ def _plot_recording(recording: Path, out: Path | None) -> Path:
         raise CommandError(str(err)) from None
     if not recording.stamps_ns.size:
         raise CommandError(f'{recording.path}: no IMU samples to plot')
-    plot_recording(out, recording, keep_mask(recording, FilterRule(), False,
-                                             recording.metadata.get('label')))
+    against = plot_recording(out, recording, keep_mask(recording, FilterRule(), False,
+                                                       recording.metadata.get('label')))
+    print(f'{out.name}: channels against {against}')
     return out
 
 

@@ -34,6 +34,7 @@ from tactex_classify.errors import BagError
 from tactex_common import topics
 from tactex_common.channels import ACCEL, BARO, CHANNELS, GYRO, MAG
 from tactex_common.stamps import gaps, stamp_ns, stamp_or_log_ns
+from tactex_description.geometry import ARM_JOINT_NAMES
 
 # Role -> (topic relative to the recording's namespace, message type).
 TOPIC_ROLES = {
@@ -88,6 +89,8 @@ class Recording:
     dropped: dict[str, int] = field(default_factory=dict)
     notes: list[str] = field(default_factory=list)
     messages: int = 0
+    # (len(joint_stamps_ns), 4) arm joint positions (rad), NaN where a message lacked one
+    joint_positions: np.ndarray = field(default_factory=lambda: np.zeros((0, 4)))
 
     @property
     def rate_hz(self) -> float:
@@ -204,7 +207,7 @@ class _Collected:
         self.attitude = array('d')
         self.texture: list[str] = []
         self.active: list[tuple[int, bool]] = []
-        self.joints: list[tuple[int, float]] = []
+        self.joints: list[tuple] = []  # (stamp, speed, the four arm joints' positions)
         self.metadata: dict = {}
         self.messages = 0
         self.zero_stamps = 0  # header stamps of 0, replaced by the log time
@@ -241,7 +244,9 @@ class _Collected:
         elif role == 'joints':
             speed = float(np.linalg.norm(message.velocity[:4])) if len(
                 message.velocity) else float('nan')
-            self.joints.append((self.stamp(message, log_ns), speed))
+            by_name = dict(zip(message.name, message.position, strict=False))
+            self.joints.append((self.stamp(message, log_ns), speed,
+                                *(float(by_name.get(name, 'nan')) for name in ARM_JOINT_NAMES)))
         elif role == 'metadata':
             self.metadata.update(parse_metadata(message.data, path))
         elif role in ('contact', 'edge'):
@@ -346,7 +351,8 @@ def read_recording(path: Path, *, remaps: Mapping[str, str] | None = None,
     order = [aligned.channels.index(c) for c in CHANNELS if c in aligned.channels]
     if channels is not None:
         order = [aligned.channels.index(c) for c in channels]
-    joint_array = np.array(collected.joints, dtype=np.float64).reshape(-1, 2)
+    joint_array = np.array(collected.joints, dtype=np.float64).reshape(
+        -1, 2 + len(ARM_JOINT_NAMES))
     joint_order = np.argsort(joint_array[:, 0], kind='stable')
     return Recording(
         path, aligned.stamps_ns, aligned.values[:, order], check_metadata(
@@ -354,7 +360,7 @@ def read_recording(path: Path, *, remaps: Mapping[str, str] | None = None,
         segments(sorted(collected.active)) if 'active' in roles else None,
         joint_array[joint_order, 0].astype(np.int64), joint_array[joint_order, 1],
         tuple(aligned.channels[i] for i in order), _truth(collected, roles), dropped, notes,
-        collected.messages)
+        collected.messages, joint_array[joint_order, 2:])
 
 
 def _read_part(part: Path, by_topic: Mapping[str, str], path: Path) -> _Collected:
