@@ -21,8 +21,9 @@ def header(ns):
         sec=sec, nanosec=nanosec), frame_id='sensor_link')
 
 
-def vector(x, y, z):
-    return T['geometry_msgs/msg/Vector3'](x=float(x), y=float(y), z=float(z))
+def vector(x, y, z, types=None):
+    """A geometry_msgs/Vector3 of the ROS 2 types, or of another typestore's `types`."""
+    return (types or T)['geometry_msgs/msg/Vector3'](x=float(x), y=float(y), z=float(z))
 
 
 def write_bag(path: Path, stamps_ns, values, *, mag_stamps_ns=None, pressure_stamps_ns=None,

@@ -21,7 +21,7 @@ from rosbags.rosbag2 import StoragePlugin, Writer
 from rosbags.rosbag2.enums import CompressionFormat, CompressionMode
 from rosbags.typesys import get_typestore, Stores
 
-from support.bagfactory import TS
+from support.bagfactory import TS, vector
 from tactex_common.interfaces import typestore
 
 ROS1 = get_typestore(Stores.ROS1_NOETIC)
@@ -83,18 +83,14 @@ def imu_only(path: Path, header_ns, log_ns, *, topics=('/tactile/imu/data_raw',)
                 header=head,
                 orientation=types['geometry_msgs/msg/Quaternion'](x=0.0, y=0.0, z=0.0, w=1.0),
                 orientation_covariance=np.zeros(9),
-                angular_velocity=_vector(types, 0, 0, i), angular_velocity_covariance=np.zeros(9),
-                linear_acceleration=_vector(types, i, 0, 9.81),
+                angular_velocity=vector(0, 0, i, types), angular_velocity_covariance=np.zeros(9),
+                linear_acceleration=vector(i, 0, 9.81, types),
                 linear_acceleration_covariance=np.zeros(9))
             data = (store.serialize_ros1 if ros1 else store.serialize_cdr)(
                 message, 'sensor_msgs/msg/Imu')
             for connection in connections:
                 writer.write(connection, int(logged), data)
     return path
-
-
-def _vector(types, x, y, z):
-    return types['geometry_msgs/msg/Vector3'](x=float(x), y=float(y), z=float(z))
 
 
 def zeros_bag(path: Path, size: int, compression: str, topic: str = '/bomb') -> Path:
