@@ -17,11 +17,12 @@ MSGS_INPUTS := $(wildcard src/tactex_msgs/msg/*.msg src/tactex_msgs/srv/*.srv \
 	src/tactex_msgs/action/*.action) src/tactex_msgs/CMakeLists.txt \
 	src/tactex_msgs/package.xml tools/build_interfaces.py
 PYTEST_ARGS ?=
+DEMO_ARGS ?=
 
 .PHONY: demo test hunt bench results urdf lint clean
 
 demo: $(STAMP) $(MSGS_STAMP)
-	$(BIN)/tactex demo
+	$(BIN)/tactex demo $(DEMO_ARGS)
 
 test: $(STAMP) $(MSGS_STAMP)
 	$(BIN)/python -m pytest $(PYTEST_ARGS)
