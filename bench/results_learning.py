@@ -446,6 +446,16 @@ def compare_gpu() -> str:
     elapsed_min = sum(step['seconds'] for step in grid) / 60
     eta_min = remaining_cells * epochs / (pace * sharing[0]) / 60
     total = len(models) * seeds * folds
+    levels = kept_json('hydra_levels.json')
+    (ours, per_fold), (theirs, before) = levels['accuracy'].items()
+    change = levels['difference']
+    with_it, without = (100 * np.mean(list(values.values())) for values in (per_fold, before))
+    hydra = ("The hydra and multirocket_hydra rows predate HYDRA's kernel normalisation per "
+             f"channel: on the first seed's {len(per_fold)} folds, `python "
+             f'bench/bench_hydra_levels.py` gives HYDRA {with_it:.1f} % with it ({ours}) '
+             f'against {without:.1f} % ({theirs}, these rows), {100 * change["mean"]:+.1f} '
+             f'points [{100 * change["low"]:+.1f}, {100 * change["high"]:+.1f}] paired: still '
+             'far below MiniRocket.')
     return (f'The comparison on the physical sensor, run on a GPU (`python '
             f'bench/bench_compare.py --grid compare_gpu --recordings 20 --windows 128 --cv '
             f'grouped --folds {folds} --seeds {seeds} --epochs {settings["epochs"]} '
@@ -473,5 +483,5 @@ def compare_gpu() -> str:
             f'windows, both schemes, one seed: {2 * total} cells) about '
             f'{2 * (elapsed_min + eta_min) / 60:.1f} h: the goal of one hour on a GPU is not '
             'met with this setup.\n\n'
-            + table(summary['rows'], seeds * folds) + '\n'
+            + table(summary['rows'], seeds * folds) + '\n' + hydra + '\n\n'
             f'![accuracy]({FIGURES}/compare_gpu/accuracy.png)\n')

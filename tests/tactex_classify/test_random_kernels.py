@@ -55,6 +55,13 @@ def test_hydra_dilations_and_channel_reads_follow_the_window_and_the_channels():
     assert [channels_per_group(c) for c in (1, 2, 3, 10, 40)] == [1, 1, 2, 5, 8]
 
 
+def test_each_channel_of_a_hydra_kernel_sums_to_zero_so_its_level_is_ignored():
+    data = toy()
+    weights = HydraRidge(seed=1).fit(data.X, data.y, CLASSES).hydra_weights_
+    np.testing.assert_allclose(weights.sum(axis=-1), 0.0, atol=1e-12)
+    np.testing.assert_allclose(np.abs(weights).sum(axis=-1), 1.0)
+
+
 @pytest.mark.parametrize('make', [MultiRocketRidge, HydraRidge])
 def test_the_random_kernel_baselines_reproduce_from_a_seed_and_refuse_one_sample(make):
     data = toy()

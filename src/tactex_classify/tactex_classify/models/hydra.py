@@ -5,9 +5,11 @@
 Written from Dempster, Schmidt and Webb, "HYDRA: competing convolutional kernels for
 fast and accurate time series classification" (Data Mining and Knowledge Discovery 37,
 2023), not from its reference code (GPL-3.0). `groups` groups of `kernels_per_group`
-random kernels of length 9 (weights N(0, 1), each kernel less its mean and divided by
-its absolute sum) run at dilations 1, 2, 4, ... up to a ninth of the window, half of the
-groups on the z-scored windows and half on their first differences, 'same' padding.
+random kernels of length 9 (weights N(0, 1); the paper's normalisation, less the mean
+and over the absolute sum, applied to each channel's taps, so that a kernel ignores
+every channel's level as a univariate one ignores the series') run at dilations 1, 2,
+4, ... up to a ninth of the window, half of the groups on the z-scored windows and half
+on their first differences, 'same' padding.
 At every time step the kernels of a group compete: the one with the largest response
 adds that response to its count ("soft" counting of the maxima), the one with the
 smallest adds 1 ("hard" counting of the minima). The counts of every kernel are the
@@ -77,6 +79,9 @@ class HydraRidge(FeatureRidge):
 
     CHECKPOINT_KIND = 'hydra'
     TRANSFORM_ARRAYS = ('hydra_dilations_', 'hydra_weights_', 'hydra_reads_')
+    # The weight axes each normalisation spans: a channel's taps (bench_hydra_levels.py
+    # measures the alternative, (-2, -1): all of a kernel's channels at once).
+    NORMALISED_AXES: tuple[int, ...] = (-1,)
     SETTINGS = {'groups': (64, 1024), 'kernels_per_group': (8, 64), 'seed': (0, MAX_SEED)}
 
     def _fit(self, Z: np.ndarray, rng: np.random.Generator) -> None:
@@ -88,8 +93,11 @@ class HydraRidge(FeatureRidge):
         half, reads = max(1, self.groups // 2), channels_per_group(Z.shape[2])
         weights = rng.standard_normal((len(self.hydra_dilations_), 2, half, self.kernels_per_group,
                                        reads, LENGTH))
-        weights -= weights.mean(axis=(-2, -1), keepdims=True)
-        self.hydra_weights_ = weights / np.abs(weights).sum(axis=(-2, -1), keepdims=True)
+        # Each channel's taps less their mean, over their absolute sum: a kernel then
+        # ignores every channel's level (its offset in the window), as in the paper.
+        weights -= weights.mean(axis=self.NORMALISED_AXES, keepdims=True)
+        self.hydra_weights_ = weights / np.abs(weights).sum(axis=self.NORMALISED_AXES,
+                                                            keepdims=True)
         self.hydra_reads_ = np.stack([[[rng.choice(Z.shape[2], reads, replace=False)
                                   for _ in range(half)] for _ in range(2)]
                                 for _ in self.hydra_dilations_])
