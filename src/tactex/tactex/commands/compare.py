@@ -52,7 +52,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              'folders of them: converted per window, 50 %% overlap) or '
                              'datasets (.npz, one per window)')
     parser.add_argument('--models', type=names, default=list(ALL_MODELS), metavar='NAME,...',
-                        help='models to compare (default: the eight and both baselines)')
+                        help=f'models to compare (default: all {len(ALL_MODELS)}, every '
+                             'deep model and every baseline)')
     parser.add_argument('--windows', type=windows, metavar='N,...',
                         help='window sizes (default 128,256,512 for recordings; the '
                              "datasets' own for .npz)")
