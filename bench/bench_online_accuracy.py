@@ -3,14 +3,16 @@
 """Accuracy against contact time of classifier_node on held-out simulated sweeps, fed live.
 
 Simulated sweeps over the 12 textures (`uneven_texture`, 120 Hz) are collected twice,
-with different seeds: one set trains the model (`tactex convert` windows of 128, hop 64),
-the other is held out. Each held-out bag is played to a running classifier_node as it
-was recorded (its CDR bytes on the raw tactile topics, sweep/active, and /clock, the node
-on simulated time), faster than real time. The node runs with threshold 1 (it never
-decides, so it publishes the evidence of every window); the decision a node with
-threshold t makes is its first estimate whose confidence exceeds t, identical up to that
-window (a second node run live at the default threshold checks this sweep by sweep).
-A sweep with no such estimate is decided at its end (as TEASER forces a decision).
+with different seeds: one set trains the model (`tactex convert` windows of 128, hop
+64), the other is held out; a deep model trains as bench_textures.py trains it (the
+`modern` profile, per-window scaling, at most 80 epochs). Each held-out bag is played to
+a running classifier_node as it was recorded (its CDR bytes on the raw tactile topics,
+sweep/active, and /clock, the node on simulated time), faster than real time. The node
+runs with threshold 1 (it never decides, so it publishes the evidence of every window);
+the decision a node with threshold t makes is its first estimate whose confidence
+exceeds t, identical up to that window (a second node run live at the default threshold
+checks this sweep by sweep). A sweep with no such estimate is decided at its end (as
+TEASER forces a decision).
 
 Per threshold: accuracy of the decisions, median contact seconds at decision, earliness
 (the share of the sweep's windowed contact used), and the harmonic mean of accuracy and
@@ -60,14 +62,19 @@ def collect_sets(scratch: Path, train_sweeps: int, test_sweeps: int) -> tuple[Pa
     return scratch / 'train', scratch / 'test'
 
 
-def train(model: str, train_bags: Path, folder: Path, epochs: int) -> Path:
-    """Convert the training bags and fit the model on every window; its checkpoint."""
+def train(model: str, train_bags: Path, folder: Path, epochs: int, profile: str,
+          scaling: str) -> Path:
+    """Convert the training bags and fit the model on every window; its checkpoint.
+
+    A deep model trains with `profile` and `scaling` (early stopping, where the profile
+    has it, on training recordings held out of the fit).
+    """
     from tactex_classify.data.dataset import convert
     from tactex_classify.models.baselines import MiniRocketRidge
     from tactex_classify.training.deep_classifier import DeepClassifier, TrainingConfig
     data = convert([train_bags], window=WINDOW, hop=HOP, progress=lambda line: None)
     estimator = MiniRocketRidge() if model == 'minirocket' else DeepClassifier(
-        TrainingConfig(model=model, epochs=epochs))
+        TrainingConfig.for_profile(profile, model=model, epochs=epochs, scaling=scaling))
     estimator.fit(data.X, data.y, data.classes, groups=data.trial, channels=data.channels)
     print(f'{model}: trained on {len(data.X)} windows of {len(np.unique(data.trial))} sweeps',
           flush=True)
@@ -319,7 +326,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument('--train-sweeps', type=int, default=12, help='per texture')
     parser.add_argument('--test-sweeps', type=int, default=4, help='held out, per texture')
     parser.add_argument('--models', default='minirocket,cnn_3')
-    parser.add_argument('--epochs', type=int, default=40, help='deep models')
+    parser.add_argument('--epochs', type=int, default=80, help='deep models, at most')
+    parser.add_argument('--profile', choices=('original', 'modern'), default='modern',
+                        help="deep models' training profile (as bench_textures.py)")
+    parser.add_argument('--scaling', choices=('minmax', 'standard', 'window'),
+                        default='window', help="deep models' input scaling")
     parser.add_argument('--speed', type=float, default=3.0, help='times real time')
     args = parser.parse_args(argv)
     env = ros_environment()
@@ -333,7 +344,8 @@ def main(argv: list[str] | None = None) -> int:
         test = sorted((bag_messages(path) for path in test_bags.iterdir()),
                       key=lambda bag: bag[1][0][0])  # in time order, as recorded
         for model in args.models.split(','):
-            checkpoint = train(model, train_bags, scratch, args.epochs)
+            checkpoint = train(model, train_bags, scratch, args.epochs, args.profile,
+                               args.scaling)
             result = run_model(checkpoint, test, args.speed, env)
             result['offline'] = offline_reference(checkpoint, test_bags)
             results[model] = result
@@ -342,6 +354,8 @@ def main(argv: list[str] | None = None) -> int:
     summary = {'scene': 'uneven_texture', 'window': WINDOW, 'hop': HOP,
                'train_sweeps_per_texture': args.train_sweeps,
                'test_sweeps_per_texture': args.test_sweeps, 'speed': args.speed,
+               'deep_training': {'epochs': args.epochs, 'profile': args.profile,
+                                 'scaling': args.scaling},
                'models': results}
     RESULTS.mkdir(exist_ok=True)
     (RESULTS / 'online_accuracy.json').write_text(json.dumps(summary, indent=2),

@@ -208,3 +208,39 @@ def sweep() -> str:
             f'{data["press_depth_m"] * 1e3:g} mm ({default["depth"] / reference["depth"]:.2f}x '
             f'the scripted sweep that knows the surface), of which the plan '
             f'{default["planned"]:.2f} mm; planned in {default["plan_ms"]:.0f} ms.\n')
+
+
+def online_accuracy() -> str:
+    """classifier_node's live decisions on held-out sweeps, per model, against contact time."""
+    data = kept_json('online_accuracy.json')
+    deep = data.get('deep_training', {})
+    parts = []
+    for model, result in data['models'].items():
+        live, offline, check = result['live'], result['offline'], result['live_check']
+        default = live['thresholds'][f'{check["threshold"]:.10g}']
+        best_threshold, best = max(live['thresholds'].items(),
+                                   key=lambda item: item[1]['harmonic_mean'])
+        first, whole = live['first_window'], live['whole_sweep']
+        parts.append(
+            f'{model} decides {100 * default["accuracy"]:.1f} % of the sweeps right at the '
+            f'default threshold ({check["threshold"]:g}) after a median '
+            f'{default["median_contact_s"]:.1f} s of contact (earliness '
+            f'{default["earliness"]:.2f}; from its first window alone '
+            f'{100 * first["accuracy"]:.1f} % after {first["median_contact_s"]:.1f} s, from '
+            f'the whole sweep {100 * whole["accuracy"]:.1f} % after '
+            f'{whole["median_contact_s"]:.1f} s; TEASER\'s harmonic mean is best, '
+            f'{best["harmonic_mean"]:.2f}, at threshold {best_threshold}); offline on the '
+            f'same bags {100 * offline["window_accuracy"]:.1f} % of windows and '
+            f'{100 * offline["whole_sweep_accuracy"]:.1f} % of whole sweeps; the node run '
+            f'live at the default threshold took the derived decision in {check["agree"]} of '
+            f'{check["sweeps"]} sweeps.')
+    training = (f' Deep models trained with the `{deep["profile"]}` profile, '
+                f'{deep["scaling"]} scaling, at most {deep["epochs"]} epochs.' if deep else '')
+    models = ','.join(data['models'])
+    return (f'Accuracy against contact time, live, on the physical sensor model (`python '
+            f'bench/bench_online_accuracy.py --train-sweeps {data["train_sweeps_per_texture"]}'
+            f' --test-sweeps {data["test_sweeps_per_texture"]} --models {models} --speed '
+            f'{data["speed"]:g}`, kept in `bench/results/online_accuracy.{{md,json,png}}`): '
+            f'held-out simulated sweeps of the 12 textures (another seed) played to two '
+            f'running nodes as recorded; chance 8.3 %.{training}\n\n'
+            + '\n\n'.join(f'- {part}' for part in parts) + '\n')
