@@ -70,11 +70,11 @@ def train(model: str, train_bags: Path, folder: Path, epochs: int, profile: str,
     has it, on training recordings held out of the fit).
     """
     from tactex_classify.data.dataset import convert
-    from tactex_classify.models.baselines import MiniRocketRidge
-    from tactex_classify.training.deep_classifier import DeepClassifier, TrainingConfig
+    from tactex_classify.training.deep_classifier import TrainingConfig
+    from tactex_classify.training.estimators import build_estimator
     data = convert([train_bags], window=WINDOW, hop=HOP, progress=lambda line: None)
-    estimator = MiniRocketRidge() if model == 'minirocket' else DeepClassifier(
-        TrainingConfig.for_profile(profile, model=model, epochs=epochs, scaling=scaling))
+    estimator = build_estimator(TrainingConfig.for_profile(profile, model=model, epochs=epochs,
+                                                           scaling=scaling))
     estimator.fit(data.X, data.y, data.classes, groups=data.trial, channels=data.channels)
     print(f'{model}: trained on {len(data.X)} windows of {len(np.unique(data.trial))} sweeps',
           flush=True)

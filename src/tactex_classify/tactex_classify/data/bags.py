@@ -89,8 +89,9 @@ class Recording:
     dropped: dict[str, int] = field(default_factory=dict)
     notes: list[str] = field(default_factory=list)
     messages: int = 0
-    # (len(joint_stamps_ns), 4) arm joint positions (rad), NaN where a message lacked one
-    joint_positions: np.ndarray = field(default_factory=lambda: np.zeros((0, 4)))
+    # (len(joint_stamps_ns), arm joints) positions (rad), NaN where a message lacked one
+    joint_positions: np.ndarray = field(
+        default_factory=lambda: np.zeros((0, len(ARM_JOINT_NAMES))))
 
     @property
     def rate_hz(self) -> float:
