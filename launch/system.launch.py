@@ -4,14 +4,16 @@
 
 The robot is launch/sim.launch.py's (or sensor.launch.py's and arm.launch.py's), the probe
 node probe.launch.py's, the sweep node sweep.launch.py's and the classifier
-classify.launch.py's, so each node is declared once. `checkpoint:=RUN/model` adds the
-online classifier; without one the system probes, sweeps and records (what a dataset
-needs before there is a model).
+classify.launch.py's and the identification node identify.launch.py's, so each node is
+declared once. `checkpoint:=RUN/model` adds the online classifier, `bundle:=RUN/bundle`
+the identification node; without either the system probes, sweeps and records (what a
+dataset needs before there is a model).
 """
 
 from tactex.launching.spec import (
     Arg,
     Argument,
+    config_path,
     If,
     IfElse,
     Include,
@@ -30,6 +32,10 @@ LAUNCH = LaunchFile(
      Argument('runtime', 'native', 'inference runtime of the classifier',
               ('native', 'onnxruntime')),
      Argument('threshold', '0.99', 'the classifier decides above this posterior', kind='float'),
+     Argument('bundle', '', "RUN/bundle of tactex train --movements: identify by choosing "
+              "movements ('': no identification)"),
+     Argument('movements', config_path('movements.yaml'),
+              'the movement file the bundle was trained for'),
      Argument('recording_root', 'recordings', 'folder of the recordings of sweeps'),
      Argument('pathway_file', '~/.ros/tactex/pathway.json',
               "where the probe node keeps the pathway (config/probe.yaml's)"),
@@ -42,7 +48,10 @@ LAUNCH = LaunchFile(
      Include('classify', {'robot': 'false', 'checkpoint': Arg('checkpoint'),
                           'source': IfElse('sim', 'sim', 'sensor'), 'runtime': Arg('runtime'),
                           'threshold': Arg('threshold')},
-             If(not_equals('checkpoint', '')))))
+             If(not_equals('checkpoint', ''))),
+     Include('identify', {'bundle': Arg('bundle'), 'movements': Arg('movements'),
+                          'sim': Arg('sim')},
+             If(not_equals('bundle', '')))))
 
 
 def generate_launch_description():

@@ -24,6 +24,7 @@ setup(
         'console_scripts': [
             'recorder_node = tactex_classify.recording.recorder_node:main',
             'classifier_node = tactex_classify.online.classifier_node:main',
+            'identify_node = tactex_classify.identification.identify_node:main',
         ],
     },
 )

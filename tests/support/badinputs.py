@@ -454,6 +454,20 @@ BAD_INPUTS = {
         Case('sweep --namespace nowhere --server-timeout 1', 'no sweep action server on '
              r'/nowhere/sweep within 1 s'),
     ],
+    'identify': [
+        Case('identify --policy greedy', "argument --policy: invalid choice: 'greedy'"),
+        Case('identify --threshold 1.5', 'argument --threshold: must be a finite number >= 0 '
+             'and <= 1'),
+        Case('identify --budget-movements 0', 'argument --budget-movements: must be a whole '
+             'number'),
+        Case('identify --budget-seconds -2', 'argument --budget-seconds: must be a finite '
+             'number > 0'),
+        Case('identify --seed -1', 'argument --seed: must be a whole number'),
+        Case('identify --pathway {w}/text.txt', '--pathway .*text.txt: .*give a file '
+             'probe_node wrote'),
+        Case('identify --namespace nowhere --server-timeout 1', 'no identify action server on '
+             r'/nowhere/identify within 1 s'),
+    ],
     'view': [
         Case('view --port 70000', 'argument --port: must be a whole number in 0..65535'),
         Case('view --host 256.0.0.1', "parameter host:='256.0.0.1' is refused; allowed: a host "

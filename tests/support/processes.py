@@ -2,9 +2,11 @@
 # SPDX-License-Identifier: Apache-2.0
 """Helpers of the tests that run nodes as processes: waiting, checking and stopping them."""
 
+from contextlib import contextmanager
 from pathlib import Path
 import signal
 import subprocess
+import sys
 import time
 
 STOP_TIMEOUT_S = 10.0
@@ -46,3 +48,25 @@ def stop(processes, stop_signal: int = signal.SIGTERM) -> list[str]:
             process.wait()
             stubborn.append(Path(str(process.args[0])).name)
     return stubborn
+
+
+@contextmanager
+def running_nodes(commands: dict[str, list], folder: Path):
+    """Start each named command line with its log folder/NAME.log; SIGINT them all after."""
+    from tactex.launching.environment import ros_environment
+    logs = {name: open(folder / f'{name}.log', 'w') for name in commands}
+    nodes = [subprocess.Popen(argv, env=ros_environment(), stdout=logs[name],
+                              stderr=subprocess.STDOUT) for name, argv in commands.items()]
+    try:
+        yield nodes
+    finally:
+        stop(nodes, signal.SIGINT)
+        for log in logs.values():
+            log.close()
+
+
+def tactex(*argv: str, timeout_s: float = 600) -> subprocess.CompletedProcess:
+    """Run the installed `tactex ARGV` in the ROS environment; its output captured."""
+    from tactex.launching.environment import ros_environment
+    return subprocess.run([Path(sys.executable).parent / 'tactex', *argv], capture_output=True,
+                          text=True, env=ros_environment(), timeout=timeout_s)

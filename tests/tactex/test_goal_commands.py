@@ -15,7 +15,7 @@ import subprocess
 import sys
 
 import pytest
-from support.processes import stop, wait_for
+from support.processes import running_nodes, stop, tactex, wait_for
 
 from tactex.launching.environment import ros_environment
 
@@ -30,7 +30,6 @@ SIM_TIME = ['-p', 'use_sim_time:=true']
 def system(tmp_path_factory):
     """The probe and sweep system in simulation under /left; its folder (logs, files)."""
     folder = tmp_path_factory.mktemp('system')
-    env = ros_environment()
     commands = {
         'bridge': [BIN / 'mujoco_bridge', '--ros-args', *NAMESPACE, '-p', 'scene:=uneven_texture',
                    '-p', 'rate_factor:=0.5'],
@@ -43,20 +42,8 @@ def system(tmp_path_factory):
                   CONFIG / 'sweep.yaml', *SIM_TIME, '-p',
                   f'recording_root:={folder / "recordings"}'],
     }
-    logs = {name: open(folder / f'{name}.log', 'w') for name in commands}
-    nodes = [subprocess.Popen(argv, env=env, stdout=logs[name], stderr=subprocess.STDOUT)
-             for name, argv in commands.items()]
-    try:
+    with running_nodes(commands, folder):
         yield folder
-    finally:
-        stop(nodes, signal.SIGINT)
-        for log in logs.values():
-            log.close()
-
-
-def tactex(*argv: str, timeout_s: float = 600) -> subprocess.CompletedProcess:
-    return subprocess.run([BIN / 'tactex', *argv], capture_output=True, text=True,
-                          env=ros_environment(), timeout=timeout_s)
 
 
 def interrupted(argv: list[str], shown: str, folder: Path) -> tuple[int, str]:

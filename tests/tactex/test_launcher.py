@@ -44,11 +44,12 @@ def _console_scripts(package: str) -> set[str]:
 
 
 # Arguments some launch files need to start at all; every file is checked with each set.
-NEEDED = {'classify': {'checkpoint': '/run/model'}}
+NEEDED = {'classify': {'checkpoint': '/run/model'}, 'identify': {'bundle': '/run/bundle'}}
 VARIANTS = {'probe': [{'sim': 'true'}], 'sweep': [{'sim': 'true'}],
             'classify': [{'source': 'sim'}],
+            'identify': [{'sim': 'true'}],
             'system': [{'sim': 'true'}, {'sim': 'true', 'checkpoint': '/run/model'},
-                       {'checkpoint': '/run/model'}]}
+                       {'checkpoint': '/run/model'}, {'sim': 'true', 'bundle': '/run/bundle'}]}
 
 
 def _cases(variants: dict[str, list[dict]], plain: bool) -> list:
@@ -121,6 +122,15 @@ def test_system_launch_starts_the_robot_probe_sweep_and_with_a_checkpoint_the_cl
     assert _names('system') == hardware
     assert _names('system', checkpoint='/run/model', rviz='true') == [
         *hardware, 'classifier_node', 'robot_state_publisher', 'rviz2']
+    assert _names('system', sim='true', bundle='/run/bundle') == [*sim, 'identify_node']
+
+
+def test_identify_launch_passes_the_bundle_the_movements_and_the_clock():
+    spec, = load_launch_file('identify').node_specs({'bundle': '/run/bundle', 'sim': 'true'})
+    given = {k: v for layer in spec.parameters if isinstance(layer, dict)
+             for k, v in layer.items()}
+    assert given['bundle'] == '/run/bundle' and given['use_sim_time'] in (True, 'true')
+    assert given['movements'].endswith('config/movements.yaml')
 
 
 def test_system_launch_passes_its_arguments_to_the_launch_files_it_includes():

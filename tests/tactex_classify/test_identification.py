@@ -177,6 +177,16 @@ def test_round_robin_takes_the_movements_in_order_and_fixed_repeats_one():
         assert identification.movements == expected
 
 
+def test_round_robin_passes_over_a_movement_that_cannot_run_and_keeps_its_turn():
+    rows = separating((0, 1), 2, sure=0.55)
+    table = EvidenceTable(names(2), [movement(name, 1.0, rows) for name in 'abc'])
+    identification = Identification(table, 'round-robin', Budget(movements=4))
+    runnable = np.array([False, True, True])  # 'a' is longer than the pathway
+    while (chosen := identification.next_movement(runnable)) is not None:
+        identification.observe(chosen, [0.5, 0.5])
+    assert identification.movements == [1, 2, 1, 2]
+
+
 def test_the_threshold_and_both_budgets_stop_the_loop():
     rows = separating((0, 1), 2, sure=0.7)
     table = EvidenceTable(names(2), [movement('short', 1.5, rows), movement('long', 4.0, rows)])

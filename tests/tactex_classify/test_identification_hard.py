@@ -20,8 +20,10 @@ from support.hard_values import anything, NON_FINITE
 
 from tactex_classify.identification.calibration import calibrated, fit_temperature, reliability
 from tactex_classify.identification.evidence_table import EvidenceTable, MovementEvidence
+from tactex_classify.identification.pathway_part import movement_part
 from tactex_classify.identification.selection import Budget, Identification, POLICIES
 from tactex_classify.identification.tempering import fit_tempering
+from tactex_description.movements import Movement
 
 pytestmark = pytest.mark.hard_case
 
@@ -137,3 +139,19 @@ def test_calibration_stays_finite_on_any_answers(probabilities, data):
 @given(evidence())
 def test_the_tempering_fit_stays_on_its_grid_for_any_answers(drawn):
     assert 0.05 <= fit_tempering(*drawn, episodes_per_texture=2) <= 4.0
+
+
+@settings(max_examples=200, deadline=None)
+@given(hnp.arrays(np.float64, st.tuples(st.integers(0, 5), st.just(3)), elements=anything()),
+       hnp.arrays(np.float64, st.tuples(st.integers(0, 5), st.just(3)), elements=anything()),
+       anything(), st.floats(1e-3, 1.0), st.sampled_from(['forward', 'backward']))
+def test_a_movement_part_is_refused_or_finite_and_starts_on_the_pathway(
+        points, normals, acceleration, contact_m, direction):
+    wanted = Movement('m', 0.02, 0.002, 0.5, direction, contact_m)
+    try:
+        part, part_normals = movement_part(points, normals, wanted, acceleration)
+    except ValueError:
+        return
+    assert np.all(np.isfinite(part)) and np.all(np.isfinite(part_normals))
+    assert part.shape == part_normals.shape and len(part) >= 2
+    assert np.array_equal(part[0], points[0 if direction == 'forward' else -1])

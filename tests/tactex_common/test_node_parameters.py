@@ -53,6 +53,8 @@ REFUSED_AT_START = [
     ('recorder_node', ['output:=/tmp/never', 'metadata:=not json'], r'allowed: a JSON object$'),
     ('teensy_node', ['diagnostics_period_s:=0.0'], r'teensy_node: parameter '
                                                    r'diagnostics_period_s:=0\.0 is out of range'),
+    ('identify_node', ['settle_s:=-1.0'], r'identify_node: parameter settle_s:=-1\.0 is out of '
+                                          r'range; allowed: a float from 0\.0 to 60'),
     ('classifier_node', ['threshold:=5.0'], r'classifier_node: parameter threshold:=5\.0 is out '
                                             r'of range; allowed: a float from 0\.0 to 1\.0$'),
     ('classifier_node', ['stall_s:=0.0'], r'classifier_node: parameter stall_s:=0\.0 is out of '
@@ -225,3 +227,17 @@ def test_spin_turns_a_refused_value_into_exit_1_and_warns_of_unknown_names(capfd
                                       'of range; allowed: a float from 0.0 to 1.0\n')
     with pytest.raises(KeyboardInterrupt):
         spin(Tiny, ['--ros-args', '-p', 'gian:=0.2'])
+
+
+@pytest.mark.parametrize('node', ['identify_node', 'sweep_node'])
+def test_a_malformed_ros_argument_is_an_error_line_and_exit_1(tmp_path, node):
+    log = tmp_path / 'node.log'
+    process = _run([str(BIN / node), '--ros-args', '-p', 'bundle:='], log)
+    try:
+        code = process.wait(timeout=START_GUARD_S)
+    finally:
+        process.kill()
+    output = log.read_text()
+    assert code == 1 and 'Traceback' not in output, output
+    assert output.splitlines()[-1].startswith("error: failed to initialize rcl: Couldn't parse "
+                                              "parameter override rule: '-p bundle:='"), output

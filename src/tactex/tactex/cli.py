@@ -38,6 +38,7 @@ COMMANDS = {
     'launch': "Run a launch file's nodes as supervised processes (no ROS 2 launch needed).",
     'probe': 'Send a Probe goal: progress, the contacts found, --score against the simulator.',
     'sweep': 'Send a Sweep goal along the probed pathway: progress, contact and speed.',
+    'identify': 'Send an Identify goal: movements chosen one sweep at a time until decided.',
     'param': "List, get or set a running node's parameters (no ros2 CLI needed).",
     'status': "One table of every running node's diagnostics (rates, latency, drops, state).",
     'watch': 'Show the live texture estimates, their evidence and decisions.',

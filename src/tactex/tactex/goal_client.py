@@ -154,6 +154,8 @@ def send_goal(node, executor, action_type, action_name: str, goal, *, what: str,
                       file=sys.stderr)
             raise
         answer = result.result()
+        if latest:  # the last feedback may come just before the result
+            bar = shown_on(bar, progress(latest[-1]), what, unit)
         if bar is not None:
             if answer.status == GoalStatus.STATUS_SUCCEEDED:
                 bar.n = bar.total

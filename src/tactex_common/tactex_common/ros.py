@@ -22,6 +22,7 @@ from rclpy.exceptions import (
     ParameterException,
 )
 from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
+from rclpy.impl.implementation_singleton import rclpy_implementation
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.qos import (
@@ -174,7 +175,12 @@ def spin(make_node: Callable[[], Node], args: list[str] | None = None) -> None:
         args: command-line arguments (ROS arguments included).
     """
     stop = threading.Event()
-    rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
+    try:
+        rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
+    except rclpy_implementation.RCLError as err:  # malformed --ros-args (`-p name:=`)
+        print(f'error: {err}; see the ROS 2 argument syntax (-p name:=value)',
+              file=sys.stderr)
+        raise SystemExit(1) from None
     node = None
     with on_stop_signals(lambda _signum: stop.set()):
         try:

@@ -24,6 +24,7 @@ DIAGNOSTICS = 'diagnostics'  # diagnostic_msgs/DiagnosticArray, from every node
 # Actions.
 PROBE_ACTION = 'probe'  # tactex_msgs/action/Probe
 SWEEP_ACTION = 'sweep'  # tactex_msgs/action/Sweep
+IDENTIFY_ACTION = 'identify'  # tactex_msgs/action/Identify
 # Simulator ground truth.
 GROUND_TRUTH_CONTACT = 'sim/ground_truth/contact'  # geometry_msgs/PoseStamped, z = normal
 # PoseStamped: position of the sensor edge, attitude of sensor_link.

@@ -33,9 +33,7 @@ from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from geometry_msgs.msg import Point
 import numpy as np
 from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor
-from rclpy.action import ActionServer, CancelResponse, GoalResponse
-from rclpy.clock import Clock, ClockType
-from rclpy.task import Future
+from rclpy.action import ActionServer, CancelResponse
 from sensor_msgs.msg import FluidPressure, JointState
 from std_msgs.msg import Bool, ColorRGBA, String
 from std_srvs.srv import Trigger
@@ -53,7 +51,9 @@ from tactex_common.ros import (
     spin,
     TactexNode,
 )
+from tactex_common.serving import goal_pathway, OneGoal
 from tactex_common.stamps import stamp_ns
+from tactex_common.ticks import Ticks
 from tactex_description.geometry import ARM_JOINT_NAMES
 from tactex_msgs.action import Sweep
 from tactex_msgs.msg import Contact, Pathway
@@ -168,7 +168,7 @@ class SweepNode(TactexNode):
         self._pressure_queue: deque = deque(maxlen=10_000)
         self._pathway: Pathway | None = None
         self._recorder: SplitRecorder | None = None
-        self._busy = False
+        self._one_goal = OneGoal(self, 'sweep')
         self._state = 'idle'
         self._last_outcome = ''
         self._last_planning_s = math.nan
@@ -176,12 +176,10 @@ class SweepNode(TactexNode):
         self._stop_client = self.create_client(Trigger, 'arm/stop')
         self._server = ActionServer(self, Sweep, topics.SWEEP_ACTION,
                                     execute_callback=self._execute,
-                                    goal_callback=self._on_goal,
+                                    goal_callback=self._one_goal,
                                     cancel_callback=lambda _request: CancelResponse.ACCEPT)
         # The running goal's waits end on these ticks (wall clock, only while a goal runs).
-        self._waiting: list[Future] = []
-        self._ticks = self.create_timer(WATCH_PERIOD_S, self._on_tick, autostart=False,
-                                        clock=Clock(clock_type=ClockType.STEADY_TIME))
+        self._ticks = Ticks(self, WATCH_PERIOD_S)
         self.create_timer(1.0, self._publish_diagnostics)
         self.get_logger().info('sweep action server ready')
 
@@ -215,27 +213,9 @@ class SweepNode(TactexNode):
         return write
 
     # -- the action -----------------------------------------------------------------------
-    def _on_goal(self, _request) -> GoalResponse:
-        if self._busy:
-            self.get_logger().warning('sweep goal rejected: a sweep is running')
-            return GoalResponse.REJECT
-        self._busy = True
-        return GoalResponse.ACCEPT
-
-    def _on_tick(self) -> None:
-        waiting, self._waiting = self._waiting, []
-        for future in waiting:
-            future.set_result(None)
-
-    async def _pause(self) -> None:
-        """Let the inputs run until the next tick (WATCH_PERIOD_S of wall time)."""
-        future = Future()
-        self._waiting.append(future)
-        await future
-
     async def _execute(self, goal_handle) -> Sweep.Result:
         result = Sweep.Result()
-        self._ticks.reset()
+        self._ticks.start()
         try:
             try:
                 outcome, message = await self._run(goal_handle, result)
@@ -246,8 +226,8 @@ class SweepNode(TactexNode):
                 self._state = 'idle'
             return self._finish(goal_handle, result, message, outcome)
         finally:
-            self._ticks.cancel()
-            self._busy = False
+            self._ticks.stop()
+            self._one_goal.done()
 
     async def _run(self, goal_handle, result: Sweep.Result) -> tuple[str, str]:
         """Plan and execute a goal, filling `result`; return (outcome, message)."""
@@ -255,7 +235,7 @@ class SweepNode(TactexNode):
         # A goal sent as the system comes up waits for the arm's first joint state.
         deadline = time.monotonic() + JOINT_STATE_TIMEOUT_S
         while self._joints is None and time.monotonic() < deadline:
-            await self._pause()
+            await self._ticks.pause()
         try:
             plan = self._plan(goal)
         except (TrajectoryError, ValueError) as err:
@@ -280,7 +260,7 @@ class SweepNode(TactexNode):
         self._state = 'sweeping'
         next_feedback = 0.0
         while True:
-            await self._pause()
+            await self._ticks.pause()
             elapsed = self._now_s() - start_s
             status = self._feed(monitor, start_s, elapsed)
             self._publish_active(status.active)
@@ -324,15 +304,7 @@ class SweepNode(TactexNode):
         if goal.sliding_speed <= 0.0:
             raise ValueError(f'sliding_speed must be > 0 m/s (the original work used 0.015), '
                              f'got {goal.sliding_speed!r}')
-        pathway = goal.pathway
-        if not pathway.contacts:
-            pathway = self._pathway
-            if pathway is None or not pathway.contacts:
-                raise ValueError('the goal has no contacts and nothing was published on '
-                                 f'{topics.PROBE_PATHWAY}; probe the surface first')
-        if pathway.header.frame_id not in ('', 'base_link'):
-            raise ValueError(f'the pathway must be in base_link, got frame '
-                             f'{pathway.header.frame_id!r}')
+        pathway = goal_pathway(goal.pathway, self._pathway)
         joints = self._joints
         if joints is None:
             raise ValueError(f'no {topics.JOINT_STATES} received yet: is the arm driver (or '
@@ -385,7 +357,7 @@ class SweepNode(TactexNode):
         while self._trajectory_pub.get_subscription_count() == 0:
             if time.monotonic() > deadline:
                 return False
-            await self._pause()
+            await self._ticks.pause()
         return True
 
     async def _retract(self, plan: SweepPlan) -> str:
@@ -397,11 +369,11 @@ class SweepNode(TactexNode):
         self._state = 'retracting'
         deadline = time.monotonic() + SERVICE_WAIT_S
         while not self._stop_client.service_is_ready() and time.monotonic() < deadline:
-            await self._pause()
+            await self._ticks.pause()
         if self._stop_client.service_is_ready():
             future = self._stop_client.call_async(Trigger.Request())
             while not future.done() and time.monotonic() < deadline:
-                await self._pause()
+                await self._ticks.pause()
         joints = await self._joints_at_rest()
         if joints is None:
             return f'no {topics.JOINT_STATES}: the edge could not be lifted'
@@ -413,7 +385,7 @@ class SweepNode(TactexNode):
         goal, _ = ARM.tool_pose(lift.positions[-1])
         deadline = time.monotonic() + RETRACT_WAIT_S
         while time.monotonic() < deadline:
-            await self._pause()
+            await self._ticks.pause()
             edge, _ = ARM.tool_pose(self._joints[1])
             if np.linalg.norm(edge - start) >= LIFTED_FRACTION * np.linalg.norm(goal - start):
                 return ''
@@ -432,7 +404,7 @@ class SweepNode(TactexNode):
                 previous = latest
             elif previous is None:
                 previous = latest
-            await self._pause()
+            await self._ticks.pause()
         return None if self._joints is None else self._joints[1]
 
     def _finish(self, goal_handle, result: Sweep.Result, message: str, outcome: str):

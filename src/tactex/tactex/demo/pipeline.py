@@ -157,11 +157,12 @@ class Demo:
     # -- the launched system --------------------------------------------------------------
     @contextmanager
     def system(self, name: str, *, checkpoint: Path | None = None, client_type=None,
-               respawn: tuple[str, ...] = ()):
+               respawn: tuple[str, ...] = (), identify: tuple[Path, Path] | None = None):
         """Launch system.launch.py sim:=true; yield a client and `alive()`; stop it after.
 
         `client_type` replaces SystemClient; the nodes named in `respawn` are restarted when
-        they exit; the launcher is `self.launcher` meanwhile.
+        they exit; `identify` (bundle, movement file) adds identify_node; the launcher is
+        `self.launcher` meanwhile.
         """
         from tactex.demo.session import SystemClient
         from tactex.launching.spec import load_launch_file
@@ -172,6 +173,8 @@ class Demo:
                   'pathway_file': str(self.folder / 'pathway.json')}
         if checkpoint is not None:
             values['checkpoint'] = str(checkpoint)
+        if identify is not None:
+            values['bundle'], values['movements'] = (str(path) for path in identify)
         nodes = [replace(spec, respawn=spec.respawn or spec.name in respawn)
                  for spec in load_launch_file('system').node_specs(values)]
         log_path = self.folder / 'logs' / f'{name}.log'
@@ -194,6 +197,8 @@ class Demo:
                     client.wait_ready(NODE_START_S, alive=watcher.is_alive)
                     if checkpoint is not None:
                         client.wait_classifier_ready(NODE_START_S, alive=watcher.is_alive)
+                    if identify is not None:
+                        client.wait_identify_ready(NODE_START_S, alive=watcher.is_alive)
                     yield client, watcher.is_alive
                     self.madgwick_rejected[name] = client.madgwick_rejected()
                     self.madgwick_bad_stamps[name] = client.madgwick_rejected(('dt',))

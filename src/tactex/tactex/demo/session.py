@@ -1,10 +1,10 @@
 # Copyright 2026 The tactex authors
 # SPDX-License-Identifier: Apache-2.0
-"""The demo's client of a launched system: probe and sweep goals, the texture, the estimates.
+"""The demo's client of a launched system: the actions' goals, the texture, the estimates.
 
 `tactex demo` starts the nodes with the launcher and talks to them only through their
-interfaces, as a user's script would: the `probe` and `sweep` actions, the broadcast
-pathway and contacts (latched), the bridge's `patch_texture` parameter and
+interfaces, as a user's script would: the `probe`, `sweep` and `identify` actions, the
+broadcast pathway and contacts (latched), the bridge's `patch_texture` parameter and
 `texture/estimate`. Nothing here knows how the nodes work inside.
 """
 
@@ -28,7 +28,7 @@ from tactex_common import topics
 from tactex_common.goals import GoalSender
 from tactex_common.ros import COMMAND, LATCHED
 from tactex_common.stamps import stamp_ns
-from tactex_msgs.action import Probe, Sweep
+from tactex_msgs.action import Identify, Probe, Sweep
 from tactex_msgs.msg import Pathway, TextureEstimate
 
 # The bridge's parameter service (the simulator stands in for the robot under this name).
@@ -100,6 +100,7 @@ class SystemClient:
                                  COMMAND)
         self._probe = GoalSender(node, Probe, topics.PROBE_ACTION)
         self._sweep = GoalSender(node, Sweep, topics.SWEEP_ACTION)
+        self._identify = GoalSender(node, Identify, topics.IDENTIFY_ACTION)
         self._parameters = node.create_client(SetParameters, BRIDGE_PARAMETERS)
         self._executor = SingleThreadedExecutor(context=self._context)
         self._executor.add_node(node)
@@ -180,6 +181,11 @@ class SystemClient:
         for what, check in ready:
             self._wait(check, timeout_s, f'{what} did not come up', alive)
 
+    def wait_identify_ready(self, timeout_s: float, alive=lambda: True) -> None:
+        """Wait for identify_node's action server (its bundle is loaded by then)."""
+        self._wait(self._identify.client.server_is_ready, timeout_s,
+                   'the identify action server did not come up', alive)
+
     def wait_classifier_ready(self, timeout_s: float, alive=lambda: True) -> None:
         """Wait for classifier_node's diagnostics to say OK.
 
@@ -233,6 +239,11 @@ class SystemClient:
                    f'{topics.PROBE_PATHWAY} and {topics.PROBE_CONTACTS}', alive)
         with self._lock:
             return result, self._pathway, self._contacts
+
+    def identify(self, goal: Identify.Goal, timeout_s: float, what: str, alive=lambda: True):
+        """Send an Identify goal; (its status code, its result)."""
+        answer = self._send(self._identify, goal, timeout_s, what, alive)
+        return answer.status, answer.result
 
     def set_texture(self, name: str, alive=lambda: True) -> None:
         """Give the simulator's patches the texture `name` (the bridge's parameter)."""

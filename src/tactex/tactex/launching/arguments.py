@@ -75,6 +75,23 @@ def _checkpoint(name: str, value: str) -> None:
         raise LaunchError(f'{name}:={value!r}: {err}') from None
 
 
+def _bundle(name: str, value: str) -> None:
+    from tactex_classify.identification.bundle import BUNDLE_FILE
+    if not value:  # no identification (identify.launch.py asks for one itself)
+        return
+    if not (Path(value).expanduser() / BUNDLE_FILE).is_file():
+        raise LaunchError(f'{name}:={value!r} holds no {BUNDLE_FILE}: give RUN/bundle of '
+                          '`tactex train DATA --movements YAML --out RUN`')
+
+
+def _movements(name: str, value: str) -> None:
+    from tactex_description.movements import load_movements, MovementError
+    try:
+        load_movements(Path(value).expanduser())
+    except (MovementError, OSError) as err:
+        raise LaunchError(f'{name}:={value!r}: {err}') from None
+
+
 def _threshold(name: str, value: str) -> None:
     from tactex_classify.online.evidence import EvidenceSettings
     try:
@@ -118,6 +135,7 @@ def _serial_port(name: str, value: str) -> None:
 CHECKS: dict[str, Callable[[str, str], None]] = {
     'namespace': _namespace, 'scene': _scene, 'rate_factor': _rate_factor,
     'patch_texture': _patch_texture, 'checkpoint': _checkpoint, 'threshold': _threshold,
+    'bundle': _bundle, 'movements': _movements,
     'recording_root': _recording_root, 'pathway_file': _pathway_file,
     'port': _serial_port, 'sensor_port': _serial_port, 'arm_port': _serial_port}
 

@@ -2,7 +2,8 @@
 # SPDX-License-Identifier: Apache-2.0
 """Active identification: choose each next movement to tell the remaining textures apart.
 
-No ROS; the belief and the choice are pure numpy:
+The belief and the choice are pure numpy, apart from the one ROS adapter
+(`identify_node`, the `identify` action):
 - `posterior`: the belief over textures in log space and its tempered update.
 - `evidence_table`: what each movement's sweeps tell, from out-of-fold probability
   vectors per (true texture, movement), and the expected information gain of each.
@@ -13,6 +14,8 @@ No ROS; the belief and the choice are pure numpy:
 - `movement_evidence`: one model per movement, its calibrated out-of-fold sweep vectors.
 - `offline`: every policy replayed on held-out recordings (nested, grouped folds).
 - `report`: identification.json, identification.md and their plots.
+- `pathway_part`: the part of a probed pathway one movement slides along.
+- `identify_node`: the node that runs the loop live, driving the sweep action.
 """
 
 from tactex_classify.exports import lazy_exports

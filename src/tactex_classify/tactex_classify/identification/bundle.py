@@ -28,6 +28,7 @@ from tactex_classify.models.checkpoint import (
     load_checkpoint,
     metadata_sha256,
     save_checkpoint,
+    StreamSpec,
     write_text_atomically,
 )
 from tactex_common.files import load_json
@@ -41,13 +42,14 @@ MAX_BUNDLE_DEPTH = 8
 
 @dataclass(frozen=True)
 class Bundle:
-    """A loaded bundle: the evidence table, each movement's model and temperature."""
+    """A loaded bundle: the evidence table, each movement's model and temperature, the stream."""
 
     classes: tuple[str, ...]
     movements: tuple[Movement, ...]
     temperatures: tuple[float, ...]
     estimators: tuple[object, ...]
     table: EvidenceTable
+    stream: StreamSpec  # what every movement's model reads (channels, window, hop, rate)
 
 
 def save_bundle(folder: Path, fitted: list[FittedMovement], movements: MovementSet,
@@ -109,13 +111,18 @@ def _bundle(folder: Path, meta: dict, movements: MovementSet) -> Bundle:
             raise CheckpointError(f'{folder}: movement {movement.name} was trained as '
                                   f'{movement}, the file now says '
                                   f'{movements.by_name(movement.name)}: train it again')
-    estimators, evidence = [], []
+    estimators, evidence, streams = [], [], []
     for movement, row in zip(stated, meta['movements'], strict=True):
         info, estimator = load_checkpoint(folder / 'movements' / movement.name)
         if tuple(info.classes) != classes:
             raise CheckpointError(f'{folder}: movement {movement.name} classifies '
                                   f'{", ".join(info.classes)}, the bundle '
                                   f'{", ".join(classes)}')
+        if streams and info.stream != streams[0]:
+            raise CheckpointError(f'{folder}: movement {movement.name} reads {info.stream}, '
+                                  f'{stated[0].name} reads {streams[0]}: train the bundle '
+                                  'again from one dataset')
+        streams.append(info.stream)
         estimators.append(estimator)
         evidence.append(MovementEvidence(movement.name, movement.contact_s,
                                          np.asarray(row['vectors'], dtype=float),
@@ -123,4 +130,4 @@ def _bundle(folder: Path, meta: dict, movements: MovementSet) -> Bundle:
     table = EvidenceTable(classes, evidence, float(meta['tempering']))  # ValueError: malformed
     return Bundle(classes, tuple(stated), tuple(float(r['temperature'])
                                                 for r in meta['movements']),
-                  tuple(estimators), table)
+                  tuple(estimators), table, streams[0])

@@ -78,12 +78,16 @@ def subset(dataset: Dataset, trials: Sequence[int]) -> Dataset:
     return dataset.select(np.isin(dataset.trial, np.asarray(list(trials))))
 
 
+def sweep_vector(window_proba: np.ndarray) -> np.ndarray:
+    """One sweep's vector: the normalised geometric mean of its windows' probabilities."""
+    return np.exp(normalised(log_probabilities(window_proba).mean(axis=0)))
+
+
 def sweep_vectors(dataset: Dataset, window_proba: np.ndarray
                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(trials, labels, vectors): each recording's normalised geometric mean of its windows."""
+    """(trials, labels, vectors): each recording's `sweep_vector`."""
     trials = np.unique(dataset.trial)
-    logs = log_probabilities(window_proba)
-    vectors = np.stack([np.exp(normalised(logs[dataset.trial == trial].mean(axis=0)))
+    vectors = np.stack([sweep_vector(window_proba[dataset.trial == trial])
                         for trial in trials])
     labels = np.array([dataset.y[dataset.trial == trial][0] for trial in trials])
     return trials, labels, vectors

@@ -10,7 +10,8 @@ Policies (`POLICIES`):
 - `fixed`: the one movement with the largest gain per second from the starting belief,
   repeated;
 - `random`: a movement drawn uniformly from the generator seeded by `seed`;
-- `round-robin`: the movements in their file's order, again and again.
+- `round-robin`: the movements in their file's order, again and again (one that cannot
+  run is passed over, and the turn goes on after the last one run).
 
 Every policy picks only among movements that fit the remaining time budget (and, in an
 offline replay, that still have a held-out sweep: `available`), and ties go to the
@@ -150,7 +151,8 @@ class Identification:
             return int(candidates[np.argmax(gain[candidates])])
         if self.policy == 'random':
             return int(self._rng.choice(candidates))
-        order = np.roll(np.arange(len(fits)), -len(self.movements))
+        after_last = self.movements[-1] + 1 if self.movements else 0  # round-robin's turn
+        order = np.roll(np.arange(len(fits)), -after_last)
         return int(next(index for index in order if fits[index]))
 
     def observe(self, movement: int, probabilities) -> np.ndarray:

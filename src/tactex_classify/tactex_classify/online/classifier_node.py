@@ -31,8 +31,6 @@ from rcl_interfaces.msg import (
     ParameterDescriptor,
     SetParametersResult,
 )
-from rclpy.qos import QoSProfile
-from sensor_msgs.msg import FluidPressure, Imu, MagneticField
 from std_msgs.msg import Bool, String
 from visualization_msgs.msg import Marker, MarkerArray
 
@@ -42,13 +40,12 @@ from tactex_classify.online.evidence import EvidenceSettings
 from tactex_classify.online.live import CONTACT_SOURCES, LiveSettings, OnlineClassifier
 from tactex_classify.online.runtime import load_predictor, RUNTIMES
 from tactex_classify.online.stream_health import stated_metadata
+from tactex_classify.online.tactile_topics import ROLE_TOPICS, SENSOR_QUEUE
 from tactex_common import topics
-from tactex_common.ros import COMMAND, SENSOR_DATA, spin, TactexNode
+from tactex_common.ros import COMMAND, spin, TactexNode
 from tactex_common.stamps import stamp_ns
 from tactex_msgs.msg import TextureEstimate
 
-ROLE_TOPICS = {'imu': (Imu, topics.IMU_RAW), 'mag': (MagneticField, topics.MAG),
-               'pressure': (FluidPressure, topics.PRESSURE)}
 LATENCIES_KEPT = 2000  # the p50/p99 of diagnostics are over the newest this many windows
 QUEUE_LIMIT = 32_768  # samples queued for the worker (30 s of three 350 Hz topics)
 # What counts as a fault in diagnostics (each a count of its own): the worker's, the
@@ -58,10 +55,6 @@ STREAM_FAULTS = ('invalid', 'off_timeline', 'resyncs', 'overflow')
 # The worker and the executor share the GIL: a woken worker would wait up to Python's
 # default 5 ms switch interval while callbacks run; 0.5 ms bounds that wait.
 GIL_SWITCH_INTERVAL_S = 0.0005
-# Sensor-data QoS (best effort, volatile) with a deep queue: a busy executor catches up
-# on up to 0.7 s of a 350 Hz stream instead of losing samples (each loss is a gap).
-SENSOR_QUEUE = QoSProfile(depth=256, reliability=SENSOR_DATA.reliability,
-                          durability=SENSOR_DATA.durability, history=SENSOR_DATA.history)
 
 
 class StartError(Exception):

@@ -1,0 +1,154 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""Active identification live in simulation, beside the offline replay of the same data.
+
+1. `tactex sim collect --movements config/movements.yaml` on a scene seed no test uses
+   (12 textures x 8 movements x `--sweeps`), `tactex convert` at the movements' window;
+2. `tactex train --movements`: the bundle (one MiniRocket per movement, calibrated);
+3. offline: `tactex report identification` on the same dataset, same model, same policy;
+4. live: `launch/system.launch.py sim:=true bundle:=...` through the launcher (as `tactex
+   demo` starts it), a pathway probed along `--span`, then for every texture (the
+   bridge's patch_texture) `--episodes` Identify goals (active, threshold 0.99) through
+   identify_node, which chooses movements and drives sweep_node.
+
+Keeps bench/results/identify_live.json: every live episode (truth, answer, movements,
+contact and wall seconds), the live summary (accuracy, median movements and contact
+seconds) beside the offline report's active row, and the commands with their seconds.
+`--work DIR` keeps (and reuses) the bags, dataset, bundle, offline report and live
+episodes (live/episodes.json).
+"""
+
+import argparse
+from dataclasses import replace
+import json
+from pathlib import Path
+import sys
+import time
+
+from bench_textures import TACTEX, timed  # one way to run and time a tactex step
+import numpy as np
+
+RESULTS = Path(__file__).parent / 'results' / 'identify_live.json'
+MOVEMENTS = Path(__file__).parents[1] / 'config' / 'movements.yaml'
+GOAL_TIMEOUT_S = 1800.0
+
+
+def prepared(work: Path, args, steps: list[dict]) -> tuple[Path, Path, Path]:
+    """(dataset, bundle, offline report folder), each made unless `work` holds it."""
+    bags, data = work / 'bags', work / 'data.npz'
+    if not data.is_file():
+        if not bags.is_dir():
+            timed([TACTEX, 'sim', 'collect', '--movements', str(MOVEMENTS), '--sweeps',
+                   str(args.sweeps), '--seed', str(args.seed), '--workers', '2', '--out',
+                   str(bags)], steps)
+        timed([TACTEX, 'convert', str(bags), '--out', str(data), '--window', '128'], steps)
+    bundle = work / 'run' / 'bundle'
+    if not (bundle / 'bundle.json').is_file():
+        timed([TACTEX, 'train', str(data), '--movements', str(MOVEMENTS), '--model',
+               args.model, '--out', str(work / 'run')], steps)
+    offline = work / 'offline'
+    if not (offline / 'identification.json').is_file():
+        timed([TACTEX, 'report', 'identification', str(data), '--out', str(offline),
+               '--movements', str(MOVEMENTS), '--policies', 'active', '--folds', '2',
+               '--inner-folds', '2',
+               '--seeds', str(args.offline_seeds), '--model', args.model], steps)
+    return data, bundle, offline
+
+
+def live_episodes(work: Path, bundle: Path, args) -> tuple[list[dict], dict]:
+    """Every texture identified `--episodes` times through identify_node; (episodes, probe)."""
+    from tactex.demo.pipeline import DEFAULT, Demo, demo_environment
+    from tactex_msgs.action import Identify
+    from tactex_sim.textures import TEXTURES
+    folder = work / 'live'
+    folder.mkdir(parents=True, exist_ok=True)
+    sizes = replace(DEFAULT, probe_span_m=args.span)
+    episodes = []
+    with demo_environment(folder):
+        demo = Demo(folder, folder, sizes, time.monotonic())
+        with demo.system('identify', identify=(bundle, MOVEMENTS)) as (client, alive):
+            probe = demo.probe(client, alive)
+            for texture in TEXTURES:
+                client.set_texture(texture, alive)
+                for episode in range(args.episodes):
+                    goal = Identify.Goal(policy='active', threshold=0.99,
+                                         budget_movements=args.budget_movements,
+                                         seed=episode)
+                    began = time.monotonic()
+                    status, result = client.identify(goal, GOAL_TIMEOUT_S,
+                                                     f'identify {texture}', alive)
+                    row = {'truth': texture, 'status': int(status), 'answer': result.texture,
+                           'leader': result.class_names[int(np.argmax(result.probabilities))]
+                           if len(result.probabilities) else '',
+                           'movements': list(result.movements),
+                           'windows': [int(w) for w in result.windows],
+                           'contact_s': result.contact_seconds,
+                           'wall_s': time.monotonic() - began,
+                           'stop_reason': result.stop_reason, 'message': result.message}
+                    episodes.append(row)
+                    demo.say(f'  {texture}: {row["answer"] or "undecided"} (leader '
+                             f'{row["leader"]}) after {len(row["movements"])} movements '
+                             f'{", ".join(row["movements"])}, {row["contact_s"]:.1f} s in '
+                             f'contact, {row["wall_s"]:.0f} s {row["message"]}')
+    return episodes, {'points': probe['points'], 'contacts': len(probe['pathway'].contacts),
+                      'normal_error_deg': float(np.mean(probe['normal_deg'])),
+                      'position_error_mm': float(np.mean(probe['position_mm']))}
+
+
+def summary(episodes: list[dict]) -> dict:
+    """Accuracy (decided and right), the leader's accuracy, movements and seconds."""
+    right = [e['answer'] == e['truth'] for e in episodes]
+    leader = [e['leader'] == e['truth'] for e in episodes]
+    contact = np.array([e['contact_s'] for e in episodes])
+    movements = np.array([len(e['movements']) for e in episodes])
+    return {'episodes': len(episodes), 'accuracy': float(np.mean(right)),
+            'leader_accuracy': float(np.mean(leader)),
+            'decided': float(np.mean([bool(e['answer']) for e in episodes])),
+            'median_movements': float(np.median(movements)),
+            'median_contact_s': float(np.median(contact)),
+            'p90_contact_s': float(np.percentile(contact, 90)),
+            'median_wall_s': float(np.median([e['wall_s'] for e in episodes])),
+            'failed': sum(e['status'] != 4 for e in episodes)}
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument('--sweeps', type=int, default=5, help='per texture and movement')
+    parser.add_argument('--seed', type=int, default=2029, help='scene seed (no test uses it)')
+    parser.add_argument('--model', default='minirocket')
+    parser.add_argument('--span', type=float, default=0.16,
+                        help='probed pathway, m (the fastest movement needs 150 mm)')
+    parser.add_argument('--episodes', type=int, default=1, help='Identify goals per texture')
+    parser.add_argument('--budget-movements', type=int, default=8)
+    parser.add_argument('--offline-seeds', type=int, default=10)
+    parser.add_argument('--work', type=Path, required=True, help='bags, data, bundle, logs')
+    args = parser.parse_args()
+    steps: list[dict] = []
+    data, bundle, offline = prepared(args.work, args, steps)
+    live = args.work / 'live' / 'episodes.json'
+    if not live.is_file():
+        began = time.monotonic()
+        episodes, probe = live_episodes(args.work, bundle, args)
+        live.write_text(json.dumps({'episodes': episodes, 'probe': probe,
+                                    'seconds': time.monotonic() - began}))
+    kept_live = json.loads(live.read_text())
+    episodes, probe = kept_live['episodes'], kept_live['probe']
+    offline_report = json.loads((offline / 'identification.json').read_text())
+    active = offline_report['policies']['active']
+    kept = {'scene_seed': args.seed, 'sweeps_per_texture_and_movement': args.sweeps,
+            'model': args.model, 'span_m': args.span, 'probe': probe,
+            'budget_movements': args.budget_movements,
+            'live': summary(episodes), 'live_seconds': kept_live['seconds'],
+            'offline_active': {key: active[key] for key in (
+                'accuracy', 'median_contact_s', 'p90_contact_s', 'median_movements')},
+            'offline_accuracy_after_budget': active['accuracy_after_k'][
+                min(args.budget_movements, len(active['accuracy_after_k'])) - 1],
+            'offline_episodes': offline_report['episodes'],
+            'episodes': episodes, 'steps': steps}
+    RESULTS.write_text(json.dumps(kept, indent=1) + '\n', encoding='utf-8')
+    print(json.dumps({k: kept[k] for k in ('live', 'offline_active', 'probe')}, indent=1))
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())
