@@ -22,7 +22,7 @@ import sys
 import textwrap
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))  # the result modules beside it
-from results_identification import identification  # noqa: E402
+from results_identification import identification, identify_live  # noqa: E402
 from results_learning import (  # noqa: E402
     architectures,
     channels,
@@ -71,7 +71,8 @@ SECTIONS: dict[str, Callable[[], str]] = {
     'sensor_stats': sensor_stats, 'channels': channels, 'profiles': profiles,
     'architectures': architectures, 'window_voting': window_voting,
     'sim_to_real': sim_to_real, 'learning_curves': learning_curves,
-    'recordings': recordings, 'predict_play': predict_play, 'identification': identification}
+    'recordings': recordings, 'predict_play': predict_play, 'identification': identification,
+    'identify_live': identify_live}
 
 
 def _wrapped(text: str) -> str:

@@ -64,3 +64,41 @@ def identification() -> str:
         f'per texture and movement, {widest["stacked_ms"][1]:.2f} ms with '
         f'{widest["sweeps_per_cell"]} (target {choice["target_ms"]:g} ms); the same gain '
         f'computed movement by movement took {looped:.0f}x longer.\n')
+
+
+def identify_live() -> str:
+    kept = kept_json('identify_live.json')
+    live, offline, probe = kept['live'], kept['offline_active'], kept['probe']
+    textures = sorted({episode['truth'] for episode in kept['episodes']})
+    minutes = kept['live_seconds'] / 60
+    rows = ['| | accuracy | decided | median movements | median contact (s) | p90 contact (s) |',
+            '|---|---|---|---|---|---|',
+            f'| live, identify_node | {100 * live["accuracy"]:.1f} % '
+            f'(leader {100 * live["leader_accuracy"]:.1f} %) | {100 * live["decided"]:.0f} % | '
+            f'{live["median_movements"]:.0f} | {live["median_contact_s"]:.1f} | '
+            f'{live["p90_contact_s"]:.1f} |',
+            f'| offline replay, active | {100 * offline["accuracy"]:.1f} % | | '
+            f'{offline["median_movements"]:.0f} | {offline["median_contact_s"]:.1f} | '
+            f'{offline["p90_contact_s"]:.1f} |']
+    chosen: dict[str, int] = {}
+    for episode in kept['episodes']:
+        for name in episode['movements']:
+            chosen[name] = chosen.get(name, 0) + 1
+    return (
+        f'Measured live (`python bench/bench_identify_live.py --work DIR`, {minutes:.0f} min '
+        f'of live identification): a bundle of {kept["model"]} per movement trained on '
+        f'{len(textures)} textures x 8 movements x {kept["sweeps_per_texture_and_movement"]} '
+        f'simulated sweeps (scene seed {kept["scene_seed"]}, which no test uses); the system '
+        f'launched in simulation, {probe["points"]} probes asked along '
+        f'{1e3 * kept["span_m"]:.0f} mm of which {probe["contacts"]} gave a contact (the '
+        f'pathway), then {live["episodes"]} Identify goals (active, '
+        f'threshold 0.99, at most {kept["budget_movements"]} movements), one per texture; '
+        f'{live["failed"]} failed. Beside it, `tactex report identification` on the same '
+        f'dataset with the same model and policy ({kept["offline_episodes"]} held-out '
+        f'episodes, 2 folds):\n\n' + '\n'.join(rows)
+        + f'\n\nOffline, active was {100 * kept["offline_accuracy_after_budget"]:.1f} % right '
+        f'after {kept["budget_movements"]} movements, the live budget. '
+        f'A live goal took a median {live["median_wall_s"]:.0f} s of wall time (the arm '
+        'travels between sweeps). Movements the live goals ran: '
+        + ', '.join(f'{name} {count}' for name, count in
+                    sorted(chosen.items(), key=lambda kv: -kv[1])) + '.\n')
