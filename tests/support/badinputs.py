@@ -451,6 +451,8 @@ BAD_INPUTS = {
         Case('sweep --pathway {w}/text.txt', '--pathway .*text.txt: .*give a file probe_node '
              'wrote'),
         Case('sweep --trial -1', 'argument --trial: must be a whole number'),
+        Case('sweep --movement fast.light', 'argument --movement: must start with a letter '
+             'and hold only letters'),
         Case('sweep --namespace nowhere --server-timeout 1', 'no sweep action server on '
              r'/nowhere/sweep within 1 s'),
     ],

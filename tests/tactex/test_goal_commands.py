@@ -18,6 +18,7 @@ import pytest
 from support.processes import running_nodes, stop, tactex, wait_for
 
 from tactex.launching.environment import ros_environment
+from tactex_classify.data.bags import read_recording
 
 pytestmark = [pytest.mark.integration, pytest.mark.ros, pytest.mark.slow]
 BIN = Path(sys.executable).parent
@@ -91,7 +92,8 @@ def test_probe_shows_progress_prints_each_contact_and_scores_them(probed, system
 
 def test_sweep_slides_along_the_probed_pathway_and_records_it(probed, system):
     assert probed[0].returncode == 0
-    run = tactex('sweep', '--namespace', 'left', '--label', 'wood', '--trial', '7', '--record')
+    run = tactex('sweep', '--namespace', 'left', '--label', 'wood', '--trial', '7', '--record',
+                 '--movement', 'default')
     assert run.returncode == 0, run.stdout + run.stderr + (system / 'sweep.log').read_text()
     assert run.stdout.startswith('sweep goal succeeded\n')
     contact = float(run.stdout.split('in contact ')[1].split()[0])
@@ -99,6 +101,7 @@ def test_sweep_slides_along_the_probed_pathway_and_records_it(probed, system):
     assert contact > 75 and abs(speed - 15.0) < 3.0, run.stdout
     recording = Path(run.stdout.split('recorded to ')[1].split()[0])
     assert recording.parent == system / 'recordings' and recording.name.startswith('wood_0007')
+    assert read_recording(recording).metadata['movement'] == 'default'
     assert 'in contact' in run.stderr and '100/100 %' in run.stderr
 
 

@@ -128,7 +128,7 @@ def test_sweep_slides_in_contact_and_records_one_labelled_bag(harness):
     from action_msgs.msg import GoalStatus
     handle = harness.send(pathway=pathway_message(0.10, 0.17), sliding_speed=0.015,
                           edge_offset_angle=0.5, press_depth=0.0015, label='wood', trial=7,
-                          record=True)
+                          record=True, movement='default')
     assert handle.accepted
     outcome = wait(handle.get_result_async(), 240)
     result = outcome.result
@@ -145,6 +145,7 @@ def test_sweep_slides_in_contact_and_records_one_labelled_bag(harness):
     assert metadata['sweep']['sliding_speed_m_s'] == 0.015
     recording = read_recording(result.recording_path)
     assert recording.metadata['label'] == 'wood' and recording.metadata['trial'] == 7
+    assert recording.metadata['movement'] == 'default'  # identification trains on it
     assert len(recording.stamps_ns) > 100
 
 

@@ -55,6 +55,7 @@ from tactex_common.serving import goal_pathway, OneGoal
 from tactex_common.stamps import stamp_ns
 from tactex_common.ticks import Ticks
 from tactex_description.geometry import ARM_JOINT_NAMES
+from tactex_description.movements import NAME as MOVEMENT_NAME
 from tactex_msgs.action import Sweep
 from tactex_msgs.msg import Contact, Pathway
 from tactex_probe.messages import contact_arrays
@@ -298,6 +299,9 @@ class SweepNode(TactexNode):
         return 'succeed', ''
 
     def _plan(self, goal) -> SweepPlan:
+        if goal.movement and not MOVEMENT_NAME.match(goal.movement):
+            raise ValueError(f'movement must start with a letter and hold only letters, '
+                             f'digits, _ and - (at most 64), got {goal.movement!r}')
         for name in ('sliding_speed', 'edge_offset_angle', 'press_depth'):
             if not math.isfinite(getattr(goal, name)):
                 raise ValueError(f'{name} must be finite, got {getattr(goal, name)!r}')
@@ -328,6 +332,7 @@ class SweepNode(TactexNode):
     def _metadata(self, goal, plan: SweepPlan) -> dict:
         settings = plan.settings
         return {'label': goal.label, 'trial': int(goal.trial), 'surface': self._surface,
+                **({'movement': goal.movement} if goal.movement else {}),
                 'source': 'tactex_trajectory', 'sweep': {
                     'sliding_speed_m_s': settings.sliding_speed_m_s,
                     'edge_offset_rad': settings.pose.edge_offset_rad,

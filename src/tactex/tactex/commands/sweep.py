@@ -40,9 +40,22 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help='texture label written to the recording (default unknown)')
     parser.add_argument('--trial', type=trial_id, default=0, metavar='N',
                         help='trial number written to the recording (groups its windows)')
+    parser.add_argument('--movement', type=movement_name, metavar='NAME',
+                        help='the movement (config/movements.yaml) this sweep makes, written '
+                             'to the recording so that it can train identification; set '
+                             '--speed, --press-depth and --edge-offset to its values')
     parser.add_argument('--record', action='store_true',
                         help="record the sweep to a bag under sweep_node's recording_root")
     add_goal_options(parser, 'sweep_node')
+
+
+def movement_name(text: str) -> str:
+    """A movement's name as movement files spell it (argparse type)."""
+    from tactex_description.movements import NAME
+    if not NAME.match(text):
+        raise argparse.ArgumentTypeError(f'must start with a letter and hold only letters, '
+                                         f'digits, _ and - (at most 64), got {text!r}')
+    return text
 
 
 def pathway_of(path: Path):
@@ -91,7 +104,7 @@ def run(args: argparse.Namespace) -> int:
     from tactex_msgs.action import Sweep
     goal = Sweep.Goal(sliding_speed=args.speed, edge_offset_angle=args.edge_offset,
                       press_depth=args.press_depth, label=args.label, trial=args.trial,
-                      record=args.record)
+                      record=args.record, movement=args.movement or '')
     if args.pathway is not None:
         goal.pathway = pathway_of(args.pathway)
     action = namespaced(args.namespace, topics.SWEEP_ACTION)

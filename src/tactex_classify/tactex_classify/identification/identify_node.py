@@ -241,7 +241,8 @@ class IdentifyNode(TactexNode):
             outcome, message, sweep_result, windows = await self._swept(goal_handle, Sweep.Goal(
                 pathway=part_message(pathway, part_points, part_normals),
                 sliding_speed=movement.speed_m_s, edge_offset_angle=movement.edge_tilt_rad,
-                press_depth=movement.press_depth_m, label='', trial=0, record=False))
+                press_depth=movement.press_depth_m, label='', trial=0, record=False,
+                movement=movement.name))
             if sweep_result is not None:
                 result.contact_seconds += contact_seconds(sweep_result)
             if outcome != 'succeed':
