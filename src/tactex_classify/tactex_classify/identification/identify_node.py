@@ -235,6 +235,8 @@ class IdentifyNode(TactexNode):
                              f'long; the shortest movement needs {1e3 * shortest:.0f} mm (its '
                              'contact and speed ramps): probe a longer pathway')
         while (index := identification.next_movement(available)) is not None:
+            if goal_handle.is_cancel_requested:  # asked between two sweeps
+                return 'cancel', 'canceled between movements'
             movement = movements[index]
             part_points, part_normals = movement_part(points, normals, movement, ramps)
             self._state = f'sweeping {movement.name} ({len(result.movements) + 1})'
