@@ -2,20 +2,23 @@
 # SPDX-License-Identifier: Apache-2.0
 """Active identification live in simulation, beside the offline replay of the same data.
 
-1. `tactex sim collect --movements config/movements.yaml` on a scene seed no test uses
-   (12 textures x 8 movements x `--sweeps`), `tactex convert` at the movements' window;
-2. `tactex train --movements`: the bundle (one MiniRocket per movement, calibrated);
-3. offline: `tactex report identification` on the same dataset, same model, same policy;
-4. live: `launch/system.launch.py sim:=true bundle:=...` through the launcher (as `tactex
-   demo` starts it), a pathway probed along `--span`, then for every texture (the
-   bridge's patch_texture) `--episodes` Identify goals (active, threshold 0.99) through
-   identify_node, which chooses movements and drives sweep_node.
+Training sweeps (`--training`):
+- `collect`: `tactex sim collect --movements config/movements.yaml` on a scene seed no
+  test uses (12 textures x 8 movements x `--sweeps`), the sensor driven along the plate;
+- `sweeps`: the system launched in simulation, a pathway probed along `--span`, and every
+  texture (the bridge's patch_texture) swept `--sweeps` times under each movement the
+  pathway holds, through the sweep action on the movement's part of the pathway, recorded
+  with the movement's name: the way identify_node sweeps. The movement file is cut to
+  those movements (work/movements.yaml).
+Then `tactex convert` at the movements' window, `tactex train --movements` (the bundle,
+one `--model` per movement, calibrated), the offline `tactex report identification` on the
+same dataset, model and policy, and live: the system launched with `bundle:=...`, then for
+every texture `--episodes` Identify goals (active, threshold 0.99) on the probed pathway.
 
-Keeps bench/results/identify_live.json: every live episode (truth, answer, movements,
-contact and wall seconds), the live summary (accuracy, median movements and contact
-seconds) beside the offline report's active row, and the commands with their seconds.
-`--work DIR` keeps (and reuses) the bags, dataset, bundle, offline report and live
-episodes (live/episodes.json).
+Keeps bench/results/identify_live.json (or identify_live_sweeps.json): every live episode
+(truth, answer, movements, contact and wall seconds), the live summary beside the offline
+report's active row, and the commands with their seconds. `--work DIR` keeps (and
+reuses) the bags, dataset, bundle, offline report and live episodes (live/episodes.json).
 """
 
 import argparse
@@ -25,37 +28,97 @@ from pathlib import Path
 import sys
 import time
 
+from action_msgs.msg import GoalStatus
 from bench_textures import TACTEX, timed  # one way to run and time a tactex step
 import numpy as np
+import yaml
 
 RESULTS = Path(__file__).parent / 'results' / 'identify_live.json'
 MOVEMENTS = Path(__file__).parents[1] / 'config' / 'movements.yaml'
 GOAL_TIMEOUT_S = 1800.0
 
 
-def prepared(work: Path, args, steps: list[dict]) -> tuple[Path, Path, Path]:
-    """(dataset, bundle, offline report folder), each made unless `work` holds it."""
-    bags, data = work / 'bags', work / 'data.npz'
-    if not data.is_file():
-        if not bags.is_dir():
+def ramp_acceleration() -> float:
+    """The sweep node's ramp acceleration (config/sweep.yaml), which movement parts allow for."""
+    config = yaml.safe_load((MOVEMENTS.parent / 'sweep.yaml').read_text(encoding='utf-8'))
+    return float(config['/**/sweep_node']['ros__parameters']['ramp_acceleration'])
+
+
+def recorded_through_sweeps(work: Path, args) -> tuple[Path, Path]:
+    """(bags, movement file): every texture swept under each movement the pathway holds."""
+    from tactex.demo.pipeline import DEFAULT, Demo, demo_environment
+    from tactex_classify.identification.movement_goals import movement_goal, probed_arrays
+    from tactex_classify.identification.pathway_part import holds
+    from tactex_description.movements import load_movements
+    from tactex_sim.textures import TEXTURES
+    folder, movements_file = work / 'sweeps', work / 'movements.yaml'
+    folder.mkdir(parents=True, exist_ok=True)
+    ramps, every = ramp_acceleration(), load_movements(MOVEMENTS)
+    with demo_environment(folder):
+        demo = Demo(folder, folder, replace(DEFAULT, probe_span_m=args.span), time.monotonic())
+        with demo.system('record') as (client, alive):
+            pathway = demo.probe(client, alive)['pathway']
+            points, _ = probed_arrays(pathway)
+            fitting = [m for m in every.movements if holds(points, m, ramps)]
+            movements_file.write_text(yaml.safe_dump({'window': every.window, 'movements': [
+                {'name': m.name, 'speed': m.speed_m_s, 'press_depth': m.press_depth_m,
+                 'edge_tilt': m.edge_tilt_rad, 'direction': m.direction,
+                 'contact_length': m.contact_length_m} for m in fitting]}, sort_keys=False))
+            trial = 0
+            for texture in list(TEXTURES)[:args.textures]:
+                client.set_texture(texture, alive)
+                for movement in fitting:
+                    for _ in range(args.sweeps):
+                        for _attempt in range(2):  # an aborted sweep is tried once more
+                            status, result = client.send_sweep(
+                                movement_goal(pathway, movement, ramps, label=texture,
+                                              trial=trial, record=True),
+                                GOAL_TIMEOUT_S, f'sweep {trial} ({texture})', alive)
+                            if status == GoalStatus.STATUS_SUCCEEDED:
+                                break
+                            demo.say(f'  sweep {trial} ({texture}, {movement.name}): '
+                                     f'{result.message}')
+                        trial += 1
+                demo.say(f'  {texture}: {len(fitting)} movements x {args.sweeps} sweeps')
+    return folder / 'bags', movements_file
+
+
+def prepared(work: Path, args, steps: list[dict]) -> tuple[Path, Path, Path, Path]:
+    """(dataset, bundle, offline report folder, movement file), made unless `work` holds them."""
+    data, movements = work / 'data.npz', MOVEMENTS
+    if args.training == 'sweeps':
+        movements = work / 'movements.yaml'
+        bags = work / 'sweeps' / 'bags'
+        if not data.is_file() and not bags.is_dir():
+            began = time.monotonic()
+            bags, movements = recorded_through_sweeps(work, args)
+            steps.append({'command': 'sweeps through the sweep action (recorded_through_sweeps)',
+                          'seconds': time.monotonic() - began})
+    else:
+        bags = work / 'bags'
+        if not data.is_file() and not bags.is_dir():
             timed([TACTEX, 'sim', 'collect', '--movements', str(MOVEMENTS), '--sweeps',
                    str(args.sweeps), '--seed', str(args.seed), '--workers', '2', '--out',
                    str(bags)], steps)
+    if not data.is_file():
         timed([TACTEX, 'convert', str(bags), '--out', str(data), '--window', '128'], steps)
     bundle = work / 'run' / 'bundle'
     if not (bundle / 'bundle.json').is_file():
-        timed([TACTEX, 'train', str(data), '--movements', str(MOVEMENTS), '--model',
-               args.model, '--out', str(work / 'run')], steps)
+        # Through the sweep action there are fewer sweeps per cell: fewer folds.
+        folds = ['--folds', str(max(2, min(3, args.sweeps)))] if args.training == 'sweeps' \
+            else []
+        timed([TACTEX, 'train', str(data), '--movements', str(movements), '--model',
+               args.model, *folds, '--out', str(work / 'run')], steps)
     offline = work / 'offline'
     if not (offline / 'identification.json').is_file():
         timed([TACTEX, 'report', 'identification', str(data), '--out', str(offline),
-               '--movements', str(MOVEMENTS), '--policies', 'active', '--folds', '2',
+               '--movements', str(movements), '--policies', 'active', '--folds', '2',
                '--inner-folds', '2',
                '--seeds', str(args.offline_seeds), '--model', args.model], steps)
-    return data, bundle, offline
+    return data, bundle, offline, movements
 
 
-def live_episodes(work: Path, bundle: Path, args) -> tuple[list[dict], dict]:
+def live_episodes(work: Path, bundle: Path, movements: Path, args) -> tuple[list[dict], dict]:
     """Every texture identified `--episodes` times through identify_node; (episodes, probe)."""
     from tactex.demo.pipeline import DEFAULT, Demo, demo_environment
     from tactex_msgs.action import Identify
@@ -66,9 +129,9 @@ def live_episodes(work: Path, bundle: Path, args) -> tuple[list[dict], dict]:
     episodes = []
     with demo_environment(folder):
         demo = Demo(folder, folder, sizes, time.monotonic())
-        with demo.system('identify', identify=(bundle, MOVEMENTS)) as (client, alive):
+        with demo.system('identify', identify=(bundle, movements)) as (client, alive):
             probe = demo.probe(client, alive)
-            for texture in TEXTURES:
+            for texture in list(TEXTURES)[:args.textures]:
                 client.set_texture(texture, alive)
                 for episode in range(args.episodes):
                     goal = Identify.Goal(policy='active', threshold=0.99,
@@ -108,7 +171,7 @@ def summary(episodes: list[dict]) -> dict:
             'median_contact_s': float(np.median(contact)),
             'p90_contact_s': float(np.percentile(contact, 90)),
             'median_wall_s': float(np.median([e['wall_s'] for e in episodes])),
-            'failed': sum(e['status'] != 4 for e in episodes)}
+            'failed': sum(e['status'] != GoalStatus.STATUS_SUCCEEDED for e in episodes)}
 
 
 def main() -> int:
@@ -121,14 +184,17 @@ def main() -> int:
     parser.add_argument('--episodes', type=int, default=1, help='Identify goals per texture')
     parser.add_argument('--budget-movements', type=int, default=8)
     parser.add_argument('--offline-seeds', type=int, default=10)
+    parser.add_argument('--training', choices=('collect', 'sweeps'), default='collect',
+                        help='training sweeps from sim collect, or through the sweep action')
+    parser.add_argument('--textures', type=int, default=12, help='the first N textures')
     parser.add_argument('--work', type=Path, required=True, help='bags, data, bundle, logs')
     args = parser.parse_args()
     steps: list[dict] = []
-    data, bundle, offline = prepared(args.work, args, steps)
+    data, bundle, offline, movements = prepared(args.work, args, steps)
     live = args.work / 'live' / 'episodes.json'
     if not live.is_file():
         began = time.monotonic()
-        episodes, probe = live_episodes(args.work, bundle, args)
+        episodes, probe = live_episodes(args.work, bundle, movements, args)
         live.write_text(json.dumps({'episodes': episodes, 'probe': probe,
                                     'seconds': time.monotonic() - began}))
     kept_live = json.loads(live.read_text())
@@ -145,7 +211,12 @@ def main() -> int:
                 min(args.budget_movements, len(active['accuracy_after_k'])) - 1],
             'offline_episodes': offline_report['episodes'],
             'episodes': episodes, 'steps': steps}
-    RESULTS.write_text(json.dumps(kept, indent=1) + '\n', encoding='utf-8')
+    kept['training'] = args.training
+    kept['movements'] = [row['name'] for row in
+                         yaml.safe_load(Path(movements).read_text())['movements']]
+    results = RESULTS if args.training == 'collect' else RESULTS.with_name(
+        'identify_live_sweeps.json')
+    results.write_text(json.dumps(kept, indent=1) + '\n', encoding='utf-8')
     print(json.dumps({k: kept[k] for k in ('live', 'offline_active', 'probe')}, indent=1))
     return 0
 

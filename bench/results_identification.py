@@ -67,10 +67,22 @@ def identification() -> str:
 
 
 def identify_live() -> str:
-    kept = kept_json('identify_live.json')
+    return _live_section('identify_live.json', '--work DIR')
+
+
+def _live_section(name: str, options: str) -> str:
+    kept = kept_json(name)
     live, offline, probe = kept['live'], kept['offline_active'], kept['probe']
     textures = sorted({episode['truth'] for episode in kept['episodes']})
+    movements = kept.get('movements', ['8'] * 8)
     minutes = kept['live_seconds'] / 60
+    sweeps = kept['sweeps_per_texture_and_movement']
+    trained_on = (f'{len(textures)} textures x {len(movements)} movements x {sweeps} sweeps '
+                  'recorded through the sweep action on their parts of the probed pathway, '
+                  f'the way identify_node sweeps ({", ".join(movements)}: those the pathway '
+                  'holds)' if kept.get('training') == 'sweeps' else
+                  f'{len(textures)} textures x {len(movements)} movements x {sweeps} '
+                  f'`sim collect` sweeps (scene seed {kept["scene_seed"]}, which no test uses)')
     rows = ['| | accuracy | decided | median movements | median contact (s) | p90 contact (s) |',
             '|---|---|---|---|---|---|',
             f'| live, identify_node | {100 * live["accuracy"]:.1f} % '
@@ -82,23 +94,21 @@ def identify_live() -> str:
             f'{offline["p90_contact_s"]:.1f} |']
     chosen: dict[str, int] = {}
     for episode in kept['episodes']:
-        for name in episode['movements']:
-            chosen[name] = chosen.get(name, 0) + 1
+        for movement in episode['movements']:
+            chosen[movement] = chosen.get(movement, 0) + 1
     return (
-        f'Measured live (`python bench/bench_identify_live.py --work DIR`, {minutes:.0f} min '
+        f'Measured live (`python bench/bench_identify_live.py {options}`, {minutes:.0f} min '
         f'of live identification): a bundle of {kept["model"]} per movement trained on '
-        f'{len(textures)} textures x 8 movements x {kept["sweeps_per_texture_and_movement"]} '
-        f'simulated sweeps (scene seed {kept["scene_seed"]}, which no test uses); the system '
-        f'launched in simulation, {probe["points"]} probes asked along '
-        f'{1e3 * kept["span_m"]:.0f} mm of which {probe["contacts"]} gave a contact (the '
-        f'pathway), then {live["episodes"]} Identify goals (active, '
-        f'threshold 0.99, at most {kept["budget_movements"]} movements), one per texture; '
-        f'{live["failed"]} failed. Beside it, `tactex report identification` on the same '
-        f'dataset with the same model and policy ({kept["offline_episodes"]} held-out '
-        f'episodes, 2 folds):\n\n' + '\n'.join(rows)
+        f'{trained_on}; the system launched in simulation, {probe["points"]} probes asked '
+        f'along {1e3 * kept["span_m"]:.0f} mm of which {probe["contacts"]} gave a contact '
+        f'(the pathway), then {live["episodes"]} Identify goals (active, threshold 0.99, at '
+        f'most {kept["budget_movements"]} movements), one per texture; {live["failed"]} '
+        'failed. Beside it, `tactex report identification` on the same dataset with the '
+        f'same model and policy ({kept["offline_episodes"]} held-out episodes, 2 folds):\n\n'
+        + '\n'.join(rows)
         + f'\n\nOffline, active was {100 * kept["offline_accuracy_after_budget"]:.1f} % right '
         f'after {kept["budget_movements"]} movements, the live budget. '
         f'A live goal took a median {live["median_wall_s"]:.0f} s of wall time (the arm '
         'travels between sweeps). Movements the live goals ran: '
-        + ', '.join(f'{name} {count}' for name, count in
+        + ', '.join(f'{movement} {count}' for movement, count in
                     sorted(chosen.items(), key=lambda kv: -kv[1])) + '.\n')

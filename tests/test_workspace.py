@@ -40,6 +40,7 @@ ROS_FACING = frozenset({
     'tactex_common.ticks',
     'tactex_classify.online.classifier_node',
     'tactex_classify.identification.identify_node',
+    'tactex_classify.identification.movement_goals',
     'tactex_classify.online.tactile_topics',
     'tactex_classify.recording.recorder_node',
     'tactex_driver.arm_driver_node',

@@ -44,6 +44,8 @@ def system(tmp_path_factory):
                   f'recording_root:={folder / "recordings"}'],
     }
     with running_nodes(commands, folder):
+        # `probe --score` asks the bridge for its scene: wait until MuJoCo is loaded.
+        assert wait_for(lambda: 'rate factor' in (folder / 'bridge.log').read_text(), 120)
         yield folder
 
 

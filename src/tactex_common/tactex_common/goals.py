@@ -57,27 +57,34 @@ class GoalSender:
 
     def answer(self, goal, feedback_callback=None, *, answer_s: float, timeout_s: float,
                alive: Callable[[], bool] = lambda: True) -> ClientGoalHandle | None:
-        """Send `goal` until a copy is answered; that answer, None after `timeout_s`.
+        """Send `goal` until a copy is accepted, or every copy sent is refused; that answer.
 
-        A copy is sent every `answer_s` while none was answered (its request or its answer
-        lost in discovery); whichever copy is answered first wins, the others are
-        forgotten. None also when `alive()` turns false.
+        A copy is sent every `answer_s` while one is unanswered (its request or its answer
+        lost in discovery). An accepted copy wins; a refusal is the answer only once every
+        copy sent was refused: a later copy is refused while an earlier one, whose answer
+        was lost, runs, and that one's status may still arrive. The others are forgotten.
+        None after `timeout_s` without an answer, or when `alive()` turns false.
         """
         deadline = time.monotonic() + timeout_s
         copies: list[Future] = []
-        while time.monotonic() < deadline and alive():
-            copies.append(self.send_goal_async(goal, feedback_callback=feedback_callback))
-            resend_at = min(deadline, time.monotonic() + answer_s)
-            while time.monotonic() < resend_at and alive():
-                answered = next((copy for copy in copies if copy.done()), None)
-                if answered is not None:
-                    for copy in copies:
-                        self.forget(copy)
-                    return answered.result()
+        resend_at = time.monotonic()
+        try:
+            while time.monotonic() < deadline and alive():
+                if time.monotonic() >= resend_at:
+                    copies.append(self.send_goal_async(goal,
+                                                       feedback_callback=feedback_callback))
+                    resend_at = min(deadline, time.monotonic() + answer_s)
+                answered = [copy.result() for copy in copies if copy.done()]
+                accepted = next((handle for handle in answered if handle.accepted), None)
+                if accepted is not None:
+                    return accepted
+                if len(answered) == len(copies):  # every copy refused
+                    return answered[0]
                 time.sleep(POLL_S)
-        for copy in copies:
-            self.forget(copy)
-        return None
+            return None
+        finally:
+            for copy in copies:
+                self.forget(copy)
 
     def forget(self, answer: Future) -> None:
         """Stop waiting for `answer` (its goal was given up as unanswered)."""

@@ -240,6 +240,11 @@ class SystemClient:
         with self._lock:
             return result, self._pathway, self._contacts
 
+    def send_sweep(self, goal: Sweep.Goal, timeout_s: float, what: str, alive=lambda: True):
+        """Send a Sweep goal made elsewhere (e.g. a movement's part); (status code, result)."""
+        answer = self._send(self._sweep, goal, timeout_s, what, alive)
+        return answer.status, answer.result
+
     def identify(self, goal: Identify.Goal, timeout_s: float, what: str, alive=lambda: True):
         """Send an Identify goal; (its status code, its result)."""
         answer = self._send(self._identify, goal, timeout_s, what, alive)

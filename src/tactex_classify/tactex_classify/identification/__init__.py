@@ -2,8 +2,8 @@
 # SPDX-License-Identifier: Apache-2.0
 """Active identification: choose each next movement to tell the remaining textures apart.
 
-The belief and the choice are pure numpy, apart from the one ROS adapter
-(`identify_node`, the `identify` action):
+The belief and the choice are pure numpy, apart from the ROS side (`movement_goals` and
+`identify_node`, the `identify` action):
 - `posterior`: the belief over textures in log space and its tempered update.
 - `evidence_table`: what each movement's sweeps tell, from out-of-fold probability
   vectors per (true texture, movement), and the expected information gain of each.
@@ -15,6 +15,7 @@ The belief and the choice are pure numpy, apart from the one ROS adapter
 - `offline`: every policy replayed on held-out recordings (nested, grouped folds).
 - `report`: identification.json, identification.md and their plots.
 - `pathway_part`: the part of a probed pathway one movement slides along.
+- `movement_goals`: the Sweep goal of one movement on a probed pathway (ROS messages).
 - `identify_node`: the node that runs the loop live, driving the sweep action.
 """
 

@@ -37,12 +37,8 @@ from tactex_classify.errors import ClassifyError
 from tactex_classify.identification.bundle import load_bundle
 from tactex_classify.identification.calibration import calibrated
 from tactex_classify.identification.movement_evidence import sweep_vector
-from tactex_classify.identification.pathway_part import (
-    holds,
-    movement_part,
-    part_length_m,
-    pathway_length,
-)
+from tactex_classify.identification.movement_goals import movement_goal, probed_arrays
+from tactex_classify.identification.pathway_part import holds, part_length_m, pathway_length
 from tactex_classify.identification.selection import Budget, DECIDED, Identification
 from tactex_classify.online.live import LiveSettings, LiveWindows, Window
 from tactex_classify.online.tactile_topics import ROLE_TOPICS, SENSOR_QUEUE
@@ -54,7 +50,7 @@ from tactex_common.stamps import stamp_ns
 from tactex_common.ticks import Ticks
 from tactex_description.movements import load_movements, MovementError
 from tactex_msgs.action import Identify, Sweep
-from tactex_msgs.msg import Contact, Pathway
+from tactex_msgs.msg import Pathway
 
 TICK_S = 0.05
 ANSWER_S = 5.0  # a Sweep goal unanswered this long is sent again (tactex_common.goals)
@@ -72,17 +68,6 @@ def _range(description: str, low: float, high: float) -> ParameterDescriptor:
     return ParameterDescriptor(description=description, read_only=True,
                                floating_point_range=[FloatingPointRange(from_value=low,
                                                                         to_value=high)])
-
-
-def part_message(pathway: Pathway, points: np.ndarray, normals: np.ndarray) -> Pathway:
-    """A Pathway of `points` and `normals` (contacts in order) with `pathway`'s header."""
-    part = Pathway(header=pathway.header)
-    for point, normal in zip(points.tolist(), normals.tolist(), strict=True):
-        contact = Contact(header=pathway.header, status=Contact.STATUS_OK, confidence=1.0)
-        contact.position.x, contact.position.y, contact.position.z = point
-        contact.normal.x, contact.normal.y, contact.normal.z = normal
-        part.contacts.append(contact)
-    return part
 
 
 def contact_seconds(result) -> float:
@@ -210,10 +195,7 @@ class IdentifyNode(TactexNode):
             ValueError: no pathway, or one in another frame.
         """
         pathway = goal_pathway(goal.pathway, self._pathway)
-        probed = [c for c in pathway.contacts if c.status == Contact.STATUS_OK]
-        points = np.array([[c.position.x, c.position.y, c.position.z] for c in probed])
-        normals = np.array([[c.normal.x, c.normal.y, c.normal.z] for c in probed])
-        return pathway, points.reshape(-1, 3), normals.reshape(-1, 3)
+        return (pathway, *probed_arrays(pathway))
 
     async def _identify(self, goal_handle, result: Identify.Result) -> tuple[str, str]:
         """Run the loop of one goal, filling `result`; (outcome, message)."""
@@ -238,13 +220,9 @@ class IdentifyNode(TactexNode):
             if goal_handle.is_cancel_requested:  # asked between two sweeps
                 return 'cancel', 'canceled between movements'
             movement = movements[index]
-            part_points, part_normals = movement_part(points, normals, movement, ramps)
             self._state = f'sweeping {movement.name} ({len(result.movements) + 1})'
-            outcome, message, sweep_result, windows = await self._swept(goal_handle, Sweep.Goal(
-                pathway=part_message(pathway, part_points, part_normals),
-                sliding_speed=movement.speed_m_s, edge_offset_angle=movement.edge_tilt_rad,
-                press_depth=movement.press_depth_m, label='', trial=0, record=False,
-                movement=movement.name))
+            outcome, message, sweep_result, windows = await self._swept(
+                goal_handle, movement_goal(pathway, movement, ramps))
             if sweep_result is not None:
                 result.contact_seconds += contact_seconds(sweep_result)
             if outcome != 'succeed':
