@@ -40,6 +40,7 @@ from tactex_classify.identification.movement_evidence import sweep_vector
 from tactex_classify.identification.movement_goals import movement_goal, probed_arrays
 from tactex_classify.identification.pathway_part import holds, part_length_m, pathway_length
 from tactex_classify.identification.selection import Budget, DECIDED, Identification
+from tactex_classify.online.evidence import union_seconds
 from tactex_classify.online.live import LiveSettings, LiveWindows, Window
 from tactex_classify.online.tactile_topics import ROLE_TOPICS, SENSOR_QUEUE
 from tactex_common import topics
@@ -71,9 +72,9 @@ def _range(description: str, low: float, high: float) -> ParameterDescriptor:
 
 
 def contact_seconds(result) -> float:
-    """Seconds in contact of a Sweep result: the sum of its contact spans."""
-    return sum(max(0, stamp_ns(end) - stamp_ns(start)) for start, end in
-               zip(result.contact_starts, result.contact_ends, strict=False)) * 1e-9
+    """Seconds in contact of a Sweep result: the union of its contact spans."""
+    return union_seconds([(stamp_ns(start), stamp_ns(end)) for start, end in
+                          zip(result.contact_starts, result.contact_ends, strict=False)])
 
 
 class IdentifyNode(TactexNode):
@@ -256,11 +257,11 @@ class IdentifyNode(TactexNode):
 
     def _rate_refusal(self) -> str:
         """Why the stream's rate does not fit the bundle's ('' when it does or is unknown)."""
-        measured, trained = self._windows.stream_rate_hz(), self._bundle.stream.sampling_rate_hz
-        if measured is None or abs(measured - trained) <= RATE_TOLERANCE * trained:
-            return ''
-        return (f'the tactile stream runs at {measured:.1f} Hz; the bundle was trained at '
-                f'{trained:g} Hz: set the sensor to its rate or train a bundle at this one')
+        measured = self._windows.stream_rate_hz()
+        lines = [] if measured is None else self._bundle.stream.mismatches(
+            sampling_rate_hz=measured, rate_tolerance=RATE_TOLERANCE)
+        return (f"{lines[0]}: set the sensor to the bundle's rate or train a bundle at this "
+                'one') if lines else ''
 
     async def _swept(self, goal_handle, sweep_goal: Sweep.Goal):
         """Run one sweep; (outcome, message, Sweep result or None, its windows)."""
