@@ -60,10 +60,14 @@ def separating(pair, classes, sure=0.9, sweeps=2):
     return rows
 
 
-def brute_force_gain(classes, movements, tempering, prior):
-    """The expected entropy lost by each movement, by enumeration with plain loops."""
+def brute_force_gain(classes, movements, tempering, prior, weights=None):
+    """The expected entropy lost by each movement, by enumeration with plain loops.
+
+    `weights`: per movement, the power its next sweep's update is raised to.
+    """
     gains = []
-    for mv in movements:
+    for index, mv in enumerate(movements):
+        power = 1.0 if weights is None else weights[index]
         q = np.clip(mv.probabilities, 1e-12, 1.0) ** tempering
         typical = [sum(np.mean([q[j][k] for j in range(len(q)) if mv.labels[j] == c])
                        for c in range(classes)) / classes for k in range(classes)]
@@ -72,8 +76,8 @@ def brute_force_gain(classes, movements, tempering, prior):
         for j in range(len(q)):
             texture = mv.labels[j]
             chance = prior[texture] / sum(1 for label in mv.labels if label == texture)
-            weights = [prior[k] * q[j][k] / typical[k] for k in range(classes)]
-            after = [w / sum(weights) for w in weights]
+            odds = [prior[k] * (q[j][k] / typical[k]) ** power for k in range(classes)]
+            after = [w / sum(odds) for w in odds]
             expected += chance * -sum(p * math.log(p) for p in after if p > 0)
         gains.append(start - expected)
     return np.array(gains)
@@ -88,6 +92,10 @@ def test_information_gain_matches_enumeration_for_three_textures_and_two_movemen
         table = EvidenceTable(names(3), movements, tempering)
         assert table.information_gain(np.log(prior)) == pytest.approx(
             brute_force_gain(3, movements, tempering, prior), abs=1e-12)
+        discounted = EvidenceTable(names(3), movements, tempering, repeat_discount=0.5)
+        assert discounted.information_gain(np.log(prior), repeats=[2, 1]) == pytest.approx(
+            brute_force_gain(3, movements, tempering, prior, weights=[1 / 2, 1 / 1.5]),
+            abs=1e-12)
 
 
 def test_a_movement_whose_outputs_ignore_the_texture_gains_nothing_and_moves_no_belief():
@@ -213,12 +221,51 @@ def test_fitted_tempering_is_near_one_for_calibrated_independent_sweeps_and_belo
     labels = np.repeat(np.arange(6), 30)
     movements = [MovementEvidence(f'm{m}', 1.0, gaussian_posteriors(labels, 1.0 + 0.5 * m, rng, 6),
                                   labels) for m in range(4)]
-    calibrated_tau = fit_tempering(names(6), movements)
+    calibrated_tau, discount = fit_tempering(names(6), movements)
     sharpened = [MovementEvidence(m.name, 1.0, m.probabilities ** 3 / np.sum(
         m.probabilities ** 3, axis=1, keepdims=True), labels) for m in movements]
-    assert 0.75 <= calibrated_tau <= 1.3
-    assert fit_tempering(names(6), sharpened) == pytest.approx(calibrated_tau / 3, rel=0.25)
-    assert fit_tempering(names(6), movements, seed=5) == pytest.approx(calibrated_tau, rel=0.25)
+    assert 0.75 <= calibrated_tau <= 1.3 and discount == 0.0  # independent: no discount
+    assert fit_tempering(names(6), sharpened).exponent == pytest.approx(calibrated_tau / 3,
+                                                                        rel=0.25)
+    assert fit_tempering(names(6), movements, seed=5).exponent == pytest.approx(calibrated_tau,
+                                                                                rel=0.25)
+
+
+def repeating(labels, rng, classes, *, movements: int, noise: float):
+    """Each movement's sweeps of a texture share one drawn mistake: repeats tell little new."""
+    evidence = []
+    for m in range(movements):
+        shared = rng.normal(0.0, 1.5, size=(classes, classes)) + 1.5 * np.eye(classes)
+        logits = shared[labels] + rng.normal(0.0, noise, size=(len(labels), classes))
+        probabilities = np.exp(logits - logits.max(axis=1, keepdims=True))
+        evidence.append(MovementEvidence(f'm{m}', 1.0, probabilities / probabilities.sum(
+            axis=1, keepdims=True), labels))
+    return evidence
+
+
+def test_sweeps_that_repeat_their_movements_mistake_are_discounted_and_independent_ones_not():
+    rng = np.random.default_rng(2)
+    labels = np.repeat(np.arange(6), 20)
+    shared = repeating(labels, rng, 6, movements=4, noise=0.1)
+    assert fit_tempering(names(6), shared).repeat_discount >= 1.0
+    fresh = [MovementEvidence(f'm{m}', 1.0, gaussian_posteriors(labels, 1.5, rng, 6), labels)
+             for m in range(4)]
+    assert fit_tempering(names(6), fresh).repeat_discount == 0.0
+
+
+def test_a_discounted_repeat_moves_the_belief_less_and_active_turns_to_another_movement():
+    rows = separating((0, 1), 2, sure=0.8)
+    table = EvidenceTable(names(2), [movement('first', 1.0, rows),
+                                     movement('second', 1.0, rows)], 1.0, repeat_discount=1.0)
+    assert table.repeat_weights([0, 1, 3]) == pytest.approx([1.0, 0.5, 0.25])
+    first = table.log_likelihood(0, [0.8, 0.2])
+    assert table.log_likelihood(0, [0.8, 0.2], repeats=2) == pytest.approx(first / 3)
+    gain = table.information_gain(uniform(2), repeats=[1, 0])
+    assert gain[1] > gain[0] > 0.0
+    identification = Identification(table, 'active', Budget(threshold=1.0, movements=4))
+    while (chosen := identification.next_movement()) is not None:
+        identification.observe(chosen, [0.8, 0.2])
+    assert identification.movements == [0, 1, 0, 1]
 
 
 def test_temperature_scaling_undoes_overconfidence_and_lowers_the_calibration_error():

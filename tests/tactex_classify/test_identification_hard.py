@@ -22,7 +22,7 @@ from tactex_classify.identification.calibration import calibrated, fit_temperatu
 from tactex_classify.identification.evidence_table import EvidenceTable, MovementEvidence
 from tactex_classify.identification.pathway_part import movement_part
 from tactex_classify.identification.selection import Budget, Identification, POLICIES
-from tactex_classify.identification.tempering import fit_tempering
+from tactex_classify.identification.tempering import DISCOUNTS, fit_tempering
 from tactex_description.movements import Movement
 
 pytestmark = pytest.mark.hard_case
@@ -48,7 +48,8 @@ def evidence(draw):
 @st.composite
 def tables(draw):
     """An evidence table of any evidence, under an exponent from tiny to the largest."""
-    return EvidenceTable(*draw(evidence()), draw(st.sampled_from([1e-6, 0.3, 1.0, 100.0])))
+    return EvidenceTable(*draw(evidence()), draw(st.sampled_from([1e-6, 0.3, 1.0, 100.0])),
+                         draw(st.sampled_from([0.0, 1e-9, 1.0, 100.0])))
 
 
 def assert_normalised(identification):
@@ -66,7 +67,8 @@ def test_any_answers_keep_the_belief_finite_and_normalised(table, policy, seed, 
         identification.observe(chosen, data.draw(hnp.arrays(np.float64, classes,
                                                             elements=answers)))
         assert_normalised(identification)
-        assert np.all(np.isfinite(table.information_gain(identification.log_posterior)))
+        assert np.all(np.isfinite(table.information_gain(identification.log_posterior,
+                                                         identification.repeats)))
 
 
 @pytest.mark.parametrize('answer', [[0.0, 0.0, 0.0], [1e-300, 1e-300, 1.0], [1.0, 1.0, 1.0],
@@ -108,6 +110,8 @@ def test_non_finite_or_negative_evidence_prior_or_budget_is_refused(bad):
         Budget(seconds=bad)
     with pytest.raises(ValueError, match='tempering'):
         EvidenceTable(['a', 'b'], [MovementEvidence('m', 1.0, np.eye(2), labels)], bad)
+    with pytest.raises(ValueError, match='repeat_discount'):
+        EvidenceTable(['a', 'b'], [MovementEvidence('m', 1.0, np.eye(2), labels)], 1.0, bad)
 
 
 def test_empty_input_is_refused():
@@ -138,7 +142,8 @@ def test_calibration_stays_finite_on_any_answers(probabilities, data):
 @settings(max_examples=30, deadline=None)
 @given(evidence())
 def test_the_tempering_fit_stays_on_its_grid_for_any_answers(drawn):
-    assert 0.05 <= fit_tempering(*drawn, episodes_per_texture=2) <= 4.0
+    exponent, discount = fit_tempering(*drawn, episodes_per_texture=2)
+    assert 0.05 <= exponent <= 4.0 and discount in DISCOUNTS
 
 
 @settings(max_examples=200, deadline=None)

@@ -239,5 +239,6 @@ def _train_bundle(args: argparse.Namespace, dataset) -> int:
         raise CommandError(f'DATA {args.data}: {err}') from None
     with staged_folder(args.out) as folder:
         save_bundle(folder / 'bundle', fitted, movements, tempering, **stream)
-    print(f'bundle: {args.out / "bundle"} ({model} per movement, tempering {tempering:.2f})')
+    print(f'bundle: {args.out / "bundle"} ({model} per movement, tempering '
+          f'{tempering.exponent:.2f}, repeat discount {tempering.repeat_discount:g})')
     return 0

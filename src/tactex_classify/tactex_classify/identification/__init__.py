@@ -9,7 +9,7 @@ The belief and the choice are pure numpy, apart from the ROS side (`movement_goa
   vectors per (true texture, movement), and the expected information gain of each.
 - `selection`: the policies (active, random, fixed, round-robin) and one identification's
   loop state: next movement, update, threshold and budgets.
-- `tempering`: the one exponent that keeps the independent-sweeps update honest.
+- `tempering`: the exponent and repeat discount that keep the independent-sweeps update honest.
 - `calibration`: temperature scaling of a model's probabilities and its calibration error.
 - `movement_evidence`: one model per movement, its calibrated out-of-fold sweep vectors.
 - `offline`: every policy replayed on held-out recordings (nested, grouped folds).

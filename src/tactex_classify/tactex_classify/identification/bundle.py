@@ -5,8 +5,9 @@
 `tactex train DATA --movements YAML --out RUN` writes RUN/bundle/: one checkpoint folder
 per movement (movements/<name>/, the format `tactex train` always writes, read back with
 its restricted loaders) and bundle.json: the textures, the stream, the tempering
-exponent and, per movement, its parameters, temperature and calibrated out-of-fold
-sweep vectors with their true textures (what the evidence table is built from), under a
+exponent and repeat discount and, per movement, its parameters, temperature and
+calibrated out-of-fold sweep vectors with their true textures (what the evidence table
+is built from), under a
 SHA-256 of its fields. Loading checks every checkpoint and refuses a bundle whose
 textures differ from its checkpoints' or whose movements differ, in name, order or any
 parameter, from the movement file the caller runs.
@@ -23,6 +24,7 @@ import numpy as np
 from tactex_classify.errors import CheckpointError
 from tactex_classify.identification.evidence_table import EvidenceTable, MovementEvidence
 from tactex_classify.identification.movement_evidence import FittedMovement
+from tactex_classify.identification.tempering import Tempering
 from tactex_classify.models.checkpoint import (
     CHECKSUM_FIELD,
     load_checkpoint,
@@ -53,7 +55,7 @@ class Bundle:
 
 
 def save_bundle(folder: Path, fitted: list[FittedMovement], movements: MovementSet,
-                tempering: float, *, hop: int, sampling_rate_hz: float) -> Path:
+                tempering: Tempering, *, hop: int, sampling_rate_hz: float) -> Path:
     """Write the bundle of `fitted` (in the movement file's order) into `folder`."""
     folder = Path(folder)
     rows = []
@@ -63,7 +65,8 @@ def save_bundle(folder: Path, fitted: list[FittedMovement], movements: MovementS
         rows.append({**asdict(movements.by_name(fit.name)), 'temperature': fit.temperature,
                      'labels': fit.labels.tolist(), 'vectors': fit.vectors.tolist()})
     meta = {'format_version': FORMAT_VERSION, 'classes': list(fitted[0].estimator.classes_),
-            'window': movements.window, 'tempering': tempering, 'movements': rows}
+            'window': movements.window, 'tempering': tempering.exponent,
+            'repeat_discount': tempering.repeat_discount, 'movements': rows}
     meta[CHECKSUM_FIELD] = metadata_sha256(meta)
     write_text_atomically(folder / BUNDLE_FILE, json.dumps(meta, indent=1))
     return folder
@@ -127,7 +130,10 @@ def _bundle(folder: Path, meta: dict, movements: MovementSet) -> Bundle:
         evidence.append(MovementEvidence(movement.name, movement.contact_s,
                                          np.asarray(row['vectors'], dtype=float),
                                          np.asarray(row['labels'], dtype=int)))
-    table = EvidenceTable(classes, evidence, float(meta['tempering']))  # ValueError: malformed
+    # A bundle written before the repeat discount counts every sweep fully. ValueError:
+    # malformed.
+    table = EvidenceTable(classes, evidence, float(meta['tempering']),
+                          float(meta.get('repeat_discount', 0.0)))
     return Bundle(classes, tuple(stated), tuple(float(r['temperature'])
                                                 for r in meta['movements']),
                   tuple(estimators), table, streams[0])

@@ -11,6 +11,11 @@ expected information gain of a movement under the current belief pi is
 
 the entropy the belief is expected to lose when the next sweep of that movement is one
 of its held-out sweeps of the texture drawn from pi, updated as the node would update.
+
+Sweeps of one movement over one texture repeat its model's mistakes (the same confusion,
+the same patch), so the n-th repeat of a movement tells less than its first sweep: its
+update's terms are weighted by 1 / (1 + c n) (`repeat_weights`; c, the repeat discount,
+is fitted with tau by `tempering`), in the update and in the gain alike.
 """
 
 from __future__ import annotations
@@ -30,6 +35,7 @@ from tactex_classify.identification.posterior import (
 )
 
 MAX_TEMPERING = 100.0
+MAX_REPEAT_DISCOUNT = 100.0
 NEGLIGIBLE_MASS = 1e-9  # posterior mass left out of the expected gain (see information_gain)
 
 
@@ -57,13 +63,15 @@ class EvidenceTable:
         classes: the texture names, in the models' class order.
         movements: each movement's evidence; every texture needs at least one sweep in each.
         tempering: the update's exponent tau (> 0, at most MAX_TEMPERING).
+        repeat_discount: c (>= 0, at most MAX_REPEAT_DISCOUNT): a movement's sweep after n
+            of its own counts 1 / (1 + c n) of its first (0: every sweep counts fully).
 
     Raises:
         ValueError: naming the movement, texture or value that is missing or malformed.
     """
 
     def __init__(self, classes: Sequence[str], movements: Sequence[MovementEvidence],
-                 tempering: float = 1.0) -> None:
+                 tempering: float = 1.0, repeat_discount: float = 0.0) -> None:
         self.classes = tuple(classes)
         if not self.classes:
             raise ValueError('no textures: the evidence needs at least one class')
@@ -75,8 +83,13 @@ class EvidenceTable:
         if not (isinstance(tempering, (int, float)) and math.isfinite(tempering)
                 and 0.0 < tempering <= MAX_TEMPERING):
             raise ValueError(f'tempering must be in (0, {MAX_TEMPERING:g}], got {tempering!r}')
+        if not (isinstance(repeat_discount, (int, float)) and math.isfinite(repeat_discount)
+                and 0.0 <= repeat_discount <= MAX_REPEAT_DISCOUNT):
+            raise ValueError(f'repeat_discount must be in [0, {MAX_REPEAT_DISCOUNT:g}], got '
+                             f'{repeat_discount!r}')
         self.names = tuple(names)
         self.tempering = float(tempering)
+        self.repeat_discount = float(repeat_discount)
         self.seconds = np.array([self._seconds(movement) for movement in movements])
         rows = [self._rows(movement) for movement in movements]
         self.log_typical = np.stack([self._log_typical(terms, labels) for terms, labels in rows])
@@ -125,21 +138,31 @@ class EvidenceTable:
                                 - np.log(np.sum(labels == c)) for c in range(len(self.classes))])
         return log_sum_exp(per_texture, axis=0) - np.log(len(self.classes))
 
-    def log_likelihood(self, movement: int, probabilities) -> np.ndarray:
+    def repeat_weights(self, repeats) -> np.ndarray:
+        """The weight of a sweep after `repeats` earlier sweeps of its movement."""
+        return repeat_weight(self.repeat_discount, repeats)
+
+    def log_likelihood(self, movement: int, probabilities, repeats: int = 0) -> np.ndarray:
         """The update's term for one sweep of `movement` whose model answered `probabilities`.
+
+        `repeats`: the sweeps of `movement` already taken in this identification.
 
         Raises:
             ValueError: probabilities of another length, not finite, or negative.
         """
         vector = checked_probabilities(probabilities, len(self.classes))
-        return tempered_log_likelihoods(vector, self.tempering) - self.log_typical[movement]
+        return self.repeat_weights(repeats) * (tempered_log_likelihoods(vector, self.tempering)
+                                               - self.log_typical[movement])
 
     def held_out_log_likelihoods(self, movement: int, texture: int) -> np.ndarray:
         """(sweeps, classes): the update's terms of `movement`'s held-out sweeps of `texture`."""
         return self._rows_of[movement][self._labels_of[movement] == texture]
 
-    def information_gain(self, log_posterior: np.ndarray) -> np.ndarray:
+    def information_gain(self, log_posterior: np.ndarray, repeats=None) -> np.ndarray:
         """Expected entropy lost (nats) by one sweep of each movement, given the belief.
+
+        `repeats`: per movement, its sweeps already taken (default none): each movement's
+        terms are weighted as its next sweep's update will be (`repeat_weights`).
 
         Textures whose posterior, together, is below NEGLIGIBLE_MASS are left out of the
         expectation (their sweeps would be drawn that rarely): the gain moves by at most
@@ -153,9 +176,17 @@ class EvidenceTable:
         kept[order[np.cumsum(posterior[order]) < NEGLIGIBLE_MASS]] = False
         rows = kept[self._label_of] if not kept.all() else slice(None)
         drawn = posterior[self._label_of[rows]] * self._share_of[rows]
+        terms = self._stacked[rows]
+        if repeats is not None and self.repeat_discount > 0.0:
+            terms = terms * self.repeat_weights(repeats)[self._movement_of[rows]][:, None]
         expected = np.bincount(self._movement_of[rows], weights=drawn * updated_entropy(
-            log_posterior, self._stacked[rows]), minlength=len(self.names))
+            log_posterior, terms), minlength=len(self.names))
         return entropy(log_posterior) - expected
+
+
+def repeat_weight(discount: float, repeats) -> np.ndarray:
+    """1 / (1 + c n): what a sweep after n earlier sweeps of its movement counts, c = discount."""
+    return 1.0 / (1.0 + discount * np.asarray(repeats, dtype=float))
 
 
 def updated_entropy(log_posterior: np.ndarray, log_likelihoods: np.ndarray) -> np.ndarray:

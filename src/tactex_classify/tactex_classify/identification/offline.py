@@ -132,9 +132,9 @@ def replay(dataset: Dataset, movements: MovementSet, settings: ReplaySettings = 
             held_out[name]['vectors'] += vectors.tolist()
         evidence = [movement_evidence(fit, movements.by_name(fit.name).contact_s)
                     for fit in fitted]
-        exponent = fit_tempering(dataset.classes, evidence, seed=settings.seed)
-        tempering.append(exponent)
-        table = EvidenceTable(dataset.classes, evidence, exponent)
+        fitted_update = fit_tempering(dataset.classes, evidence, seed=settings.seed)
+        tempering.append(fitted_update)
+        table = EvidenceTable(dataset.classes, evidence, *fitted_update)
         for texture in range(classes):
             for seed in range(settings.seeds):
                 order = np.random.default_rng([settings.seed, fold, texture, seed])
@@ -145,8 +145,10 @@ def replay(dataset: Dataset, movements: MovementSet, settings: ReplaySettings = 
                                              texture, [list(pool) for pool in pools],
                                              arm_s, predict_s, settings.seed))
         progress(f'fold {fold + 1}/{settings.folds}: {len(names)} movements fitted, '
-                 f'tempering {exponent:.2f}, {classes * settings.seeds * len(settings.policies)}'
-                 f' episodes ({time.monotonic() - started:.0f} s)')
+                 f'tempering {fitted_update.exponent:.2f}, repeat discount '
+                 f'{fitted_update.repeat_discount:g}, '
+                 f'{classes * settings.seeds * len(settings.policies)} episodes '
+                 f'({time.monotonic() - started:.0f} s)')
     return {'episodes': episodes, 'held_out': held_out, 'tempering': tempering,
             'arm_s': arm_s, 'movements': names, 'classes': list(dataset.classes),
             'contact_s': [movements.by_name(name).contact_s for name in names]}
@@ -226,7 +228,9 @@ def summary(result: dict, settings: ReplaySettings) -> dict:
             'confusion': confusion(labels, vectors.argmax(axis=1),
                                    len(result['classes'])).tolist()}
     return {'policies': policies, 'episodes': len(episodes) // max(len(settings.policies), 1),
-            'movements': per_movement, 'tempering': result['tempering'],
+            'movements': per_movement,
+            'tempering': [update.exponent for update in result['tempering']],
+            'repeat_discount': [update.repeat_discount for update in result['tempering']],
             'classes': result['classes'], 'movement_names': result['movements'],
             'contact_s': result['contact_s'], 'arm_s': result['arm_s'],
             'settings': {'folds': settings.folds, 'inner_folds': settings.inner_folds,

@@ -103,6 +103,11 @@ class Identification:
         return np.exp(self.log_posterior)
 
     @property
+    def repeats(self) -> np.ndarray:
+        """Per movement, how many of its sweeps were taken."""
+        return np.bincount(np.asarray(self.movements, dtype=int), minlength=len(self.table.names))
+
+    @property
     def leader(self) -> int:
         """The most probable texture now."""
         return int(np.argmax(self.log_posterior))
@@ -146,8 +151,8 @@ class Identification:
         fits = self._candidates() & (True if available is None else np.asarray(available))
         candidates = np.flatnonzero(fits)
         if self.policy == 'active':  # before the first sweep the belief is the prior
-            gain = self._gain_at_prior if not self.movements else \
-                self.table.information_gain(self.log_posterior) / self.table.seconds
+            gain = self._gain_at_prior if not self.movements else self.table.information_gain(
+                self.log_posterior, self.repeats) / self.table.seconds
             return int(candidates[np.argmax(gain[candidates])])
         if self.policy == 'random':
             return int(self._rng.choice(candidates))
@@ -165,8 +170,8 @@ class Identification:
         if not (isinstance(movement, (int, np.integer)) and 0 <= movement < len(self.table.names)):
             raise ValueError(f'movement must be an index below {len(self.table.names)}, got '
                              f'{movement!r}')
-        self.log_posterior = updated(self.log_posterior,
-                                     self.table.log_likelihood(int(movement), probabilities))
+        self.log_posterior = updated(self.log_posterior, self.table.log_likelihood(
+            int(movement), probabilities, repeats=int(self.repeats[movement])))
         self.movements.append(int(movement))
         self.contact_seconds += float(self.table.seconds[movement])
         return self.posterior

@@ -1,64 +1,108 @@
 # Copyright 2026 The tactex authors
 # SPDX-License-Identifier: Apache-2.0
-"""The update's exponent tau: fitted so that the belief is as sure as the sweeps allow.
+"""The update's exponent tau and repeat discount c, fitted so the belief is as sure as allowed.
 
 Sweeps of one texture are not quite independent given the texture (the same model, the
 same patch of surface), so multiplying their likelihoods makes the belief overconfident.
-One exponent tau scales every log likelihood. It is fitted on the out-of-fold vectors
-themselves: for every texture, replayed episodes draw movements uniformly and, for each,
-one of its held-out sweeps of that texture; tau minimises the mean negative log posterior
-of the true texture over every step of every episode (a proper scoring rule, so neither
-overconfidence nor timidity pays). The draws are made once from `seed` and shared by
-every candidate tau, which are searched on a logarithmic grid.
+One exponent tau scales every log likelihood, and a movement's sweep after n of its own
+counts 1 / (1 + c n) of its first (`EvidenceTable.repeat_weights`): repeats of one
+movement share its model's mistakes more than sweeps of different movements do. Both are
+fitted on the out-of-fold vectors themselves: for every texture, replayed episodes draw
+movements uniformly and, for each, one of its held-out sweeps of that texture (a movement
+drawn again takes its next sweep, never the same one while others are left); (tau, c)
+minimises the mean negative log posterior of the true texture over every step of every
+episode (a proper scoring rule, so neither overconfidence nor timidity pays). The draws
+are made once from `seed` and shared by every candidate: tau on a logarithmic grid, c on
+DISCOUNTS (ties: the smaller c, then the smaller tau).
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import NamedTuple
 
 import numpy as np
 
-from tactex_classify.identification.evidence_table import EvidenceTable, MovementEvidence
-from tactex_classify.identification.posterior import uniform, updated
+from tactex_classify.identification.evidence_table import (
+    EvidenceTable,
+    MovementEvidence,
+    repeat_weight,
+)
+from tactex_classify.identification.posterior import normalised
 
 CANDIDATES = np.geomspace(0.05, 4.0, 41)
+DISCOUNTS = (0.0, 0.25, 0.5, 1.0, 2.0, 4.0)
 
 
-def replay_loss(table: EvidenceTable, draws: list[tuple[int, list[tuple[int, int]]]]) -> float:
+class Tempering(NamedTuple):
+    """The update's fitted exponent tau and repeat discount c."""
+
+    exponent: float
+    repeat_discount: float
+
+
+def replay_loss(table: EvidenceTable, draws: list[tuple[int, list[tuple[int, int]]]],
+                repeat_discount: float | None = None) -> float:
     """Mean -log posterior of the true texture after each step of the replayed episodes.
 
     Args:
         table: the evidence under the candidate exponent.
-        draws: (true texture, [(movement, index of one of its held-out sweeps), ...]) per
-            episode.
+        draws: (true texture, [(movement, a random integer), ...]) per episode, every
+            episode as long; a movement's first integer in an episode picks its first
+            held-out sweep of the texture, and each repeat takes the next.
+        repeat_discount: c (default: the table's).
     """
-    losses = []
-    for texture, steps in draws:
-        log_posterior = uniform(len(table.classes))
-        for movement, sweep in steps:
-            terms = table.held_out_log_likelihoods(movement, texture)
-            log_posterior = updated(log_posterior, terms[sweep % len(terms)])
-            losses.append(-log_posterior[texture])
-    return float(np.mean(losses))
+    terms, repeats, truth = replayed_terms(table, draws)
+    discount = table.repeat_discount if repeat_discount is None else repeat_discount
+    return discount_loss(terms, repeats, truth, discount)
+
+
+def replayed_terms(table: EvidenceTable, draws: list[tuple[int, list[tuple[int, int]]]]
+                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(episodes x steps x classes update terms, episodes x steps repeats, true textures)."""
+    terms = np.empty((len(draws), len(draws[0][1]), len(table.classes)))
+    repeats = np.zeros(terms.shape[:2], dtype=int)
+    for episode, (texture, steps) in enumerate(draws):
+        first: dict[int, int] = {}
+        taken = np.zeros(len(table.names), dtype=int)
+        for step, (movement, draw) in enumerate(steps):
+            held_out = table.held_out_log_likelihoods(movement, texture)
+            terms[episode, step] = held_out[(first.setdefault(movement, draw) + taken[movement])
+                                            % len(held_out)]
+            repeats[episode, step] = taken[movement]
+            taken[movement] += 1
+    return terms, repeats, np.array([texture for texture, _ in draws])
+
+
+def discount_loss(terms: np.ndarray, repeats: np.ndarray, truth: np.ndarray,
+                  discount: float) -> float:
+    """The replay loss of `replayed_terms` under repeat discount c (the update is a sum)."""
+    summed = np.cumsum(terms * repeat_weight(discount, repeats)[..., None], axis=1)
+    log_posterior = normalised(summed)  # the uniform prior cancels
+    return float(-np.mean(log_posterior[np.arange(len(truth)), :, truth]))
 
 
 def fit_tempering(classes: Sequence[str], movements: Sequence[MovementEvidence], *,
                   episodes_per_texture: int = 20, steps: int | None = None,
-                  seed: int = 0) -> float:
-    """The exponent in CANDIDATES with the smallest replay loss (ties: the smaller).
+                  seed: int = 0) -> Tempering:
+    """The (tau in CANDIDATES, c in DISCOUNTS) with the smallest replay loss.
 
     Args:
         classes: the texture names.
         movements: the movements' out-of-fold evidence.
         episodes_per_texture: replayed episodes for each texture.
-        steps: movements per episode (default: as many as there are movements, at least 3).
+        steps: movements per episode (default: twice the movements, at least 3, so that
+            movements repeat as they do in an identification).
         seed: the draws' seed.
     """
     rng = np.random.default_rng(seed)
-    steps = steps or max(3, len(movements))
+    steps = steps or max(3, 2 * len(movements))
     draws = [(texture, [(int(rng.integers(len(movements))), int(rng.integers(2 ** 31)))
                         for _ in range(steps)])
              for texture in range(len(classes)) for _ in range(episodes_per_texture)]
-    losses = [replay_loss(EvidenceTable(classes, movements, tempering), draws)
-              for tempering in CANDIDATES]
-    return float(CANDIDATES[int(np.argmin(losses))])
+    replays = [replayed_terms(EvidenceTable(classes, movements, tempering), draws)
+               for tempering in CANDIDATES]
+    losses = np.array([[discount_loss(*replay, discount) for replay in replays]
+                       for discount in DISCOUNTS])
+    best_discount, best_exponent = np.unravel_index(int(np.argmin(losses)), losses.shape)
+    return Tempering(float(CANDIDATES[best_exponent]), float(DISCOUNTS[best_discount]))
