@@ -85,6 +85,10 @@ class _Context:
     environment: dict = field(default_factory=dict)
     nodes: list = field(default_factory=list)
 
+    @property
+    def launch_configurations(self) -> dict:
+        return self.configurations
+
 
 def _perform(value, context: _Context) -> str:
     return value if isinstance(value, str) else value.perform(context)
@@ -200,6 +204,16 @@ class GroupAction(_Action):
                 saved[0], saved[1], saved[2])
 
 
+class OpaqueFunction(_Action):
+    def __init__(self, *, function, args=(), **kwargs):
+        super().__init__(**kwargs)
+        self.function, self.args = function, list(args)
+
+    def execute(self, context):
+        for action in self.function(context, *self.args) or []:
+            action.run(context)
+
+
 class PythonLaunchDescriptionSource:
     def __init__(self, path):
         self.path = Path(path)
@@ -258,7 +272,7 @@ def stand_in_modules() -> dict[str, types.ModuleType]:
     contents = {
         'launch': [LaunchDescription],
         'launch.actions': [DeclareLaunchArgument, GroupAction, IncludeLaunchDescription,
-                           SetEnvironmentVariable],
+                           OpaqueFunction, SetEnvironmentVariable],
         'launch.conditions': [IfCondition, UnlessCondition],
         'launch.launch_description_sources': [PythonLaunchDescriptionSource],
         'launch.substitutions': [EqualsSubstitution, IfElseSubstitution, LaunchConfiguration,

@@ -288,6 +288,21 @@ def test_a_hardware_launch_checks_first_and_starts_no_node_when_it_is_not_ready(
     assert run.stderr.rstrip().splitlines()[-1].startswith('error: the hardware is not ready')
 
 
+@pytest.mark.parametrize('skip', ['checks:=false', '--no-checks'])
+def test_a_hardware_launch_told_not_to_check_starts_its_nodes_anyway(tmp_path, skip):
+    log = tmp_path / 'launch.log'
+    with open(log, 'w') as out:
+        launcher = subprocess.Popen(
+            [BIN / 'tactex', 'launch', 'robot', f'sensor_port:={tmp_path / "ttyACM0"}',
+             f'arm_port:={tmp_path / "ttyUSB0"}', skip], stdout=out, stderr=subprocess.STDOUT,
+            env=dict(os.environ, PYTHONUNBUFFERED='1'))
+        try:
+            assert wait_for(lambda: '[launch] started' in log.read_text(), 60), log.read_text()
+            assert 'hardware is not ready' not in log.read_text()
+        finally:
+            stop([launcher], signal.SIGINT)
+
+
 def test_a_hardware_launch_on_ready_hardware_starts_its_nodes(emulators, tmp_path):
     log = tmp_path / 'launch.log'
     with open(log, 'w') as out:

@@ -23,6 +23,7 @@ from support.ros_launch import (
     yaml_typed,
 )
 
+from tactex import bringup
 from tactex.launching.spec import (
     launch_directory,
     LaunchError,
@@ -92,22 +93,42 @@ def _started_by_tactex_launch(name: str, arguments: dict[str, str]) -> list[tupl
               for p in spec.parameters]) for spec in launch.node_specs(arguments)]
 
 
+def _started_by_ros2_launch(name: str, arguments: dict[str, str], monkeypatch) -> list[tuple]:
+    """On ROS 2 launch where it is installed, else on its stand-ins (tests/support)."""
+    path = launch_directory() / f'{name}.launch.py'
+    if launch_installed():
+        return started_by_ros_launch(load_description(path), arguments)
+    for module_name, module in stand_in_modules().items():
+        monkeypatch.setitem(sys.modules, module_name, module)
+    monkeypatch.setitem(sys.modules, 'tactex.launching.ros_description', None)
+    monkeypatch.delitem(sys.modules, 'tactex.launching.ros_description')
+    return started_by_stand_ins(load_description(path), arguments)
+
+
 @pytest.mark.parametrize(('name', 'arguments'), CASES + ROS_CASES)
 def test_ros2_launch_starts_what_tactex_launch_starts(name, arguments, monkeypatch):
     """One source: the generated ROS 2 description starts the very nodes, named alike.
 
-    Run on ROS 2 launch where it is installed, else on its stand-ins (tests/support).
+    Both check the hardware nodes they start first, with tactex doctor's checks, once.
     """
-    path = launch_directory() / f'{name}.launch.py'
-    if launch_installed():
-        started = started_by_ros_launch(load_description(path), arguments)
-    else:
-        for module_name, module in stand_in_modules().items():
-            monkeypatch.setitem(sys.modules, module_name, module)
-        monkeypatch.setitem(sys.modules, 'tactex.launching.ros_description', None)
-        monkeypatch.delitem(sys.modules, 'tactex.launching.ros_description')
-        started = started_by_stand_ins(load_description(path), arguments)
+    checked = []
+    monkeypatch.setattr(bringup, 'not_ready_lines',
+                        lambda nodes: checked.append([spec.name for spec in nodes]) or [])
+    started = _started_by_ros2_launch(name, arguments, monkeypatch)
     assert started == _started_by_tactex_launch(name, arguments)
+    assert checked == [[node[2] for node in started]]
+
+
+@pytest.mark.parametrize('checks', ['true', 'false'])
+def test_ros2_launch_of_hardware_that_is_not_ready_starts_no_node_unless_told(
+        monkeypatch, tmp_path, checks):
+    arguments = {'sensor_port': str(tmp_path / 'ttyACM0'), 'arm_port': str(tmp_path / 'ttyUSB0'),
+                 'checks': checks}
+    if checks == 'true':
+        with pytest.raises(RuntimeError, match=r'^the hardware is not ready .* checks:=false'):
+            _started_by_ros2_launch('robot', arguments, monkeypatch)
+    else:
+        assert _started_by_ros2_launch('robot', arguments, monkeypatch)
 
 
 def _names(name: str, **arguments: str) -> list[str]:

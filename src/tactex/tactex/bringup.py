@@ -2,9 +2,10 @@
 # SPDX-License-Identifier: Apache-2.0
 """Every bring-up check together: ports, the Teensy's stream, the servos, the ROS settings.
 
-`tactex doctor` runs them and prints each with its fix; `tactex launch` runs the
-hardware ones first for the hardware nodes it is about to start (without sim:=true) and
-stops with the same lines when one fails, instead of letting the nodes retry forever.
+`tactex doctor` runs them and prints each with its fix; `tactex launch` and `ros2
+launch` of the launch files (`checks:=true`, the default) run the hardware ones first for
+the hardware nodes about to start (without sim:=true) and stop with the same lines when
+one fails, instead of letting the nodes retry forever.
 The configured values come from the nodes' YAML files (config/sensor.yaml,
 config/driver.yaml) and the launch's own overrides.
 """
@@ -100,6 +101,20 @@ def launch_checks(nodes) -> list[Check]:
             checks += arm_checks(str(values['port']), int(values['baud']),
                                  [int(i) for i in values['servo_ids']])
     return checks
+
+
+def not_ready_lines(nodes) -> list[str]:
+    """What to print when a hardware node among `nodes` fails a check (none: ready).
+
+    The failed and warned checks with their fixes, then one `error:` line; every launch
+    path (`tactex launch`, and `ros2 launch` through the launch files) prints these.
+    """
+    checks = launch_checks(nodes)
+    if not any(check.failed for check in checks):
+        return []
+    return [*lines([check for check in checks if check.status != OK]),
+            'error: the hardware is not ready (fixes above; `tactex doctor` checks it all); '
+            'launch with sim:=true to simulate it, or checks:=false to start the nodes anyway']
 
 
 def ros_checks(env: Mapping[str, str] | None = None) -> list[Check]:

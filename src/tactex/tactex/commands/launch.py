@@ -20,7 +20,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help='print the command line of every node and exit')
     parser.add_argument('--no-checks', action='store_true', dest='no_checks',
                         help="start hardware nodes without tactex doctor's checks of their "
-                             'ports first')
+                             'ports first (as checks:=false)')
 
 
 FLAGS = {'--list': 'list', '--print': 'print_only', '--no-checks': 'no_checks'}
@@ -43,7 +43,7 @@ def _overrides(items: list[str], args: argparse.Namespace) -> dict[str, str]:
 def run(args: argparse.Namespace) -> int:
     """List, print or run."""
     from tactex.launching.arguments import check_arguments
-    from tactex.launching.spec import launch_directory, LaunchError, load_launch_file
+    from tactex.launching.spec import is_true, launch_directory, LaunchError, load_launch_file
     from tactex.launching.supervisor import node_command, run_launch
 
     try:
@@ -71,20 +71,15 @@ def run(args: argparse.Namespace) -> int:
     except (LaunchError, ValueError) as err:
         print(f'error: {err}', file=sys.stderr)
         return 1
-    if not args.no_checks and not hardware_ready(nodes):
+    if not args.no_checks and is_true(values['checks']) and not hardware_ready(nodes):
         return 1
     return run_launch(nodes, values)
 
 
 def hardware_ready(nodes) -> bool:
     """Run the bring-up checks of the hardware nodes; print and return False when one fails."""
-    from tactex.bringup import launch_checks, lines
-    checks = launch_checks(nodes)
-    if not any(check.failed for check in checks):
-        return True
-    for line in lines([check for check in checks if check.status != 'ok']):
+    from tactex.bringup import not_ready_lines
+    report = not_ready_lines(nodes)
+    for line in report:
         print(line, file=sys.stderr)
-    print('error: the hardware is not ready (fixes above; `tactex doctor` checks it all); '
-          'launch with sim:=true to simulate it, or --no-checks to start the nodes anyway',
-          file=sys.stderr)
-    return False
+    return not report

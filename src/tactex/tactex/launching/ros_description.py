@@ -14,11 +14,14 @@ same entities where they are not installed.
 
 from __future__ import annotations
 
+import sys
+
 from launch import LaunchDescription
 from launch.actions import (
     DeclareLaunchArgument,
     GroupAction,
     IncludeLaunchDescription,
+    OpaqueFunction,
     SetEnvironmentVariable,
 )
 from launch.conditions import IfCondition, UnlessCondition
@@ -63,7 +66,26 @@ def launch_description(launch: LaunchFile) -> LaunchDescription:
     namespace = PushROSNamespace(LaunchConfiguration('namespace'),
                                  condition=_condition(If(not_equals('namespace', ''))))
     entities = [_action(entity, launch) for entity in launch.every_entity()]
-    return LaunchDescription([*declared, GroupAction([*discovery, namespace, *entities])])
+    checks = OpaqueFunction(function=_hardware_ready, args=[launch],
+                            condition=IfCondition(LaunchConfiguration('checks')))
+    return LaunchDescription([*declared, checks,
+                              GroupAction([*discovery, namespace, *entities])])
+
+
+def _hardware_ready(context, launch: LaunchFile) -> list:
+    """Before any node starts: the hardware nodes' bring-up checks, as `tactex launch` runs them.
+
+    A failed check prints the fixes and ends the launch (launch reports the exception's
+    line and exits 1) before a node is started.
+    """
+    from tactex.bringup import not_ready_lines
+    values = {argument.name: context.launch_configurations.get(argument.name, argument.default)
+              for argument in launch.all_arguments}
+    report = not_ready_lines(launch.node_specs(values))
+    if report:
+        print(*report[:-1], sep='\n', file=sys.stderr, flush=True)
+        raise RuntimeError(report[-1].removeprefix('error: '))
+    return []
 
 
 def _substitution(value: Value):

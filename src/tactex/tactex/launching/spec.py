@@ -173,10 +173,14 @@ COMMON_ARGUMENTS = (
              ('localhost', 'subnet')),
     Argument('rviz', 'false', 'also start robot_state_publisher and RViz (full ROS 2 installs)',
              kind='bool'),
+    Argument('checks', 'true', "run tactex doctor's checks of the hardware nodes' ports, "
+             'stream and servos before starting them; stop with the fixes when one fails',
+             kind='bool'),
 )
 DISCOVERY_RANGE = {'localhost': 'LOCALHOST', 'subnet': 'SUBNET'}
 # What an included file gets for the common arguments: the includer applies them once.
-INCLUDED_COMMON = {'namespace': '', 'discovery': Arg('discovery'), 'rviz': 'false'}
+INCLUDED_COMMON = {'namespace': '', 'discovery': Arg('discovery'), 'rviz': 'false',
+                   'checks': 'false'}
 
 
 @dataclass(frozen=True)
