@@ -23,7 +23,8 @@ SUMMARY_KEYS = {'contacts', 'normal_error_deg_mean', 'position_error_mm_mean',
                 'contact_fraction', 'sliding_speed_error', 'cv_accuracy_grouped',
                 'cv_accuracy_stratified', 'live_accuracy', 'time_to_decision_s',
                 'madgwick_rejected', 'madgwick_bad_stamps', 'wall_s'}
-PLOTS = ('pathway.png', 'sweep.png', 'confusion.png', 'accuracy_vs_contact_time.png')
+PLOTS = ('pathway.png', 'sweep.png', 'confusion.png', 'accuracy_vs_contact_time.png',
+         'identification.png')
 # The demo scene's sliding contact: every live sweep is decided within it.
 SWEEP_CONTACT_S = load_scene(resolve_scene(demo.SCENE)).sweep.contact_s
 
@@ -73,6 +74,24 @@ def test_quick_demo_runs_every_stage_through_the_nodes_and_meets_its_thresholds(
             assert reader.message_count > 0, recording
     assert (out / 'train' / 'model').is_dir()
     assert summary['live_sweeps'] == len(demo.QUICK.textures) * demo.QUICK.live_sweeps
+    # Identification: its own recordings (every texture under each movement the pathway
+    # holds), a bundle for the movement file written beside it, one goal per texture.
+    from tactex_description.movements import load_movements
+    movements = load_movements(out / 'movements.yaml')
+    assert len(movements.movements) == demo.QUICK.identify_movements
+    movement_recordings = [p for p in (out / 'movement_bags').iterdir() if p.is_dir()]
+    assert len(movement_recordings) == (len(demo.QUICK.textures) * demo.QUICK.identify_sweeps
+                                        * demo.QUICK.identify_movements)
+    assert (out / 'identify' / 'bundle' / 'bundle.json').is_file()
+    identification = summary['identification']
+    assert [goal['truth'] for goal in identification['goals']] == \
+        list(demo.QUICK.textures[:demo.QUICK.identify_textures])
+    for goal in identification['goals']:
+        assert 1 <= len(goal['movements']) <= demo.QUICK.identify_budget, goal
+        assert set(goal['movements']) <= set(movements.names)
+        assert goal['contact_s'] > 0 and goal['stop_reason'], goal
+    assert identification['failed'] == 0
+    assert 'beside the fixed sweep (classifier_node)' in result.stdout
 
 
 PASSING = {'contacts': 3, 'probe_points': 3, 'normal_error_deg_mean': 1.0,

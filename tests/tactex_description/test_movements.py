@@ -117,3 +117,9 @@ def test_a_contact_too_short_for_one_window_is_refused_at_the_sensors_rate(tmp_p
                           sample_rate_hz=120.0).window == 32
     with pytest.raises(MovementError, match='window must be an integer'):
         load_movements(one(tmp_path, window=4))
+
+
+def test_a_movement_set_written_as_a_file_reads_back_unchanged(tmp_path):
+    from tactex_description.movements import movements_yaml
+    shipped = load_movements(SHIPPED)
+    assert load_movements(written(tmp_path, movements_yaml(shipped))) == shipped

@@ -196,3 +196,11 @@ def load_movements(path: Path | str, *, sample_rate_hz: float | None = None) -> 
                     f'window of {window} samples: lengthen contact_length, slow down, or '
                     'lower window')
     return MovementSet(movements, window)
+
+
+def movements_yaml(movements: MovementSet) -> str:
+    """`movements` as a movement file (what `load_movements` reads back unchanged)."""
+    return yaml.safe_dump({'window': movements.window, 'movements': [
+        {'name': m.name, 'speed': m.speed_m_s, 'press_depth': m.press_depth_m,
+         'edge_tilt': m.edge_tilt_rad, 'direction': m.direction,
+         'contact_length': m.contact_length_m} for m in movements.movements]}, sort_keys=False)

@@ -10,9 +10,12 @@ probe/contacts), sweeps each of the 12 textures along it while sweep_node record
 parameter), converts the recordings (`tactex convert`), trains with grouped and
 stratified cross-validation (`tactex train`), starts the system again with the
 checkpoint and classifies fresh sweeps live through classifier_node (texture/estimate).
-It writes summary.json, the plots and every node's log under --out, prints each figure
-against its threshold (docs/guides/quick-start.md, "The demo") and exits 1 naming a
-figure that misses it.
+Identification has sweeps of its own (each texture under the movements of
+config/movements.yaml that the pathway holds, recorded apart and trained into a bundle
+with `tactex train --movements`); after the fixed sweeps, identify_node identifies the
+textures, one Identify goal each, choosing its movements. It writes summary.json, the
+plots and every node's log under --out, prints each figure against its threshold
+(docs/guides/quick-start.md, "The demo") and exits 1 naming a figure that misses it.
 """
 
 from __future__ import annotations
@@ -37,7 +40,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              '(default out/demo; a previous demo there is replaced)')
     parser.add_argument('--quick', action='store_true',
                         help=f'{len(QUICK.textures)} textures, {QUICK.sweeps} sweeps each, a '
-                             'shorter pathway (a few minutes)')
+                             f'shorter pathway, {QUICK.identify_textures} identified (a few '
+                             'minutes)')
     parser.add_argument('--sweeps', type=integer(2, 50), default=None,
                         help=f'recorded sweeps per texture (2..50; default {DEFAULT.sweeps}, '
                              f'--quick {QUICK.sweeps})')
@@ -85,11 +89,22 @@ def _check_out(out: Path) -> Path:
 
 def _print_summary(out: Path, summary: dict, checks: list) -> None:
     print(f'\ntactex demo, summary ({out}/summary.json; plots pathway.png, sweep.png, '
-          'confusion.png, accuracy_vs_contact_time.png):')
+          'confusion.png, accuracy_vs_contact_time.png, identification.png):')
     print(f'  cv_accuracy_stratified {summary["cv_accuracy_stratified"]:.4g} (leaky, '
           'reported only)')
     for check in checks:
         print(f'  {check.line()}')
     print(f'  madgwick_bad_stamps {summary["madgwick_bad_stamps"]:.4g} (IMU stamps that did '
           'not advance or left a gap, reported only)')
+    identification = summary.get('identification', {})
+    if identification.get('episodes'):
+        print(f'  identification (identify_node, active): {identification["accuracy"]:.3g} of '
+              f'{identification["episodes"]} textures right, median '
+              f'{identification["median_movements"]:g} movements, '
+              f'{identification["median_contact_s"]:.1f} s of contact, '
+              f'{identification["median_wall_s"]:.0f} s wall each (reported only; '
+              'identification.png)')
+        print(f'  beside the fixed sweep (classifier_node): {summary["live_accuracy"]:.3g} right, '
+              f'decided after a median {summary["time_to_decision_s"]:.1f} s of contact in one '
+              'sweep')
     print(f'  wall_s {summary["wall_s"]:.0f} s')

@@ -1,6 +1,6 @@
 # Copyright 2026 The tactex authors
 # SPDX-License-Identifier: Apache-2.0
-"""The demo's stages: launch, probe, sweep and record, convert, train, classify live.
+"""The demo's stages: launch, probe, sweep and record, convert, train, classify, identify.
 
 `Demo.run()` starts `launch/system.launch.py sim:=true` with the launcher (supervised
 processes) and then talks to the nodes only through their interfaces
@@ -10,7 +10,12 @@ sweep_node records (the `sweep` action with `record: true`; the texture is the b
 `patch_texture` parameter), converts the recordings (`tactex convert`), trains with
 grouped and stratified cross-validation (`tactex train`), starts the system again with
 the checkpoint and classifies fresh sweeps live through classifier_node
-(texture/estimate). Its figures and thresholds are `tactex.demo.figures`'.
+(texture/estimate). Identification (`tactex.demo.identification`) has its own sweeps:
+each texture under the movements the pathway holds, recorded through the sweep action
+apart from the others, converted and trained into a bundle (`tactex train --movements`);
+the live system then runs identify_node too, and after the fixed sweeps one Identify goal
+per texture chooses movements until its belief is confident. Its figures and thresholds
+are `tactex.demo.figures`'.
 """
 
 from __future__ import annotations
@@ -36,7 +41,7 @@ SCENE = 'uneven_texture'
 MODEL = 'extratrees'
 WINDOW = 128
 MARKER = '.tactex-demo'  # marks a folder the demo wrote (replaced by the next run)
-STAGES = 7
+STAGES = 10
 NODE_START_S = 120.0  # wait for the action servers (a loaded machine starts them slowly)
 PROBE_TIMEOUT_S = 900.0
 SWEEP_TIMEOUT_S = 240.0
@@ -58,6 +63,14 @@ class Sizes:
     folds: int
     textures: tuple[str, ...] = ()  # () : all 12
     rate_factor: float = 1.0  # simulated seconds per wall second
+    # Identification: the first movements of config/movements.yaml the pathway holds, each
+    # texture swept under each this many times (the bundle's folds), then identified by
+    # one Identify goal of at most `identify_budget` movements (the first
+    # `identify_textures`; 0: all).
+    identify_movements: int = 2
+    identify_sweeps: int = 2
+    identify_budget: int = 4
+    identify_textures: int = 0
 
     @property
     def texture_names(self) -> list[str]:
@@ -65,13 +78,18 @@ class Sizes:
         from tactex_sim.textures import TEXTURES
         return list(self.textures or TEXTURES)
 
+    @property
+    def identified_textures(self) -> list[str]:
+        """The textures identified live: the first `identify_textures` (0: every one)."""
+        return self.texture_names[:self.identify_textures or None]
+
 
 DEFAULT = Sizes(sweeps=3, live_sweeps=1, probe_span_m=0.10, probe_step_m=0.01, folds=3)
 # Four textures, two alike (the cotton weaves), so that the check can fail; simulated
 # 1.5 times faster than real time (two idle cores keep up; the nodes run on /clock).
 QUICK = Sizes(sweeps=2, live_sweeps=1, probe_span_m=0.06, probe_step_m=0.01, folds=2,
               textures=('ridged polymer', 'wood', 'open weave cotton', 'tight weave cotton'),
-              rate_factor=1.5)
+              rate_factor=1.5, identify_textures=3)
 PROBE_START_X_M = 0.10
 # Probe points 25 mm up: with the 20 mm approach the tilted tool clears the 8 mm wave's
 # crests when it moves sideways between points (from 18 mm up it touched them).
@@ -128,22 +146,31 @@ class Demo:
     def run(self) -> tuple[dict, list]:
         """Every stage; the summary and its checks."""
         from tactex.demo.figures import checks
+        from tactex.demo.identification import identification_summary
         textures = self.sizes.texture_names
         self.next_stage('launch the system in simulation (launch/system.launch.py sim:=true)')
         with self.system('collect') as (client, alive):
             probe = self.probe(client, alive)
             recorded = self.sweeps(client, alive, textures, self.sizes.sweeps, record=True,
                                    seed=0)
+            movements = self.movement_sweeps(client, alive, probe['pathway'], textures,
+                                             first_trial=len(recorded))
         data = self.convert()
         metrics = self.train(data)
-        self.next_stage(f'launch the system again with the checkpoint; {self.sizes.live_sweeps} '
-                        f'fresh sweep(s) per texture classified live by classifier_node')
-        with self.system('live', checkpoint=self.folder / 'train' / 'model') as (client, alive):
+        bundle = self.train_bundle(movements)
+        self.next_stage(f'launch the system again with the checkpoint and the bundle; '
+                        f'{self.sizes.live_sweeps} fresh sweep(s) per texture classified live '
+                        'by classifier_node')
+        with self.system('live', checkpoint=self.folder / 'train' / 'model',
+                         identify=(bundle, movements)) as (client, alive):
             # The new probe_node has broadcast nothing: the goals carry the pathway.
             live = self.sweeps(client, alive, textures, self.sizes.live_sweeps, record=False,
                                seed=1, pathway=probe['pathway'])
+            identified = self.identify(client, alive, probe['pathway'])
         self.next_stage('figures: summary.json and plots')
         summary = self.summarise(probe, recorded, live, metrics, textures)
+        summary['identification'] = identification_summary(
+            self.folder / 'identification.png', identified, summary['time_to_decision_s'])
         figures = checks(summary, probe['points'], len(textures),
                          self.scene.sweep.contact_s)
         summary['thresholds'] = {c.key: {'limit': c.limit, 'at_least': c.at_least,
@@ -267,7 +294,7 @@ class Demo:
                     run.attempts = attempt + 1
                     if run.status_ok:
                         break
-                    self._discard(run.result.recording_path)
+                    self.discard(run.result.recording_path)
                     self.say(f'  sweep {run.trial} ({texture}) {run.result.message}; its '
                              'recording is discarded')
                 if not run.status_ok:
@@ -279,7 +306,7 @@ class Demo:
                 self.say(f'  [{done}/{total}] {_sweep_line(run)}  (about {left:.0f} s left)')
         return runs
 
-    def _discard(self, recording: str) -> None:
+    def discard(self, recording: str) -> None:
         """Remove an aborted sweep's recording (only one under this demo's bags/)."""
         path = Path(recording)
         if recording and path.is_dir() and (self.folder / 'bags') in path.parents:
@@ -315,6 +342,58 @@ class Demo:
         self.say(f'  accuracy {100 * grouped:.1f} % grouped by recording (honest), '
                  f'{100 * stratified:.1f} % stratified (leaky); report train/report.md')
         return {'grouped': grouped, 'stratified': stratified}
+
+    def movement_sweeps(self, client, alive, pathway, textures: list[str], *,
+                        first_trial: int) -> Path:
+        """Each texture swept under the movements the pathway holds, recorded apart; their file.
+
+        The recordings go to movement_bags/ (not the fixed sweeps' training data); the
+        movements, the first `identify_movements` of config/movements.yaml that the pathway
+        holds, are written to movements.yaml for the bundle and identify_node.
+        """
+        from tactex.demo.identification import fitting_movements, record_movement_sweeps
+        from tactex.launching.spec import config_path
+        from tactex_description.movements import load_movements, movements_yaml
+        movements = fitting_movements(pathway, load_movements(config_path('movements.yaml')),
+                                      self.sizes.identify_movements)
+        path = self.folder / 'movements.yaml'
+        path.write_text(movements_yaml(movements), encoding='utf-8')
+        self.next_stage(f'sweep each texture under {len(movements.movements)} movements '
+                        f'({", ".join(movements.names)}) {self.sizes.identify_sweeps} times on '
+                        "each movement's part of the pathway, recording (for identification)")
+        record_movement_sweeps(self, client, alive, pathway, movements, textures,
+                               self.sizes.identify_sweeps, attempts=ATTEMPTS,
+                               timeout_s=SWEEP_TIMEOUT_S, first_trial=first_trial,
+                               keep=self.folder / 'movement_bags')
+        return path
+
+    def train_bundle(self, movements: Path) -> Path:
+        """`tactex convert` the movement sweeps and `tactex train --movements` the bundle."""
+        from tactex.cli import main
+        from tactex_description.movements import load_movements
+        data, run = self.folder / 'movement_dataset.npz', self.folder / 'identify'
+        self.next_stage(f'train the identification bundle: {MODEL} per movement, calibrated '
+                        'out of fold (tactex convert; tactex train --movements)')
+        self.command(['convert', str(self.folder / 'movement_bags'), '--out', str(data),
+                      '--window', str(load_movements(movements).window)], 'convert_movements',
+                     main)
+        self.command(['train', str(data), '--movements', str(movements), '--model', MODEL,
+                      '--folds', str(self.sizes.identify_sweeps), '--out', str(run)],
+                     'train_bundle', main)
+        said = (self.folder / 'logs' / 'train_bundle.log').read_text(encoding='utf-8')
+        for line in re.findall(r'^(\S+: .+ out of fold.+)$', said, re.MULTILINE):
+            self.say(f'  {line}')
+        return run / 'bundle'
+
+    def identify(self, client, alive, pathway) -> list[dict]:
+        """One Identify goal per texture identified, on `pathway`; the goals' rows."""
+        from tactex.demo.identification import identify_each
+        textures = self.sizes.identified_textures
+        self.next_stage(f'identify {len(textures)} textures: one Identify goal each (active, '
+                        f'at most {self.sizes.identify_budget} movements), identify_node '
+                        'choosing the movements')
+        return identify_each(self, client, alive, textures, pathway=pathway,
+                             budget_movements=self.sizes.identify_budget)
 
     def command(self, argv: list[str], name: str, main) -> None:
         """Run a tactex subcommand with its output in logs/NAME.log."""

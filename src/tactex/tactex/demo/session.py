@@ -245,9 +245,10 @@ class SystemClient:
         answer = self._send(self._sweep, goal, timeout_s, what, alive)
         return answer.status, answer.result
 
-    def identify(self, goal: Identify.Goal, timeout_s: float, what: str, alive=lambda: True):
-        """Send an Identify goal; (its status code, its result)."""
-        answer = self._send(self._identify, goal, timeout_s, what, alive)
+    def identify(self, goal: Identify.Goal, timeout_s: float, what: str, alive=lambda: True,
+                 feedback=None):
+        """Send an Identify goal (`feedback` hears each movement's); (status code, result)."""
+        answer = self._send(self._identify, goal, timeout_s, what, alive, feedback)
         return answer.status, answer.result
 
     def set_texture(self, name: str, alive=lambda: True) -> None:
