@@ -96,7 +96,13 @@ def test_a_failing_section_leaves_nothing_behind(tmp_path, monkeypatch, capsys):
 
 
 def test_a_section_the_arm_cannot_do_is_reported_and_the_others_still_run(monkeypatch):
-    from tactex.accuracy_time import classification, physical, sweep_speed, whole_job
+    from tactex.accuracy_time import (
+        classification,
+        identification,
+        physical,
+        sweep_speed,
+        whole_job,
+    )
     from tactex_probe.motion import PathUnreachable
 
     class Data:
@@ -114,11 +120,12 @@ def test_a_section_the_arm_cannot_do_is_reported_and_the_others_still_run(monkey
     monkeypatch.setattr(physical, 'simulation_cost', lambda *a, **k: {'rows': ['measured']})
     monkeypatch.setattr(physical, 'filter_rate', lambda *a, **k: {'rows': ['measured']})
     monkeypatch.setattr(whole_job, 'whole_job', lambda *a, **k: pytest.fail('ran without 3'))
+    monkeypatch.setattr(identification, 'identification', lambda *a, **k: {'rows': ['measured']})
     results = runner.run_sections(QUICK, seed=0, threads=1, progress=lambda line: None)
     assert results['3'] == {'failed': 'PathUnreachable: the probe line leaves the workspace '
                                       'at x = 0.4 m'}
     assert results['7'] == {'failed': 'it starts from section 3, which was not measured'}
-    assert all(results[n] == {'rows': ['measured']} for n in ('4', '5', '6'))
+    assert all(results[n] == {'rows': ['measured']} for n in ('4', '5', '6', '8'))
 
 
 @pytest.mark.slow
@@ -128,25 +135,30 @@ def test_the_quick_report_measures_every_section_and_opens_with_three_commands(t
     out = tmp_path / 'report'
     assert main(['report', 'accuracy-time', '--quick', '--out', str(out)]) == 0
     printed = capsys.readouterr().out
-    for number in range(1, 8):
-        assert f'section {number}/7' in printed
+    for number in range(1, 9):
+        assert f'section {number}/8' in printed
     text = (out / 'report.md').read_text(encoding='utf-8')
     opening = text.split('## 1.')[0]
     assert opening.count('source:=sim   # in simulation') + opening.count(
         'no configuration decided') + opening.count('the same configuration as') == 3
-    for number in range(1, 8):
+    for number in range(1, 9):
         assert f'## {number}. ' in text
     pictures = sorted(p.name for p in out.glob('*.png'))
-    assert len(pictures) == 7
+    assert len(pictures) == 8
     for name in pictures:
         assert f']({name})' in text
         assert (out / name).read_bytes()[:8] == b'\x89PNG\r\n\x1a\n'
     results = json.loads((out / 'results.json').read_text(encoding='utf-8'))
-    assert {str(n) for n in range(1, 8)} <= set(results)
+    assert {str(n) for n in range(1, 9)} <= set(results)
     assert all(0.0 <= p['accuracy'] <= 1.0 for p in results['1']['points'])
     assert [r['speed_mm_s'] for r in results['4']['rows']] == list(QUICK.speeds_mm_s)
     assert results['5']['rows'][0]['distance_db'] == 0.0
     assert all(s['wall_s'] > 0 for s in results['7']['stages'])
+    policies = results['8']['policies']
+    assert set(policies) == {'active', 'random', 'fixed', 'round-robin'}
+    assert all(0.0 <= row['accuracy'] <= 1.0 and row['median_movements'] >= 1
+               for row in policies.values())
+    assert results['8']['episodes'] == QUICK.textures * 2 * QUICK.identify_seeds
     assert sorted(p.name for p in tmp_path.iterdir()) == ['report']  # nothing staged left
 
 
@@ -164,3 +176,24 @@ def test_a_speed_out_of_reach_is_a_row_that_says_so_not_a_lost_report(tmp_path):
     assert '| 15 | 30 | 98.0 % (95.0 %) | 40 | 60.0 % | 70.0 % | 9 |' in text
     plots.sweep_speed(tmp_path / 'speed.png', results['4']['rows'], 'test data')
     assert (tmp_path / 'speed.png').stat().st_size > 0
+
+
+def test_the_identification_section_says_when_active_reaches_fixeds_accuracy(tmp_path):
+    from tactex.accuracy_time import plots
+    row = {'accuracy': 0.5, 'decided': 0.25, 'median_contact_s': 10.0, 'p90_contact_s': 20.0,
+           'median_movements': 4.0, 'accuracy_after_k': [0.3, 0.4, 0.5]}
+    eighth = {'policies': {'active': dict(row, accuracy=0.6), 'fixed': row},
+              'grid_s': [0.0, 2.5, 5.0, 7.5], 'curves': {'active': [0.0, 0.4, 0.55, 0.6],
+                                                         'fixed': [0.0, 0.3, 0.4, 0.5]},
+              'threshold': 0.99, 'textures': 4, 'movements': ['slow_light', 'default'],
+              'sweeps': 4, 'model': 'extratrees', 'folds': 2, 'seeds': 5, 'episodes': 40}
+    text = section_text.identification({'8': eighth})
+    assert "Active reaches fixed's final 50.0 % after 5.0 s of contact (fixed stops after " \
+           'a median 10.0 s).' in text.notes
+    assert '| fixed | 50.0 % | 25.0 % | 10.0 | 20.0 | 4 | 30.0 % | 40.0 % | 50.0 % |' in \
+        '\n'.join(text.tables[0])
+    below = dict(eighth, curves={'active': [0.0, 0.1, 0.2, 0.3], 'fixed': [0.0] * 4})
+    assert 'no contact time measured here' in section_text.identification({'8': below}).notes
+    plots.identification(tmp_path / 'identification.png', eighth['grid_s'], eighth['curves'],
+                         'test data')
+    assert (tmp_path / 'identification.png').read_bytes()[:8] == b'\x89PNG\r\n\x1a\n'

@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: Apache-2.0
 """What accuracy costs in time: `tactex report accuracy-time`, every number measured in its run.
 
-`runner.write_report(folder, size)` runs the seven sections of `sections.SECTIONS` (each
+`runner.write_report(folder, size)` runs the eight sections of `sections.SECTIONS` (each
 row: number, title, plot file, how to measure, plot and render it; the measurements in
 `classification`, `physical`, `sweep_speed` and `whole_job`, the plots in `plots`, the
 text in `section_text`), picks the three configurations (`configurations`) and writes

@@ -142,3 +142,16 @@ def whole_job(path: Path, stages: list[dict], data: str) -> None:
     plotting.legend_outside(axis)
     axis.grid(alpha=0.3, axis='x')
     plotting.save(plt, figure, path, footnote=f'data: {data}')
+
+
+def identification(path: Path, grid_s: list[float], curves: dict[str, list[float]],
+                   data: str) -> None:
+    """Section 8: accuracy against contact seconds, one curve per policy."""
+    plt, figure, axis = plotting.figure()
+    for policy, curve in curves.items():
+        axis.plot(grid_s, [100 * a for a in curve], label=policy)
+    axis.set(xlabel='contact seconds', ylabel='held-out textures identified right (%)',
+             ylim=(0, 101))
+    plotting.legend_outside(axis)
+    axis.grid(alpha=0.3)
+    plotting.save(plt, figure, path, footnote=f'data: {data}')

@@ -1,6 +1,6 @@
 # Copyright 2026 The tactex authors
 # SPDX-License-Identifier: Apache-2.0
-"""Run the seven sections, pick the three configurations, write report.md, PNGs and JSON."""
+"""Run the eight sections, pick the three configurations, write report.md, PNGs and JSON."""
 
 from __future__ import annotations
 

@@ -159,3 +159,35 @@ def whole_job(results: dict) -> SectionText:
         f'live decisions were right for {percent(job["live_accuracy"])} of the held-out sweeps. '
         'Live decision: mean per sweep (compute wall time; contact seconds).',
         [table(['stage', 'wall s (this run)', 'arm s (simulated)'], rows)])
+
+
+def identification(results: dict) -> SectionText:
+    """Section 8: each policy's accuracy, contact seconds and movements; active against fixed."""
+    from tactex.accuracy_time.identification import contact_for
+    eighth = results['8']
+    policies = eighth['policies']
+    rows = [[policy, percent(row['accuracy']), percent(row['decided']),
+             f'{row["median_contact_s"]:.1f}', f'{row["p90_contact_s"]:.1f}',
+             f'{row["median_movements"]:g}',
+             *(percent(row['accuracy_after_k'][min(k, len(row['accuracy_after_k'])) - 1])
+               if row['accuracy_after_k'] else '—' for k in (1, 2, 3))]
+            for policy, row in policies.items()]
+    notes = ('An episode identifies one held-out texture: the policy picks a movement, the '
+             "movement's next held-out sweep of that texture updates the belief, until the "
+             f'leader passes {eighth["threshold"]:g} or no sweep is left. Accuracy after k: the '
+             'leader after k movements.')
+    if 'active' in policies and 'fixed' in policies:
+        fixed = policies['fixed']
+        reached = contact_for(fixed, eighth['grid_s'], eighth['curves']['active'])
+        notes += (f' Active reaches fixed\'s final {percent(fixed["accuracy"])} after '
+                  + (f'{reached:.1f} s of contact (fixed stops after a median '
+                     f'{fixed["median_contact_s"]:.1f} s).' if reached is not None else
+                     'no contact time measured here: it ends below it.'))
+    return SectionText(
+        f'{eighth["textures"]} textures x {len(eighth["movements"])} movements '
+        f'({", ".join(eighth["movements"])}) x {eighth["sweeps"]} simulated sweeps, '
+        f'{eighth["model"]} per movement, {eighth["folds"]} folds grouped by recording x '
+        f'{eighth["seeds"]} seeds ({eighth["episodes"]} episodes per policy)',
+        notes,
+        [table(['policy', 'accuracy', 'decided', 'median contact s', 'p90 contact s',
+                'median movements', 'after 1', 'after 2', 'after 3'], rows)])

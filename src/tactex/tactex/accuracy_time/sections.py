@@ -1,6 +1,6 @@
 # Copyright 2026 The tactex authors
 # SPDX-License-Identifier: Apache-2.0
-"""The seven sections, one row each: number, title, plot file, how to measure, plot, render.
+"""The eight sections, one row each: number, title, plot file, how to measure, plot, render.
 
 The runner (runner.py) runs them in order and the page (markdown.py) writes them in
 order; both read a section's identity only from `SECTIONS`.
@@ -15,6 +15,7 @@ from pathlib import Path
 from tactex.accuracy_time import (
     classification,
     configurations,
+    identification,
     physical,
     plots,
     section_text,
@@ -115,6 +116,13 @@ def _draw_whole_job(path: Path, results: dict, data: str) -> None:
                     f'{results["7"]["model"]}')
 
 
+def _draw_identification(path: Path, results: dict, data: str) -> None:
+    eighth = results['8']
+    plots.identification(path, eighth['grid_s'], eighth['curves'],
+                         f'{eighth["textures"]} textures x {len(eighth["movements"])} '
+                         f'movements x {eighth["sweeps"]} sweeps, held out by recording')
+
+
 SECTIONS: tuple[Section, ...] = (
     Section(1, 'Contact time against accuracy', 'contact_time.png', _measure_contact_time,
             lambda path, results, data: plots.contact_time(path, results['1']['points'], data),
@@ -135,6 +143,11 @@ SECTIONS: tuple[Section, ...] = (
             _draw_filter_rate, section_text.filter_rate),
     Section(7, 'Where the time goes end to end', 'whole_job.png', _measure_whole_job,
             _draw_whole_job, section_text.whole_job),
+    Section(8, 'Choosing each next movement: contact time against accuracy',
+            'identification.png',
+            lambda run: identification.identification(run.scratch, run.size, run.log,
+                                                      seed=run.seed),
+            _draw_identification, section_text.identification),
 )
 
 

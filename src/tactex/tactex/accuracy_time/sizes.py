@@ -33,6 +33,9 @@ class Size:
         filter_gains: Madgwick gains of section 6.
         job_sweeps: sweeps per texture recorded in section 7.
         latency_calls: single-window calls timed per model and runtime.
+        identify_movements: the first movements of config/movements.yaml (section 8).
+        identify_sweeps: sweeps per texture and movement (section 8).
+        identify_seeds: episodes per held-out texture and fold (section 8).
     """
 
     name: str
@@ -54,6 +57,9 @@ class Size:
     filter_gains: tuple[float, ...]
     job_sweeps: int
     latency_calls: int
+    identify_movements: int
+    identify_sweeps: int
+    identify_seeds: int
 
 
 QUICK = Size(name='quick', textures=4, sweeps=4, folds=4, windows=(64, 128),
@@ -62,7 +68,8 @@ QUICK = Size(name='quick', textures=4, sweeps=4, folds=4, windows=(64, 128),
              speed_window=64, probe_span_m=0.02,
              probe_settings=((0.01, 0.005), (0.01, 0.02), (0.02, 0.005)),
              sim_seconds=4.0, filter_seconds=8.0, filter_rates_hz=(50.0, 120.0, 350.0),
-             filter_gains=(0.01, 0.03, 0.1, 0.3), job_sweeps=2, latency_calls=50)
+             filter_gains=(0.01, 0.03, 0.1, 0.3), job_sweeps=2, latency_calls=50,
+             identify_movements=3, identify_sweeps=4, identify_seeds=5)
 
 DEFAULT = Size(name='default', textures=8, sweeps=4, folds=4, windows=(64, 128, 256),
                models=('extratrees', 'minirocket', 'cnn_3'), epochs=15,
@@ -72,6 +79,6 @@ DEFAULT = Size(name='default', textures=8, sweeps=4, folds=4, windows=(64, 128, 
                sim_seconds=7.0, filter_seconds=30.0,
                filter_rates_hz=(50.0, 100.0, 120.0, 200.0, 350.0),
                filter_gains=(0.01, 0.02, 0.03, 0.06, 0.1, 0.2, 0.3), job_sweeps=2,
-               latency_calls=200)
+               latency_calls=200, identify_movements=8, identify_sweeps=5, identify_seeds=10)
 
 SIZES = {size.name: size for size in (QUICK, DEFAULT)}
