@@ -7,6 +7,9 @@ Runs `tactex sim collect --movements config/movements.yaml` (12 textures x 8 mov
 file's window, then `tactex report identification` (grouped folds, nested evidence,
 every policy on the same held-out sweeps), and keeps the report in
 bench/results/identification/ with run.json (the commands, their seconds, the dataset).
+The same report is then run again with `--repeat-discount` (a fitted discount of a
+movement's repeats) on the same folds and sweeps, and its identification.json kept in
+with_repeat_discount/, for the paired comparison.
 `--bags DIR` reuses sweeps an earlier run of the same collect command recorded.
 """
 
@@ -29,6 +32,8 @@ def main() -> int:
     parser.add_argument('--seed', type=int, default=2027, help='scene seed (no test uses it)')
     parser.add_argument('--folds', type=int, default=2)
     parser.add_argument('--seeds', type=int, default=10)
+    parser.add_argument('--inner-folds', type=int, default=3,
+                        help='calibration folds inside each outer fold (2 below 6 sweeps)')
     parser.add_argument('--model', default='minirocket')
     parser.add_argument('--bags', type=Path, help='sweeps recorded earlier by the same collect')
     args = parser.parse_args()
@@ -44,12 +49,17 @@ def main() -> int:
             timed([*collect, '--out', str(bags)], steps)
         data = Path(scratch) / 'identification.npz'
         timed([TACTEX, 'convert', str(bags), '--out', str(data), '--window', '128'], steps)
-        report = Path(scratch) / 'report'
-        timed([TACTEX, 'report', 'identification', str(data), '--out', str(report),
-               '--movements', str(MOVEMENTS), '--folds', str(args.folds), '--seeds',
-               str(args.seeds), '--model', args.model], steps)
+        report, discounted = Path(scratch) / 'report', Path(scratch) / 'discounted'
+        command = [TACTEX, 'report', 'identification', str(data), '--movements',
+                   str(MOVEMENTS), '--folds', str(args.folds), '--inner-folds',
+                   str(args.inner_folds), '--seeds', str(args.seeds),
+                   '--model', args.model]
+        timed([*command, '--out', str(report)], steps)
+        timed([*command, '--repeat-discount', '--out', str(discounted)], steps)
         shutil.rmtree(RESULTS, ignore_errors=True)
         shutil.copytree(report, RESULTS)
+        (RESULTS / 'with_repeat_discount').mkdir()
+        shutil.copy(discounted / 'identification.json', RESULTS / 'with_repeat_discount')
     (RESULTS / 'run.json').write_text(json.dumps(
         {'sweeps_per_texture_and_movement': args.sweeps, 'scene_seed': args.seed,
          'steps': steps}, indent=2) + '\n', encoding='utf-8')

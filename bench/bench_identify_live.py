@@ -28,58 +28,33 @@ from pathlib import Path
 import sys
 import time
 
-from action_msgs.msg import GoalStatus
 from bench_textures import TACTEX, timed  # one way to run and time a tactex step
 import numpy as np
 import yaml
 
+from tactex.demo.identification import identification_figures
+
 RESULTS = Path(__file__).parent / 'results' / 'identify_live.json'
 MOVEMENTS = Path(__file__).parents[1] / 'config' / 'movements.yaml'
-GOAL_TIMEOUT_S = 1800.0
-
-
-def ramp_acceleration() -> float:
-    """The sweep node's ramp acceleration (config/sweep.yaml), which movement parts allow for."""
-    config = yaml.safe_load((MOVEMENTS.parent / 'sweep.yaml').read_text(encoding='utf-8'))
-    return float(config['/**/sweep_node']['ros__parameters']['ramp_acceleration'])
 
 
 def recorded_through_sweeps(work: Path, args) -> tuple[Path, Path]:
     """(bags, movement file): every texture swept under each movement the pathway holds."""
-    from tactex.demo.pipeline import DEFAULT, Demo, demo_environment
-    from tactex_classify.identification.movement_goals import movement_goal, probed_arrays
-    from tactex_classify.identification.pathway_part import holds
-    from tactex_description.movements import load_movements
+    from tactex.demo.identification import fitting_movements, record_movement_sweeps
+    from tactex.demo.pipeline import ATTEMPTS, DEFAULT, Demo, demo_environment, SWEEP_TIMEOUT_S
+    from tactex_description.movements import load_movements, movements_yaml
     from tactex_sim.textures import TEXTURES
     folder, movements_file = work / 'sweeps', work / 'movements.yaml'
     folder.mkdir(parents=True, exist_ok=True)
-    ramps, every = ramp_acceleration(), load_movements(MOVEMENTS)
     with demo_environment(folder):
         demo = Demo(folder, folder, replace(DEFAULT, probe_span_m=args.span), time.monotonic())
         with demo.system('record') as (client, alive):
             pathway = demo.probe(client, alive)['pathway']
-            points, _ = probed_arrays(pathway)
-            fitting = [m for m in every.movements if holds(points, m, ramps)]
-            movements_file.write_text(yaml.safe_dump({'window': every.window, 'movements': [
-                {'name': m.name, 'speed': m.speed_m_s, 'press_depth': m.press_depth_m,
-                 'edge_tilt': m.edge_tilt_rad, 'direction': m.direction,
-                 'contact_length': m.contact_length_m} for m in fitting]}, sort_keys=False))
-            trial = 0
-            for texture in list(TEXTURES)[:args.textures]:
-                client.set_texture(texture, alive)
-                for movement in fitting:
-                    for _ in range(args.sweeps):
-                        for _attempt in range(2):  # an aborted sweep is tried once more
-                            status, result = client.send_sweep(
-                                movement_goal(pathway, movement, ramps, label=texture,
-                                              trial=trial, record=True),
-                                GOAL_TIMEOUT_S, f'sweep {trial} ({texture})', alive)
-                            if status == GoalStatus.STATUS_SUCCEEDED:
-                                break
-                            demo.say(f'  sweep {trial} ({texture}, {movement.name}): '
-                                     f'{result.message}')
-                        trial += 1
-                demo.say(f'  {texture}: {len(fitting)} movements x {args.sweeps} sweeps')
+            movements = fitting_movements(pathway, load_movements(MOVEMENTS))
+            movements_file.write_text(movements_yaml(movements), encoding='utf-8')
+            record_movement_sweeps(demo, client, alive, pathway, movements,
+                                   list(TEXTURES)[:args.textures], args.sweeps,
+                                   attempts=ATTEMPTS, timeout_s=SWEEP_TIMEOUT_S)
     return folder / 'bags', movements_file
 
 
@@ -111,8 +86,11 @@ def prepared(work: Path, args, steps: list[dict]) -> tuple[Path, Path, Path, Pat
                args.model, *folds, '--out', str(work / 'run')], steps)
     offline = work / 'offline'
     if not (offline / 'identification.json').is_file():
+        # Nested folds need two training sweeps per cell inside each outer fold: with
+        # three sweeps per cell (through the sweep action), three outer folds.
+        outer = '3' if args.training == 'sweeps' and args.sweeps < 4 else '2'
         timed([TACTEX, 'report', 'identification', str(data), '--out', str(offline),
-               '--movements', str(movements), '--policies', 'active', '--folds', '2',
+               '--movements', str(movements), '--policies', 'active', '--folds', outer,
                '--inner-folds', '2',
                '--seeds', str(args.offline_seeds), '--model', args.model], steps)
     return data, bundle, offline, movements
@@ -120,58 +98,21 @@ def prepared(work: Path, args, steps: list[dict]) -> tuple[Path, Path, Path, Pat
 
 def live_episodes(work: Path, bundle: Path, movements: Path, args) -> tuple[list[dict], dict]:
     """Every texture identified `--episodes` times through identify_node; (episodes, probe)."""
+    from tactex.demo.identification import identify_each
     from tactex.demo.pipeline import DEFAULT, Demo, demo_environment
-    from tactex_msgs.action import Identify
     from tactex_sim.textures import TEXTURES
     folder = work / 'live'
     folder.mkdir(parents=True, exist_ok=True)
-    sizes = replace(DEFAULT, probe_span_m=args.span)
-    episodes = []
     with demo_environment(folder):
-        demo = Demo(folder, folder, sizes, time.monotonic())
+        demo = Demo(folder, folder, replace(DEFAULT, probe_span_m=args.span), time.monotonic())
         with demo.system('identify', identify=(bundle, movements)) as (client, alive):
             probe = demo.probe(client, alive)
-            for texture in list(TEXTURES)[:args.textures]:
-                client.set_texture(texture, alive)
-                for episode in range(args.episodes):
-                    goal = Identify.Goal(policy='active', threshold=0.99,
-                                         budget_movements=args.budget_movements,
-                                         seed=episode)
-                    began = time.monotonic()
-                    status, result = client.identify(goal, GOAL_TIMEOUT_S,
-                                                     f'identify {texture}', alive)
-                    row = {'truth': texture, 'status': int(status), 'answer': result.texture,
-                           'leader': result.class_names[int(np.argmax(result.probabilities))]
-                           if len(result.probabilities) else '',
-                           'movements': list(result.movements),
-                           'windows': [int(w) for w in result.windows],
-                           'contact_s': result.contact_seconds,
-                           'wall_s': time.monotonic() - began,
-                           'stop_reason': result.stop_reason, 'message': result.message}
-                    episodes.append(row)
-                    demo.say(f'  {texture}: {row["answer"] or "undecided"} (leader '
-                             f'{row["leader"]}) after {len(row["movements"])} movements '
-                             f'{", ".join(row["movements"])}, {row["contact_s"]:.1f} s in '
-                             f'contact, {row["wall_s"]:.0f} s {row["message"]}')
+            episodes = identify_each(demo, client, alive, list(TEXTURES)[:args.textures],
+                                     budget_movements=args.budget_movements,
+                                     episodes=args.episodes)
     return episodes, {'points': probe['points'], 'contacts': len(probe['pathway'].contacts),
                       'normal_error_deg': float(np.mean(probe['normal_deg'])),
                       'position_error_mm': float(np.mean(probe['position_mm']))}
-
-
-def summary(episodes: list[dict]) -> dict:
-    """Accuracy (decided and right), the leader's accuracy, movements and seconds."""
-    right = [e['answer'] == e['truth'] for e in episodes]
-    leader = [e['leader'] == e['truth'] for e in episodes]
-    contact = np.array([e['contact_s'] for e in episodes])
-    movements = np.array([len(e['movements']) for e in episodes])
-    return {'episodes': len(episodes), 'accuracy': float(np.mean(right)),
-            'leader_accuracy': float(np.mean(leader)),
-            'decided': float(np.mean([bool(e['answer']) for e in episodes])),
-            'median_movements': float(np.median(movements)),
-            'median_contact_s': float(np.median(contact)),
-            'p90_contact_s': float(np.percentile(contact, 90)),
-            'median_wall_s': float(np.median([e['wall_s'] for e in episodes])),
-            'failed': sum(e['status'] != GoalStatus.STATUS_SUCCEEDED for e in episodes)}
 
 
 def main() -> int:
@@ -204,12 +145,15 @@ def main() -> int:
     kept = {'scene_seed': args.seed, 'sweeps_per_texture_and_movement': args.sweeps,
             'model': args.model, 'span_m': args.span, 'probe': probe,
             'budget_movements': args.budget_movements,
-            'live': summary(episodes), 'live_seconds': kept_live['seconds'],
+            'live': identification_figures(episodes), 'live_seconds': kept_live['seconds'],
             'offline_active': {key: active[key] for key in (
                 'accuracy', 'median_contact_s', 'p90_contact_s', 'median_movements')},
             'offline_accuracy_after_budget': active['accuracy_after_k'][
                 min(args.budget_movements, len(active['accuracy_after_k'])) - 1],
             'offline_episodes': offline_report['episodes'],
+            'offline_folds': offline_report['settings']['folds'],
+            'bundle': {key: json.loads((bundle / 'bundle.json').read_text()).get(key, 0.0)
+                       for key in ('tempering', 'repeat_discount')},
             'episodes': episodes, 'steps': steps}
     kept['training'] = args.training
     kept['movements'] = [row['name'] for row in

@@ -22,7 +22,11 @@ import sys
 import textwrap
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))  # the result modules beside it
-from results_identification import identification, identify_live  # noqa: E402
+from results_identification import (  # noqa: E402
+    identification,
+    identify_live,
+    identify_live_sweeps,
+)
 from results_learning import (  # noqa: E402
     architectures,
     channels,
@@ -72,7 +76,7 @@ SECTIONS: dict[str, Callable[[], str]] = {
     'architectures': architectures, 'window_voting': window_voting,
     'sim_to_real': sim_to_real, 'learning_curves': learning_curves,
     'recordings': recordings, 'predict_play': predict_play, 'identification': identification,
-    'identify_live': identify_live}
+    'identify_live': identify_live, 'identify_live_sweeps': identify_live_sweeps}
 
 
 def _wrapped(text: str) -> str:

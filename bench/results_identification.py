@@ -56,6 +56,7 @@ def identification() -> str:
         + (f'every movement here holds {report["contact_s"][0]:g} s of contact; ' if same else '')
         + 'an episode that stopped earlier keeps its last leader), and the two movements each '
         'policy took most often among its first three:\n\n' + '\n'.join(after)
+        + _without_discount(report, steps)
         + '\n\nEach movement on its own, one held-out sweep '
         '(`movement_confusions.png` has the confusion matrices):\n\n' + '\n'.join(movements)
         + f'\n\nChoosing the next movement (`python bench/bench_identification.py`, '
@@ -66,8 +67,31 @@ def identification() -> str:
         f'computed movement by movement took {looped:.0f}x longer.\n')
 
 
+def _without_discount(report: dict, steps: list[int]) -> str:
+    """The same replay with the repeat discount fitted, beside the default one (none)."""
+    discounted = kept_json('identification/with_repeat_discount/identification.json')
+    rows = ['| policy | repeat discount | accuracy | ' + ' | '.join(f'after {k}' for k in steps)
+            + ' |', '|---|---|---|' + '---|' * len(steps)]
+    for policy in report['policies']:
+        for name, table in (('none', report), ('fitted', discounted)):
+            row = table['policies'][policy]
+            rows.append(f'| {policy} | {name} | {100 * row["accuracy"]:.1f} % | ' + ' | '.join(
+                f'{100 * row["accuracy_after_k"][min(k, len(row["accuracy_after_k"])) - 1]:.1f} %'
+                for k in steps) + ' |')
+    return ('\n\nThe same folds, seeds and held-out sweeps with a fitted discount of a '
+            "movement's repeats (`--repeat-discount`; c per fold "
+            f'{", ".join(f"{c:g}" for c in discounted["repeat_discount"])}, the exponent '
+            f'{", ".join(f"{t:.2f}" for t in discounted["tempering"])} with it and '
+            f'{", ".join(f"{t:.2f}" for t in report["tempering"])} without):\n\n'
+            + '\n'.join(rows))
+
+
 def identify_live() -> str:
     return _live_section('identify_live.json', '--work DIR')
+
+
+def identify_live_sweeps() -> str:
+    return _live_section('identify_live_sweeps.json', '--training sweeps --sweeps 3 --work DIR')
 
 
 def _live_section(name: str, options: str) -> str:
@@ -96,15 +120,19 @@ def _live_section(name: str, options: str) -> str:
     for episode in kept['episodes']:
         for movement in episode['movements']:
             chosen[movement] = chosen.get(movement, 0) + 1
+    update = kept.get('bundle', {})
+    fitted = (f' (tempering {update["tempering"]:.2f}, repeat discount '
+              f'{update["repeat_discount"]:g})' if update else '')
     return (
         f'Measured live (`python bench/bench_identify_live.py {options}`, {minutes:.0f} min '
-        f'of live identification): a bundle of {kept["model"]} per movement trained on '
-        f'{trained_on}; the system launched in simulation, {probe["points"]} probes asked '
+        f'of live identification): a bundle of {kept["model"]} per movement{fitted} trained '
+        f'on {trained_on}; the system launched in simulation, {probe["points"]} probes asked '
         f'along {1e3 * kept["span_m"]:.0f} mm of which {probe["contacts"]} gave a contact '
         f'(the pathway), then {live["episodes"]} Identify goals (active, threshold 0.99, at '
         f'most {kept["budget_movements"]} movements), one per texture; {live["failed"]} '
         'failed. Beside it, `tactex report identification` on the same dataset with the '
-        f'same model and policy ({kept["offline_episodes"]} held-out episodes, 2 folds):\n\n'
+        f'same model and policy ({kept["offline_episodes"]} held-out episodes, '
+        f'{kept.get("offline_folds", 2)} folds):\n\n'
         + '\n'.join(rows)
         + f'\n\nOffline, active was {100 * kept["offline_accuracy_after_budget"]:.1f} % right '
         f'after {kept["budget_movements"]} movements, the live budget. '

@@ -25,7 +25,7 @@ from tactex_classify.identification.selection import (
     POLICIES,
     TIME_BUDGET,
 )
-from tactex_classify.identification.tempering import fit_tempering
+from tactex_classify.identification.tempering import DISCOUNTS, fit_tempering
 
 
 def gaussian_posteriors(labels, separation, rng, classes):
@@ -247,10 +247,11 @@ def test_sweeps_that_repeat_their_movements_mistake_are_discounted_and_independe
     rng = np.random.default_rng(2)
     labels = np.repeat(np.arange(6), 20)
     shared = repeating(labels, rng, 6, movements=4, noise=0.1)
-    assert fit_tempering(names(6), shared).repeat_discount >= 1.0
+    assert fit_tempering(names(6), shared).repeat_discount == 0.0  # fitted on request only
+    assert fit_tempering(names(6), shared, discounts=DISCOUNTS).repeat_discount >= 1.0
     fresh = [MovementEvidence(f'm{m}', 1.0, gaussian_posteriors(labels, 1.5, rng, 6), labels)
              for m in range(4)]
-    assert fit_tempering(names(6), fresh).repeat_discount == 0.0
+    assert fit_tempering(names(6), fresh, discounts=DISCOUNTS).repeat_discount == 0.0
 
 
 def test_a_discounted_repeat_moves_the_belief_less_and_active_turns_to_another_movement():

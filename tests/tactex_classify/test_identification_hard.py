@@ -142,7 +142,7 @@ def test_calibration_stays_finite_on_any_answers(probabilities, data):
 @settings(max_examples=30, deadline=None)
 @given(evidence())
 def test_the_tempering_fit_stays_on_its_grid_for_any_answers(drawn):
-    exponent, discount = fit_tempering(*drawn, episodes_per_texture=2)
+    exponent, discount = fit_tempering(*drawn, episodes_per_texture=2, discounts=DISCOUNTS)
     assert 0.05 <= exponent <= 4.0 and discount in DISCOUNTS
 
 

@@ -75,6 +75,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     identification.add_argument('--model', default='minirocket',
                                 help='the per-movement model (default minirocket)')
     identification.add_argument('--seed', type=seed_value, default=0)
+    identification.add_argument('--repeat-discount', action='store_true',
+                                help="fit a discount of a movement's repeats with the "
+                                     'tempering (default: every sweep counts fully)')
 
 
 def _policies(text: str) -> tuple[str, ...]:
@@ -124,6 +127,7 @@ def _identification(args: argparse.Namespace) -> int:
     settings = ReplaySettings(
         policies=args.policies, folds=args.folds, inner_folds=args.inner_folds,
         seeds=args.seeds, model=args.model, seed=args.seed,
+        repeat_discount=args.repeat_discount,
         budget=Budget(args.threshold, args.budget_movements, args.budget_seconds))
     started = time.monotonic()
     try:

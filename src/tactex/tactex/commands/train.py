@@ -69,6 +69,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              '`tactex sim collect --movements`), each calibrated on grouped '
                              'out-of-fold sweeps (--folds), into the identification bundle '
                              'RUN/bundle/ (default model: minirocket)')
+    parser.add_argument('--repeat-discount', action='store_true',
+                        help="with --movements: fit a discount of a movement's repeats with "
+                             'the tempering (default: every sweep counts fully)')
 
 
 def run(args: argparse.Namespace) -> int:
@@ -207,7 +210,7 @@ def _train_bundle(args: argparse.Namespace, dataset) -> int:
         MovementDataError,
         subset,
     )
-    from tactex_classify.identification.tempering import fit_tempering
+    from tactex_classify.identification.tempering import DISCOUNTS, fit_tempering
     from tactex_classify.training.deep_classifier import TrainingConfig
     from tactex_classify.training.estimators import build_estimator
 
@@ -234,7 +237,8 @@ def _train_bundle(args: argparse.Namespace, dataset) -> int:
                   f'{reliability(fit.vectors, fit.labels).error:.3f}', flush=True)
             fitted.append(fit)
         tempering = fit_tempering(dataset.classes, [movement_evidence(
-            fit, movements.by_name(fit.name).contact_s) for fit in fitted], seed=args.seed)
+            fit, movements.by_name(fit.name).contact_s) for fit in fitted], seed=args.seed,
+            discounts=DISCOUNTS if args.repeat_discount else (0.0,))
     except MovementDataError as err:
         raise CommandError(f'DATA {args.data}: {err}') from None
     with staged_folder(args.out) as folder:

@@ -35,7 +35,7 @@ from tactex_classify.identification.movement_evidence import (
     subset,
 )
 from tactex_classify.identification.selection import Budget, Identification, POLICIES
-from tactex_classify.identification.tempering import fit_tempering
+from tactex_classify.identification.tempering import DISCOUNTS, fit_tempering
 from tactex_description.movements import MovementSet
 
 
@@ -50,6 +50,7 @@ class ReplaySettings:
     seeds: int = 10
     model: str = DEFAULT_MODEL
     seed: int = 0
+    repeat_discount: bool = False  # True: fit the discount of a movement's repeats
 
 
 @dataclass
@@ -132,7 +133,8 @@ def replay(dataset: Dataset, movements: MovementSet, settings: ReplaySettings = 
             held_out[name]['vectors'] += vectors.tolist()
         evidence = [movement_evidence(fit, movements.by_name(fit.name).contact_s)
                     for fit in fitted]
-        fitted_update = fit_tempering(dataset.classes, evidence, seed=settings.seed)
+        fitted_update = fit_tempering(dataset.classes, evidence, seed=settings.seed,
+                                      discounts=DISCOUNTS if settings.repeat_discount else (0.0,))
         tempering.append(fitted_update)
         table = EvidenceTable(dataset.classes, evidence, *fitted_update)
         for texture in range(classes):
@@ -237,5 +239,6 @@ def summary(result: dict, settings: ReplaySettings) -> dict:
                          'seeds': settings.seeds, 'model': settings.model,
                          'threshold': settings.budget.threshold,
                          'budget_movements': settings.budget.movements,
-                         'budget_seconds': settings.budget.seconds}}
+                         'budget_seconds': settings.budget.seconds,
+                         'repeat_discount': settings.repeat_discount}}
 

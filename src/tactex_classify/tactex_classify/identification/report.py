@@ -70,7 +70,7 @@ def markdown(table: dict) -> str:
              f'{settings["model"]}, calibrated by temperature on out-of-fold sweeps '
              f'({settings["inner_folds"]} inner folds); tempering exponent '
              f'{", ".join(f"{t:.2f}" for t in table["tempering"])} and repeat discount '
-             f'{", ".join(f"{c:g}" for c in table.get("repeat_discount", []))} (per fold). '
+             f'{", ".join(f"{c:g}" for c in table["repeat_discount"])} (per fold). '
              'Threshold '
              f'{settings["threshold"]:g}; budget {settings["budget_movements"] or "no limit on"}'
              f' movements, {settings["budget_seconds"] or "no limit on"} contact seconds.', '',
