@@ -211,7 +211,7 @@ def test_an_include_hands_over_only_what_it_names():
 
 def test_unknown_arguments_and_bad_choices_are_refused_with_the_known_ones():
     launch = load_launch_file('sim')
-    with pytest.raises(LaunchError, match='takes: discovery, namespace, patch_texture, '
+    with pytest.raises(LaunchError, match='takes: checks, discovery, namespace, patch_texture, '
                                           'rate_factor, rviz, scene'):
         launch.resolve({'scen': 'probe'})
     with pytest.raises(LaunchError, match='localhost, subnet'):
