@@ -14,6 +14,7 @@ folds and seeds), the curve the section plots.
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import replace
 from pathlib import Path
 import time
 
@@ -21,7 +22,6 @@ import numpy as np
 
 from tactex.accuracy_time.sizes import Size
 
-THRESHOLD = 0.99  # the live node's and identify_node's
 MODEL = 'extratrees'  # the fastest baseline: the section compares policies, not models
 FOLDS = 2
 CURVE_POINTS = 100
@@ -30,17 +30,17 @@ CURVE_POINTS = 100
 def identification(scratch: Path, size: Size, log: Callable[[str], None], *,
                    seed: int) -> dict:
     """Section 8: every policy replayed on held-out recordings of the movements."""
+    from tactex.launching.spec import config_path
     from tactex_classify.data.dataset import convert
     from tactex_classify.identification.offline import replay, ReplaySettings, summary
     from tactex_classify.identification.report import accuracy_curves
     from tactex_classify.identification.selection import Budget, POLICIES
-    from tactex_common.share import share_directory
     from tactex_description.movements import load_movements
     from tactex_sim.collect import collect
     from tactex_sim.scene import load_scene, resolve_scene
     from tactex_sim.textures import TEXTURES
-    every = load_movements(share_directory('tactex') / 'config' / 'movements.yaml')
-    movements = type(every)(every.movements[:size.identify_movements], every.window)
+    every = load_movements(config_path('movements.yaml'))
+    movements = replace(every, movements=every.movements[:size.identify_movements])
     bags = scratch / 'movement_bags'
     began = time.monotonic()
     collect(load_scene(resolve_scene('uneven_texture')), size.identify_sweeps, bags,
@@ -49,7 +49,8 @@ def identification(scratch: Path, size: Size, log: Callable[[str], None], *,
     collect_s = time.monotonic() - began
     data = convert([bags], window=movements.window, hop=movements.window // 2,
                    progress=lambda line: None)
-    settings = ReplaySettings(policies=POLICIES, budget=Budget(THRESHOLD), folds=FOLDS,
+    # The default budget's threshold is the live node's and identify_node's (0.99).
+    settings = ReplaySettings(policies=POLICIES, budget=Budget(), folds=FOLDS,
                               inner_folds=FOLDS, seeds=size.identify_seeds, model=MODEL,
                               seed=seed)
     began = time.monotonic()
@@ -60,7 +61,8 @@ def identification(scratch: Path, size: Size, log: Callable[[str], None], *,
     return {'policies': table['policies'], 'episodes': table['episodes'],
             'movements': list(movements.names), 'contact_s': table['contact_s'],
             'textures': size.textures, 'sweeps': size.identify_sweeps, 'model': MODEL,
-            'folds': FOLDS, 'seeds': size.identify_seeds, 'threshold': THRESHOLD,
+            'folds': FOLDS, 'seeds': size.identify_seeds,
+            'threshold': settings.budget.threshold,
             'grid_s': grid.tolist(),
             'curves': {policy: accuracy_curves(result['episodes'], policy, grid)[0].tolist()
                        for policy in settings.policies},

@@ -23,8 +23,9 @@ import numpy as np
 import yaml
 
 from tactex.errors import CommandError
+from tactex_classify.identification.selection import Budget
 
-THRESHOLD = 0.99  # classifier_node's decision threshold: both decide alike
+THRESHOLD = Budget().threshold  # classifier_node's decision threshold too: both decide alike
 IDENTIFY_TIMEOUT_S = 1800.0
 
 

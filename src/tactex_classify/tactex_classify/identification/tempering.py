@@ -44,25 +44,14 @@ class Tempering(NamedTuple):
     repeat_discount: float
 
 
-def replay_loss(table: EvidenceTable, draws: list[tuple[int, list[tuple[int, int]]]],
-                repeat_discount: float | None = None) -> float:
-    """Mean -log posterior of the true texture after each step of the replayed episodes.
-
-    Args:
-        table: the evidence under the candidate exponent.
-        draws: (true texture, [(movement, a random integer), ...]) per episode, every
-            episode as long; a movement's first integer in an episode picks its first
-            held-out sweep of the texture, and each repeat takes the next.
-        repeat_discount: c (default: the table's).
-    """
-    terms, repeats, truth = replayed_terms(table, draws)
-    discount = table.repeat_discount if repeat_discount is None else repeat_discount
-    return discount_loss(terms, repeats, truth, discount)
-
-
 def replayed_terms(table: EvidenceTable, draws: list[tuple[int, list[tuple[int, int]]]]
                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(episodes x steps x classes update terms, episodes x steps repeats, true textures)."""
+    """(episodes x steps x classes update terms, episodes x steps repeats, true textures).
+
+    `draws`: (true texture, [(movement, a random integer), ...]) per episode, every episode
+    as long; a movement's first integer in an episode picks its first held-out sweep of the
+    texture, and each repeat takes the next.
+    """
     terms = np.empty((len(draws), len(draws[0][1]), len(table.classes)))
     repeats = np.zeros(terms.shape[:2], dtype=int)
     for episode, (texture, steps) in enumerate(draws):
@@ -79,7 +68,11 @@ def replayed_terms(table: EvidenceTable, draws: list[tuple[int, list[tuple[int, 
 
 def discount_loss(terms: np.ndarray, repeats: np.ndarray, truth: np.ndarray,
                   discount: float) -> float:
-    """The replay loss of `replayed_terms` under repeat discount c (the update is a sum)."""
+    """Mean -log posterior of the true texture after each replayed step, under discount c.
+
+    The update is a sum of the steps' weighted terms, so every step's belief is a cumulative
+    sum, normalised.
+    """
     summed = np.cumsum(terms * repeat_weight(discount, repeats)[..., None], axis=1)
     log_posterior = normalised(summed)  # the uniform prior cancels
     return float(-np.mean(log_posterior[np.arange(len(truth)), :, truth]))
