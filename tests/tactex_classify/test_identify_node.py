@@ -12,6 +12,7 @@ with 12.6 mm of speed ramps around its contact.
 """
 
 import json
+import math
 from pathlib import Path
 import re
 import signal
@@ -96,11 +97,14 @@ def test_identify_runs_the_movements_that_fit_the_pathway_and_reports_each(syste
 def test_a_goal_without_a_fitting_movement_is_refused_with_both_lengths(system, tmp_path):
     short = tmp_path / 'short.json'
     data = json.loads((system / 'pathway.json').read_text())
-    data['probes'] = data['probes'][:2]  # 10 mm: shorter than every movement
+    data['probes'] = data['probes'][:2]  # about 10 mm: shorter than every movement
     short.write_text(json.dumps(data))
+    first, second = (probe['position'] for probe in data['probes'])
+    length_mm = 1e3 * math.dist(first, second)  # the 1 cm step, tilted by the surface
     run = tactex('identify', '--namespace', 'left', '--pathway', str(short))
     assert run.returncode == 1
-    assert run.stdout.startswith('identify goal aborted (refused: the pathway is 10 mm long; '
+    assert run.stdout.startswith(f'identify goal aborted (refused: the pathway is '
+                                 f'{length_mm:.0f} mm long; '
                                  'the shortest movement needs 28 mm (its contact and speed '
                                  'ramps): probe a longer pathway)'), run.stdout
 
