@@ -44,7 +44,11 @@ RESULTS = Path(__file__).parent / 'results'
 WINDOW, HOP = 128, 64
 THRESHOLDS = (0.5, 0.7, 0.9, 0.95, 0.99, 0.999, 0.9999, 1 - 1e-5, 1 - 1e-6, 1 - 1e-8)
 DEFAULT_THRESHOLD = 0.99
+FLAG_SETTLE_S = 0.05  # the nodes drain their queues around each sweep/active message
 FED_TOPICS = ('imu', 'mag', 'pressure', 'active')
+# The nodes' diagnostics counters kept beside the measures (with every faults_* value).
+COUNTERS = ('windows_cut', 'windows_classified', 'windows_dropped', 'samples_late',
+            'samples_dropped', 'resets')
 
 
 def collect_sets(scratch: Path, train_sweeps: int, test_sweeps: int) -> tuple[Path, Path]:
@@ -166,7 +170,14 @@ class Feeder:
                 + self.node.count_publishers('texture/estimate_check') >= count)
 
     def play(self, messages: list[tuple[int, str, bytes]]) -> None:
-        """Publish one bag's messages at their log times / speed, with /clock before each."""
+        """Publish one bag's messages at their log times / speed, with /clock before each.
+
+        sweep/active (a Bool, no stamp) is stamped by each node with its clock on arrival,
+        so a node that has not yet taken the latest /clock puts the contact's start, and
+        every window after it, a few samples off the other node's. Around each flag the
+        feeder pauses (`FLAG_SETTLE_S`, the pacing shifted by as much) so both nodes take
+        it at the same simulated instant, as the recorder logged it.
+        """
         import rclpy
         start_ns, start = messages[0][0], time.monotonic()
         clock_ns = None
@@ -174,11 +185,18 @@ class Feeder:
             delay = start + (log_ns - start_ns) * 1e-9 / self.speed - time.monotonic()
             if delay > 0:
                 self.spin(delay)
+            if role == 'active':
+                self.spin(FLAG_SETTLE_S)
             if log_ns != clock_ns:
                 clock_ns = log_ns
                 self.clock.publish(self.clock_type(
                     clock=rclpy.time.Time(nanoseconds=log_ns).to_msg()))
+            if role == 'active':
+                self.spin(FLAG_SETTLE_S)
             self.publishers[role].publish(raw)
+            if role == 'active':
+                self.spin(FLAG_SETTLE_S)
+                start += 3 * FLAG_SETTLE_S
 
 
 def stamp(time_msg) -> int:
@@ -224,19 +242,51 @@ def evaluate(sweeps: list, rate_hz: float) -> dict:
                 e, e[1:], strict=False)) for _, e in used)}
 
 
-def check_live_threshold(sweeps: list, checked: list, threshold: float) -> tuple[int, int]:
-    """Sweeps where the live node at `threshold` decided as derived from the threshold-1 run."""
+def check_live_threshold(sweeps: list, checked: list, threshold: float) -> dict:
+    """Sweeps where the live node at `threshold` decided as derived from the threshold-1 run.
+
+    For each disagreement, what differed: the windows the two nodes cut (their first
+    windows' start, ms apart; a sample lost or the contact flag arriving beside another
+    sample shifts every window) or, on the same windows, the confidence.
+    """
     agree = total = 0
-    for (_, estimates), (_, live) in zip(sweeps, checked, strict=True):
+    disagreements = []
+    for number, ((_, estimates), (_, live)) in enumerate(zip(sweeps, checked, strict=True)):
         derived = next((e for e in estimates if e.confidence > threshold), None)
         decided = next((e for e in live if e.decided), None)
         if derived is None and decided is None:
             continue
         total += 1
-        agree += (derived is not None and decided is not None
-                  and derived.class_id == decided.class_id
-                  and derived.windows_used == decided.windows_used)
-    return agree, total
+        same = (derived is not None and decided is not None
+                and derived.class_id == decided.class_id
+                and derived.windows_used == decided.windows_used)
+        agree += same
+        if not same:
+            disagreements.append({'sweep': number, 'derived': decision_of(derived),
+                                  'decided': decision_of(decided),
+                                  **windows_compared(estimates, live)})
+    return {'threshold': threshold, 'agree': agree, 'sweeps': total,
+            'disagreements': disagreements}
+
+
+def decision_of(estimate) -> dict | None:
+    """The class, windows and confidence of a decision (None: none was made)."""
+    return None if estimate is None else {
+        'class_id': estimate.class_id, 'windows_used': estimate.windows_used,
+        'confidence': float(estimate.confidence)}
+
+
+def windows_compared(estimates: list, live: list) -> dict:
+    """How far apart the two nodes' windows are, and their confidence on shared windows."""
+    first = [stamp(e[0].window_starts[0]) for e in (estimates, live) if e and e[0].window_starts]
+    ends = {stamp(e.window_ends[-1]): float(e.confidence) for e in estimates}
+    shared = [(ends[stamp(e.window_ends[-1])], float(e.confidence)) for e in live
+              if not e.decided and stamp(e.window_ends[-1]) in ends]
+    return {'first_window_offset_ms': (first[1] - first[0]) * 1e-6 if len(first) == 2
+            else None,
+            'windows': [len(estimates), len(live)], 'shared_windows': len(shared),
+            'largest_confidence_difference': max(
+                (abs(a - b) for a, b in shared), default=None)}
 
 
 def plot(path: Path, results: dict) -> None:
@@ -313,11 +363,14 @@ def run_model(checkpoint: Path, test: list, speed: float, env: dict) -> dict:
     sweeps = sweeps_of(estimates['texture/estimate'], spans, classes)
     checked = sweeps_of(estimates['texture/estimate_check'], spans, classes)
     live = evaluate(sweeps, info.stream.sampling_rate_hz)
-    agree, total = check_live_threshold(sweeps, checked, DEFAULT_THRESHOLD)
-    dropped = {key: values.get('windows_dropped') for key, values in diagnostics.items()}
-    return {'model_id': info.model_id, 'live': live, 'live_check': {
-        'threshold': DEFAULT_THRESHOLD, 'agree': agree, 'sweeps': total},
-        'windows_dropped': dropped}
+    counters = {key: {name: value for name, value in values.items()
+                      if name in COUNTERS or name.startswith('faults_')}
+                for key, values in diagnostics.items()}
+    return {'model_id': info.model_id, 'live': live,
+            'live_check': check_live_threshold(sweeps, checked, DEFAULT_THRESHOLD),
+            'windows_dropped': {key: values.get('windows_dropped')
+                                for key, values in diagnostics.items()},
+            'counters': counters}
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -401,7 +454,24 @@ def render(summary: dict) -> str:
                   f'reference (converter windows, same model): window accuracy '
                   f'{100 * offline["window_accuracy"]:.1f} %, whole-sweep '
                   f'{100 * offline["whole_sweep_accuracy"]:.1f} %.', '']
+        lines += [disagreement_line(d) for d in check.get('disagreements', [])]
     return '\n'.join(lines)
+
+
+def disagreement_line(disagreement: dict) -> str:
+    """One disagreement of the live check, with what differed between the two nodes."""
+    def said(decision: dict | None) -> str:
+        return 'no decision' if decision is None else (
+            f'class {decision["class_id"]} after {decision["windows_used"]} windows '
+            f'({decision["confidence"]:.6f})')
+    offset = disagreement['first_window_offset_ms']
+    difference = disagreement['largest_confidence_difference']
+    return (f'- held-out sweep {disagreement["sweep"]}: derived {said(disagreement["derived"])}, '
+            f'live {said(disagreement["decided"])}; first windows '
+            + ('not both cut' if offset is None else f'{offset:+.1f} ms apart')
+            + f', {disagreement["shared_windows"]} windows shared'
+            + ('' if difference is None else
+               f' (confidence differs by up to {difference:.2e} on them)') + '\n')
 
 
 if __name__ == '__main__':

@@ -210,6 +210,21 @@ def sweep() -> str:
             f'{default["planned"]:.2f} mm; planned in {default["plan_ms"]:.0f} ms.\n')
 
 
+def _disagreements(check: dict) -> str:
+    """What differed in the live check's disagreements (windows cut apart or confidence)."""
+    found = check.get('disagreements', [])
+    if not found:
+        return ''
+    offsets = [abs(d['first_window_offset_ms']) for d in found
+               if d['first_window_offset_ms'] is not None]
+    same_class = sum(d['derived'] is not None and d['decided'] is not None
+                     and d['derived']['class_id'] == d['decided']['class_id'] for d in found)
+    shared = sum(d['shared_windows'] for d in found)
+    return (f' (in the other {len(found)} the two nodes had cut their windows '
+            + (f'{min(offsets):.1f}-{max(offsets):.1f} ms apart, ' if offsets else '')
+            + f'{shared} windows shared; {same_class} of them decided the same class)')
+
+
 def online_accuracy() -> str:
     """classifier_node's live decisions on held-out sweeps, per model, against contact time."""
     data = kept_json('online_accuracy.json')
@@ -233,7 +248,7 @@ def online_accuracy() -> str:
             f'same bags {100 * offline["window_accuracy"]:.1f} % of windows and '
             f'{100 * offline["whole_sweep_accuracy"]:.1f} % of whole sweeps; the node run '
             f'live at the default threshold took the derived decision in {check["agree"]} of '
-            f'{check["sweeps"]} sweeps.')
+            f'{check["sweeps"]} sweeps' + _disagreements(check) + '.')
     training = (f' Deep models trained with the `{deep["profile"]}` profile, '
                 f'{deep["scaling"]} scaling, at most {deep["epochs"]} epochs.' if deep else '')
     models = ','.join(data['models'])
