@@ -368,8 +368,6 @@ def run_model(checkpoint: Path, test: list, speed: float, env: dict) -> dict:
                 for key, values in diagnostics.items()}
     return {'model_id': info.model_id, 'live': live,
             'live_check': check_live_threshold(sweeps, checked, DEFAULT_THRESHOLD),
-            'windows_dropped': {key: values.get('windows_dropped')
-                                for key, values in diagnostics.items()},
             'counters': counters}
 
 
@@ -417,9 +415,10 @@ def main(argv: list[str] | None = None) -> int:
     table = render(summary)
     (RESULTS / 'online_accuracy.md').write_text(table, encoding='utf-8')
     print(table)
-    problems = [f'{m}: the node dropped windows {r["windows_dropped"]}'
-                for m, r in results.items()
-                if any(v not in ('0', None) for v in r['windows_dropped'].values())]
+    dropped = {m: {node: counts.get('windows_dropped') for node, counts in r['counters'].items()}
+               for m, r in results.items()}
+    problems = [f'{m}: the node dropped windows {nodes}' for m, nodes in dropped.items()
+                if any(v not in ('0', None) for v in nodes.values())]
     problems += [f'{m}: the live node at {r["live_check"]["threshold"]} disagreed with the '
                  f'derived decision in {r["live_check"]["sweeps"] - r["live_check"]["agree"]} '
                  'sweeps' for m, r in results.items()
