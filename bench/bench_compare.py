@@ -120,6 +120,7 @@ def main() -> int:
                         help='comma-separated window sizes (default 128,256,512); a later call '
                              'with more windows adds them to the same grid')
     args = parser.parse_args()
+    started = time.strftime('%Y-%m-%dT%H:%M:%S%z')
     results = RESULTS / args.grid
     steps: list[dict] = []
     bags = args.bags or args.work / 'bags'
@@ -150,13 +151,18 @@ def main() -> int:
         print('interrupted: the finished cells and the report are kept; run again to resume',
               file=sys.stderr)
         return 130
+    except subprocess.CalledProcessError as failed:
+        print(f'error: {Path(failed.cmd[0]).name} {failed.cmd[1]} ended with exit '
+              f'{failed.returncode}; the finished cells and the report are kept; run again '
+              'to resume', file=sys.stderr)
+        return 1
     finally:
         path = results / 'run.json'
         record = json.loads(path.read_text(encoding='utf-8')) if path.is_file() else {
             'datasets': {}, 'calls': []}
         for data in datasets:
             record['datasets'][data.name] = hashlib.sha256(data.read_bytes()).hexdigest()
-        record['calls'].append({'started': time.strftime('%Y-%m-%dT%H:%M:%S%z'),
+        record['calls'].append({'started': started,
                                 'cpus': args.cpus, 'recordings_per_texture': args.recordings,
                                 'machine': machine(), 'steps': steps})
         results.mkdir(parents=True, exist_ok=True)

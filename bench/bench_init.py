@@ -123,7 +123,8 @@ def main() -> int:
     (RESULTS / 'init.md').write_text(header + text + '\n', encoding='utf-8')
     (RESULTS / 'init.json').write_text(json.dumps(
         {'windows': int(rows.size), 'recordings_per_class': args.recordings_per_class,
-         'seeds': args.seeds, 'cap': args.cap, 'target': TARGET, 'results': results},
+         'seeds': args.seeds, 'cap': args.cap, 'target': TARGET, 'models': args.models,
+         'data': str(args.data) if args.data else None, 'results': results},
         indent=1) + '\n', encoding='utf-8')
     return 0
 

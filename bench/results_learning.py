@@ -3,6 +3,7 @@
 """Result sections of learning: the synthetic set, training, model grids, transfer."""
 
 import json
+from pathlib import Path
 
 import numpy as np
 from results_common import FIGURES, kept_json, RESULTS, TEXTURE_MODELS
@@ -74,10 +75,15 @@ def init() -> str:
                            if row['model'] == model and row['init'] == init_name)
                  for init_name in ('pytorch', 'keras')]
         lines.append(f'| {model} | {cells[0]} | {cells[1]} |')
+    command = (f'python bench/bench_init.py --models {" ".join(data["models"])} --seeds '
+               f'{" ".join(map(str, data["seeds"]))} --recordings-per-class '
+               f'{data["recordings_per_class"]} --cap {cap}')
+    source = (f'the set {Path(data["data"]).name}' if data['data'] else
+              'the synthetic set it collects (default scene, 25 sweeps per texture)')
     return (f'Epochs to {100 * data["target"]:.0f} % training accuracy from each '
-            f'initialisation (`python bench/bench_init.py`: {data["windows"]} windows of '
-            f'{data["recordings_per_class"]} recordings per class of the synthetic set, seeds '
-            f'{", ".join(map(str, data["seeds"]))}, at most {cap} epochs):\n\n'
+            f'initialisation (`{command}`: {data["windows"]} windows of '
+            f'{data["recordings_per_class"]} recordings per class of {source}, at most '
+            f'{cap} epochs):\n\n'
             + '\n'.join(lines) + '\n')
 
 
@@ -307,12 +313,14 @@ def compare() -> str:
     gaps = _grid_gaps(summary['rows'], expected)
     best = {}
     for row in summary['rows']:
-        accuracy = row['schemes']['grouped']['accuracy']['mean']
         complete = sum(s['cells'] for s in row['schemes'].values()) == expected
-        if complete and accuracy > best.get(row['window'], (0, ''))[0]:
-            best[row['window']] = (accuracy, row['model'])
-    headline = '; '.join(f'at {window} samples, {model} with {100 * accuracy:.1f} %'
-                         for window, (accuracy, model) in sorted(best.items()))
+        leader = best.get(row['window'])
+        if complete and (leader is None or _mean_grouped(row) > _mean_grouped(leader)):
+            best[row['window']] = row
+    headline = '; '.join(
+        f'at {window} samples, {row["model"]} with {100 * _mean_grouped(row):.1f} % '
+        f'({100 * row["schemes"]["stratified"]["accuracy"]["mean"]:.1f} % leaky)'
+        for window, row in sorted(best.items()))
     headline = headline or 'no row is complete'
     trained = [row['schemes']['grouped']['train_accuracy']['mean'] for row in summary['rows']
                if row['schemes']['grouped'].get('train_accuracy')]
@@ -325,14 +333,15 @@ def compare() -> str:
               'Complete: every model at every window.')
     return (f'The kept comparison (`python bench/bench_compare.py --recordings {per_texture} '
             f'--folds {settings["folds"]} --epochs {settings["epochs"]} --seeds {seeds} '
-            f'--windows W`, W = 128, 256, 512 one after the other; outputs in '
+            f'--windows {",".join(window for window, _ in data)}`, in {len(run["calls"])} '
+            f'call(s); outputs in '
             f'`bench/results/compare/`): the first {per_texture} sweeps of each texture of '
             f'the synthetic set, whole recordings ({windows}), {settings["folds"]}-fold '
             f'cross-validation per scheme, {seeds} seed(s), every deep model trained for '
             f'**{settings["epochs"]} epochs** where the original trained 250, one thread per '
             "cell and two cells at a time on this machine's two shared cores: "
             f'{cells} cells in {minutes:.0f} min of wall time (the 1-minute load average '
-            f'{min(loads):.1f}-{max(loads):.1f} as each window began and ended). {status} '
+            f'{min(loads):.1f}-{max(loads):.1f} as each call began and ended). {status} '
             'With so few epochs the deep models are far from converged: they reach '
             f'{fitted} % training accuracy (measured with '
             'batch statistics while training) but, evaluated with the BatchNorm running '
@@ -341,14 +350,16 @@ def compare() -> str:
             f'recordings, where chance is {chance:.1f} %. Their rows measure what '
             f'{settings["epochs"]} epochs buy, not what the architectures can do; the '
             'baselines are the figures to trust here. Training time and latency were '
-            'measured with another cell and other jobs on the same cores. Best honest '
-            f'accuracy per window (complete rows): {headline}.\n\n'
+            'measured with another cell running on the same cores. Best honest '
+            f'accuracy per window (complete rows), beside the same row with windows of one '
+            f'recording on both sides of the split: {headline}.\n\n'
             + table(summary['rows'], expected) + '\n'
             f'![accuracy]({FIGURES}/compare/accuracy.png)\n')
 
 
 def compare_long() -> str:
     from tactex_classify.evaluation.grid_report import table
+    from tactex_classify.models.registry import BASELINES
     summary, run, grid = _kept_grid('compare_long')
     settings = summary['settings']
     command = grid[-1]['command']
@@ -369,7 +380,7 @@ def compare_long() -> str:
                   if sum(v['cells'] for v in row['schemes'].values()) < expected]
     status = f' **Unfinished**: {", ".join(unfinished)}.' if unfinished else ''
     baselines = [r for r in kept['rows']
-                 if r['window'] == best['window'] and r['model'] in ('minirocket', 'extratrees')]
+                 if r['window'] == best['window'] and r['model'] in BASELINES]
     baseline = max(baselines, key=lambda r: r['schemes']['grouped']['accuracy']['mean'])
     fitted = [row['schemes']['grouped']['train_accuracy']['mean'] for row in rows]
     stopping = (f'stopped when the loss on {100 * settings["validation_fraction"]:.0f} % of the '
@@ -385,16 +396,23 @@ def compare_long() -> str:
             f'{sum(r["schemes"]["grouped"]["cells"] for r in rows)} cells in {minutes:.0f} min '
             f'on the two cores (load average {min(loads):.1f}-{max(loads):.1f}).{status} '
             f'{best["model"]} reaches {100 * best["schemes"]["grouped"]["accuracy"]["mean"]:.1f} '
-            f'% on held-out recordings at {best["window"]} samples, against '
+            f'% on held-out recordings at {best["window"]} samples (chance '
+            f'{100 / len(summary["data"][str(best["window"])]["classes"]):.1f} %), against '
             f'{100 * short["schemes"]["grouped"]["accuracy"]["mean"]:.1f} % after '
             f'{kept["settings"]["epochs"]} epochs above: the deep '
-            f'models now fit their training windows ({100 * min(fitted):.0f}-'
-            f'{100 * max(fitted):.0f} %) but, with about '
+            f'models reach {100 * min(fitted):.0f}-{100 * max(fitted):.0f} % on their '
+            f'training windows and, with about '
             f'{round(per_texture * (settings["folds"] - 1) / settings["folds"])} training '
-            'recordings per texture, generalise to new recordings less well than '
-            f'{baseline["model"]} ({100 * baseline["schemes"]["grouped"]["accuracy"]["mean"]:.1f}'
-            ' %) does on the same folds.\n\n'
+            f'recordings per texture, {_against(best, baseline)} on the same folds.\n\n'
             + table(rows, expected) + '\n')
+
+
+def _against(deep: dict, baseline: dict) -> str:
+    """How the best deep row generalises to new recordings beside the best baseline."""
+    ours, theirs = _mean_grouped(deep), _mean_grouped(baseline)
+    verdict = 'at least as well as' if ours >= theirs else 'less well than'
+    return (f'{deep["model"]} generalises to new recordings {verdict} {baseline["model"]} '
+            f'({100 * theirs:.1f} %) does')
 
 
 def _mean_grouped(row: dict) -> float:
