@@ -325,7 +325,7 @@ def compare() -> str:
     trained = [row['schemes']['grouped']['train_accuracy']['mean'] for row in summary['rows']
                if row['schemes']['grouped'].get('train_accuracy')]
     fitted = f'{100 * min(trained):.0f}-{100 * max(trained):.0f}'
-    held_out = [row['schemes']['grouped']['accuracy']['mean'] for row in summary['rows']
+    held_out = [_mean_grouped(row) for row in summary['rows']
                 if row['schemes']['grouped'].get('train_accuracy')]
     chance = 100 / len(data[0][1]['classes'])
     status = ('**Incomplete**: ' + '; '.join(gaps) + '; the table holds only the cells that '
@@ -372,7 +372,7 @@ def compare_long() -> str:
     rows = summary['rows']
     models = ','.join(sorted({row['model'] for row in rows}))
     windows = ','.join(str(w) for w in sorted({row['window'] for row in rows}))
-    best = max(rows, key=lambda row: row['schemes']['grouped']['accuracy']['mean'])
+    best = max(rows, key=_mean_grouped)
     kept = kept_json('compare/summary.json')  # the 5-epoch grid of the docs' table
     short = next(r for r in kept['rows']
                  if r['model'] == best['model'] and r['window'] == best['window'])
@@ -381,7 +381,7 @@ def compare_long() -> str:
     status = f' **Unfinished**: {", ".join(unfinished)}.' if unfinished else ''
     baselines = [r for r in kept['rows']
                  if r['window'] == best['window'] and r['model'] in BASELINES]
-    baseline = max(baselines, key=lambda r: r['schemes']['grouped']['accuracy']['mean'])
+    baseline = max(baselines, key=_mean_grouped)
     fitted = [row['schemes']['grouped']['train_accuracy']['mean'] for row in rows]
     stopping = (f'stopped when the loss on {100 * settings["validation_fraction"]:.0f} % of the '
                 'training recordings held out has not improved for '
@@ -395,10 +395,10 @@ def compare_long() -> str:
             f'{settings["epochs"]} epochs at most, {stopping}; '
             f'{sum(r["schemes"]["grouped"]["cells"] for r in rows)} cells in {minutes:.0f} min '
             f'on the two cores (load average {min(loads):.1f}-{max(loads):.1f}).{status} '
-            f'{best["model"]} reaches {100 * best["schemes"]["grouped"]["accuracy"]["mean"]:.1f} '
+            f'{best["model"]} reaches {100 * _mean_grouped(best):.1f} '
             f'% on held-out recordings at {best["window"]} samples (chance '
             f'{100 / len(summary["data"][str(best["window"])]["classes"]):.1f} %), against '
-            f'{100 * short["schemes"]["grouped"]["accuracy"]["mean"]:.1f} % after '
+            f'{100 * _mean_grouped(short):.1f} % after '
             f'{kept["settings"]["epochs"]} epochs above: the deep '
             f'models reach {100 * min(fitted):.0f}-{100 * max(fitted):.0f} % on their '
             f'training windows and, with about '
