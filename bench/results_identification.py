@@ -30,6 +30,7 @@ def identification() -> str:
             f'{100 * row["accuracy_after_k"][k - 1]:.1f} %' for k in steps) + ' | '
             + ', '.join(f'{name} {100 * count / total:.0f} %' for name, count in chosen[:2])
             + ' |')
+    after += _best_plans_row(report, steps)
     movements = ['| movement | sweep accuracy | calibration error |', '|---|---|---|']
     for name in report['movement_names']:
         row = report['movements'][name]
@@ -55,7 +56,13 @@ def identification() -> str:
         + '\n'.join(rows) + '\n\nAccuracy after k movements ('
         + (f'every movement here holds {report["contact_s"][0]:g} s of contact; ' if same else '')
         + 'an episode that stopped earlier keeps its last leader), and the two movements each '
-        'policy took most often among its first three:\n\n' + '\n'.join(after)
+        'policy took most often among its first three'
+        + ('; under them, the best plan of k movements fixed in advance, picked in hindsight '
+           'on the same held-out sweeps (an optimistic bound on every policy that does not '
+           'look at its sweeps, fixed and round-robin included, flattered by the luck of '
+           "picking among many plans), and the plan picked on the other folds' held-out "
+           "sweeps, scored on each fold's (the luck taken out)" if report.get('best_plans')
+           else '') + ':\n\n' + '\n'.join(after)
         + _without_discount(report, steps)
         + '\n\nEach movement on its own, one held-out sweep '
         '(`movement_confusions.png` has the confusion matrices):\n\n' + '\n'.join(movements)
@@ -65,6 +72,24 @@ def identification() -> str:
         f'per texture and movement, {widest["stacked_ms"][1]:.2f} ms with '
         f'{widest["sweeps_per_cell"]} (target {choice["target_ms"]:g} ms); the same gain '
         f'computed movement by movement took {looped:.0f}x longer.\n')
+
+
+def _best_plans_row(report: dict, steps: list[int]) -> list[str]:
+    """The best plan of k movements, in hindsight and chosen on the other folds, as rows."""
+    plans = {plan['movements']: plan for plan in report.get('best_plans', [])}
+    if not plans:
+        return []
+    longest = max(k for k in steps if k in plans)
+    rows = []
+    for label, key in (('best plan, hindsight', 'accuracy'),
+                       ('best plan, chosen elsewhere', 'chosen_elsewhere')):
+        cells = [f'{100 * plans[k][key]:.1f} %' if k in plans and plans[k][key] is not None
+                 else '' for k in steps]
+        last = (f'at {longest}: ' + ', '.join(f'{name} x{count}' for name, count in
+                                               plans[longest]['plan'].items())
+                if key == 'accuracy' else 'per fold, the plan best on the other folds')
+        rows.append(f'| {label} | ' + ' | '.join(cells) + f' | {last} |')
+    return rows
 
 
 def _without_discount(report: dict, steps: list[int]) -> str:

@@ -5,8 +5,8 @@
 Whatever a model answers (zeros, subnormals, 1e-300, ones, values above one, unnormalised),
 the belief stays finite and normalised and the expected information gain finite; a NaN,
 an infinity, a negative value or a wrong shape is refused with a ValueError naming it;
-calibration and the tempering fit stay finite on extreme probabilities; empty input is
-refused.
+calibration and the tempering fit stay finite on extreme probabilities; the best plans'
+accuracies stay shares on any sweeps; empty input is refused.
 """
 
 import math
@@ -20,6 +20,7 @@ from support.hard_values import anything, NON_FINITE
 
 from tactex_classify.identification.calibration import calibrated, fit_temperature, reliability
 from tactex_classify.identification.evidence_table import EvidenceTable, MovementEvidence
+from tactex_classify.identification.offline import best_plans, repeat_sums
 from tactex_classify.identification.pathway_part import movement_part
 from tactex_classify.identification.selection import Budget, Identification, POLICIES
 from tactex_classify.identification.tempering import DISCOUNTS, fit_tempering
@@ -69,6 +70,24 @@ def test_any_answers_keep_the_belief_finite_and_normalised(table, policy, seed, 
         assert_normalised(identification)
         assert np.all(np.isfinite(table.information_gain(identification.log_posterior,
                                                          identification.repeats)))
+
+
+@settings(max_examples=100, deadline=None)
+@given(tables(), st.data())
+def test_the_best_plans_are_shares_on_any_sweeps(table, data):
+    classes, names = len(table.classes), list(table.names)
+    plan_terms = []
+    for fold in range(data.draw(st.integers(1, 2))):
+        for texture in range(classes):
+            pools = [[data.draw(hnp.arrays(np.float64, classes, elements=answers))
+                      for _ in range(data.draw(st.integers(1, 3)))] for _ in names]
+            plan_terms.append((fold, texture, repeat_sums(table, pools)))
+    plans = best_plans({'movements': names, 'contact_s': table.seconds.tolist(),
+                        'classes': list(table.classes), 'plan_terms': plan_terms})
+    assert plans and [plan['movements'] for plan in plans] == list(range(1, len(plans) + 1))
+    for plan in plans:
+        assert 0.0 <= plan['accuracy'] <= 1.0 and math.isfinite(plan['contact_s'])
+        assert plan['chosen_elsewhere'] is None or 0.0 <= plan['chosen_elsewhere'] <= 1.0
 
 
 @pytest.mark.parametrize('answer', [[0.0, 0.0, 0.0], [1e-300, 1e-300, 1.0], [1.0, 1.0, 1.0],

@@ -5,11 +5,15 @@
 Nested and grouped: each fold's evidence comes from the other folds only; an episode
 never takes the same held-out sweep twice; the same inputs give the same report; the
 report holds the issue's JSON, a markdown table and its plots; a dataset without
-movements, or one that disagrees with the movement file, is refused naming why.
+movements, or one that disagrees with the movement file, is refused naming why. The best
+plan of k movements in hindsight is found by enumeration and bounds every policy that
+fixes its movements in advance.
 """
 
+from dataclasses import replace
 import json
 
+import numpy as np
 import pytest
 from support.movement_data import (
     movement_dataset,
@@ -21,7 +25,12 @@ from support.movement_data import (
 
 from tactex.cli import main
 from tactex_classify.identification.movement_evidence import MovementDataError
-from tactex_classify.identification.offline import replay, ReplaySettings, summary
+from tactex_classify.identification.offline import (
+    best_plans,
+    replay,
+    ReplaySettings,
+    summary,
+)
 from tactex_classify.identification.report import PLOTS, write_report
 from tactex_classify.identification.selection import Budget, POLICIES
 from tactex_description.movements import load_movements
@@ -86,6 +95,58 @@ def test_the_report_holds_the_json_the_markdown_and_every_plot(tmp_path, replaye
     assert '| active |' in text and '| tells_nothing |' in text
     for name in PLOTS:
         assert (tmp_path / 'report' / name).stat().st_size > 1000, name
+
+
+def test_no_plan_fixed_in_advance_beats_the_best_plan_in_hindsight(tmp_path):
+    settings = replace(SETTINGS, budget=Budget(threshold=1.0))  # never decides
+    result = replay(movement_dataset(tmp_path), load_movements(movement_file(tmp_path)),
+                    settings, progress=lambda line: None)
+    table = write_report(tmp_path / 'report', result, settings)
+    plans = table['best_plans']
+    assert [plan['movements'] for plan in plans] == list(range(1, len(plans) + 1))
+    assert len(plans) >= 3 and plans[0]['plan'] != {'tells_nothing': 1}
+    best_so_far = 0.0
+    for plan in plans:
+        best_so_far = max(best_so_far, plan['accuracy'])
+        assert sum(plan['plan'].values()) == plan['movements']
+        for policy in ('fixed', 'round-robin'):  # plans themselves, stopped or not
+            after = table['policies'][policy]['accuracy_after_k'][plan['movements'] - 1]
+            assert after <= best_so_far + 1e-12, (policy, plan)
+    assert '| best plan (hindsight) |' in (tmp_path / 'report' / 'identification.md').read_text()
+
+
+def test_the_best_plan_is_found_by_enumeration_and_repeats_a_movement_only_as_pools_allow():
+    def steps(*toward):  # one sweep's update per texture index it points at, +size
+        return [np.eye(2)[texture] * size for texture, size in toward]
+
+    def sums(terms):
+        return np.cumsum([np.zeros(2), *terms], axis=0)
+
+    result = {'movements': ['sharp', 'weak'], 'contact_s': [2.0, 3.0], 'classes': ['a', 'b'],
+              'plan_terms': [  # sharp is right once then misleads; weak always says a
+                  (0, 0, [sums(steps((0, 2), (1, 3))), sums(steps((0, 1), (0, 1), (0, 1)))]),
+                  (1, 1, [sums(steps((1, 2), (0, 3))), sums(steps((0, 1), (0, 1)))])]}
+    plans = best_plans(result)
+    assert [plan['movements'] for plan in plans] == [1, 2, 3, 4]  # weak: 2 sweeps in every pool
+    assert plans[0] == {'movements': 1, 'accuracy': 1.0, 'chosen_elsewhere': 1.0,
+                        'contact_s': 2.0, 'plan': {'sharp': 1}}
+    assert plans[1] == {'movements': 2, 'accuracy': 1.0, 'chosen_elsewhere': 1.0,
+                        'contact_s': 5.0, 'plan': {'sharp': 1, 'weak': 1}}
+    assert [plan['accuracy'] for plan in plans[2:]] == [0.5, 0.5]
+    assert best_plans({**result, 'plan_terms': []}) == []
+
+
+def test_a_plan_chosen_on_the_other_folds_loses_the_luck_of_choosing_on_its_own_sweeps():
+    def sums(texture):  # one sweep pointing at `texture`
+        return np.cumsum([np.zeros(2), np.eye(2)[texture]], axis=0)
+
+    result = {'movements': ['left', 'right'], 'contact_s': [1.0, 1.0], 'classes': ['a', 'b'],
+              'plan_terms': [(0, 0, [sums(0), sums(1)]),  # fold 0: left is right
+                             (1, 1, [sums(0), sums(1)])]}  # fold 1: right is right
+    single = best_plans(result)[0]
+    assert single['accuracy'] == 0.5 and single['chosen_elsewhere'] == 0.0
+    alone = {**result, 'plan_terms': result['plan_terms'][:1]}
+    assert best_plans(alone)[0]['chosen_elsewhere'] is None  # one fold: nothing elsewhere
 
 
 def test_recordings_without_a_movement_or_another_movement_file_are_refused(tmp_path):

@@ -11,12 +11,19 @@ produced. An episode identifies one texture of the fold: each step takes the cho
 movement's next held-out sweep of that texture, never the same sweep twice (a movement
 whose sweeps are used up is no longer available). Every policy sees the same sweeps in
 the same order for a (fold, texture, seed), so policies differ only by their choices.
+
+`best_plans` bounds what choosing can buy: the best plan of k movements fixed in advance
+(how many sweeps of each), picked in hindsight on those same held-out sweeps. Fixed and
+round-robin are such plans, so no policy that decides its movements before sweeping can
+do better; only an adaptive policy (active) can.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
+import itertools
+import math
 import time
 
 import numpy as np
@@ -37,6 +44,9 @@ from tactex_classify.identification.movement_evidence import (
 from tactex_classify.identification.selection import Budget, Identification, POLICIES
 from tactex_classify.identification.tempering import DISCOUNTS, fit_tempering
 from tactex_description.movements import MovementSet
+
+PLAN_MOVEMENTS = 6  # the longest plan best_plans scores by default
+MAX_PLANS = 20_000  # plans of one length best_plans scores at most
 
 
 @dataclass(frozen=True)
@@ -114,7 +124,7 @@ def replay(dataset: Dataset, movements: MovementSet, settings: ReplaySettings = 
     classes = len(dataset.classes)
     episodes: list[Episode] = []
     held_out = {name: {'labels': [], 'vectors': []} for name in names}
-    tempering = []
+    tempering, plan_terms = [], []
     for fold in range(settings.folds):
         started = time.monotonic()
         fitted, test, predict_s = [], [], []
@@ -142,6 +152,7 @@ def replay(dataset: Dataset, movements: MovementSet, settings: ReplaySettings = 
                 order = np.random.default_rng([settings.seed, fold, texture, seed])
                 pools = [list(vectors[order.permutation(np.flatnonzero(labels == texture))])
                          for labels, vectors in test]
+                plan_terms.append((fold, texture, repeat_sums(table, pools)))
                 for policy in settings.policies:
                     episodes.append(_episode(table, policy, settings.budget, fold, seed,
                                              texture, [list(pool) for pool in pools],
@@ -152,7 +163,8 @@ def replay(dataset: Dataset, movements: MovementSet, settings: ReplaySettings = 
                  f'{classes * settings.seeds * len(settings.policies)} episodes '
                  f'({time.monotonic() - started:.0f} s)')
     return {'episodes': episodes, 'held_out': held_out, 'tempering': tempering,
-            'arm_s': arm_s, 'movements': names, 'classes': list(dataset.classes),
+            'plan_terms': plan_terms, 'arm_s': arm_s, 'movements': names,
+            'classes': list(dataset.classes),
             'contact_s': [movements.by_name(name).contact_s for name in names]}
 
 
@@ -180,6 +192,65 @@ def _episode(table: EvidenceTable, policy: str, budget: Budget, fold: int, seed:
     episode.stop_reason = identification.stop_reason(np.array([bool(p) for p in pools]))
     episode.decided = episode.stop_reason == 'decided'
     return episode
+
+
+def repeat_sums(table: EvidenceTable, pools: list[list[np.ndarray]]) -> list[np.ndarray]:
+    """Per movement, (sweeps + 1, classes): the update's sum over its first n pooled sweeps.
+
+    In the order an episode takes them (from the end of the pool), each weighted as its
+    repeat (`EvidenceTable.log_likelihood`).
+    """
+    sums = []
+    for movement, pool in enumerate(pools):
+        terms = [table.log_likelihood(movement, vector, repeats=n)
+                 for n, vector in enumerate(reversed(pool))]
+        sums.append(np.cumsum([np.zeros(len(table.classes)), *terms], axis=0))
+    return sums
+
+
+def best_plans(result: dict, most: int = PLAN_MOVEMENTS) -> list[dict]:
+    """Per k in 1..most, the plan of k sweeps (per movement how many) right most often.
+
+    A plan's answer in an episode is the leader after its sweeps, taken from the same
+    held-out pools the policies drew from; its `accuracy` is the mean over every (fold,
+    texture, seed). A movement is repeated at most as often as every pool allows. That
+    plan is picked on the held-out sweeps it is scored on: an optimistic bound, not a
+    policy, and the more plans there are the more it flatters. `chosen_elsewhere` takes
+    the selection's luck out: each fold's episodes scored with the plan best on the other
+    folds' (None with one fold). The list ends before a k with more than MAX_PLANS plans,
+    and is empty when no episode was replayed.
+    """
+    plan_terms: list[tuple[int, int, list[np.ndarray]]] = result['plan_terms']
+    if not plan_terms:
+        return []
+    names, seconds = result['movements'], np.asarray(result['contact_s'], dtype=float)
+    deepest = np.array([min(len(own[m]) for *_, own in plan_terms) - 1
+                        for m in range(len(names))])
+    sums = np.zeros((len(plan_terms), len(names), deepest.max() + 1,
+                     len(result['classes'])))
+    for episode, (*_, own) in enumerate(plan_terms):
+        for movement, depth in enumerate(deepest):
+            sums[episode, movement, :depth + 1] = own[movement][:depth + 1]
+    fold = np.array([fold for fold, *_ in plan_terms])
+    truth = np.array([texture for _, texture, _ in plan_terms])
+    every = np.arange(len(names))
+    best = []
+    for k in range(1, min(most, int(deepest.sum())) + 1):
+        if math.comb(len(names) + k - 1, k) > MAX_PLANS:
+            break
+        plans = [counts for chosen in itertools.combinations_with_replacement(every, k)
+                 if np.all((counts := np.bincount(chosen, minlength=len(names))) <= deepest)]
+        right = np.array([sums[:, every, counts].sum(axis=1).argmax(axis=1) == truth
+                          for counts in plans])  # (plans, episodes)
+        top = plans[int(np.argmax(right.mean(axis=1)))]
+        elsewhere = [right[np.argmax(right[:, fold != f].mean(axis=1)), fold == f]
+                     for f in np.unique(fold)] if len(np.unique(fold)) > 1 else None
+        best.append({'movements': k, 'accuracy': float(right.mean(axis=1).max()),
+                     'chosen_elsewhere': None if elsewhere is None
+                     else float(np.concatenate(elsewhere).mean()),
+                     'contact_s': float(top @ seconds),
+                     'plan': {names[m]: int(c) for m, c in enumerate(top) if c}})
+    return best
 
 
 def _arm_seconds(dataset: Dataset, movement_of: dict[int, str], names: list[str]) -> list[float]:
@@ -235,6 +306,7 @@ def summary(result: dict, settings: ReplaySettings) -> dict:
             'repeat_discount': [update.repeat_discount for update in result['tempering']],
             'classes': result['classes'], 'movement_names': result['movements'],
             'contact_s': result['contact_s'], 'arm_s': result['arm_s'],
+            'best_plans': best_plans(result),
             'settings': {'folds': settings.folds, 'inner_folds': settings.inner_folds,
                          'seeds': settings.seeds, 'model': settings.model,
                          'threshold': settings.budget.threshold,

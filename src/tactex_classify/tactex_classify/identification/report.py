@@ -3,10 +3,10 @@
 """The identification report: identification.json, identification.md and its PNGs.
 
 Plots: accuracy against contact seconds per policy (mean over folds x seeds, shaded one
-standard deviation), movements to decision, the movements `active` chose per true
-texture, arm and wall time beside contact time, the reliability of each movement's
-calibrated sweep probabilities, and each movement's confusion matrix (what shows whether
-any movement tells more than another).
+standard deviation; dashed, the best plan of k movements in hindsight), movements to
+decision, the movements `active` chose per true texture, arm and wall time beside
+contact time, the reliability of each movement's calibrated sweep probabilities, and each
+movement's confusion matrix (what shows whether any movement tells more than another).
 """
 
 from __future__ import annotations
@@ -49,7 +49,8 @@ def write_report(folder: Path, result: dict, settings: ReplaySettings) -> dict:
     table = summary(result, settings)
     (folder / 'identification.json').write_text(json.dumps(table, indent=1) + '\n',
                                                 encoding='utf-8')
-    _plot_accuracy(folder / PLOTS[0], result['episodes'], settings.policies)
+    _plot_accuracy(folder / PLOTS[0], result['episodes'], settings.policies,
+                   table['best_plans'])
     _plot_movements(folder / PLOTS[1], result['episodes'], settings.policies)
     _plot_choices(folder / PLOTS[2], result)
     _plot_time(folder / PLOTS[3], table)
@@ -81,6 +82,7 @@ def markdown(table: dict) -> str:
                      f'% | {row["median_contact_s"]:.1f} | {row["p90_contact_s"]:.1f} | '
                      f'{row["median_movements"]:.0f} | {row["median_arm_s"]:.1f} | '
                      f'{row["median_wall_s"]:.1f} |')
+    lines += _plans_table(table)
     lines += ['', '| movement | contact (s) | arm (s) | held-out sweeps | sweep accuracy | '
               'calibration error |', '|---|---|---|---|---|---|']
     for name, contact, arm in zip(table['movement_names'], table['contact_s'], table['arm_s'],
@@ -92,7 +94,35 @@ def markdown(table: dict) -> str:
     return '\n'.join(lines)
 
 
-def _plot_accuracy(path: Path, episodes: list[Episode], policies: tuple[str, ...]) -> None:
+def _plans_table(table: dict) -> list[str]:
+    """Each policy's accuracy after k movements beside the best plan of k in hindsight."""
+    plans, policies = table.get('best_plans', []), list(table['policies'])
+    if not plans:
+        return []
+    lines = ['', 'Accuracy after k movements (the leader after the k-th; an episode that '
+             'stopped earlier keeps its last), beside the best plan of k movements fixed in '
+             'advance, picked in hindsight on these same held-out sweeps: an optimistic bound '
+             'on every policy that does not look at the sweeps (fixed and round-robin are such '
+             'plans; only active, which does, can pass it). Picked among many plans, it is '
+             'flattered by luck; "chosen elsewhere" scores each fold with the plan best on the '
+             'other folds, what a choice learnt from more recordings could reach.', '',
+             f'| k | {" | ".join(policies)} | best plan (hindsight) | chosen elsewhere | its '
+             'movements | its contact (s) |', '|---' * (len(policies) + 5) + '|']
+    for plan in plans:
+        k = plan['movements']
+        after = [table['policies'][p]['accuracy_after_k'] for p in policies]
+        elsewhere = plan['chosen_elsewhere']
+        lines.append(f'| {k} | ' + ' | '.join(
+            f'{100 * row[k - 1]:.1f} %' if k <= len(row) else '' for row in after)
+            + f' | {100 * plan["accuracy"]:.1f} % | '
+            + ('' if elsewhere is None else f'{100 * elsewhere:.1f} %') + ' | '
+            + ', '.join(f'{name} x{count}' for name, count in plan['plan'].items())
+            + f' | {plan["contact_s"]:.1f} |')
+    return lines
+
+
+def _plot_accuracy(path: Path, episodes: list[Episode], policies: tuple[str, ...],
+                   plans: list[dict]) -> None:
     longest = max((e.contact_s[-1] for e in episodes if e.contact_s), default=1.0)
     grid = np.linspace(0.0, longest, 200)
     plt, figure, axis = plotting.figure()
@@ -102,6 +132,10 @@ def _plot_accuracy(path: Path, episodes: list[Episode], policies: tuple[str, ...
         axis.fill_between(grid, np.clip(100 * (mean - spread), 0, 100),
                           np.clip(100 * (mean + spread), 0, 100), color=f'C{index}',
                           alpha=0.15, lw=0)
+    if plans:
+        axis.plot([plan['contact_s'] for plan in plans],
+                  [100 * plan['accuracy'] for plan in plans], 'k--o', ms=3, lw=1,
+                  label='best plan of k, hindsight')
     axis.set_xlabel('contact seconds')
     axis.set_ylabel('textures identified right (%)')
     plotting.legend_outside(axis)
