@@ -24,7 +24,8 @@ def identification() -> str:
              + ' | first three movements |',
              '|---|' + '---|' * (len(steps) + 1)]
     for policy, row in report['policies'].items():
-        chosen = sorted(row.get('first_three_movements', {}).items(), key=lambda kv: -kv[1])
+        chosen = sorted(((name, count) for name, count in row.get(
+            'first_three_movements', {}).items() if count), key=lambda kv: -kv[1])
         total = sum(count for _, count in chosen) or 1
         after.append(f'| {policy} | ' + ' | '.join(
             f'{100 * row["accuracy_after_k"][k - 1]:.1f} %' for k in steps) + ' | '
@@ -63,6 +64,7 @@ def identification() -> str:
            "picking among many plans), and the plan picked on the other folds' held-out "
            "sweeps, scored on each fold's (the luck taken out)" if report.get('best_plans')
            else '') + ':\n\n' + '\n'.join(after)
+        + (_against_goals(report) if same else '')
         + _without_discount(report, steps)
         + '\n\nEach movement on its own, one held-out sweep '
         '(`movement_confusions.png` has the confusion matrices):\n\n' + '\n'.join(movements)
@@ -72,6 +74,39 @@ def identification() -> str:
         f'per texture and movement, {widest["stacked_ms"][1]:.2f} ms with '
         f'{widest["sweeps_per_cell"]} (target {choice["target_ms"]:g} ms); the same gain '
         f'computed movement by movement took {looped:.0f}x longer.\n')
+
+
+def _against_goals(report: dict) -> str:
+    """The issue's two comparisons, from the after-k curves (every movement as long)."""
+    seconds, policies = report['contact_s'][0], report['policies']
+    fixed, active = policies['fixed'], policies['active']['accuracy_after_k']
+    goal = 0.6 * fixed['median_contact_s']
+    reached = next((k for k, right in enumerate(active, 1) if right >= fixed['accuracy'] - 0.01),
+                   None)
+    within = int(goal // seconds + 1e-9)
+    plans = {plan['movements']: plan for plan in report.get('best_plans', [])}
+    bound = (f'; the best plan of {within} in hindsight {100 * plans[within]["accuracy"]:.1f} %, '
+             f'chosen elsewhere {100 * plans[within]["chosen_elsewhere"]:.1f} %'
+             if within in plans and plans[within]['chosen_elsewhere'] is not None else '')
+    random = policies['random']['accuracy_after_k']
+    later = [k for k, right in enumerate(random, 1)
+             if next((j for j, mine in enumerate(active, 1) if mine >= right - 1e-12), k + 1) > k]
+    return (
+        f'\n\nAgainst `fixed` (goal: its final accuracy, within 1 point, in at most 60 % of its '
+        f'median contact): fixed ends at {100 * fixed["accuracy"]:.1f} % after a median '
+        f'{fixed["median_contact_s"]:g} s; active first reaches '
+        f'{100 * fixed["accuracy"] - 1:.1f} % '
+        + (f'after {reached} movements ({reached * seconds:g} s, '
+           f'{100 * reached * seconds / fixed["median_contact_s"]:.0f} % of fixed\'s)'
+           if reached else 'never') + '. '
+        f'Within 60 % ({goal:g} s, {within} movements) active has '
+        f'{100 * active[within - 1]:.1f} %{bound}. Against `random` (goal: fewer contact '
+        'seconds at equal accuracy): of the accuracies random reaches after 1 to '
+        f'{len(random)} movements, active reaches '
+        + ('every one as early or earlier' if not later else
+           f'all but {len(later)} as early or earlier (later after '
+           f'{", ".join(map(str, later[:8]))}{"..." if len(later) > 8 else ""} movements of '
+           'random)') + '.')
 
 
 def _best_plans_row(report: dict, steps: list[int]) -> list[str]:
