@@ -28,8 +28,8 @@ MOVEMENTS = Path(__file__).parents[1] / 'config' / 'movements.yaml'
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument('--sweeps', type=int, default=10)
-    parser.add_argument('--seed', type=int, default=2027, help='scene seed (no test uses it)')
+    parser.add_argument('--sweeps', type=int, default=20)
+    parser.add_argument('--seed', type=int, default=2035, help='scene seed (no test uses it)')
     parser.add_argument('--folds', type=int, default=2)
     parser.add_argument('--seeds', type=int, default=10)
     parser.add_argument('--inner-folds', type=int, default=3,
