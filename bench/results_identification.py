@@ -79,11 +79,15 @@ def identification() -> str:
 def _against_goals(report: dict) -> str:
     """The issue's two comparisons, from the after-k curves (every movement as long)."""
     seconds, policies = report['contact_s'][0], report['policies']
+    if not {'active', 'fixed', 'random'} <= set(policies):
+        return ''
     fixed, active = policies['fixed'], policies['active']['accuracy_after_k']
     goal = 0.6 * fixed['median_contact_s']
     reached = next((k for k, right in enumerate(active, 1) if right >= fixed['accuracy'] - 0.01),
                    None)
     within = int(goal // seconds + 1e-9)
+    if within < 1:
+        return ''
     plans = {plan['movements']: plan for plan in report.get('best_plans', [])}
     bound = (f'; the best plan of {within} in hindsight {100 * plans[within]["accuracy"]:.1f} %, '
              f'chosen elsewhere {100 * plans[within]["chosen_elsewhere"]:.1f} %'
