@@ -3,6 +3,7 @@
 """Result section of active identification: policies on held-out recordings, choice cost."""
 
 from results_common import FIGURES, kept_json
+from scipy.stats import binomtest
 
 
 def identification() -> str:
@@ -158,6 +159,17 @@ def identify_live_sweeps() -> str:
     return _live_section('identify_live_sweeps.json', '--training sweeps --sweeps 3 --work DIR')
 
 
+def _live_interval(episodes: list[dict], offline: float) -> str:
+    """The live leader's share right with its 95 % Wilson interval, against the offline one."""
+    right = sum(episode['leader'] == episode['truth'] for episode in episodes)
+    interval = binomtest(right, len(episodes)).proportion_ci(method='wilson')
+    holds = interval.low <= offline <= interval.high
+    return (f'Live, the leader at the end was right in {right} of {len(episodes)} goals (95 % '
+            f'Wilson interval {100 * interval.low:.1f}-{100 * interval.high:.1f} %), which '
+            f'{"holds" if holds else "excludes"} the offline figure'
+            f'{": these goals alone cannot tell the two apart" if holds else ""}. ')
+
+
 def _live_section(name: str, options: str) -> str:
     kept = kept_json(name)
     live, offline, probe = kept['live'], kept['offline_active'], kept['probe']
@@ -200,6 +212,7 @@ def _live_section(name: str, options: str) -> str:
         + '\n'.join(rows)
         + f'\n\nOffline, active was {100 * kept["offline_accuracy_after_budget"]:.1f} % right '
         f'after {kept["budget_movements"]} movements, the live budget. '
+        + _live_interval(kept['episodes'], kept['offline_accuracy_after_budget']) +
         f'A live goal took a median {live["median_wall_s"]:.0f} s of wall time (the arm '
         'travels between sweeps). Movements the live goals ran: '
         + ', '.join(f'{movement} {count}' for movement, count in
