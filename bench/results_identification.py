@@ -84,8 +84,7 @@ def _against_goals(report: dict) -> str:
         return ''
     fixed, active = policies['fixed'], policies['active']['accuracy_after_k']
     goal = 0.6 * fixed['median_contact_s']
-    reached = next((k for k, right in enumerate(active, 1) if right >= fixed['accuracy'] - 0.01),
-                   None)
+    reached = _first_reaching(active, fixed['accuracy'] - 0.01)
     within = int(goal // seconds + 1e-9)
     if within < 1:
         return ''
@@ -95,7 +94,7 @@ def _against_goals(report: dict) -> str:
              if within in plans and plans[within]['chosen_elsewhere'] is not None else '')
     random = policies['random']['accuracy_after_k']
     later = [k for k, right in enumerate(random, 1)
-             if next((j for j, mine in enumerate(active, 1) if mine >= right - 1e-12), k + 1) > k]
+             if (_first_reaching(active, right - 1e-12) or k + 1) > k]
     return (
         f'\n\nAgainst `fixed` (goal: its final accuracy, within 1 point, in at most 60 % of its '
         f'median contact): fixed ends at {100 * fixed["accuracy"]:.1f} % after a median '
@@ -112,6 +111,11 @@ def _against_goals(report: dict) -> str:
            f'all but {len(later)} as early or earlier (later after '
            f'{", ".join(map(str, later[:8]))}{"..." if len(later) > 8 else ""} movements of '
            'random)') + '.')
+
+
+def _first_reaching(curve: list[float], level: float) -> int | None:
+    """The first k (from 1) whose accuracy after k movements reaches `level`, or None."""
+    return next((k for k, right in enumerate(curve, 1) if right >= level), None)
 
 
 def _best_plans_row(report: dict, steps: list[int]) -> list[str]:

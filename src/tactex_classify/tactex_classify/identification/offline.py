@@ -232,6 +232,7 @@ def best_plans(result: dict, most: int = PLAN_MOVEMENTS) -> list[dict]:
         for movement, depth in enumerate(deepest):
             sums[episode, movement, :depth + 1] = own[movement][:depth + 1]
     fold = np.array([fold for fold, *_ in plan_terms])
+    folds = np.unique(fold)
     truth = np.array([texture for _, texture, _ in plan_terms])
     every = np.arange(len(names))
     best = []
@@ -242,10 +243,11 @@ def best_plans(result: dict, most: int = PLAN_MOVEMENTS) -> list[dict]:
                  if np.all((counts := np.bincount(chosen, minlength=len(names))) <= deepest)]
         right = np.array([sums[:, every, counts].sum(axis=1).argmax(axis=1) == truth
                           for counts in plans])  # (plans, episodes)
-        top = plans[int(np.argmax(right.mean(axis=1)))]
+        shares = right.mean(axis=1)
+        top = plans[int(np.argmax(shares))]
         elsewhere = [right[np.argmax(right[:, fold != f].mean(axis=1)), fold == f]
-                     for f in np.unique(fold)] if len(np.unique(fold)) > 1 else None
-        best.append({'movements': k, 'accuracy': float(right.mean(axis=1).max()),
+                     for f in folds] if len(folds) > 1 else None
+        best.append({'movements': k, 'accuracy': float(shares.max()),
                      'chosen_elsewhere': None if elsewhere is None
                      else float(np.concatenate(elsewhere).mean()),
                      'contact_s': float(top @ seconds),

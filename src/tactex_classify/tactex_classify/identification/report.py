@@ -108,9 +108,9 @@ def _plans_table(table: dict) -> list[str]:
              'other folds, what a choice learnt from more recordings could reach.', '',
              f'| k | {" | ".join(policies)} | best plan (hindsight) | chosen elsewhere | its '
              'movements | its contact (s) |', '|---' * (len(policies) + 5) + '|']
+    after = [table['policies'][p]['accuracy_after_k'] for p in policies]
     for plan in plans:
         k = plan['movements']
-        after = [table['policies'][p]['accuracy_after_k'] for p in policies]
         elsewhere = plan['chosen_elsewhere']
         lines.append(f'| {k} | ' + ' | '.join(
             f'{100 * row[k - 1]:.1f} %' if k <= len(row) else '' for row in after)
