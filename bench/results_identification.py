@@ -160,7 +160,15 @@ def identify_live() -> str:
 
 
 def identify_live_sweeps() -> str:
-    return _live_section('identify_live_sweeps.json', '--training sweeps --sweeps 3 --work DIR')
+    sweeps = kept_json('identify_live_sweeps.json')['sweeps_per_texture_and_movement']
+    return _live_section('identify_live_sweeps.json',
+                         f'--training sweeps --sweeps {sweeps} --work DIR')
+
+
+def _per_texture(episodes: int, textures: list[str]) -> str:
+    """How many goals each texture had, in words when one."""
+    count = episodes / max(len(textures), 1)
+    return 'one' if count == 1 else f'{count:g}'
 
 
 def _live_interval(episodes: list[dict], offline: float) -> str:
@@ -209,7 +217,8 @@ def _live_section(name: str, options: str) -> str:
         f'on {trained_on}; the system launched in simulation, {probe["points"]} probes asked '
         f'along {1e3 * kept["span_m"]:.0f} mm of which {probe["contacts"]} gave a contact '
         f'(the pathway), then {live["episodes"]} Identify goals (active, threshold 0.99, at '
-        f'most {kept["budget_movements"]} movements), one per texture; {live["failed"]} '
+        f'most {kept["budget_movements"]} movements), {_per_texture(live["episodes"], textures)} '
+        f'per texture; {live["failed"]} '
         'failed. Beside it, `tactex report identification` on the same dataset with the '
         f'same model and policy ({kept["offline_episodes"]} held-out episodes, '
         f'{kept.get("offline_folds", 2)} folds):\n\n'
