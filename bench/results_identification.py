@@ -160,9 +160,11 @@ def identify_live() -> str:
 
 
 def identify_live_sweeps() -> str:
-    sweeps = kept_json('identify_live_sweeps.json')['sweeps_per_texture_and_movement']
-    return _live_section('identify_live_sweeps.json',
-                         f'--training sweeps --sweeps {sweeps} --work DIR')
+    kept = kept_json('identify_live_sweeps.json')
+    goals = kept['live']['episodes'] / len({episode['truth'] for episode in kept['episodes']})
+    return _live_section('identify_live_sweeps.json', '--training sweeps --sweeps '
+                         f'{kept["sweeps_per_texture_and_movement"]}'
+                         + (f' --episodes {goals:g}' if goals != 1 else '') + ' --work DIR')
 
 
 def _per_texture(episodes: int, textures: list[str]) -> str:
