@@ -156,21 +156,19 @@ def _without_discount(report: dict, steps: list[int]) -> str:
 
 
 def identify_live() -> str:
-    return _live_section('identify_live.json', '--work DIR')
+    return _live_section('identify_live.json')
 
 
 def identify_live_sweeps() -> str:
-    kept = kept_json('identify_live_sweeps.json')
-    goals = kept['live']['episodes'] / len({episode['truth'] for episode in kept['episodes']})
-    return _live_section('identify_live_sweeps.json', '--training sweeps --sweeps '
-                         f'{kept["sweeps_per_texture_and_movement"]}'
-                         + (f' --episodes {goals:g}' if goals != 1 else '') + ' --work DIR')
+    return _live_section('identify_live_sweeps.json')
 
 
-def _per_texture(episodes: int, textures: list[str]) -> str:
-    """How many goals each texture had, in words when one."""
-    count = episodes / max(len(textures), 1)
-    return 'one' if count == 1 else f'{count:g}'
+def _bench_options(kept: dict, goals_per_texture: float) -> str:
+    """The bench's options that reproduce a kept live run: its training, and goals if not one."""
+    training = (f'--training sweeps --sweeps {kept["sweeps_per_texture_and_movement"]} '
+                if kept.get('training') == 'sweeps' else '')
+    episodes = f'--episodes {goals_per_texture:g} ' if goals_per_texture != 1 else ''
+    return f'{training}{episodes}--work DIR'
 
 
 def _live_interval(episodes: list[dict], offline: float) -> str:
@@ -184,10 +182,11 @@ def _live_interval(episodes: list[dict], offline: float) -> str:
             f'{": these goals alone cannot tell the two apart" if holds else ""}. ')
 
 
-def _live_section(name: str, options: str) -> str:
+def _live_section(name: str) -> str:
     kept = kept_json(name)
     live, offline, probe = kept['live'], kept['offline_active'], kept['probe']
     textures = sorted({episode['truth'] for episode in kept['episodes']})
+    goals_per_texture = live['episodes'] / max(len(textures), 1)
     movements = kept.get('movements', ['8'] * 8)
     minutes = kept['live_seconds'] / 60
     sweeps = kept['sweeps_per_texture_and_movement']
@@ -214,13 +213,15 @@ def _live_section(name: str, options: str) -> str:
     fitted = (f' (tempering {update["tempering"]:.2f}, repeat discount '
               f'{update["repeat_discount"]:g})' if update else '')
     return (
-        f'Measured live (`python bench/bench_identify_live.py {options}`, {minutes:.0f} min '
+        'Measured live (`python bench/bench_identify_live.py '
+        f'{_bench_options(kept, goals_per_texture)}`, {minutes:.0f} min '
         f'of live identification): a bundle of {kept["model"]} per movement{fitted} trained '
         f'on {trained_on}; the system launched in simulation, {probe["points"]} probes asked '
         f'along {1e3 * kept["span_m"]:.0f} mm of which {probe["contacts"]} gave a contact '
         f'(the pathway), then {live["episodes"]} Identify goals (active, threshold 0.99, at '
-        f'most {kept["budget_movements"]} movements), {_per_texture(live["episodes"], textures)} '
-        f'per texture; {live["failed"]} '
+        f'most {kept["budget_movements"]} movements), '
+        f'{"one" if goals_per_texture == 1 else f"{goals_per_texture:g}"} per texture; '
+        f'{live["failed"]} '
         'failed. Beside it, `tactex report identification` on the same dataset with the '
         f'same model and policy ({kept["offline_episodes"]} held-out episodes, '
         f'{kept.get("offline_folds", 2)} folds):\n\n'
