@@ -116,6 +116,16 @@ def make_workspace(w: Path) -> Path:
     toy_dataset(1).save(w / 'one_class.npz')
     (w / 'garbage.npz').write_bytes(b'PK\x03\x04' + bytes(200))
     (w / 'garbage.json').write_text(json.dumps({'classes': ['a'], 'channels': ['x']}))
+    (w / 'pickled.npz').write_bytes(pickle.dumps({'X': [1.0]}))
+    (w / 'pickled.json').write_text(json.dumps({'classes': ['a'], 'channels': ['x']}))
+    holes = toy_dataset(3)
+    holes.X[4, 0, 0] = np.inf
+    holes.save(w / 'non_finite.npz')
+    (w / 'exists.png').write_bytes(b'a picture kept')
+    (w / 'exists.onnx').write_bytes(b'a model kept')
+    (w / 'predict_report').mkdir()
+    for name in ('recordings.csv', 'windows.csv', 'summary.json'):
+        (w / 'predict_report' / name).write_text('{}' if name.endswith('json') else 'a,b\n')
     stamps, values = ramp(64)
     write_bag(w / 'bags' / 'wood_0000', stamps, values, metadata={'label': 'wood', 'trial': 0})
     write_bag(w / 'bags' / 'wood_0001', stamps, values, metadata={'label': 'wood', 'trial': 1})
@@ -278,6 +288,10 @@ BAD_INPUTS = {
         Case('predict {w}/minirocket {w}/foreign/text.bag', 'text.bag: cannot read: not a ROS 1 '
              'bag'),
         Case('predict {w}/minirocket {w}/garbage.npz', 'garbage'),
+        Case('predict {w}/minirocket {w}/pickled.npz', 'pickled.npz is not a tactex dataset: it '
+             'is not an .npz of plain arrays .*never does'),
+        Case('predict {w}/minirocket {w}/bags --hop 33', "--hop 33 is longer than the "
+             "checkpoint's window 32: give at most 32"),
         Case('predict {w}/minirocket {w}/data.npz --threshold 2', 'argument --threshold'),
         Case('predict {w}/minirocket {w}/data.npz --contact nope', 'argument --contact: invalid '
              'choice'),
@@ -297,6 +311,8 @@ BAD_INPUTS = {
         Case('bag play {w}/bags/wood_0000 --rate-factor 0', 'argument --rate-factor: must be'),
         Case('bag play {w}/bags/wood_0000 --duration -1', 'argument --duration: must be'),
         Case('bag play {w}/bags/wood_0000 --remap /a', "--remap '/a' is not OLD:=NEW"),
+        Case('bag play {w}/bags/wood_0000 --remap /a:=/9b', "--remap '/a:=/9b': '9b' is not a "
+             'ROS topic name'),
         Case('bag play {w}/bags/wood_0000 --namespace 1bad', 'argument --namespace'),
         Case('bag play {w}/foreign/text.bag', 'text.bag: cannot read: not a ROS 1 bag'),
         *[Case(f'bag info {{w}}/foreign/{name}', f'{name}: cannot read: .*{why}')
@@ -315,6 +331,8 @@ BAD_INPUTS = {
              '{w}/run'),
         Case('train {w}/garbage.npz --out {w}/run', 'garbage.npz is not a tactex dataset',
              '{w}/run'),
+        Case('train {w}/non_finite.npz --out {w}/run', r'DATA .*non_finite.npz: 1 window\(s\) '
+             r'hold NaN or inf \(trials 1\); convert or import the recordings again', '{w}/run'),
         Case('train {w}/data.npz --out {w}/run --epochs 0', 'argument --epochs: must be a whole '
              'number in 1..100000', '{w}/run'),
         Case('train {w}/data.npz --out {w}/run --profile fancy',
@@ -502,6 +520,12 @@ BAD_INPUTS = {
              '{w}/o.png'),
         Case('plot {w}/grid --out {w}/o.png', "--out is for a recording; a run's plots go "
              'into the run'),
+        Case('plot {w}/bags/wood_0000 --out {w}/exists.png', '--out .*exists.png exists; give '
+             '--force to replace it'),
+        Case('plot {w}/data.npz --out {w}/o.png', r'RECORDING\|RUN .*data.npz is neither a '
+             'recording nor a run', '{w}/o.png'),
+        Case('plot {w}/predict_report', 'predict_report is a `tactex predict` report: predict '
+             'draws its plot'),
         Case('plot {w}/lying_run', r'metrics.json does not hold what a `tactex train` run '
              'keeps'),
         Case('plot {w}/garbage_run', r'metrics.json: not JSON'),
@@ -520,6 +544,8 @@ BAD_INPUTS = {
              '{w}/folder'),
         Case('export {w}/minirocket --onnx --out {w}/m.txt', '--out .*must end in .onnx',
              '{w}/m.txt'),
+        Case('export {w}/minirocket --onnx --out {w}/exists.onnx', '--out .*exists.onnx exists; '
+             'give --force to replace it'),
         Case('export {w}/minirocket --onnx --out {w}/dangling.onnx', '--out .*dangling.onnx is a '
              'symbolic link', '{w}/dangling.onnx'),
         Case('export {w}/swapped_checkpoint --onnx', 'checkpoint.json does not match its '

@@ -155,3 +155,13 @@ def test_ctrl_c_stops_playback_cleanly_and_reports_what_was_played(recording):
     assert 'stopped by SIGINT' in err and 'Traceback' not in err
     published = int(out.split('published ')[1].split(' ')[0].replace(',', ''))
     assert 0 < published < 2883
+
+
+@pytest.mark.ros
+def test_a_play_that_publishes_nothing_fails_naming_the_options_that_emptied_it(recording):
+    played = subprocess.run([str(TACTEX), 'bag', 'play', str(recording), '--delay', '0',
+                             '--topics', '/nonexistent', '--start-offset', '100'],
+                            capture_output=True, text=True, timeout=120)
+    assert played.returncode == 1 and 'Traceback' not in played.stderr
+    assert ('error: published nothing: --topics /nonexistent names no recorded topic or '
+            '--start-offset 100 s is past the end') in played.stderr

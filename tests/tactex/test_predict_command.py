@@ -19,7 +19,7 @@ from support.foreign_bags import converted
 from support.livestream import write_checkpoints
 
 from tactex.cli import main
-from tactex_classify.data.dataset import convert
+from tactex_classify.data.dataset import convert, Dataset
 from tactex_classify.models.baselines import MiniRocketRidge
 
 RATE_HZ = 120.0
@@ -111,6 +111,57 @@ def test_a_channel_the_model_needs_and_the_recording_lacks_is_named(lab, tmp_pat
               live_order=True)
     code, _, err = run(capsys, lab / 'model', tmp_path / 'nomag')
     assert code == 1 and 'has no tactile/imu/mag (mx, my, mz)' in err
+
+
+def test_a_model_on_channels_no_topic_carries_is_refused_for_recordings_naming_them(
+        lab, tmp_path, capsys):
+    data = Dataset.load(lab / 'data.npz')
+    renamed = Dataset(data.X[:, :, :2], data.y, data.trial, data.t0, data.classes, data.info,
+                      ['ax', 'pressure'])
+    MiniRocketRidge(dilations=2).fit(renamed.X, renamed.y, renamed.classes,
+                                     channels=renamed.channels).save(
+        tmp_path / 'model', hop=32, sampling_rate_hz=RATE_HZ)
+    code, _, err = run(capsys, tmp_path / 'model', lab / 'recs')
+    assert code == 1 and 'Traceback' not in err
+    assert 'error: CHECKPOINT' in err and '(pressure missing)' in err
+
+
+def test_a_model_on_some_channels_reads_them_from_a_dataset_with_more(lab, tmp_path, capsys):
+    data = Dataset.load(lab / 'data.npz')
+    picked = [data.channels.index(c) for c in ('gz', 'ax')]
+    MiniRocketRidge(dilations=4).fit(data.X[:, :, picked], data.y, data.classes,
+                                     channels=['gz', 'ax']).save(
+        tmp_path / 'model', hop=32, sampling_rate_hz=RATE_HZ)
+    code, out, _ = run(capsys, tmp_path / 'model', lab / 'data.npz')
+    assert code == 0 and 'accuracy by recording: 100.0 % of 6' in out
+
+
+def test_a_window_with_nan_or_inf_is_skipped_and_counted_the_rest_decides(lab, tmp_path, capsys):
+    data = Dataset.load(lab / 'data.npz')
+    X = data.X.copy()
+    X[0, 3, 1], X[1, 0, 0] = np.nan, np.inf
+    Dataset(X, data.y, data.trial, data.t0, data.classes, data.info, data.channels).save(
+        tmp_path / 'holes.npz')
+    code, out, _ = run(capsys, lab / 'model', tmp_path / 'holes.npz', '--out', tmp_path / 'r')
+    assert code == 0 and 'accuracy by recording: 100.0 % of 6' in out
+    rows = json.loads((tmp_path / 'r' / 'summary.json').read_text())
+    assert sum(r['faults'].get('non_finite', 0) for r in rows['recordings']) == 2
+
+
+def test_a_hop_longer_than_the_window_is_refused_naming_both(lab, capsys):
+    code, _, err = run(capsys, lab / 'model', lab / 'recs', '--hop', '65')
+    assert code == 1
+    assert "error: --hop 65 is longer than the checkpoint's window 64" in err
+
+
+def test_a_contact_shorter_than_a_window_says_so_with_its_length(lab, tmp_path, capsys):
+    stamps = 10**12 + np.arange(600, dtype=np.int64) * PERIOD_NS
+    write_bag(tmp_path / 'brief', stamps, texture('fine', 600, 9), metadata={'label': 'fine'},
+              active=[(stamps[100], stamps[139])], live_order=True)
+    code, out, _ = run(capsys, lab / 'model', tmp_path / 'brief')
+    assert code == 0
+    assert 'brief: no decision, 0 windows (at most 40 samples in contact at a time, ' \
+           'shorter than one window of 64)' in out
 
 
 @pytest.mark.slow

@@ -135,6 +135,15 @@ def check_npz_sizes(npz, max_bytes: int, source: Path | str) -> None:
                                f'{max_bytes} bytes read: refused')
 
 
+def npz_refusal(err: Exception) -> str:
+    """Why `numpy.load` refused a file, without numpy's advice to load pickles unsafely."""
+    text = str(err)
+    if 'pickle' in text:
+        return ('it is not an .npz of plain arrays (reading it would mean unpickling, which '
+                'tactex never does with a file it did not write)')
+    return text
+
+
 def _check_mode_and_size(path, info: os.stat_result, max_bytes: int | None) -> None:
     if not stat.S_ISREG(info.st_mode):
         raise RefusedFileError(f'{path} is a {file_kind(info.st_mode)}, not a regular file; '

@@ -99,13 +99,26 @@ def _play(args: argparse.Namespace) -> int:
         bar.close()
     if summary['stopped']:
         print(f'stopped by {summary["stopped"]}', file=sys.stderr)
+    if not summary.get('published') and not summary['stopped']:
+        raise CommandError(_nothing_published(args))
     print(_lateness_line(summary))
     return 0
 
 
+def _nothing_published(args: argparse.Namespace) -> str:
+    """Why a play published nothing, naming the options that can cause it."""
+    causes = ([f'--topics {" ".join(args.topics)} names no recorded topic'] if args.topics
+              else []) + ([f'--start-offset {args.start_offset:g} s is past the end']
+                          if args.start_offset else []) + (
+        [f'--duration {args.duration:g} s holds no message'] if args.duration else [])
+    return ('published nothing: ' + (' or '.join(causes) if causes else
+                                     'no topic of the recordings could be played')
+            + '; `tactex bag info RECORDING` lists the topics and the duration')
+
+
 def _lateness_line(summary: dict) -> str:
     if not summary.get('published'):
-        return 'published nothing (no topic of the recordings could be played)'
+        return 'published nothing'
     return (f'published {summary["published"]:,} messages ({summary["passes"]} recording '
             f'pass(es)); lateness p50 {summary["p50_ms"]:.2f} ms, p99 {summary["p99_ms"]:.2f} '
             f'ms, max {summary["max_ms"]:.1f} ms; {summary["late"]} later than 5 ms')

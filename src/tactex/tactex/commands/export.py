@@ -21,6 +21,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('--out', type=Path,
                         help='ONNX file to write (default CHECKPOINT/model.onnx, where the '
                              'node looks for it)')
+    parser.add_argument('--force', action='store_true',
+                        help='replace an existing --out file (the default one is replaced)')
 
 
 def run(args: argparse.Namespace) -> int:
@@ -30,6 +32,9 @@ def run(args: argparse.Namespace) -> int:
     check_input_folder(args.checkpoint, 'CHECKPOINT')
     from tactex_classify.models.checkpoint import ONNX_FILE
     out = check_output_file(args.out or args.checkpoint / ONNX_FILE, suffix='.onnx')
+    if args.out is not None and out.exists() and not args.force:
+        raise CommandError(f'--out {out} exists; give --force to replace it, or another --out')
+    out.parent.mkdir(parents=True, exist_ok=True)
 
     from tactex_classify.online.runtime import export_onnx
     path = export_onnx(args.checkpoint, out)

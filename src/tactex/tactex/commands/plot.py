@@ -23,6 +23,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('--out', type=Path,
                         help="PNG to write for a recording (required then); a run's plots "
                              'are written into the run')
+    parser.add_argument('--force', action='store_true', help='replace an existing --out PNG')
 
 
 def run(args: argparse.Namespace) -> int:
@@ -32,7 +33,11 @@ def run(args: argparse.Namespace) -> int:
     if not target.exists():
         raise CommandError(f'RECORDING|RUN {target} does not exist')
     if is_recording(target):
-        written = [_plot_recording(target, args.out)]
+        written = [_plot_recording(target, args.out, args.force)]
+    elif not target.is_dir():
+        raise CommandError(f'RECORDING|RUN {target} is neither a recording nor a run: plot '
+                           'draws a recording (rosbag2 folder, .bag, .mcap or .db3) or the '
+                           'folder of a train run, compare grid or accuracy-time report')
     else:
         if args.out is not None:
             raise CommandError("--out is for a recording; a run's plots go into the run "
@@ -42,7 +47,7 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _plot_recording(recording: Path, out: Path | None) -> Path:
+def _plot_recording(recording: Path, out: Path | None, force: bool) -> Path:
     """One PNG of the recording's channels, its windows' samples shaded."""
     from tactex_classify.data.bags import read_recording
     from tactex_classify.data.dataset import FilterRule, keep_mask
@@ -52,12 +57,15 @@ def _plot_recording(recording: Path, out: Path | None) -> Path:
         raise CommandError('a recording needs --out FILE.png (nothing is written beside the '
                            'recording)')
     out = check_output_file(out, suffix='.png')
+    if out.exists() and not force:
+        raise CommandError(f'--out {out} exists; give --force to replace it, or another --out')
     try:
         recording = read_recording(recording)
     except BagError as err:
         raise CommandError(str(err)) from None
     if not recording.stamps_ns.size:
         raise CommandError(f'{recording.path}: no IMU samples to plot')
+    out.parent.mkdir(parents=True, exist_ok=True)
     against = plot_recording(out, recording, keep_mask(recording, FilterRule(), False,
                                                        recording.metadata.get('label')))
     print(f'{out.name}: channels against {against}')
@@ -69,6 +77,9 @@ def _replot_run(folder: Path) -> list[Path]:
     kinds = {'metrics.json': 'a `tactex train` run', 'summary.json': 'a `tactex compare` grid',
              'results.json': 'a `tactex report accuracy-time` report'}
     found = [name for name in kinds if (folder / name).is_file()]
+    if (folder / 'recordings.csv').is_file():
+        raise CommandError(f'{folder} is a `tactex predict` report: predict draws its plot '
+                           '(confusion.png, with labelled inputs) when it writes the report')
     if not folder.is_dir() or not found:
         raise CommandError(f'{folder} is neither a recording (a bag folder) nor a run: it holds '
                            f'none of {", ".join(kinds)} ({", ".join(kinds.values())})')

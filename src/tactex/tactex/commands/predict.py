@@ -51,7 +51,7 @@ def run(args: argparse.Namespace) -> int:
     from tactex_classify.data.dataset import Dataset, recording_paths
     from tactex_classify.errors import ClassifyError
     from tactex_classify.online.evidence import EvidenceSettings
-    from tactex_classify.online.live import LiveSettings
+    from tactex_classify.online.live import LiveSettings, LiveWindows
     from tactex_classify.online.replay import replay_dataset, replay_recording
     from tactex_classify.online.runtime import load_predictor
 
@@ -65,6 +65,10 @@ def run(args: argparse.Namespace) -> int:
     predictor = load_predictor(args.checkpoint, args.runtime)
     info = predictor.info
     evidence = EvidenceSettings(args.threshold, args.min_windows, args.change_nats)
+    if args.hop > info.stream.window:
+        raise CommandError(f"--hop {args.hop} is longer than the checkpoint's window "
+                           f'{info.stream.window}: give at most {info.stream.window} (0: the '
+                           f"checkpoint's {info.stream.hop})")
     try:
         live = LiveSettings(hop=args.hop, contact=args.contact)
     except ValueError as err:
@@ -73,8 +77,21 @@ def run(args: argparse.Namespace) -> int:
     recordings = recording_paths([p for p in args.inputs if p.suffix != '.npz'],
                                  progress=lambda line: print(line, file=sys.stderr))
     if not datasets and not recordings:
+        tables = [p for p in args.inputs if p.suffix.lower() == '.csv' or p.is_dir()
+                  and any(p.rglob('*.csv'))]
         raise CommandError('no recordings or datasets in '
-                           f'{", ".join(map(str, args.inputs))}')
+                           f'{", ".join(map(str, args.inputs))}'
+                           + ('; CSV tables become a dataset with `tactex import csv`, '
+                              'which predict then reads' if tables else ''))
+    if recordings:
+        try:
+            LiveWindows(info.stream, live)
+        except ValueError as err:
+            raise CommandError(f'CHECKPOINT {args.checkpoint}: {err}; recordings cannot feed '
+                               'it: apply it to a dataset with these channels') from None
+    if args.hop and datasets:
+        print("warning: --hop applies to recordings; a dataset's windows are cut already",
+              file=sys.stderr)
     results, failed = [], []
     for path in datasets:
         results += replay_dataset(predictor, Dataset.load(path), str(path), evidence)
@@ -115,7 +132,9 @@ def _print(results, info) -> None:
         label = f' (label {r.label})' if r.label else ''
         why = '' if r.windows else ' (' + (', '.join(
             f'{k} {v}' for k, v in r.faults.items() if isinstance(v, int) and v) or
-            'no sample in contact') + ')'
+            (f'at most {r.longest_contact} samples in contact at a time, shorter than one '
+             f'window of {info.stream.window}' if r.longest_contact else
+             'no sample in contact')) + ')'
         print(f'{r.name}: {decided}, {len(r.windows)} windows{why}{label}')
     summary = scores(results, list(info.classes))
     if summary is not None:

@@ -80,6 +80,7 @@ def run(args: argparse.Namespace) -> int:
 
     check_output_folder(args.out)
     dataset = Dataset.load(args.data)
+    check_finite(dataset, args.data)
     if args.movements:
         return _train_bundle(args, dataset)
     schemes = SCHEMES if args.cv == 'both' else (args.cv,)
@@ -175,6 +176,22 @@ def deployable_stream(dataset) -> dict:
                            'a deployable model needs both (convert the recordings again), or '
                            'pass --no-final')
     return {'hop': hop, 'sampling_rate_hz': float(rate)}
+
+
+def check_finite(dataset, path: Path) -> None:
+    """Refuse a dataset with NaN or inf in a window, naming its recordings.
+
+    Raises:
+        CommandError: naming DATA, the windows and recordings, and the fix.
+    """
+    import numpy as np
+    bad = ~np.all(np.isfinite(dataset.X), axis=(1, 2))
+    if bad.any():
+        trials = np.unique(dataset.trial[bad]).tolist()
+        raise CommandError(f'DATA {path}: {int(bad.sum())} window(s) hold NaN or inf (trials '
+                           f'{", ".join(map(str, trials[:5]))}{"..." if len(trials) > 5 else ""}'
+                           '); convert or import the recordings again (both drop '
+                           'non-finite samples)')
 
 
 def check_folds(dataset, schemes, folds: int) -> None:

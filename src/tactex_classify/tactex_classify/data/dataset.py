@@ -35,7 +35,7 @@ from tactex_classify.data.stream_alignment import nearest
 from tactex_classify.errors import BagError, DatasetError
 from tactex_classify.models.checkpoint import MAX_CHANNELS, MAX_CLASSES, MAX_WINDOW
 from tactex_common.channels import CHANNELS
-from tactex_common.files import check_npz_sizes, load_json, open_regular
+from tactex_common.files import check_npz_sizes, load_json, npz_refusal, open_regular
 from tactex_common.naming import natural_key, natural_sorted
 from tactex_common.stamps import gaps
 
@@ -165,7 +165,7 @@ class Dataset:
                 check_npz_sizes(arrays, MAX_DATASET_BYTES, path)
                 X, y, trial, t0 = (arrays[k] for k in ('X', 'y', 'trial', 't0'))
         except (ValueError, KeyError, OSError, EOFError, zipfile.BadZipFile) as err:
-            raise DatasetError(f'{path} is not a tactex dataset: {err}') from None
+            raise DatasetError(f'{path} is not a tactex dataset: {npz_refusal(err)}') from None
         if not isinstance(sidecar, dict) or not isinstance(sidecar.get('classes'), list) \
                 or not isinstance(sidecar.get('channels'), list):
             raise DatasetError(f'{sidecar_path} is not a dataset sidecar (needs "classes" and '

@@ -23,7 +23,7 @@ from sklearn.preprocessing import StandardScaler
 from tactex_classify.errors import CheckpointError, NotFittedError
 from tactex_classify.models.checkpoint import Deployable, MAX_MODEL_BYTES, restore_fitted
 from tactex_classify.models.windows import channel_names, ChannelScaler, check_windows, softmax
-from tactex_common.files import check_npz_sizes, open_regular
+from tactex_common.files import check_npz_sizes, npz_refusal, open_regular
 
 HEAD_ARRAYS = ('feature_mean_', 'feature_scale_', 'coef_', 'intercept_', 'seen_classes_')
 RIDGE_ALPHAS = np.logspace(-3, 3, 10)
@@ -184,7 +184,8 @@ def read_arrays(info, names: tuple[str, ...]) -> dict[str, np.ndarray]:
     except KeyError as err:
         raise CheckpointError(f'{info.folder}: {info.model_file.name} lacks {err}') from None
     except (ValueError, OSError, EOFError, zipfile.BadZipFile) as err:
-        raise CheckpointError(f'{info.folder}: refused {info.model_file.name}: {err}'
+        raise CheckpointError(f'{info.folder}: refused {info.model_file.name}: '
+                              f'{npz_refusal(err)}'
                               ) from None
     for name, value in arrays.items():
         if value.dtype.kind not in 'iuf' or not np.all(np.isfinite(value)):

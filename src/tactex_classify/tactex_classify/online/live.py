@@ -257,6 +257,7 @@ class LiveWindows:
         self._pending: list[ContactLost] = []  # resyncs, handed out by the next poll
         self.counts = {'samples': 0, 'late': 0, 'overflow': 0, 'dropped': 0, 'windows': 0,
                        'invalid': 0, 'off_timeline': 0, 'resyncs': 0}
+        self.longest_contact = 0  # the longest run of samples in contact, in samples
         self._reset_streams()
 
     def _reset_streams(self) -> None:
@@ -423,6 +424,7 @@ class LiveWindows:
             slot = self._run_count % self.window
             self._run[slot], self._run_stamps[slot] = values[i], stamp
             self._run_count += 1
+            self.longest_contact = max(self.longest_contact, self._run_count)
             if self._run_count >= self.window and (self._run_count - self.window) % self.hop == 0:
                 order = (np.arange(self._run_count, self._run_count + self.window)
                          % self.window)

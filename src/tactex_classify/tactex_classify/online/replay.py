@@ -53,6 +53,7 @@ class Replayed:
         final: probabilities of the last estimate (None without any window).
         faults: windows not classified by cause, resets of the evidence by reason, and the
             stream's counts (late, dropped, invalid, resyncs).
+        longest_contact: the longest run of samples in contact (a window needs its length).
     """
 
     name: str
@@ -63,6 +64,7 @@ class Replayed:
     final: np.ndarray | None = None
     faults: dict = field(default_factory=dict)
     standing_since: int | None = None  # first window of the evidence behind a decision
+    longest_contact: int = 0
 
     @property
     def decision(self) -> str | None:
@@ -133,6 +135,7 @@ def replay_recording(predictor: Predictor, path: Path, *, live: LiveSettings | N
     result.faults = {**classifier.faults, 'resets': dict(classifier.resets), 'notes': notes,
                      **{k: v for k, v in classifier.windows.counts.items()
                         if k in ('late', 'dropped', 'invalid', 'off_timeline', 'resyncs')}}
+    result.longest_contact = classifier.windows.longest_contact
     if not result.windows and classifier.faults['refused']:
         raise BagError(f'{path}: {classifier.last_fault}: classifier_node would refuse every '
                        'window; train a model on recordings at this rate')
@@ -160,16 +163,26 @@ def replay_dataset(predictor: Predictor, dataset: Dataset, name: str,
                    evidence: EvidenceSettings | None = None) -> list[Replayed]:
     """Each recording of a dataset: its windows' probabilities through the evidence.
 
+    A dataset with more channels than the model reads gives it its own, in its order. A
+    window holding NaN or inf is not classified (counted in the recording's faults as
+    `non_finite`); the evidence restarts after it, as after lost contact.
+
     Raises:
         BagError: the dataset's channels, window or rate are not the model's (naming both).
     """
     stream = predictor.info.stream
-    mismatches = stream.mismatches(channels=dataset.channels, window=dataset.X.shape[1],
-                                   sampling_rate_hz=dataset.info.get('sampling_rate_hz'))
+    read = set(stream.channels) <= set(dataset.channels)
+    mismatches = stream.mismatches(
+        channels=stream.channels if read else dataset.channels, window=dataset.X.shape[1],
+        sampling_rate_hz=dataset.info.get('sampling_rate_hz'))
     if mismatches:
         raise BagError(f'{name}: {predictor.info.model_id} does not fit it: '
                        + '; '.join(mismatches))
-    proba = predictor.predict_proba(dataset.X)
+    X = dataset.X[:, :, [list(dataset.channels).index(c) for c in stream.channels]]
+    finite = np.all(np.isfinite(X), axis=(1, 2))
+    proba = np.zeros((len(X), len(predictor.info.classes)))
+    if finite.any():
+        proba[finite] = predictor.predict_proba(X[finite])
     period_ns = int(round(1e9 / stream.sampling_rate_hz))
     span_ns = stream.window * period_ns
     results = []
@@ -180,8 +193,9 @@ def replay_dataset(predictor: Predictor, dataset: Dataset, name: str,
         result = Replayed(f'{name}#{int(trial)}', dataset.classes[dataset.y[rows[0]]],
                           int(starts[0]))
         belief = Evidence(len(predictor.info.classes), period_ns, evidence or EvidenceSettings())
+        result.faults = {'non_finite': int(np.sum(~finite[rows]))}
         previous_end = None
-        for row, start in zip(rows, starts, strict=True):
+        for row, start in zip(rows[finite[rows]], starts[finite[rows]], strict=True):
             end = int(start) + span_ns - period_ns
             if previous_end is not None and start > previous_end + period_ns:
                 belief.reset()  # windows that do not touch: contact was lost between them
