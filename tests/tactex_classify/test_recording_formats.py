@@ -172,6 +172,38 @@ def test_a_file_no_reader_can_read_gets_one_reason_naming_it(kind, lying):
     assert str(lying[kind]) in str(raised.value)
 
 
+
+def test_random_bytes_named_bag_are_called_no_ros1_bag(tmp_path):
+    (tmp_path / 'random.bag').write_bytes(bytes([0x00, 0xc7, 0x28]) * 300)
+    with pytest.raises(BagError, match='not a ROS 1 bag'):
+        read_recording(tmp_path / 'random.bag')
+
+
+METADATA_LIES = {
+    'empty': ('', 'its metadata.yaml is empty or not a rosbag2 description'),
+    'not_yaml': ('rosbag2_bagfile_information: [unclosed\n: :\n',
+                 r'metadata.yaml cannot be read as plain YAML \(line \d\)'),
+    'missing_file': (None, r"lists files the folder lacks \('missing_file/other.mcap'\)"),
+    'wrong_storage': (None, 'names sqlite3 storage, the folder holds .mcap, .yaml: correct '
+                            'storage_identifier'),
+}
+
+
+@pytest.mark.parametrize('lie', METADATA_LIES)
+def test_a_metadata_yaml_that_lies_is_named_with_the_way_out(lie, original, tmp_path):
+    folder = shutil.copytree(original, tmp_path / lie)
+    text, match = METADATA_LIES[lie]
+    metadata = folder / 'metadata.yaml'
+    if lie == 'missing_file':
+        text = metadata.read_text().replace('rec.mcap', 'other.mcap')
+    elif lie == 'wrong_storage':
+        text = metadata.read_text().replace('storage_identifier: mcap',
+                                            'storage_identifier: sqlite3')
+    metadata.write_text(text)
+    with pytest.raises(BagError, match=match) as raised:
+        read_recording(folder)
+    assert 'delete metadata.yaml' in str(raised.value) and '\n' not in str(raised.value)
+
 @pytest.mark.parametrize('compression', ['bz2', 'lz4', 'zstd'])
 def test_a_block_that_inflates_without_bound_is_refused(compression, tmp_path, monkeypatch):
     monkeypatch.setattr(inflation, 'MIN_LIMIT_BYTES', 1024**2)

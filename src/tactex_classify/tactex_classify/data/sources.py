@@ -194,12 +194,14 @@ def explain(err: Exception, part: Path) -> str:
     """What is wrong with a part rosbags failed on, and the fix, in one sentence."""
     if isinstance(err, (RefusedFileError, BagError, inflation.InflationError)):
         return str(err).replace(f'{part}: ', '').replace(f'{part} ', 'it ')
-    text = str(err).replace(str(part), 'it').strip(' :.')
+    text = ' '.join(str(err).replace(str(part), part.name).split()).strip(' :.')
     storage = {part.suffix} | ({p.suffix for p in part.iterdir()} if part.is_dir() else set())
     if 'seems to be empty' in text:
         return 'empty file'
-    if '.bag' in storage and 'magic is invalid' in text:
+    if '.bag' in storage and ('magic is invalid' in text or isinstance(err, UnicodeError)):
         return 'not a ROS 1 bag (it does not start with "#ROSBAG V2.0")'
+    if 'metadata.yaml' in text or 'Invalid bag metadata' in text or 'files are missing' in text:
+        return metadata_problem(text)
     if '.bag' in storage and ('index' in text or 'Header could not be read' in text
                               or 'requested' in text):
         return ('a truncated or unindexed ROS 1 bag (its index is missing or damaged); run '
@@ -210,9 +212,28 @@ def explain(err: Exception, part: Path) -> str:
         return 'not an MCAP file (it does not start with the MCAP magic)'
     if 'Profile is not ros2' in text or 'Serialization format' in text:
         return non_ros_mcap(part)
+    if 'database' in text.lower() and '.db3' not in storage and part.is_dir():
+        return (f'its metadata.yaml names sqlite3 storage, the folder holds '
+                f'{", ".join(sorted(s for s in storage if s)) or "no storage file"}: correct '
+                'storage_identifier, or delete metadata.yaml and tactex reads the files present')
     if '.db3' in storage or 'database' in text.lower():
         return f'not a readable rosbag2 sqlite3 file ({text})'
     return f'{type(err).__name__}: {text}'
+
+
+def metadata_problem(text: str) -> str:
+    """What is wrong with a rosbag2 folder's metadata.yaml, and the fix, from rosbags' error."""
+    fix = ('; restore it, or delete metadata.yaml and tactex reads the storage files the '
+           'folder holds')
+    if 'files are missing' in text:
+        missing = re.search(r'\[(.*)\]', text)
+        return (f'its metadata.yaml lists files the folder lacks '
+                f'({missing.group(1) if missing else text}){fix}')
+    if 'Could not load YAML' in text:
+        line = re.search(r'line (\d+)', text)
+        return (f"its metadata.yaml cannot be read as plain YAML"
+                f"{f' (line {line.group(1)})' if line else ''}{fix}")
+    return f'its metadata.yaml is empty or not a rosbag2 description{fix}'
 
 
 def non_ros_mcap(path: Path) -> str:
