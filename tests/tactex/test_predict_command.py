@@ -93,6 +93,7 @@ def test_a_threshold_of_one_never_decides(lab, capsys):
 def test_a_dataset_goes_through_the_evidence_recording_by_recording(lab, capsys):
     code, out, _ = run(capsys, lab / 'model', lab / 'data.npz')
     assert code == 0 and out.count('data.npz#') == 6
+    assert 'data.npz#0 (recs/ridged_0): ridged' in out  # named by the recording it came from
     assert 'accuracy by recording: 100.0 % of 6' in out
 
 

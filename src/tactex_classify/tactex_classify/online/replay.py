@@ -185,13 +185,14 @@ def replay_dataset(predictor: Predictor, dataset: Dataset, name: str,
         proba[finite] = predictor.predict_proba(X[finite])
     period_ns = int(round(1e9 / stream.sampling_rate_hz))
     span_ns = stream.window * period_ns
+    sources = recording_sources(dataset)
     results = []
     for trial in np.unique(dataset.trial):
         rows = np.flatnonzero(dataset.trial == trial)
         rows = rows[np.argsort(dataset.t0[rows], kind='stable')]
         starts = np.round(dataset.t0[rows] * 1e9).astype(np.int64)
-        result = Replayed(f'{name}#{int(trial)}', dataset.classes[dataset.y[rows[0]]],
-                          int(starts[0]))
+        result = Replayed(f'{name}#{int(trial)}{sources.get(int(trial), "")}',
+                          dataset.classes[dataset.y[rows[0]]], int(starts[0]))
         belief = Evidence(len(predictor.info.classes), period_ns, evidence or EvidenceSettings())
         result.faults = {'non_finite': int(np.sum(~finite[rows]))}
         previous_end = None
@@ -205,3 +206,14 @@ def replay_dataset(predictor: Predictor, dataset: Dataset, name: str,
             _note(result, estimate, predictor.info.classes)
         results.append(result)
     return results
+
+
+def recording_sources(dataset: Dataset) -> dict[int, str]:
+    """Per trial, ' (FOLDER/NAME)' of the file it was converted from, as the sidecar says."""
+    sources = {}
+    for row in dataset.info.get('recordings', []):
+        if isinstance(row, dict) and isinstance(row.get('trial'), int) \
+                and isinstance(row.get('path'), str):
+            source = Path(row['path'])
+            sources[row['trial']] = f' ({source.parent.name}/{source.name})'
+    return sources
