@@ -55,6 +55,18 @@ def test_json_gives_the_same_numbers_for_scripts(gappy, capsys):
     assert topic['gap_count'] == 1 and topic['gaps'][0][1] == pytest.approx(0.21, abs=0.002)
 
 
+
+def test_json_lists_an_unreadable_recording_with_its_reason_beside_the_rest(
+        gappy, tmp_path, capsys):
+    (tmp_path / 'text.bag').write_text('this is not a bag\n' * 20)
+    code, out, err = run(capsys, '--json', gappy, tmp_path / 'text.bag')
+    described, unreadable = json.loads(out)
+    assert described['messages'] == 300
+    assert unreadable == {'path': str(tmp_path / 'text.bag'), 'unreadable':
+                          f'{tmp_path / "text.bag"}: cannot read: not a ROS 1 bag (it does not '
+                          'start with "#ROSBAG V2.0")'}
+    assert code == 1 and 'error: 1 of 2 recordings cannot be read' in err
+
 def test_no_timing_reads_the_index_only(gappy, capsys):
     code, out, _ = run(capsys, '--no-timing', '--json', gappy)
     (topic,) = json.loads(out)[0]['topics']

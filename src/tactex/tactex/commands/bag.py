@@ -141,8 +141,11 @@ def _info(args: argparse.Namespace) -> int:
                                           progress=bar.update))
             except BagError as err:
                 failed.append(str(err))
+                if args.json:  # in the listing too, where the recording would have been
+                    described.append({'path': str(path), 'unreadable': str(err)})
     if args.json:
-        print(json.dumps([info.as_json() for info in described], indent=1))
+        print(json.dumps([info if isinstance(info, dict) else info.as_json()
+                          for info in described], indent=1))
     elif described:
         print('\n\n'.join(format_text(info) for info in described))
     if len(failed) == 1 and len(recordings) == 1:
