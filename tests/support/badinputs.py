@@ -105,6 +105,19 @@ class Boom:
         return (os.system, ('echo pwned > /tmp/tactex_pwned',))
 
 
+def make_mun_with_text(root: Path) -> None:
+    """A MUN trial whose IMU columns hold text."""
+    import pandas
+
+    from tactex_classify.data.importers import MUN_IMU_COLUMNS
+    folder = root / 'pickles_30' / 'texture_01'
+    frames = {'full_imu': pandas.DataFrame({c: ['oops'] * 4 for c in MUN_IMU_COLUMNS}),
+              'full_baro': pandas.DataFrame({'baro': [1000.0] * 4})}
+    for part, frame in frames.items():
+        (folder / part).mkdir(parents=True)
+        (folder / part / 't.pkl').write_bytes(pickle.dumps(frame))
+
+
 def make_workspace(w: Path) -> Path:
     """Build the scratch folder the cases refer to."""
     (w / 'text.txt').write_text('hello\n')
@@ -136,9 +149,15 @@ def make_workspace(w: Path) -> Path:
     write_bag(w / 'unlabelled' / 'rec', stamps, values)
     write_bag(w / 'odd_meta' / 'rec', stamps, values, metadata={'label': 7})
     for name, content in (('good', 'pdc,pac\n' + '1,2\n' * 40), ('ragged', 'pdc,pac\n1,2\n3\n'),
-                          ('bincsv', '\x00\x01\x02')):
+                          ('bincsv', '\x00\x01\x02'),
+                          ('epoch_ns', 'time,pdc\n' + ''.join(f'{17 * 10**17 + i},1\n'
+                                                               for i in range(40)))):
         (w / name / 'wood').mkdir(parents=True)
         (w / name / 'wood' / 'a.csv').write_text(content)
+    for label, rows in (('cork', 40), ('wood', 10)):  # wood gives no window of 20
+        (w / 'uneven' / label).mkdir(parents=True)
+        (w / 'uneven' / label / 'a.csv').write_text('pdc\n' + '1\n' * rows)
+    make_mun_with_text(w / 'mun_text')
     mun = w / 'mun' / 'pickles_30' / 'texture_01'
     for part in ('full_imu', 'full_baro'):
         (mun / part).mkdir(parents=True)
@@ -582,7 +601,16 @@ BAD_INPUTS = {
         Case('import csv {w}/good --out {w}/o.npz --columns pdc --time nocol',
              "no column 'nocol'", OUT_NPZ),
         Case('import csv {w}/good --out {w}/o.npz --rate 9 --columns pdc --window 100',
-             'no windows', OUT_NPZ),
+             'no windows: the longest recording has 40 samples .* give a smaller --window',
+             OUT_NPZ),
+        Case('import csv {w}/uneven --out {w}/o.npz --rate 9 --columns pdc --window 20',
+             r'class\(es\) wood \(longest recording 10 samples\).*smaller --window', OUT_NPZ),
+        Case('import csv {w}/epoch_ns --out {w}/o.npz --columns pdc --time time',
+             r"a.csv: time column 'time' holds values up to 1.7e\+18 s.*--time-unit", OUT_NPZ),
+        Case('import mun {w}/mun_text --out {w}/o.npz --window 2',
+             r"t.pkl: column 'imu_ax' holds 'oops', not a number", OUT_NPZ),
+        Case('import csv {w}/good --out {w}/data.npz --rate 9 --columns pdc',
+             r'--out .*data.npz exists; give --force to replace it'),
         Case('import mun {w}/mun --out {w}/o.npz', 'refusing to load posix.system', OUT_NPZ),
         Case('import mun {w}/folder --out {w}/o.npz', r'no pickles_\*/texture_', OUT_NPZ),
         Case('import mun {w}/mun --out {w}/folder', '--out .*folder is a folder', '{w}/folder'),

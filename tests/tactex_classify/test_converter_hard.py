@@ -2,6 +2,8 @@
 # SPDX-License-Identifier: Apache-2.0
 """Bag -> dataset conversion: aligning the streams and cutting windows, under any stamps."""
 
+import warnings
+
 from hypothesis import given, settings
 from hypothesis import strategies as st
 import numpy as np
@@ -10,7 +12,7 @@ from support.hard_values import anything
 
 from tactex_classify.data.dataset import window_starts
 from tactex_classify.data.stream_alignment import align, Stream
-from tactex_common.stamps import gaps
+from tactex_common.stamps import gaps, mean_rate_hz
 
 pytestmark = pytest.mark.hard_case
 
@@ -91,3 +93,17 @@ def test_a_window_or_hop_below_one_is_a_clear_error(window, hop):
 def test_empty_and_single_sample_recordings_have_no_window(count, window):
     assert window_starts(np.ones(count, dtype=bool), np.arange(count, dtype=np.int64),
                          window, 1) == []
+
+
+@given(st.lists(stamps, min_size=0, max_size=50))
+def test_the_mean_rate_of_any_stamps_is_nan_or_positive_and_never_warns(values):
+    with warnings.catch_warnings():
+        warnings.simplefilter('error')
+        rate = mean_rate_hz(np.unique(np.array(values, dtype=np.int64)))
+    assert np.isnan(rate) or rate > 0
+
+
+def test_the_mean_rate_of_whole_millisecond_stamps_is_the_true_rate():
+    true_ns = np.arange(3500) * 1e9 / 350.0
+    assert mean_rate_hz((np.floor(true_ns / 1e6) * 1e6).astype(np.int64)) == \
+        pytest.approx(350.0, rel=1e-3)

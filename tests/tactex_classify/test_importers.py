@@ -4,6 +4,7 @@
 
 import os
 import pickle
+import zoneinfo
 
 import numpy as np
 import pandas as pd
@@ -88,6 +89,32 @@ def test_old_pandas_pickle_with_datetime_index_loads(tmp_path):
     np.testing.assert_array_equal(frame['imu_ay'], -np.arange(6.0))
 
 
+
+@pytest.mark.parametrize('zone', [None, 'Europe/Berlin', 'UTC', '+02:00'])
+@pytest.mark.parametrize('protocol', [2, 5])
+def test_a_fixed_frequency_and_time_zone_index_as_pandas_pickles_it_loads(tmp_path, zone,
+                                                                          protocol):
+    index = pd.date_range('2020-01-01', periods=6, freq='10ms', tz=zone)
+    frame = pd.DataFrame({'imu_ax': np.arange(6.0)}, index=index)
+    path = tmp_path / 'x.pkl'
+    path.write_bytes(pickle.dumps(frame, protocol=protocol))
+    loaded = load_frame(path)
+    assert (loaded.index == index).all() and str(loaded.index.tz) == str(index.tz)
+
+
+class OtherZoneInfoAttribute:
+    """Asks the unpickler for getattr(ZoneInfo, 'clear_cache'), not the loader a zone needs."""
+
+    def __reduce__(self):
+        return (getattr, (zoneinfo.ZoneInfo, 'clear_cache'))
+
+
+def test_getattr_of_anything_but_the_time_zone_loader_is_refused(tmp_path):
+    path = tmp_path / 'x.pkl'
+    path.write_bytes(pickle.dumps(OtherZoneInfoAttribute()))
+    with pytest.raises(RefusedPickle, match="refusing getattr.*'clear_cache'"):
+        load_frame(path)
+
 def test_old_layout_mun_trials_import_and_join_baro_by_time(tmp_path):
     imu_ns = START_NS + np.arange(800) * PERIOD_NS
     imu = np.repeat(np.arange(800.0)[:, None], 9, axis=1)
@@ -149,7 +176,7 @@ def test_a_pickle_of_something_else_is_refused(tmp_path):
     lambda: pickle.dumps(pd.Series([1.0])),
     lambda: pickle.dumps(np.arange(3.0)),
     lambda: frame_pickle({'a': np.zeros(3)}, START_NS + np.arange(3), freq='L'),
-], ids=['huge-range-index', 'series', 'bare-array', 'frequency-object'])
+], ids=['huge-range-index', 'series', 'bare-array', 'frequency-given-as-text'])
 def test_pickles_beyond_a_plain_frame_are_refused(tmp_path, build):
     path = tmp_path / 'x.pkl'
     path.write_bytes(build())
@@ -317,3 +344,193 @@ def test_mun_plain_frames_never_stitch_across_nan_rows_and_keep_t0(tmp_path):
     first = data.trial == data.trial.min()
     np.testing.assert_array_equal(data.X[first, 0, 0], [0.0, 405.0])
     np.testing.assert_allclose(data.t0[first], [0.0, 405 / 350.0])
+
+
+# -- Red-team findings: text in pickles, huge values and times, hidden entries, classes
+# without windows, rounded stamps, sorted rows, an existing --out ----------------------
+
+def write_csv(path, times, values, header='time,pdc'):
+    """A CSV of a time column and one value column."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    rows = ''.join(f'{t},{v}\n' for t, v in zip(times, values, strict=True))
+    path.write_text(f'{header}\n{rows}')
+
+
+def write_ramps(root, classes, rows=100, rate_hz=100.0):
+    """One CSV of `rows` samples (time in s, pdc a ramp) per class."""
+    for label in classes:
+        write_csv(root / label / 'a.csv', np.arange(rows) / rate_hz, np.arange(rows))
+
+
+def import_ramps(root, window=10, **options):
+    return import_csv(root, window=window, hop=window, columns=parse_channel_specs('pdc'),
+                      time_column='time', **{**QUIET, **options})
+
+
+def test_text_in_a_pickle_column_is_refused_naming_file_column_and_value(tmp_path):
+    write_mun(tmp_path, textures=1, trials=1)
+    path = next(tmp_path.glob('pickles_30/texture_01/full_imu/*.pkl'))
+    frame = pd.read_pickle(path)
+    frame['imu_ax'] = frame['imu_ax'].astype(str)
+    frame.iloc[5, 0] = 'oops'
+    path.write_bytes(pickle.dumps(frame))
+    with pytest.raises(DatasetError, match=r"full_imu/trial_0\.pkl: column 'imu_ax' holds "
+                                           r"'oops', not a number"):
+        import_mun(tmp_path, window=350, hop=175, **QUIET)
+
+
+@pytest.mark.filterwarnings('error')
+def test_csv_values_beyond_float32_are_dropped_and_counted_as_nan_samples(tmp_path):
+    values = np.arange(100.0)
+    values[[20, 70]] = [3e39, -1e300]
+    write_csv(tmp_path / 'wood' / 'a.csv', np.arange(100) / 100.0, values)
+    data = import_ramps(tmp_path)
+    assert np.all(np.isfinite(data.X)) and np.all(np.abs(data.X) < 100)
+    record = data.info['recordings'][0]
+    assert record['dropped']['nan_samples'] == 2 and record['kept'] == 98
+
+
+@pytest.mark.filterwarnings('error')
+def test_mun_values_beyond_float32_are_dropped_and_counted_as_nan_samples(tmp_path):
+    write_mun(tmp_path, textures=1, trials=1)
+    path = next(tmp_path.glob('pickles_30/texture_01/full_imu/*.pkl'))
+    frame = pd.read_pickle(path)
+    frame.iloc[10, 3] = 1e300
+    path.write_bytes(pickle.dumps(frame))
+    data = import_mun(tmp_path, window=350, hop=175, **QUIET)
+    assert np.all(np.isfinite(data.X))
+    assert data.info['recordings'][0]['dropped']['nan_samples'] == 1
+
+
+@pytest.mark.filterwarnings('error')
+@pytest.mark.parametrize('start, unit', [(1.7e18, 's'), (1.7e12, 's'), (1.7e15, 'ms')],
+                         ids=['epoch-ns-as-s', 'epoch-ms-as-s', 'epoch-us-as-ms'])
+def test_times_beyond_int64_nanoseconds_are_refused_with_the_unit_to_give(tmp_path, start,
+                                                                           unit):
+    write_csv(tmp_path / 'wood' / 'a.csv', start + np.arange(100), np.arange(100))
+    with pytest.raises(DatasetError, match=rf"a\.csv: time column 'time' holds values up to "
+                                           rf"1\.7e\+\d\d {unit}, which do not fit .*"
+                                           r'--time-unit \(.*ns\)'):
+        import_ramps(tmp_path, time_unit=unit)
+
+
+def test_epoch_nanoseconds_import_with_time_unit_ns(tmp_path):
+    write_csv(tmp_path / 'wood' / 'a.csv', START_NS + np.arange(100) * 10_000_000,
+              np.arange(100))
+    data = import_ramps(tmp_path, time_unit='ns')
+    assert data.info['sampling_rate_hz'] == pytest.approx(100.0) and len(data.X) == 10
+
+
+
+def test_milliseconds_read_as_seconds_are_refused_with_the_unit_that_fits(tmp_path):
+    write_csv(tmp_path / 'wood' / 'a.csv', np.arange(100) * 10, np.arange(100))
+    with pytest.raises(DatasetError, match=r'wood/a.csv: its time column in s gives 0.1 Hz, too '
+                       r'slow for a tactile stream; if its times are in ms, give --time-unit '
+                       r'ms \(100 Hz\)'):
+        import_ramps(tmp_path)
+    assert import_ramps(tmp_path, time_unit='ms').info['sampling_rate_hz'] == \
+        pytest.approx(100.0)
+
+def test_hidden_folders_and_files_are_skipped_and_named(tmp_path):
+    write_ramps(tmp_path, ['cork', 'felt'])
+    write_ramps(tmp_path / '.ipynb_checkpoints', ['cork'])
+    (tmp_path / '.ipynb_checkpoints' / 'a.csv').write_text('time,pdc\n0,1\n')
+    (tmp_path / 'cork' / '._a.csv').write_bytes(b'\x00\x05\x16\x07AppleDouble')
+    lines = []
+    data = import_ramps(tmp_path, progress=lines.append)
+    assert data.classes == ['cork', 'felt'] and len(set(data.trial.tolist())) == 2
+    assert 'skipped hidden entries (names starting with "."): .ipynb_checkpoints/, ' \
+           'cork/._a.csv' in lines
+
+
+def test_hidden_mun_pickles_are_skipped_and_named(tmp_path):
+    write_mun(tmp_path, textures=1, trials=1)
+    folder = mun_folder(tmp_path, '30', 1)
+    for part in ('full_imu', 'full_baro'):
+        (folder / part / '._trial_0.pkl').write_bytes(b'\x00\x05\x16\x07AppleDouble')
+    lines = []
+    data = import_mun(tmp_path, window=350, hop=175, progress=lines.append)
+    assert len(set(data.trial.tolist())) == 2
+    assert any('pickles_30/texture_01/full_imu/._trial_0.pkl' in line for line in lines)
+
+
+def test_a_class_without_windows_is_refused_by_name_and_per_file_lines_kept(tmp_path):
+    write_ramps(tmp_path, ['cork', 'felt'], rows=300)
+    write_ramps(tmp_path, ['wood'], rows=99)
+    lines = []
+    with pytest.raises(DatasetError, match=r'no windows of 256 samples for class\(es\) wood '
+                                           r'\(longest recording 99 samples\).*smaller '
+                                           '--window'):
+        import_ramps(tmp_path, window=256, progress=lines.append)
+    assert any('wood/a.csv: wood, 99 samples, 0 windows' in line for line in lines)
+
+
+def test_a_mun_texture_without_windows_is_refused_by_name(tmp_path):
+    write_mun(tmp_path, textures=1, trials=1)
+    write_old_mun_trial(tmp_path, 2, np.ones((100, 9)), np.ones(100),
+                        START_NS + np.arange(100) * PERIOD_NS, START_NS + np.arange(100) *
+                        PERIOD_NS)
+    with pytest.raises(DatasetError, match=r'class\(es\) texture_02 \(longest recording 100 '
+                                           r'samples\)'):
+        import_mun(tmp_path, window=350, hop=175, **QUIET)
+
+
+def test_no_windows_at_all_names_window_and_the_longest_recording(tmp_path):
+    write_ramps(tmp_path, ['cork'], rows=300)
+    write_ramps(tmp_path, ['felt'], rows=200)
+    with pytest.raises(DatasetError, match='no windows: the longest recording has 300 samples '
+                                           'without a gap, shorter than one window of 5000; '
+                                           'give a smaller --window'):
+        import_ramps(tmp_path, window=5000)
+
+
+def test_whitespace_only_lines_are_skipped_like_empty_ones(tmp_path):
+    write_ramps(tmp_path, ['wood'])
+    path = tmp_path / 'wood' / 'a.csv'
+    lines = path.read_text().splitlines(keepends=True)
+    path.write_text(''.join(lines[:30] + ['   \n', '\n', ' \t \n'] + lines[30:]))
+    data = import_ramps(tmp_path)
+    assert len(data.X) == 10
+    np.testing.assert_array_equal(data.X[:, 0, 0], np.arange(0, 100, 10))
+
+
+def test_the_rate_of_millisecond_rounded_stamps_is_the_true_rate(tmp_path):
+    times_ms = np.round(np.arange(2000) * 1000 / 350)  # 350 Hz logged in whole milliseconds
+    write_csv(tmp_path / 'wood' / 'a.csv', times_ms.astype(int), np.arange(2000))
+    data = import_ramps(tmp_path, time_unit='ms')
+    assert data.info['sampling_rate_hz'] == pytest.approx(350.0, rel=1e-3)
+
+
+def test_rows_sorted_into_time_order_are_reported_not_dropped(tmp_path):
+    order = np.random.default_rng(1).permutation(100)
+    write_csv(tmp_path / 'wood' / 'a.csv', (np.arange(100) / 100.0)[order], order)
+    lines = []
+    data = import_ramps(tmp_path, progress=lines.append)
+    record = data.info['recordings'][0]
+    assert record['kept'] == 100 and record['reordered'] == {'rows': int(np.sum(order !=
+                                                                          np.arange(100)))}
+    assert not any(record['dropped'].values()) and 'out_of_order' not in str(record['dropped'])
+    np.testing.assert_array_equal(data.X[:, :, 0].ravel(), np.arange(100))
+    assert 'sorted into time order' in lines[0] and 'dropped' not in lines[0]
+
+
+def test_files_of_different_rates_are_named_with_their_class(tmp_path):
+    write_csv(tmp_path / 'cork' / 'run1.csv', np.arange(100) / 100.0, np.arange(100))
+    write_csv(tmp_path / 'felt' / 'run1.csv', np.arange(100) / 50.0, np.arange(100))
+    with pytest.raises(DatasetError, match='differ in rate: felt/run1.csv 50.0 Hz, '
+                                           'cork/run1.csv 100.0 Hz'):
+        import_ramps(tmp_path)
+
+
+def test_cli_import_refuses_an_existing_out_unless_forced(tmp_path, capsys):
+    write_ramps(tmp_path / 'csv', ['wood'])
+    argv = ['import', 'csv', str(tmp_path / 'csv'), '--out', str(tmp_path / 'd.npz'),
+            '--columns', 'pdc', '--time', 'time', '--window', '10']
+    assert main(argv) == 0
+    (tmp_path / 'd.npz').write_bytes(b'mine')
+    assert main(argv) == 1
+    assert capsys.readouterr().err.splitlines()[-1] == (
+        f'error: --out {tmp_path / "d.npz"} exists; give --force to replace it, or another '
+        '--out')
+    assert (tmp_path / 'd.npz').read_bytes() == b'mine'
+    assert main([*argv, '--force']) == 0 and (tmp_path / 'd.npz').read_bytes() != b'mine'

@@ -155,6 +155,20 @@ def check_output_file(path: Path, option: str = '--out', *, suffix: str | None =
     return path
 
 
+def refuse_to_replace(path: Path, *, force: bool, companions: tuple[str, ...] = (),
+                      option: str = '--out') -> None:
+    """Refuse an output file (or a companion beside it) that exists, unless `force`.
+
+    Raises:
+        CommandError: naming the existing file and --force.
+    """
+    existing = [item for item in (path, *(path.with_suffix(s) for s in companions))
+                if item.exists()]
+    if existing and not force:
+        raise CommandError(f'{option} {existing[0]} exists; give --force to replace it, or '
+                           f'another {option}')
+
+
 def check_output_folder(path: Path, option: str = '--out') -> Path:
     """`path` is a folder to create (or an empty one); nothing is created.
 

@@ -32,3 +32,17 @@ def gaps(stamps_ns: np.ndarray) -> np.ndarray:
     if steps.size == 0:
         return np.zeros(0, dtype=bool)
     return steps > GAP_FACTOR * float(np.median(steps))
+
+
+def mean_rate_hz(stamps_ns: np.ndarray) -> float:
+    """Samples per second of sorted stamps over their gap-free runs (nan for fewer than two).
+
+    The mean step with gaps left out: (samples - 1) / duration within each run. Stamps
+    rounded to a clock's tick average out (350 Hz with whole milliseconds stays 350 Hz),
+    where a median step would read the tick (333.3 Hz).
+    """
+    stamps_ns = np.asarray(stamps_ns, dtype=np.int64)
+    if stamps_ns.size < 2:
+        return float('nan')
+    steady = np.diff(stamps_ns)[~gaps(stamps_ns)]
+    return 1e9 / float(np.mean(steady))

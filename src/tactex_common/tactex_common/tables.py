@@ -4,10 +4,11 @@
 
 Handled: `,` `;` tab and `|` delimiters (sniffed from the header, or given), rows that
 end with a delimiter, quoted headers, a UTF-8 byte-order mark, latin-1 text, CRLF line
-ends, `#` comment lines before the header, empty and `n/a`-style cells (NaN), decimal
-commas in `;`- or tab-separated files. Refused with the file and line: binary files,
-rows with more or fewer fields than the header, duplicated column names, text in a
-numeric column. A file with a header and no rows is a table of zero rows.
+ends, `#` comment lines before the header, blank lines (empty, or spaces alone), empty
+and `n/a`-style cells (NaN), decimal commas in `;`- or tab-separated files. Refused with
+the file and line: binary files, rows with more or fewer fields than the header,
+duplicated column names, text in a numeric column. A file with a header and no rows is
+a table of zero rows.
 """
 
 from __future__ import annotations
@@ -103,7 +104,10 @@ def read_table(path: Path, *, delimiter: str | None = None) -> Table:
     if header_index is None:
         raise TableError(f'{path}: empty file (no header row)')
     delimiter = delimiter or _sniff(lines[header_index])
-    body = '\n'.join(lines[header_index:])
+    # Spaces alone make a blank line, skipped as an empty one is; '\t\t' in a tab table is
+    # a row of empty cells.
+    body = '\n'.join(line if line.strip() or delimiter in line else ''
+                     for line in lines[header_index:])
     names, row_lines = _check_shape(path, body, delimiter, first_line=header_index + 1)
     trailing = object()  # a column for the empty field after a trailing delimiter
     try:

@@ -12,6 +12,7 @@ from tactex.options import (
     check_output_file,
     hop_samples,
     number,
+    refuse_to_replace,
     text,
     trial_id,
     window_samples,
@@ -63,10 +64,7 @@ def run(args: argparse.Namespace) -> int:
     from tactex_classify.data.sources import is_recording
 
     out = check_output_file(args.out, suffix='.npz', companions=('.json',))
-    existing = [path for path in (out, out.with_suffix('.json')) if path.exists()]
-    if existing and not args.force:
-        raise CommandError(f'--out {existing[0]} exists; give --force to replace it, or '
-                           'another --out')
+    refuse_to_replace(out, force=args.force, companions=('.json',))
     hop = args.hop or max(1, args.window // 2)
     if hop > args.window:
         raise CommandError(f'--hop {hop} is longer than --window {args.window}; use a hop '

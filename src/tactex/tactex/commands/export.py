@@ -8,7 +8,7 @@ import argparse
 from pathlib import Path
 
 from tactex.errors import CommandError
-from tactex.options import check_input_folder, check_output_file
+from tactex.options import check_input_folder, check_output_file, refuse_to_replace
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -32,8 +32,8 @@ def run(args: argparse.Namespace) -> int:
     check_input_folder(args.checkpoint, 'CHECKPOINT')
     from tactex_classify.models.checkpoint import ONNX_FILE
     out = check_output_file(args.out or args.checkpoint / ONNX_FILE, suffix='.onnx')
-    if args.out is not None and out.exists() and not args.force:
-        raise CommandError(f'--out {out} exists; give --force to replace it, or another --out')
+    if args.out is not None:
+        refuse_to_replace(out, force=args.force)
     out.parent.mkdir(parents=True, exist_ok=True)
 
     from tactex_classify.online.runtime import export_onnx

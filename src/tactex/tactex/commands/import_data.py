@@ -13,6 +13,7 @@ from tactex.options import (
     check_output_file,
     hop_samples,
     number,
+    refuse_to_replace,
     text,
     window_samples,
 )
@@ -26,6 +27,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help='mun: the public MUN tactile texture pickles; csv: CLASS/*.csv')
     parser.add_argument('root', type=Path, help='folder holding the data')
     parser.add_argument('--out', type=Path, required=True, help='dataset path (.npz)')
+    parser.add_argument('--force', action='store_true',
+                        help='replace an existing dataset at --out (refused without it)')
     parser.add_argument('--window', type=window_samples, default=1050,
                         help='samples per window (1050: 3 s at 350 Hz)')
     parser.add_argument('--hop', type=hop_samples, help='samples between window starts '
@@ -51,6 +54,7 @@ def run(args: argparse.Namespace) -> int:
     from tactex_classify.data.importers import import_csv, import_mun, parse_channel_specs
 
     out = check_output_file(args.out, suffix='.npz', companions=('.json',))
+    refuse_to_replace(out, force=args.force, companions=('.json',))
     check_input_folder(args.root, 'ROOT')
     hop = args.hop or max(1, args.window // 2)
     if hop > args.window:

@@ -8,7 +8,7 @@ import argparse
 from pathlib import Path
 
 from tactex.errors import CommandError
-from tactex.options import check_output_file
+from tactex.options import check_output_file, refuse_to_replace
 
 MAX_JSON_BYTES = 256 * 1024**2  # a comparison's summary.json holds every confusion matrix
 MAX_JSON_DEPTH = 32
@@ -57,8 +57,7 @@ def _plot_recording(recording: Path, out: Path | None, force: bool) -> Path:
         raise CommandError('a recording needs --out FILE.png (nothing is written beside the '
                            'recording)')
     out = check_output_file(out, suffix='.png')
-    if out.exists() and not force:
-        raise CommandError(f'--out {out} exists; give --force to replace it, or another --out')
+    refuse_to_replace(out, force=force)
     try:
         recording = read_recording(recording)
     except BagError as err:

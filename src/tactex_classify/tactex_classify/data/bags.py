@@ -33,7 +33,7 @@ from tactex_classify.data.topic_inventory import survey, TopicInventory
 from tactex_classify.errors import BagError
 from tactex_common import topics
 from tactex_common.channels import ACCEL, BARO, CHANNELS, GYRO, MAG
-from tactex_common.stamps import gaps, stamp_ns, stamp_or_log_ns
+from tactex_common.stamps import mean_rate_hz, stamp_ns, stamp_or_log_ns
 from tactex_description.geometry import ARM_JOINT_NAMES
 
 # Role -> (topic relative to the recording's namespace, message type).
@@ -96,11 +96,7 @@ class Recording:
     @property
     def rate_hz(self) -> float:
         """Mean sampling rate of the aligned samples, gaps left out."""
-        if self.stamps_ns.size < 2:
-            return float('nan')
-        steps = np.diff(self.stamps_ns)
-        steady = steps[~gaps(self.stamps_ns)]  # gaps excluded, jitter averaged
-        return 1e9 / float(np.mean(steady))
+        return mean_rate_hz(self.stamps_ns)
 
     def channel(self, name: str) -> np.ndarray:
         """The samples of one channel."""

@@ -4,14 +4,17 @@
 
 Both go through the converter's rules: samples are stamped (a timestamp column or
 index, else row / rate), aligned and cleaned by `tactex_classify.data.stream_alignment.align`
-(NaN rows dropped and counted), and windows never cross a gap, so a dropped row never
-stitches two stretches of signal together and `t0` is the true start of each window.
+(NaN rows, and values too large for the dataset's float32, dropped and counted), and
+windows never cross a gap, so a dropped row never stitches two stretches of signal
+together and `t0` is the true start of each window. Hidden entries (names starting with
+'.', such as `.ipynb_checkpoints/` or macOS `._*` files) are skipped and named; every
+class found must give at least one window.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass, replace
 from pathlib import Path
 import pickle
 import sys
@@ -25,11 +28,12 @@ from tactex_classify.data.dataset import (
     WindowCollector,
 )
 from tactex_classify.data.pickles import load_frame, RefusedPickle
-from tactex_classify.data.stream_alignment import align, median_period_ns, Stream
+from tactex_classify.data.stream_alignment import align, Stream
 from tactex_classify.errors import DatasetError
 from tactex_common.channels import CHANNELS
 from tactex_common.errors import TableError
 from tactex_common.naming import natural_sorted
+from tactex_common.stamps import gaps, mean_rate_hz
 from tactex_common.tables import read_table
 
 MUN_IMU_COLUMNS = ('imu_ax', 'imu_ay', 'imu_az', 'imu_gx', 'imu_gy', 'imu_gz', 'imu_mx',
@@ -38,6 +42,14 @@ MUN_RATE_HZ = 350.0
 TIME_UNITS_NS = {'s': 1e9, 'ms': 1e6, 'us': 1e3, 'ns': 1.0}
 # Files of one dataset may differ in rate by this fraction (clock drift), not more.
 RATE_TOLERANCE = 0.02
+# Stamps beyond this many nanoseconds from 1970 (about the year 2261) do not fit in int64.
+MAX_STAMP_NS = 9.2e18
+# Slower than this, a tactile log's time column is in another unit than --time-unit says.
+MIN_PLAUSIBLE_RATE_HZ = 1.0
+# The dataset stores float32: a larger value would become inf, so its sample is dropped.
+FLOAT32_MAX = float(np.finfo(np.float32).max)
+# `align` counts the samples it sorted into time order under this suffix among its drops.
+SORTED_SUFFIX = '_out_of_order'
 Progress = Callable[[str], None]
 
 
@@ -76,19 +88,93 @@ def parse_channel_specs(text: str) -> list[ChannelSpec]:
 def _windows_of(path: Path, label: str, trial: int, stream: Stream, others: Sequence[Stream],
                 collector: WindowCollector, records: list, progress: Progress,
                 dropped: dict[str, int] | None = None) -> float:
-    """Align and window one recording; return its sampling rate (nan if too short)."""
-    aligned = align(stream, others)
+    """Align and window one recording, noting what was dropped and what sorted into time order.
+
+    Returns:
+        Its sampling rate (mean over the gap-free runs), nan when it gave no window.
+    """
+    streams = [replace(s, values=_beyond_float32_as_inf(s.values)) for s in (stream, *others)]
+    aligned = align(streams[0], streams[1:])
+    reordered = {s.name: _samples_out_of_order(s.stamps_ns) for s in streams}
+    for name in reordered:
+        aligned.dropped.pop(f'{name}{SORTED_SUFFIX}', None)
     aligned.dropped.update(dropped or {})
     count = collector.add(label, trial, aligned.stamps_ns, aligned.values)
-    rate = 1e9 / median_period_ns(aligned.stamps_ns) if aligned.stamps_ns.size > 1 else \
-        float('nan')
+    rate = mean_rate_hz(np.unique(stream.stamps_ns))  # of the clock: drops do not bias it
     records.append({'path': str(path), 'label': label, 'trial': trial,
                     'samples': int(stream.stamps_ns.size), 'kept': int(aligned.stamps_ns.size),
-                    'windows': count, 'rate_hz': rate, 'dropped': aligned.dropped})
+                    'longest_run_samples': _longest_run(aligned.stamps_ns), 'windows': count,
+                    'rate_hz': rate, 'dropped': aligned.dropped, 'reordered': reordered})
     lost = {k: v for k, v in aligned.dropped.items() if v}
+    moved = {k: v for k, v in reordered.items() if v}
     progress(f'[{trial + 1}] {path}: {label}, {aligned.stamps_ns.size} samples, {count} '
-             f'windows' + (f'; dropped {lost}' if lost else ''))
+             f'windows' + (f'; dropped {lost}' if lost else '')
+             + (f'; sorted into time order {moved}' if moved else ''))
     return rate if count else float('nan')
+
+
+def _beyond_float32_as_inf(values: np.ndarray) -> np.ndarray:
+    """The values, those too large for the dataset's float32 made inf (dropped as NaN are)."""
+    return np.where(np.abs(values) > FLOAT32_MAX, np.inf, values)
+
+
+def _samples_out_of_order(stamps_ns: np.ndarray) -> int:
+    """How many samples sorting by time moves (a file in time order: 0)."""
+    return int(np.sum(stamps_ns != np.sort(stamps_ns, kind='stable')))
+
+
+def _longest_run(stamps_ns: np.ndarray) -> int:
+    """Samples in the longest gap-free stretch of sorted stamps: the largest window it gives."""
+    edges = np.concatenate([[0], np.flatnonzero(gaps(stamps_ns)) + 1, [stamps_ns.size]])
+    return int(np.max(np.diff(edges)))
+
+
+def _visible(paths: Iterable[Path], root: Path, progress: Progress) -> list[Path]:
+    """The paths with no hidden part below `root` (a name starting with '.'); the rest named.
+
+    A `.ipynb_checkpoints/` folder is no class, and a macOS `._run1.csv` is no recording.
+    """
+    kept, hidden = [], set()
+    for path in paths:
+        parts = path.relative_to(root).parts
+        first = next((i for i, part in enumerate(parts) if part.startswith('.')), None)
+        if first is None:
+            kept.append(path)
+        else:
+            hidden.add('/'.join(parts[:first + 1]) + ('/' if first + 1 < len(parts) else ''))
+    if hidden:
+        progress(f'skipped hidden entries (names starting with "."): '
+                 f'{", ".join(natural_sorted(hidden))}')
+    return kept
+
+
+def _check_windows(classes: Iterable[str], records: Sequence[dict], window: int) -> None:
+    """Refuse a dataset without windows, or missing a class found under the root.
+
+    Raises:
+        DatasetError: naming --window and the longest gap-free stretch, per class missing.
+    """
+    longest: dict[str, int | None] = dict.fromkeys(classes)  # None: no file of it was read
+    windows = dict.fromkeys(longest, 0)
+    for record in records:
+        label = record['label']
+        longest[label] = max(longest[label] or 0, record['longest_run_samples'])
+        windows[label] += record['windows']
+    if not records:
+        raise DatasetError('no windows: every recording was skipped (see above)')
+    if not any(windows.values()):
+        raise DatasetError(f'no windows: the longest recording has '
+                           f'{max(n for n in longest.values() if n is not None)} samples '
+                           f'without a gap, shorter than one window of {window}; give a '
+                           'smaller --window')
+    empty = [label for label in natural_sorted(windows) if not windows[label]]
+    if empty:
+        sizes = ', '.join(f'{label} (every file skipped)' if longest[label] is None else
+                          f'{label} (longest recording {longest[label]} samples)'
+                          for label in empty)
+        raise DatasetError(f'no windows of {window} samples for class(es) {sizes}: the dataset '
+                           'would miss them (the lines above say what each file kept); give a '
+                           'smaller --window, or move those class folders out of the root')
 
 
 def import_mun(root: Path, *, window: int, hop: int, progress: Progress = _stderr) -> Dataset:
@@ -101,13 +187,15 @@ def import_mun(root: Path, *, window: int, hop: int, progress: Progress = _stder
     Values stay in the dataset's units.
 
     Raises:
-        DatasetError: no pickles, a refused or broken pickle, missing columns, no window.
+        DatasetError: no pickles, a refused or broken pickle, missing columns or text in
+            them, a texture without a window, or no window at all.
     """
     check_window(window, hop)
     root = Path(root)
     if not root.is_dir():
         raise DatasetError(f'{root} is not a folder; give the folder holding pickles_*/')
-    pairs = natural_sorted(root.glob('pickles_*/texture_*/full_imu/*.pkl'))
+    pairs = natural_sorted(_visible(root.glob('pickles_*/texture_*/full_imu/*.pkl'), root,
+                                    progress))
     if not pairs:
         raise DatasetError(f'{root}: no pickles_*/texture_*/full_imu/*.pkl found')
     collector = WindowCollector(window, hop)
@@ -127,11 +215,12 @@ def import_mun(root: Path, *, window: int, hop: int, progress: Progress = _stder
             raise DatasetError(f'{imu_path if missing else baro_path}: missing column(s) '
                                f'{missing or ["baro"]}')
         imu_stream = Stream('imu', CHANNELS[:9], _frame_stamps(imu),
-                            imu[list(MUN_IMU_COLUMNS)].to_numpy(np.float64))
+                            _numbers(imu_path, imu, MUN_IMU_COLUMNS))
         baro_stream = Stream('baro', CHANNELS[9:], _frame_stamps(baro),
-                             baro[['baro']].to_numpy(np.float64))
+                             _numbers(baro_path, baro, ('baro',)))
         _windows_of(imu_path, label, trial, imu_stream, [baro_stream], collector, records,
                     progress)
+    _check_windows({path.parent.parent.name for path in pairs}, records, window)
     return collector.dataset(CHANNELS, {
         'sampling_rate_hz': MUN_RATE_HZ, 'filter': 'all samples (imported)',
         'source': str(root), 'units': 'as recorded in the MUN dataset',
@@ -147,6 +236,25 @@ def _frame(path: Path):
         raise DatasetError(f'{path}: {err}') from None
     except OSError as err:
         raise DatasetError(f'{path}: cannot read: {err.strerror}') from None
+
+
+def _numbers(path: Path, frame, columns: Sequence[str]) -> np.ndarray:
+    """(rows, len(columns)) float64 of a frame's columns; missing cells are NaN.
+
+    Raises:
+        DatasetError: a cell holds something that is not a number (file, column, value).
+    """
+    import pandas
+    values = []
+    for column in columns:
+        raw = frame[column]
+        numbers = pandas.to_numeric(raw, errors='coerce')
+        bad = np.flatnonzero(numbers.isna().to_numpy() & raw.notna().to_numpy())
+        if bad.size:
+            raise DatasetError(f'{path}: column {column!r} holds {str(raw.iloc[bad[0]])!r}, '
+                               'not a number')
+        values.append(numbers.to_numpy(dtype=np.float64, na_value=np.nan))
+    return np.column_stack(values)
 
 
 def _frame_stamps(frame) -> np.ndarray:
@@ -178,7 +286,8 @@ def import_csv(root: Path, *, window: int, hop: int, columns: Sequence[ChannelSp
 
     Raises:
         DatasetError: no files, an unreadable or ragged file (file and line), a missing
-            column, no rate, files of different rates, or no window at all.
+            column, no rate, times beyond int64 nanoseconds in `time_unit`, files of
+            different rates, a class without a window, or no window at all.
     """
     check_window(window, hop)
     specs = list(columns) if columns else [ChannelSpec(c, c) for c in CHANNELS]
@@ -192,8 +301,9 @@ def import_csv(root: Path, *, window: int, hop: int, columns: Sequence[ChannelSp
     root = Path(root)
     if not root.is_dir():
         raise DatasetError(f'{root} is not a folder; give a folder of CLASS/*.csv files')
-    files = natural_sorted(p for p in root.glob('*/*') if p.suffix.lower() == '.csv'
-                           and not p.is_dir())  # a FIFO or device is refused when read
+    files = natural_sorted(_visible((p for p in root.glob('*/*') if p.suffix.lower() == '.csv'
+                                     and not p.is_dir()),  # a FIFO is refused when read
+                                    root, progress))
     if not files:
         raise DatasetError(f'{root}: no CLASS/*.csv files found (one folder per class, '
                            'one file per trial)')
@@ -226,7 +336,10 @@ def import_csv(root: Path, *, window: int, hop: int, columns: Sequence[ChannelSp
         rate = _windows_of(path, path.parent.name, trial, stream, [], collector, records,
                            progress, {'rows_without_time': int(np.sum(~timed))})
         if np.isfinite(rate):
-            rates[path.name] = rate
+            rates[f'{path.parent.name}/{path.name}'] = rate
+    if time_column:
+        _check_time_unit(rates, time_unit)
+    _check_windows({path.parent.name for path in files}, records, window)
     info_rate = _common_rate(rates, rate_hz)
     return collector.dataset([s.name for s in specs], {
         'sampling_rate_hz': info_rate, 'filter': 'all samples (imported)',
@@ -238,34 +351,87 @@ def _time_stamps(table, column: str, unit: str) -> tuple[np.ndarray, np.ndarray]
     """Stamps (int64 ns) of a numeric or date-time column, and which rows have a time.
 
     Raises:
-        TableError: no such column, cells that are neither numbers nor date-times, or no
-            time at all.
+        TableError: no such column, cells that are neither numbers nor date-times, numbers
+            beyond int64 nanoseconds in `unit`, or no time at all.
     """
-    import pandas
     try:
-        seconds = table.numeric(column)
-        valid = np.isfinite(seconds)
-        stamps = np.round(np.where(valid, seconds, 0.0) * TIME_UNITS_NS[unit]).astype(np.int64)
+        times = table.numeric(column)
     except TableError:
         if column not in table.columns:
             raise
-        raw = table.frame[column]
-        parsed = pandas.to_datetime(raw, errors='coerce', utc=True, format='mixed')
-        valid = parsed.notna().to_numpy()
-        bad = np.flatnonzero(~valid & raw.notna().to_numpy())
-        if bad.size:
-            raise TableError(f'{table.path}, line {int(table.lines[bad[0]])}: time column '
-                             f'{column!r} holds {raw.iloc[bad[0]]!r}, neither a number nor a '
-                             'date-time') from None
-        stamps = parsed.dt.as_unit('ns').fillna(pandas.Timestamp(0, tz='UTC')).astype(
-            'int64').to_numpy()
+        stamps, valid = _date_time_stamps(table, column)
+    else:
+        stamps, valid = _numeric_stamps(table, column, times, unit)
     if not valid.any():
         raise TableError(f'{table.path}: time column {column!r} holds no time')
     return stamps, valid
 
 
+def _numeric_stamps(table, column: str, times: np.ndarray, unit: str
+                    ) -> tuple[np.ndarray, np.ndarray]:
+    """Stamps (int64 ns) of times in `unit`, and which rows have one (NaN: none).
+
+    Raises:
+        TableError: a time beyond int64 nanoseconds, such as epoch ms or ns read as seconds.
+    """
+    valid = np.isfinite(times)
+    scale = TIME_UNITS_NS[unit]
+    largest = float(np.max(np.abs(times[valid]), initial=0.0))
+    if largest * scale > MAX_STAMP_NS:
+        finer = [name for name, ns in TIME_UNITS_NS.items() if ns < scale]
+        fix = f'give their unit with --time-unit ({", ".join(finer)})' if finer else \
+            'check the column'
+        raise TableError(f'{table.path}: time column {column!r} holds values up to '
+                         f'{largest:.2g} {unit}, which do not fit in int64 nanoseconds '
+                         f'(beyond the year 2261); {fix}')
+    return np.round(np.where(valid, times, 0.0) * scale).astype(np.int64), valid
+
+
+def _date_time_stamps(table, column: str) -> tuple[np.ndarray, np.ndarray]:
+    """Stamps (int64 ns) of a date-time column, and which rows have one (empty: none).
+
+    Raises:
+        TableError: a cell that is neither a number nor a date-time.
+    """
+    import pandas
+    raw = table.frame[column]
+    parsed = pandas.to_datetime(raw, errors='coerce', utc=True, format='mixed')
+    valid = parsed.notna().to_numpy()
+    bad = np.flatnonzero(~valid & raw.notna().to_numpy())
+    if bad.size:
+        raise TableError(f'{table.path}, line {int(table.lines[bad[0]])}: time column '
+                         f'{column!r} holds {raw.iloc[bad[0]]!r}, neither a number nor a '
+                         'date-time')
+    stamps = parsed.dt.as_unit('ns').fillna(pandas.Timestamp(0, tz='UTC')).astype(
+        'int64').to_numpy()
+    return stamps, valid
+
+
+def _check_time_unit(rates: dict[str, float], unit: str) -> None:
+    """Refuse a rate below MIN_PLAUSIBLE_RATE_HZ: its times are in a finer unit than `unit`.
+
+    Raises:
+        DatasetError: naming the file, its rate and the --time-unit that fits.
+    """
+    slow = [name for name, rate in rates.items() if rate < MIN_PLAUSIBLE_RATE_HZ]
+    if not slow:
+        return
+    rate = rates[slow[0]]
+    fitting = [name for name, ns in TIME_UNITS_NS.items() if ns < TIME_UNITS_NS[unit]
+               and rate * TIME_UNITS_NS[unit] / ns >= MIN_PLAUSIBLE_RATE_HZ]
+    raise DatasetError(f'{slow[0]}: its time column in {unit} gives {rate:.3g} Hz, too slow for '
+                       'a tactile stream; ' + (
+                           f'if its times are in {fitting[0]}, give --time-unit {fitting[0]} '
+                           f'({rate * TIME_UNITS_NS[unit] / TIME_UNITS_NS[fitting[0]]:.4g} Hz)'
+                           if fitting else 'check the time column'))
+
+
 def _common_rate(rates: dict[str, float], given: float | None) -> float:
     """The dataset's rate: files must agree with each other and with --rate.
+
+    Args:
+        rates: CLASS/FILE -> its rate (Hz).
+        given: the --rate given, if any.
 
     Raises:
         DatasetError: naming the two files (or the option) that disagree.

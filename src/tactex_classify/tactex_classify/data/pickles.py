@@ -6,8 +6,10 @@ Pickles run code when loaded. `SafeUnpickler` resolves only the names a DataFram
 numbers, with a plain, range or datetime index, is made of: those of pandas 0.15 to 3.x
 (`pandas.core.index`, `pandas.tseries.index`, `pandas.indexes.*`, `pandas.core.indexes.*`)
 and numpy 1 and 2, read with `encoding='latin1'` so Python 2 pickles load. The
-constructors it hands out check their arguments (an index type, a datetime index
-without frequency objects, array shapes and index lengths within `MAX_ROWS`), and the
+constructors it hands out check their arguments (an index type; a datetime index whose
+frequency, if any, is a fixed step of whole hours down to nanoseconds, dropped on load,
+and whose time zone is a name, a `zoneinfo` zone or a fixed offset; array shapes and
+index lengths within `MAX_ROWS`; `getattr` of nothing but `ZoneInfo._unpickle`), and the
 file may be at most `MAX_PICKLE_BYTES`. Every other name is refused before anything runs.
 """
 
@@ -31,6 +33,9 @@ class RefusedPickle(pickle.UnpicklingError):
 
 def _pandas_names() -> dict[tuple[str, str], object]:
     """(module, name) -> the object handed to the unpickler, for every allowed name."""
+    import datetime
+    import zoneinfo
+
     import numpy
     from numpy._core import numeric
     import pandas
@@ -39,6 +44,8 @@ def _pandas_names() -> dict[tuple[str, str], object]:
     from pandas.core.indexes import base as index_base
     from pandas.core.indexes import datetimes
     from pandas.core.internals import blocks, managers
+    from pandas.tseries import offsets
+    from pandas.tseries.offsets import Tick
 
     index_types = (pandas.Index, pandas.RangeIndex, pandas.DatetimeIndex)
     frame_types = (pandas.DataFrame, pandas.Series, managers.BlockManager,
@@ -57,12 +64,35 @@ def _pandas_names() -> dict[tuple[str, str], object]:
     def new_datetime_index(cls, state):
         if cls is not pandas.DatetimeIndex or not isinstance(state, dict) \
                 or not set(state) <= {'data', 'freq', 'tz', 'name'} \
-                or state.get('freq') is not None \
+                or not isinstance(state.get('freq'), (Tick, type(None))) \
                 or not isinstance(state.get('tz'), (str, type(None))):
             raise RefusedPickle('refusing a datetime index other than timestamps with an '
-                                'optional time zone name')
-        _check_rows(len(state.get('data', ())))
-        return datetimes._new_DatetimeIndex(cls, dict(state))
+                                'optional fixed frequency and time zone')
+        _check_rows(len(state.get('data', ())))  # the frequency is dropped: stamps suffice
+        return datetimes._new_DatetimeIndex(
+            cls, {**state, **({'freq': None} if 'freq' in state else {})})
+
+    def fixed_frequency(cls):
+        def make(n=1, normalize=False):
+            if not isinstance(n, int) or not isinstance(normalize, bool):
+                raise RefusedPickle(f'refusing a {cls.__name__} frequency of {n!r}')
+            return cls(n, normalize)
+        return make
+
+    def fixed_zone(offset, name=None):  # datetime.timezone, e.g. UTC
+        if not isinstance(offset, datetime.timedelta) or not isinstance(name, (str, type(None))):
+            raise RefusedPickle(f'refusing a time zone of {offset!r}')
+        return datetime.timezone(offset) if name is None else datetime.timezone(offset, name)
+
+    def time_step(days=0, seconds=0, microseconds=0):
+        if not all(isinstance(part, int) for part in (days, seconds, microseconds)):
+            raise RefusedPickle('refusing a timedelta of other than whole numbers')
+        return datetime.timedelta(days, seconds, microseconds)
+
+    def zone_getattr(owner, name):  # a time zone pickles as getattr(ZoneInfo, '_unpickle')
+        if owner is not zoneinfo.ZoneInfo or name != '_unpickle':
+            raise RefusedPickle(f'refusing getattr({owner!r}, {name!r})')
+        return zoneinfo.ZoneInfo._unpickle
 
     def reconstruct(subtype, shape, dtype):
         if subtype is not _NDARRAY or math.prod(shape) > 1:
@@ -88,7 +118,13 @@ def _pandas_names() -> dict[tuple[str, str], object]:
         ('pandas._libs.internals', '_unpickle_block'): libinternals._unpickle_block,
         ('pandas.core.internals.blocks', 'new_block'): blocks.new_block,
         ('pandas.core.internals.blocks', 'Block'): blocks.Block,
+        ('pandas', 'DatetimeTZDtype'): pandas.DatetimeTZDtype,
+        ('zoneinfo', 'ZoneInfo'): zoneinfo.ZoneInfo,
+        ('datetime', 'timezone'): fixed_zone, ('datetime', 'timedelta'): time_step,
+        ('builtins', 'getattr'): zone_getattr, ('__builtin__', 'getattr'): zone_getattr,
     }
+    for name in ('Hour', 'Minute', 'Second', 'Milli', 'Micro', 'Nano'):
+        names[('pandas._libs.tslibs.offsets', name)] = fixed_frequency(getattr(offsets, name))
     for numpy_module in ('numpy.core.multiarray', 'numpy._core.multiarray'):
         names[(numpy_module, '_reconstruct')] = reconstruct
     for numpy_module in ('numpy.core.numeric', 'numpy._core.numeric'):
