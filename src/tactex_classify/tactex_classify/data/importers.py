@@ -5,8 +5,10 @@
 Both go through the converter's rules: samples are stamped (a timestamp column or
 index, else row / rate), aligned and cleaned by `tactex_classify.data.stream_alignment.align`
 (NaN rows, and values too large for the dataset's float32, dropped and counted), and
-windows never cross a gap, so a dropped row never stitches two stretches of signal
-together and `t0` is the true start of each window. Hidden entries (names starting with
+windows never cross a gap (a step over 2.5 periods, `tactex_common.stamps.gaps`), so two
+or more dropped rows never stitch two stretches of signal together (one dropped row, a
+step of two periods, stays inside a window, as in the converter and the live node) and
+`t0` is the true start of each window. Hidden entries (names starting with
 '.', such as `.ipynb_checkpoints/` or macOS `._*` files) are skipped and named; every
 class found must give at least one window.
 """
