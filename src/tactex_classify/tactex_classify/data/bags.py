@@ -92,6 +92,7 @@ class Recording:
     # (len(joint_stamps_ns), arm joints) positions (rad), NaN where a message lacked one
     joint_positions: np.ndarray = field(
         default_factory=lambda: np.zeros((0, len(ARM_JOINT_NAMES))))
+    reordered: dict[str, int] = field(default_factory=dict)  # per stream, samples sorted
 
     @property
     def rate_hz(self) -> float:
@@ -357,7 +358,7 @@ def read_recording(path: Path, *, remaps: Mapping[str, str] | None = None,
         segments(sorted(collected.active)) if 'active' in roles else None,
         joint_array[joint_order, 0].astype(np.int64), joint_array[joint_order, 1],
         tuple(aligned.channels[i] for i in order), _truth(collected, roles), dropped, notes,
-        collected.messages, joint_array[joint_order, 2:])
+        collected.messages, joint_array[joint_order, 2:], aligned.reordered)
 
 
 def _read_part(part: Path, by_topic: Mapping[str, str], path: Path) -> _Collected:

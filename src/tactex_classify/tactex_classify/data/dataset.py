@@ -411,7 +411,8 @@ def convert(paths: Sequence[Path], *, window: int, hop: int, label: str | None =
                        'rate_hz': resample_hz or recording.rate_hz,
                        **({'resampled_from_hz': recording.rate_hz} if resample_hz else {}),
                        'ground_truth': recording.truth is not None,
-                       'dropped': recording.dropped, 'notes': recording.notes})
+                       'dropped': recording.dropped, 'reordered': recording.reordered,
+                       'notes': recording.notes})
         if not count:
             skip(number, path, f'{samples} samples, shorter than one window of {window}'
                  if samples < window else NO_CONTACT_INFORMATION if contactless else

@@ -50,8 +50,6 @@ MAX_STAMP_NS = 9.2e18
 MIN_PLAUSIBLE_RATE_HZ = 1.0
 # The dataset stores float32: a larger value would become inf, so its sample is dropped.
 FLOAT32_MAX = float(np.finfo(np.float32).max)
-# `align` counts the samples it sorted into time order under this suffix among its drops.
-SORTED_SUFFIX = '_out_of_order'
 Progress = Callable[[str], None]
 
 
@@ -97,9 +95,7 @@ def _windows_of(path: Path, label: str, trial: int, stream: Stream, others: Sequ
     """
     streams = [replace(s, values=_beyond_float32_as_inf(s.values)) for s in (stream, *others)]
     aligned = align(streams[0], streams[1:])
-    reordered = {s.name: _samples_out_of_order(s.stamps_ns) for s in streams}
-    for name in reordered:
-        aligned.dropped.pop(f'{name}{SORTED_SUFFIX}', None)
+    reordered = aligned.reordered
     aligned.dropped.update(dropped or {})
     count = collector.add(label, trial, aligned.stamps_ns, aligned.values)
     rate = mean_rate_hz(np.unique(stream.stamps_ns))  # of the clock: drops do not bias it
@@ -118,11 +114,6 @@ def _windows_of(path: Path, label: str, trial: int, stream: Stream, others: Sequ
 def _beyond_float32_as_inf(values: np.ndarray) -> np.ndarray:
     """The values, those too large for the dataset's float32 made inf (dropped as NaN are)."""
     return np.where(np.abs(values) > FLOAT32_MAX, np.inf, values)
-
-
-def _samples_out_of_order(stamps_ns: np.ndarray) -> int:
-    """How many samples sorting by time moves (a file in time order: 0)."""
-    return int(np.sum(stamps_ns != np.sort(stamps_ns, kind='stable')))
 
 
 def _longest_run(stamps_ns: np.ndarray) -> int:

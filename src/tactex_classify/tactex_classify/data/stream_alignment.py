@@ -55,6 +55,7 @@ class Aligned:
     stamps_ns: np.ndarray  # (n,) int64, increasing
     values: np.ndarray  # (n, len(channels)) float64
     dropped: dict[str, int] = field(default_factory=dict)
+    reordered: dict[str, int] = field(default_factory=dict)  # per stream, samples sorted
 
 
 def median_period_ns(stamps_ns: np.ndarray) -> float:
@@ -63,11 +64,16 @@ def median_period_ns(stamps_ns: np.ndarray) -> float:
     return float(np.median(steps)) if steps.size else float('nan')
 
 
-def sorted_unique(stream: Stream, dropped: dict[str, int]) -> Stream:
-    """The stream sorted by stamp, a repeated stamp's later samples dropped; both counted."""
+def sorted_unique(stream: Stream, dropped: dict[str, int], reordered: dict[str, int]
+                  ) -> Stream:
+    """The stream sorted by stamp, a repeated stamp's later samples dropped; both counted.
+
+    `reordered[name]` counts the samples that came after a later-stamped one (sorted into
+    place and kept), and `dropped[name_duplicates]` the repeats.
+    """
     stamps = np.asarray(stream.stamps_ns, dtype=np.int64)
     values = np.asarray(stream.values, dtype=np.float64)
-    dropped[f'{stream.name}_out_of_order'] = int(np.sum(np.diff(stamps) < 0))
+    reordered[stream.name] = int(np.sum(stamps[1:] < np.maximum.accumulate(stamps)[:-1]))
     order = np.argsort(stamps, kind='stable')
     stamps, values = stamps[order], values[order]
     keep = np.concatenate([[True], np.diff(stamps) > 0]) if stamps.size else \
@@ -94,17 +100,19 @@ def align(reference: Stream, others: Sequence[Stream] = ()) -> Aligned:
 
     Returns:
         The aligned samples, channels in the order reference, then each other stream;
-        `dropped` counts `<name>_out_of_order`, `<name>_duplicates`, `unaligned_samples`
-        (reference samples some stream had nothing near) and `nan_samples`.
+        `dropped` counts `<name>_duplicates`, `unaligned_samples` (reference samples some
+        stream had nothing near) and `nan_samples`; `reordered` the samples of each stream
+        that arrived out of time order and were sorted into it.
     """
     dropped: dict[str, int] = {}
-    base = sorted_unique(reference, dropped)
+    reordered: dict[str, int] = {}
+    base = sorted_unique(reference, dropped, reordered)
     stamps = base.stamps_ns
     period = median_period_ns(stamps)
     columns = [base.values]
     joined = np.ones(stamps.size, dtype=bool)
     for other in others:
-        other = sorted_unique(other, dropped)
+        other = sorted_unique(other, dropped, reordered)
         values = np.full((stamps.size, len(other.channels)), np.nan)
         columns.append(values)
         tolerance = 0.5 * np.nanmax([period, median_period_ns(other.stamps_ns), 0.0])
@@ -118,4 +126,4 @@ def align(reference: Stream, others: Sequence[Stream] = ()) -> Aligned:
     dropped['unaligned_samples'] = int(np.sum(~joined))
     keep = finite & joined
     channels = tuple(base.channels) + tuple(c for s in others for c in s.channels)
-    return Aligned(channels, stamps[keep], values[keep], dropped)
+    return Aligned(channels, stamps[keep], values[keep], dropped, reordered)
