@@ -52,3 +52,12 @@ def test_a_staging_of_a_run_still_going_is_left_alone(tmp_path):
     with staged_folder(out):
         pass
     assert running.is_dir()
+
+
+def test_a_failed_run_removes_the_folders_it_made_for_out_and_no_others(tmp_path):
+    (tmp_path / 'kept').mkdir()
+    out = tmp_path / 'kept' / 'made' / 'deeper' / 'report'
+    with pytest.raises(RuntimeError), staged_folder(out) as folder:
+        (folder / 'half.txt').write_text('half')
+        raise RuntimeError('interrupted')
+    assert not (tmp_path / 'kept' / 'made').exists() and (tmp_path / 'kept').is_dir()

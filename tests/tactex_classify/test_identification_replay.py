@@ -27,6 +27,7 @@ from tactex.cli import main
 from tactex_classify.identification.movement_evidence import MovementDataError
 from tactex_classify.identification.offline import (
     best_plans,
+    recordings_needed,
     replay,
     ReplaySettings,
     summary,
@@ -97,6 +98,16 @@ def test_the_report_holds_the_json_the_markdown_and_every_plot(tmp_path, replaye
         assert (tmp_path / 'report' / name).stat().st_size > 1000, name
 
 
+
+def test_without_active_there_is_no_plot_of_its_choices(tmp_path, replayed):
+    settings = replace(SETTINGS, policies=('fixed', 'random'))
+    without = {**replayed, 'episodes': [e for e in replayed['episodes']
+                                        if e.policy in settings.policies]}
+    write_report(tmp_path / 'report', without, settings)
+    text = (tmp_path / 'report' / 'identification.md').read_text()
+    assert not (tmp_path / 'report' / 'active_choices.png').exists()
+    assert 'active_choices.png' not in text and '![time.png](time.png)' in text
+
 def test_no_plan_fixed_in_advance_beats_the_best_plan_in_hindsight(tmp_path):
     settings = replace(SETTINGS, budget=Budget(threshold=1.0))  # never decides
     result = replay(movement_dataset(tmp_path), load_movements(movement_file(tmp_path)),
@@ -162,10 +173,24 @@ def test_recordings_without_a_movement_or_another_movement_file_are_refused(tmp_
                                                 'recording of sprint'):
         replay(movement_dataset(tmp_path), load_movements(other), SETTINGS,
                progress=lambda line: None)
-    with pytest.raises(MovementDataError, match='cork under movement tells_all has 4 '
-                                                'recording.*5 folds'):
+    with pytest.raises(MovementDataError, match='--folds 5 with --inner-folds 3 need at least '
+                                                r'5 recordings .* \(\w+ under tells_all: 4\): '
+                                                'give --folds 4 --inner-folds 3'):
         replay(movement_dataset(tmp_path), load_movements(movement_file(tmp_path)),
                ReplaySettings(folds=5), progress=lambda line: None)
+
+
+def test_the_folds_are_checked_against_every_pair_before_any_training(tmp_path):
+    data = movement_dataset(tmp_path)
+    movements = load_movements(movement_file(tmp_path))
+    wood = data.classes.index('wood')
+    first = int(np.unique(data.trial[data.y == wood])[0])
+    fitted = []
+    with pytest.raises(MovementDataError, match=r'pair\(s\) have no recording \(wood under'):
+        replay(data.select(~((data.y == wood) & (data.trial != first))), movements, SETTINGS,
+               progress=fitted.append)
+    assert not fitted  # refused up front, not after fitting the other movements
+    assert recordings_needed(2, 2) == 4 and recordings_needed(3, 3) == 5
 
 
 def test_the_command_writes_the_report_and_prints_each_policy(tmp_path, capsys):

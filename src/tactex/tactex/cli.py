@@ -43,7 +43,8 @@ COMMANDS = {
     'status': "One table of every running node's diagnostics (rates, latency, drops, state).",
     'watch': 'Show the live texture estimates, their evidence and decisions.',
     'view': 'The live system in Foxglove (tactile channels, arm, pathway, estimates).',
-    'report': 'Reports across the system: accuracy-time (what accuracy costs in time).',
+    'report': 'Reports across the system: accuracy-time (what accuracy costs in time), '
+              'identification (active movement choice replayed on held-out recordings).',
 }
 
 
@@ -70,8 +71,16 @@ def build_parser() -> argparse.ArgumentParser:
         module = importlib.import_module(f'tactex.commands.{MODULES.get(name, name)}')
         sub = subparsers.add_parser(name, help=help_text, description=help_text)
         module.add_arguments(sub)
-        sub.set_defaults(run=module.run)
+        sub.set_defaults(run=module.run, parser=sub)
     return parser
+
+
+def parsed(parser: argparse.ArgumentParser, argv: list[str] | None) -> argparse.Namespace:
+    """The arguments; ones the subcommand does not know are its error, with its --help."""
+    args, unknown = parser.parse_known_args(argv)
+    if unknown:
+        args.parser.error(f'unrecognized arguments: {" ".join(unknown)}')
+    return args
 
 
 def describe(error: BaseException) -> str:
@@ -89,7 +98,7 @@ def main(argv: list[str] | None = None) -> int:
     ignored); one that runs until stopped returns 0, any other reports the signal.
     """
     raise_on_stop_signals()
-    args = build_parser().parse_args(argv)
+    args = parsed(build_parser(), argv)
     return guarded(lambda: args.run(args))
 
 

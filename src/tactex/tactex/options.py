@@ -19,6 +19,7 @@ import argparse
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 import glob
+import itertools
 import math
 import os
 from pathlib import Path
@@ -254,6 +255,7 @@ def staged_folder(path: Path) -> Iterator[Path]:
     path = Path(path)
     _remove_abandoned_stagings(path)
     staging = path.with_name(f'.{path.name}.partial-{os.getpid()}-{secrets.token_hex(4)}')
+    made = list(itertools.takewhile(lambda folder: not folder.exists(), staging.parents))
     staging.mkdir(parents=True)
     try:
         yield staging
@@ -263,6 +265,28 @@ def staged_folder(path: Path) -> Iterator[Path]:
     finally:
         if staging.exists():
             shutil.rmtree(staging, ignore_errors=True)
+        if not path.exists():  # the block failed: the folders made for it go too
+            for folder in made:  # innermost first
+                try:
+                    folder.rmdir()
+                except OSError:
+                    break
+
+
+def check_finite_windows(dataset, path: Path, option: str = 'DATA') -> None:
+    """Refuse a dataset with NaN or inf in a window, naming its recordings and the fix.
+
+    Raises:
+        CommandError: naming `option`, the windows and recordings, and the fix.
+    """
+    import numpy as np
+    bad = ~np.all(np.isfinite(dataset.X), axis=(1, 2))
+    if bad.any():
+        trials = np.unique(dataset.trial[bad]).tolist()
+        raise CommandError(f'{option} {path}: {int(bad.sum())} window(s) hold NaN or inf '
+                           f'(trials {", ".join(map(str, trials[:5]))}'
+                           f'{"..." if len(trials) > 5 else ""}); convert or import the '
+                           'recordings again (both drop non-finite samples)')
 
 
 ROS_NAME_SEGMENT = re.compile(r'^[A-Za-z_][A-Za-z0-9_]*$')

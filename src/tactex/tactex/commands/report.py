@@ -15,6 +15,7 @@ import time
 
 from tactex.errors import CommandError
 from tactex.options import (
+    check_finite_windows,
     check_input_file,
     check_output_folder,
     epoch_count,
@@ -56,8 +57,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     identification.add_argument('--policies', type=_policies, default=POLICY_NAMES,
                                 metavar='P[,P...]', help='comma-separated, of '
                                 f'{", ".join(POLICY_NAMES)} (default all)')
-    identification.add_argument('--threshold', type=number(above=None, at_least=0.0,
-                                                           at_most=1.0), default=0.99,
+    identification.add_argument('--threshold', type=number(at_most=1.0), default=0.99,
                                 help="stop when the leading texture's posterior exceeds this "
                                      "(default 0.99, the live node's)")
     identification.add_argument('--budget-movements', type=integer(1, 1000),
@@ -123,7 +123,13 @@ def _identification(args: argparse.Namespace) -> int:
     path = args.movements or share_directory('tactex') / 'config' / 'movements.yaml'
     check_input_file(path, '--movements')  # before the dataset, which takes longer to read
     dataset = Dataset.load(args.data)
+    check_finite_windows(dataset, args.data)
     movements = movement_file(path, dataset.info.get('sampling_rate_hz'))
+    shortest = min(movement.contact_s for movement in movements.movements)
+    if args.budget_seconds is not None and args.budget_seconds < shortest:
+        raise CommandError(f'--budget-seconds {args.budget_seconds:g} is shorter than every '
+                           f'movement: the shortest contact lasts {shortest:.2f} s; give at '
+                           'least that')
     settings = ReplaySettings(
         policies=args.policies, folds=args.folds, inner_folds=args.inner_folds,
         seeds=args.seeds, model=args.model, seed=args.seed,
@@ -138,7 +144,7 @@ def _identification(args: argparse.Namespace) -> int:
     for policy, row in table['policies'].items():
         print(f'{policy:12s} {100 * row["accuracy"]:5.1f} % right, median '
               f'{row["median_contact_s"]:.1f} s of contact, {row["median_movements"]:.0f} '
-              'movements')
+              f'movement{"" if row["median_movements"] == 1 else "s"}')
     print(f'report: {args.out / "identification.md"} '
           f'({(time.monotonic() - started) / 60:.1f} min)', flush=True)
     return 0

@@ -17,6 +17,7 @@ import time
 
 from tactex.errors import CommandError
 from tactex.options import (
+    check_finite_windows,
     check_output_folder,
     epoch_count,
     fold_count,
@@ -80,7 +81,7 @@ def run(args: argparse.Namespace) -> int:
 
     check_output_folder(args.out)
     dataset = Dataset.load(args.data)
-    check_finite(dataset, args.data)
+    check_finite_windows(dataset, args.data)
     if args.movements:
         return _train_bundle(args, dataset)
     schemes = SCHEMES if args.cv == 'both' else (args.cv,)
@@ -162,8 +163,10 @@ def pretrained_model(checkpoint: Path, model: str | None) -> str:
     return info.model
 
 
-def deployable_stream(dataset) -> dict:
+def deployable_stream(dataset, without: str = ', or pass --no-final') -> dict:
     """The hop and sampling rate a checkpoint keeps, from the dataset's sidecar.
+
+    `without` ends the error with the way to train without a deployable model, if any.
 
     Raises:
         CommandError: the sidecar lacks them (or they are not usable).
@@ -173,25 +176,21 @@ def deployable_stream(dataset) -> dict:
     if not isinstance(hop, int) or isinstance(hop, bool) or not 1 <= hop <= dataset.X.shape[1] \
             or not isinstance(rate, (int, float)) or not math.isfinite(rate) or rate <= 0:
         raise CommandError(f"DATA's sidecar gives hop {hop!r} and sampling_rate_hz {rate!r}; "
-                           'a deployable model needs both (convert the recordings again), or '
-                           'pass --no-final')
+                           'a deployable model needs both (convert the recordings again)'
+                           f'{without}')
     return {'hop': hop, 'sampling_rate_hz': float(rate)}
 
 
-def check_finite(dataset, path: Path) -> None:
-    """Refuse a dataset with NaN or inf in a window, naming its recordings.
+def check_window(movements, dataset, args: argparse.Namespace) -> None:
+    """Refuse a movement file whose window is not the dataset's (the bundle keeps both).
 
     Raises:
-        CommandError: naming DATA, the windows and recordings, and the fix.
+        CommandError: naming both windows and the fix.
     """
-    import numpy as np
-    bad = ~np.all(np.isfinite(dataset.X), axis=(1, 2))
-    if bad.any():
-        trials = np.unique(dataset.trial[bad]).tolist()
-        raise CommandError(f'DATA {path}: {int(bad.sum())} window(s) hold NaN or inf (trials '
-                           f'{", ".join(map(str, trials[:5]))}{"..." if len(trials) > 5 else ""}'
-                           '); convert or import the recordings again (both drop '
-                           'non-finite samples)')
+    if movements.window != dataset.X.shape[1]:
+        raise CommandError(f'--movements {args.movements} gives window {movements.window}, '
+                           f'DATA {args.data} holds {dataset.X.shape[1]}-sample windows: '
+                           "convert at the file's window, or give the dataset's in the file")
 
 
 def check_folds(dataset, schemes, folds: int) -> None:
@@ -221,6 +220,8 @@ def _train_bundle(args: argparse.Namespace, dataset) -> int:
     from tactex_classify.identification.bundle import save_bundle
     from tactex_classify.identification.calibration import reliability
     from tactex_classify.identification.movement_evidence import (
+        cell_counts,
+        check_cells,
         checked_movements,
         fit_movement,
         movement_evidence,
@@ -234,8 +235,14 @@ def _train_bundle(args: argparse.Namespace, dataset) -> int:
     if args.init:
         raise CommandError('--init and --movements: fine-tune a single model, or train a '
                            'bundle from scratch')
+    ignored = [option for option, given in (('--no-final', args.no_final),
+                                            ('--cv', args.cv != 'both')) if given]
+    if ignored:
+        raise CommandError(f'{" and ".join(ignored)} do(es) not apply with --movements: a '
+                           'bundle always keeps its final models and cross-validates grouped '
+                           'by recording; leave them out')
+    stream = deployable_stream(dataset, without='')
     movements = movement_file(args.movements, dataset.info.get('sampling_rate_hz'))
-    stream = deployable_stream(dataset)
     model = args.model or 'minirocket'
     config = TrainingConfig.for_profile(
         args.profile, model=model, epochs=args.epochs, scaling=args.scaling, seed=args.seed,
@@ -244,6 +251,11 @@ def _train_bundle(args: argparse.Namespace, dataset) -> int:
     fitted = []
     try:
         movement_of = checked_movements(dataset, movements)
+        check_window(movements, dataset, args)
+        fewest = min((counts := cell_counts(dataset, movement_of, movements)).values())
+        check_cells(counts, args.folds, f'--folds {args.folds}',
+                    f'give --folds {fewest}, or record more sweeps' if fewest >= 2 else
+                    'record at least 2 sweeps of each (with --folds 2)')
         for movement in movements.movements:
             fit = fit_movement(movement.name, subset(dataset, [
                 trial for trial, name in movement_of.items() if name == movement.name]),

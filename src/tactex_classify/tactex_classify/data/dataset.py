@@ -16,6 +16,7 @@ from __future__ import annotations
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 import json
+import math
 import os
 from pathlib import Path
 import sys
@@ -174,8 +175,29 @@ class Dataset:
             raise DatasetError(f'{path}: X must hold floats, y and trial integers')
         classes = sidecar.pop('classes')
         channels = sidecar.pop('channels')
-        return cls(X.astype(np.float32), y.astype(np.int64), trial.astype(np.int64),
-                   t0.astype(np.float64), list(classes), sidecar, channels)
+        _check_sidecar_stream(sidecar, X.shape[1] if X.ndim == 3 else None, sidecar_path)
+        try:
+            return cls(X.astype(np.float32), y.astype(np.int64), trial.astype(np.int64),
+                       t0.astype(np.float64), list(classes), sidecar, channels)
+        except DatasetError as err:
+            raise DatasetError(f'{path}: {err}') from None
+
+
+def _check_sidecar_stream(sidecar: dict, window: int | None, path: Path) -> None:
+    """A sidecar's rate (finite, > 0) and window (X's) agree with the arrays, when given.
+
+    Raises:
+        DatasetError: naming the sidecar, the value and what it must be.
+    """
+    rate = sidecar.get('sampling_rate_hz')
+    if rate is not None and not (isinstance(rate, (int, float)) and not isinstance(rate, bool)
+                                 and math.isfinite(rate) and rate > 0):
+        raise DatasetError(f'{path}: sampling_rate_hz must be a finite number > 0 Hz, got '
+                           f'{rate!r}: convert or import the recordings again')
+    stated = sidecar.get('window')
+    if stated is not None and window is not None and stated != window:
+        raise DatasetError(f'{path}: window {stated!r} but the dataset holds {window}-sample '
+                           'windows: the sidecar belongs to another dataset; convert again')
 
 
 class WindowCollector:

@@ -73,6 +73,45 @@ def checked_movements(dataset: Dataset, movements: MovementSet) -> dict[int, str
     return movement_of
 
 
+def cell_counts(dataset: Dataset, movement_of: dict[int, str],
+                movements: MovementSet) -> dict[tuple[str, str], int]:
+    """Recordings per (texture, movement), every texture under every movement (0 too)."""
+    counts = {(texture, name): 0 for texture in dataset.classes for name in movements.names}
+    for trial, name in movement_of.items():
+        counts[(dataset.classes[int(dataset.y[dataset.trial == trial][0])], name)] += 1
+    return counts
+
+
+def check_cells(counts: dict[tuple[str, str], int], needed: int, settings: str,
+                fix: str) -> None:
+    """Refuse, before any training, a (texture, movement) cell with fewer than `needed`.
+
+    Args:
+        counts: `cell_counts`.
+        needed: recordings every cell needs for the folds asked.
+        settings: the options that need them, e.g. '--folds 5'.
+        fix: what to change when every cell has some but too few.
+
+    Raises:
+        MovementDataError: naming the empty cells (record them), else the short ones, the
+            count they have and `fix`.
+    """
+    empty = [cell for cell, count in counts.items() if count == 0]
+    if empty:
+        raise MovementDataError(
+            f'{len(empty)} texture and movement pair(s) have no recording ('
+            + ', '.join(f'{texture} under {name}' for texture, name in empty[:4])
+            + (', ...' if len(empty) > 4 else '') + '): record every texture under every '
+            'movement (tactex sim collect --movements, or sweeps on the arm)')
+    short = {cell: count for cell, count in counts.items() if count < needed}
+    if short:
+        (texture, name), fewest = min(short.items(), key=lambda item: item[1])
+        raise MovementDataError(
+            f'{settings} need at least {needed} recordings of every texture under every '
+            f'movement; {len(short)} pair(s) have fewer ({texture} under {name}: {fewest}): '
+            f'{fix}')
+
+
 def subset(dataset: Dataset, trials: Sequence[int]) -> Dataset:
     """The windows of the recordings `trials`, every class kept."""
     return dataset.select(np.isin(dataset.trial, np.asarray(list(trials))))

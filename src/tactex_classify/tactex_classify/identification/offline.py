@@ -33,6 +33,8 @@ from tactex_classify.evaluation.cross_validation import confusion
 from tactex_classify.identification.calibration import reliability
 from tactex_classify.identification.evidence_table import EvidenceTable
 from tactex_classify.identification.movement_evidence import (
+    cell_counts,
+    check_cells,
     checked_movements,
     DEFAULT_MODEL,
     fit_movement,
@@ -106,6 +108,29 @@ def assign_folds(trials: dict[int, tuple[str, str]], folds: int, seed: int) -> d
     return fold_of
 
 
+def recordings_needed(folds: int, inner_folds: int) -> int:
+    """Recordings a (texture, movement) pair needs for these folds.
+
+    One per fold, and `inner_folds` left in the training part of every fold (the folds
+    are dealt round-robin, so the largest fold holds ceil(n / folds) of n).
+    """
+    count = folds
+    while count - math.ceil(count / folds) < inner_folds:
+        count += 1
+    return count
+
+
+def _fold_fix(fewest: int, folds: int) -> str:
+    """What folds `fewest` recordings per pair allow, as the options to give."""
+    for outer in range(folds, 1, -1):
+        inner = fewest - math.ceil(fewest / outer)
+        if fewest >= outer and inner >= 2:
+            return (f'give --folds {outer} --inner-folds {min(inner, 10)}, or record more '
+                    'sweeps')
+    return f'record at least {recordings_needed(2, 2)} sweeps of each (with --folds 2 ' \
+           '--inner-folds 2)'
+
+
 def replay(dataset: Dataset, movements: MovementSet, settings: ReplaySettings = ReplaySettings(),
            progress: Callable[[str], None] = print) -> dict:
     """Replay every policy on every fold; the episodes and what each movement's model did.
@@ -115,6 +140,10 @@ def replay(dataset: Dataset, movements: MovementSet, settings: ReplaySettings = 
             the file does not list (or the reverse), or too few recordings for the folds.
     """
     movement_of = checked_movements(dataset, movements)
+    counts = cell_counts(dataset, movement_of, movements)
+    needed = recordings_needed(settings.folds, settings.inner_folds)
+    check_cells(counts, needed, f'--folds {settings.folds} with --inner-folds '
+                f'{settings.inner_folds}', _fold_fix(min(counts.values()), settings.folds))
     names = list(movements.names)
     label_of = {int(t): int(dataset.y[dataset.trial == t][0]) for t in movement_of}
     fold_of = assign_folds({t: (dataset.classes[label_of[t]], m)

@@ -52,7 +52,8 @@ def write_report(folder: Path, result: dict, settings: ReplaySettings) -> dict:
     _plot_accuracy(folder / PLOTS[0], result['episodes'], settings.policies,
                    table['best_plans'])
     _plot_movements(folder / PLOTS[1], result['episodes'], settings.policies)
-    _plot_choices(folder / PLOTS[2], result)
+    if 'active' in settings.policies:
+        _plot_choices(folder / PLOTS[2], result)
     _plot_time(folder / PLOTS[3], table)
     _plot_reliability(folder / PLOTS[4], result)
     _plot_confusions(folder / PLOTS[5], table)
@@ -90,8 +91,14 @@ def markdown(table: dict) -> str:
         row = table['movements'][name]
         lines.append(f'| {name} | {contact:.1f} | {arm:.1f} | {row["sweeps"]} | '
                      f'{100 * row["sweep_accuracy"]:.1f} % | {row["calibration_error"]:.3f} |')
-    lines += ['', *[f'![{name}]({name})' for name in PLOTS], '']
+    lines += ['', *[f'![{name}]({name})' for name in plots_of(table)], '']
     return '\n'.join(lines)
+
+
+def plots_of(table: dict) -> tuple[str, ...]:
+    """The report's PNGs: active's choices only where active was replayed."""
+    return tuple(name for name in PLOTS
+                 if name != 'active_choices.png' or 'active' in table['policies'])
 
 
 def _plans_table(table: dict) -> list[str]:
