@@ -24,7 +24,7 @@ from support.movement_data import (
 )
 
 from tactex.cli import main
-from tactex_classify.identification.movement_evidence import MovementDataError
+from tactex_classify.identification.movement_evidence import checked_movements, MovementDataError
 from tactex_classify.identification.offline import (
     best_plans,
     recordings_needed,
@@ -179,6 +179,18 @@ def test_recordings_without_a_movement_or_another_movement_file_are_refused(tmp_
         replay(movement_dataset(tmp_path), load_movements(movement_file(tmp_path)),
                ReplaySettings(folds=5), progress=lambda line: None)
 
+
+
+def test_a_movement_file_unlike_what_the_recordings_ran_at_is_refused(tmp_path):
+    data = movement_dataset(tmp_path)
+    for row in data.info['recordings']:  # as convert keeps them: speed as the file says
+        row['sweep'] = {'speed_m_s': 0.0205, 'press_depth_m': 0.0021, 'edge_tilt_rad': 0.49}
+    path = movement_file(tmp_path)
+    assert checked_movements(data, load_movements(path))  # within the draws' spread
+    path.write_text(path.read_text().replace('speed: 0.02', 'speed: 0.024', 1))
+    with pytest.raises(MovementDataError, match=r'movement \w+: its \d+ recordings ran at '
+                       r'speed_m_s 0.0205 \(median\), the movement file says 0.024'):
+        replay(data, load_movements(path), SETTINGS, progress=lambda line: None)
 
 def test_the_folds_are_checked_against_every_pair_before_any_training(tmp_path):
     data = movement_dataset(tmp_path)

@@ -95,6 +95,10 @@ def test_convert_keeps_each_recordings_movement(tmp_path):
                  '--window', '64']) == 0
     sidecar = json.loads((tmp_path / 'data.json').read_text())
     assert sorted(r['movement'] for r in sidecar['recordings']) == ['ahead', 'back']
+    for row in sidecar['recordings']:  # and what each sweep ran at, drawn around the file
+        movement = movements.by_name(row['movement'])
+        assert row['sweep']['speed_m_s'] == pytest.approx(movement.speed_m_s, rel=0.1)
+        assert row['sweep']['edge_tilt_rad'] == pytest.approx(movement.edge_tilt_rad, abs=0.1)
 
 
 def test_a_movement_the_arm_cannot_sweep_is_refused_before_any_bag(tmp_path):

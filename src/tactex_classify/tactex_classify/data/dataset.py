@@ -183,6 +183,25 @@ class Dataset:
             raise DatasetError(f'{path}: {err}') from None
 
 
+# A recording's metadata names its sweep's parameters under these keys (sim, sweep_node).
+SWEEP_KEYS = {'speed_m_s': ('speed_m_s', 'sliding_speed_m_s'),
+              'press_depth_m': ('press_depth_m',), 'edge_tilt_rad': ('edge_offset_rad',)}
+
+
+def recorded_sweep(metadata: dict) -> dict[str, float]:
+    """The speed, press depth and edge tilt a recording's sweep ran at, where it says."""
+    sweep = metadata.get('sweep')
+    if not isinstance(sweep, dict):
+        return {}
+    found = {}
+    for name, keys in SWEEP_KEYS.items():
+        value = next((sweep[key] for key in keys if key in sweep), None)
+        if isinstance(value, (int, float)) and not isinstance(value, bool) \
+                and math.isfinite(value):
+            found[name] = float(value)
+    return found
+
+
 def _check_sidecar_stream(sidecar: dict, window: int | None, path: Path) -> None:
     """A sidecar's rate (finite, > 0) and window (X's) agree with the arrays, when given.
 
@@ -425,8 +444,10 @@ def convert(paths: Sequence[Path], *, window: int, hop: int, label: str | None =
         samples = sum(int(stamps.size) for stamps, _, _ in series)
         kept = sum(int(run_keep.sum()) for _, _, run_keep in series)
         movement = recording.metadata.get('movement')
+        swept = recorded_sweep(recording.metadata)
         report.append({'path': str(path), 'label': name, 'trial': int(trial_id),
                        **({'movement': movement} if isinstance(movement, str) else {}),
+                       **({'sweep': swept} if swept else {}),
                        **({'renumbered_from': int(claimed)} if claimed is not None
                           and int(claimed) != int(trial_id) else {}),
                        'samples': samples, 'kept': kept, 'windows': count,

@@ -70,7 +70,44 @@ def checked_movements(dataset: Dataset, movements: MovementSet) -> dict[int, str
             'the dataset and the movement file disagree: ' + '; '.join(part for part in (
                 f'recorded under movements the file lacks: {", ".join(unknown)}' if unknown
                 else '', f'no recording of {", ".join(missing)}' if missing else '') if part))
+    check_recorded_parameters(dataset, movement_of, movements)
     return movement_of
+
+
+# How far the median of a movement's recorded sweeps may sit from the file's value: the
+# simulator draws each sweep around it (a few % in speed, tenths of a mm, hundredths of
+# a radian), and a file that differs by more describes other sweeps.
+PARAMETER_TOLERANCE = {'speed_m_s': ('relative', 0.10), 'press_depth_m': ('absolute', 5e-4),
+                       'edge_tilt_rad': ('absolute', 0.1)}
+
+
+def check_recorded_parameters(dataset: Dataset, movement_of: dict[int, str],
+                              movements: MovementSet) -> None:
+    """Refuse a movement file whose speed, depth or tilt are not what its recordings ran at.
+
+    Compares each movement's value with the median of its recordings' (the sidecar's
+    `sweep`, where convert found one); recordings that do not say are not compared.
+
+    Raises:
+        MovementDataError: naming the movement, both values and the fix.
+    """
+    swept = {int(row['trial']): row['sweep'] for row in dataset.info.get('recordings', [])
+             if isinstance(row, dict) and isinstance(row.get('sweep'), dict)
+             and isinstance(row.get('trial'), int)}
+    for movement in movements.movements:
+        rows = [swept[trial] for trial, name in movement_of.items()
+                if name == movement.name and trial in swept]
+        for key, (kind, tolerance) in PARAMETER_TOLERANCE.items():
+            values = [row[key] for row in rows if isinstance(row.get(key), (int, float))]
+            if not values:
+                continue
+            recorded, stated = float(np.median(values)), float(getattr(movement, key))
+            off = abs(recorded - stated) / (abs(stated) if kind == 'relative' else 1.0)
+            if off > tolerance:
+                raise MovementDataError(
+                    f'movement {movement.name}: its {len(values)} recordings ran at {key} '
+                    f'{recorded:.4g} (median), the movement file says {stated:.4g}: give the '
+                    'movement file the recordings were made with')
 
 
 def cell_counts(dataset: Dataset, movement_of: dict[int, str],
