@@ -72,6 +72,11 @@ MOVEMENT_FILES = {
     'long.yaml': 'movements:\n  - ' + MOVE.format(name='far', speed=0.02, press=0.002,
                                                   direction='forward', length=0.5),
     'typo.yaml': 'movements:\n  - {name: a, sped: 0.02}\n',
+    'laughs.yaml': 'movements: [&a0 [x, x, x, x, x, x, x, x, x, x], '
+                   '&a1 [*a0, *a0, *a0, *a0, *a0, *a0, *a0, *a0, *a0, *a0]]\n',
+    'twice.yaml': 'window: 128\nwindow: 64\nmovements:\n  - ' + MOVE.format(
+        name='dash', speed=0.02, press=0.002, direction='forward', length=0.05) + '\n',
+    'unclosed.yaml': 'movements:\n  - {name: a, speed: 0.02\n',
 }
 
 STANDING_SCENE = """name = "standing"
@@ -131,6 +136,14 @@ def make_workspace(w: Path) -> Path:
     (w / 'garbage.json').write_text(json.dumps({'classes': ['a'], 'channels': ['x']}))
     (w / 'pickled.npz').write_bytes(pickle.dumps({'X': [1.0]}))
     (w / 'pickled.json').write_text(json.dumps({'classes': ['a'], 'channels': ['x']}))
+    for name, info in (('bad_rate', {'sampling_rate_hz': -5.0}), ('wrong_window', {'window': 64})):
+        toy = toy_dataset(3)
+        toy.info.update(info)
+        toy.save(w / f'{name}.npz')
+    toy = toy_dataset(3)
+    np.savez(w / 'bad_labels.npz', X=toy.X, y=toy.y + 5, trial=toy.trial, t0=toy.t0)
+    (w / 'bad_labels.json').write_text(json.dumps({'classes': toy.classes,
+                                                   'channels': toy.channels}))
     holes = toy_dataset(3)
     holes.X[4, 0, 0] = np.inf
     holes.save(w / 'non_finite.npz')
@@ -323,7 +336,8 @@ BAD_INPUTS = {
         Case('bag info {w}/folder', 'no recordings in .*folder; give rosbag2 folders'),
         Case('bag info {w}/text.txt', 'text.txt: not a recording'),
         Case('bag info {w}/foreign', '7 of 9 recordings cannot be read'),
-        Case('bag info {w}/ros1/wood.bag --jason', 'unrecognized arguments: --jason'),
+        Case('bag info {w}/ros1/wood.bag --jason', 'unrecognized arguments: --jason; see '
+             '`tactex bag --help`'),
         Case('bag play', 'the following arguments are required: RECORDING'),
         Case('bag play {w}/nothing', 'RECORDING .*nothing does not exist'),
         Case('bag play {w}/text.txt', 'RECORDING .*text.txt is no recording'),
@@ -350,6 +364,12 @@ BAD_INPUTS = {
              '{w}/run'),
         Case('train {w}/garbage.npz --out {w}/run', 'garbage.npz is not a tactex dataset',
              '{w}/run'),
+        Case('train {w}/bad_rate.npz --out {w}/run', r'bad_rate.json: sampling_rate_hz must be '
+             'a finite number > 0 Hz, got -5.0', '{w}/run'),
+        Case('train {w}/wrong_window.npz --out {w}/run', 'wrong_window.json: window 64 but the '
+             'dataset holds 32-sample windows', '{w}/run'),
+        Case('train {w}/bad_labels.npz --out {w}/run', r'bad_labels.npz: y holds class indices '
+             r'outside 0..2', '{w}/run'),
         Case('train {w}/non_finite.npz --out {w}/run', r'DATA .*non_finite.npz: 1 window\(s\) '
              r'hold NaN or inf \(trials 1\); convert or import the recordings again', '{w}/run'),
         Case('train {w}/data.npz --out {w}/run --epochs 0', 'argument --epochs: must be a whole '
@@ -495,7 +515,9 @@ BAD_INPUTS = {
     ],
     'identify': [
         Case('identify --policy greedy', "argument --policy: invalid choice: 'greedy'"),
-        Case('identify --threshold 1.5', 'argument --threshold: must be a finite number >= 0 '
+        Case('identify --threshold 1.5', 'argument --threshold: must be a finite number > 0 '
+             'and <= 1'),
+        Case('identify --threshold 0', 'argument --threshold: must be a finite number > 0 '
              'and <= 1'),
         Case('identify --budget-movements 0', 'argument --budget-movements: must be a whole '
              'number'),
@@ -505,7 +527,8 @@ BAD_INPUTS = {
         Case('identify --pathway {w}/text.txt', '--pathway .*text.txt: .*give a file '
              'probe_node wrote'),
         Case('identify --namespace nowhere --server-timeout 1', 'no identify action server on '
-             r'/nowhere/identify within 1 s'),
+             r'/nowhere/identify within 1 s: is its node running \(`tactex launch system '
+             r'sim:=true bundle:=RUN/bundle`'),
     ],
     'view': [
         Case('view --port 70000', 'argument --port: must be a whole number in 0..65535'),
@@ -767,12 +790,28 @@ BAD_INPUTS = {
              'argument --threshold', '{w}/report'),
         Case('report identification {w}/data.npz --out {w}/report --budget-seconds -1',
              'argument --budget-seconds', '{w}/report'),
+        Case('report identification {w}/data.npz --out {w}/report --threshold 0',
+             'argument --threshold: must be a finite number > 0 and <= 1', '{w}/report'),
+        Case('report identification {w}/data.npz --out {w}/report --movements '
+             '{w}/movements/long.yaml --budget-seconds 1', '--budget-seconds 1 is shorter than '
+             r'every movement: the shortest contact lasts 25.00 s', '{w}/report'),
+        Case('report identification {w}/non_finite.npz --out {w}/report',
+             r'DATA .*non_finite.npz: 1 window\(s\) hold NaN or inf', '{w}/report'),
         Case('report identification {w}/data.npz --out {w}/report --folds 1',
              'argument --folds', '{w}/report'),
         Case('report identification {w}/data.npz --out {w}/report --model nope',
              "--model: unknown model 'nope'", '{w}/report'),
         Case('report identification {w}/data.npz --out {w}/report --movements '
              '{w}/movements/fast.yaml', r'--movements .*\(dash\): speed must be', '{w}/report'),
+        Case('report identification {w}/data.npz --out {w}/report --movements '
+             '{w}/movements/laughs.yaml', r'laughs.yaml: line 1, column 13: a movement file '
+             r'takes no anchors or aliases', '{w}/report'),
+        Case('report identification {w}/data.npz --out {w}/report --movements '
+             '{w}/movements/twice.yaml', "twice.yaml: line 2, column 1: key 'window' is given "
+             'twice in one mapping', '{w}/report'),
+        Case('report identification {w}/data.npz --out {w}/report --movements '
+             '{w}/movements/unclosed.yaml', r'unclosed.yaml: not a YAML movement file: line 3, '
+             'column 1', '{w}/report'),
         Case('report identification {w}/data.npz --out {w}/report --movements {w}/nothing.yaml',
              '--movements .*nothing.yaml does not exist', '{w}/report'),
         Case('report identification {w}/data.npz --out {w}/full', '--out .*already holds files',

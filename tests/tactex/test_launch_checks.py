@@ -3,11 +3,16 @@
 """Every launch argument is checked before any node starts (tactex.launching.arguments).
 
 The bad value of each argument, through `tactex launch`, is in badinputs.py; here: that
-no argument goes unchecked, that the defaults pass, and that the namespace rule is ROS's.
+no argument goes unchecked, that the defaults pass, that the namespace rule is ROS's, and
+that a refused movement file is one error line whatever the YAML parser had to say.
 """
 
-import pytest
+import re
 
+import pytest
+from support.badinputs import MOVEMENT_FILES
+
+from tactex.cli import main
 from tactex.launching.arguments import check_arguments, CHECKS, NAMESPACE_MAX_LENGTH
 from tactex.launching.spec import launch_directory, LaunchError, load_launch_file
 
@@ -56,3 +61,20 @@ def test_the_namespace_rule_is_the_one_of_ros(namespace):
     else:
         with pytest.raises(LaunchError, match=r'namespace:=.* is not a ROS namespace'):
             check_arguments(launch, values)
+
+
+@pytest.mark.parametrize('name, match', [
+    ('unclosed.yaml', r"not a YAML movement file: line 3, column 1: expected ',' or '}'"),
+    ('laughs.yaml', 'line 1, column 13: a movement file takes no anchors or aliases'),
+    ('twice.yaml', "line 2, column 1: key 'window' is given twice"),
+])
+def test_a_refused_movement_file_is_one_error_line(name, match, tmp_path, capsys):
+    (tmp_path / 'bundle').mkdir()
+    (tmp_path / 'bundle' / 'bundle.json').write_text('{}')
+    (tmp_path / name).write_text(MOVEMENT_FILES[name])
+    code = main(['launch', '--print', 'identify', f'bundle:={tmp_path / "bundle"}',
+                 f'movements:={tmp_path / name}'])
+    err = capsys.readouterr().err
+    assert code == 1 and err.count('\n') == 1 and 'Traceback' not in err
+    assert err.startswith(f"error: movements:='{tmp_path / name}': ")
+    assert re.search(match, err), err

@@ -4,20 +4,29 @@
 
 One checkpoint per movement with its temperature and calibrated out-of-fold evidence;
 loading rebuilds the same evidence table and refuses an edited bundle, a movement file
-whose movements differ in name, order or any parameter, and textures that differ from a
-checkpoint's.
+whose movements differ in name, order or any parameter or whose window differs from the
+checkpoints', and textures that differ from a checkpoint's; `tactex launch` refuses the
+same before any node starts.
 """
 
 import json
+import re
 import shutil
 
 import numpy as np
 import pytest
-from support.movement_data import movement_dataset, movement_file, MOVEMENTS, TEXTURES
+from support.movement_data import (
+    movement_dataset,
+    movement_file,
+    MOVEMENTS,
+    TEXTURES,
+    WINDOW,
+)
 
 from tactex.cli import main
 from tactex_classify.errors import CheckpointError
 from tactex_classify.identification.bundle import load_bundle
+from tactex_classify.models.checkpoint import CHECKSUM_FIELD, metadata_sha256
 from tactex_description.movements import load_movements
 
 
@@ -71,3 +80,53 @@ def test_an_edited_or_missing_bundle_is_refused(trained, tmp_path):
         load_bundle(copy, movements)
     with pytest.raises(CheckpointError, match='missing bundle.json'):
         load_bundle(tmp_path / 'nothing', movements)
+
+
+def test_a_movement_file_of_another_window_is_refused_naming_both(trained, tmp_path):
+    other = movement_file(tmp_path)
+    other.write_text(other.read_text().replace(f'window: {WINDOW}', f'window: {WINDOW * 2}'))
+    with pytest.raises(CheckpointError, match=f'its checkpoints read windows of {WINDOW} '
+                                              f'samples, the movement file says window: '
+                                              f'{WINDOW * 2}: give the movement file'):
+        load_bundle(trained / 'run' / 'bundle', load_movements(other))
+
+
+def test_a_bundle_whose_window_differs_from_its_checkpoints_is_refused(trained, tmp_path):
+    copy = tmp_path / 'bundle'
+    shutil.copytree(trained / 'run' / 'bundle', copy)
+    meta = json.loads((copy / 'bundle.json').read_text())
+    meta['window'] = WINDOW * 2
+    meta[CHECKSUM_FIELD] = metadata_sha256(meta)
+    (copy / 'bundle.json').write_text(json.dumps(meta))
+    with pytest.raises(CheckpointError, match=f'states a window of {WINDOW * 2} samples, its '
+                                              f'checkpoints read {WINDOW}: train'):
+        load_bundle(copy, load_movements(trained / 'movements.yaml'))
+
+
+@pytest.mark.parametrize('key, value', [
+    ('speed', '0.03'), ('press_depth', '0.003'), ('edge_tilt', '0.4'),
+    ('direction', 'backward'), ('contact_length', '0.05')])
+def test_a_movement_file_differing_in_any_parameter_is_refused(trained, tmp_path, key, value):
+    text = (trained / 'movements.yaml').read_text()
+    first, rest = text.split('\n  - ', 1)[0], text.split('\n  - ', 1)[1]
+    changed = tmp_path / 'changed.yaml'
+    changed.write_text(first + '\n  - ' + re.sub(f'{key}: [^,}}]+', f'{key}: {value}', rest,
+                                                 count=1))
+    with pytest.raises(CheckpointError, match='movement tells_all was trained as .*the file '
+                                              'now says'):
+        load_bundle(trained / 'run' / 'bundle', load_movements(changed))
+
+
+def test_launching_with_a_movement_file_the_bundle_was_not_trained_for_is_refused(
+        trained, tmp_path):
+    from tactex.launching.arguments import check_arguments
+    from tactex.launching.spec import LaunchError, load_launch_file
+    other = movement_file(tmp_path)
+    other.write_text(other.read_text().replace(f'window: {WINDOW}', f'window: {WINDOW * 2}'))
+    launch = load_launch_file('identify')
+    bundle = str(trained / 'run' / 'bundle')
+    check_arguments(launch, launch.resolve({'bundle': bundle,
+                                            'movements': str(trained / 'movements.yaml')}))
+    with pytest.raises(LaunchError, match=r'^bundle:=.* with movements:=.*: .*its checkpoints '
+                                          f'read windows of {WINDOW} samples'):
+        check_arguments(launch, launch.resolve({'bundle': bundle, 'movements': str(other)}))

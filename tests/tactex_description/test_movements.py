@@ -9,6 +9,7 @@ refuses a contact too short for one window, each with the file, the movement and
 
 import math
 from pathlib import Path
+import re
 
 import pytest
 
@@ -123,3 +124,93 @@ def test_a_movement_set_written_as_a_file_reads_back_unchanged(tmp_path):
     from tactex_description.movements import movements_yaml
     shipped = load_movements(SHIPPED)
     assert load_movements(written(tmp_path, movements_yaml(shipped))) == shipped
+
+
+@pytest.mark.parametrize('text', [
+    'window: 128\nmovements: [&a0 ["x", "x"], &a1 [*a0, *a0], &a2 [*a1, *a1]]\n',
+    'window: &w 128\nmovements:\n  - {name: a}\n',
+    'defaults: &d {speed: 0.02}\nmovements:\n  - {<<: *d, name: a}\n',
+])
+def test_anchors_and_aliases_are_refused_before_any_alias_is_expanded(tmp_path, text):
+    with pytest.raises(MovementError, match=r'movements.yaml: line \d+, column \d+: a movement '
+                                            'file takes no anchors or aliases'):
+        load_movements(written(tmp_path, text))
+
+
+def test_a_billion_laughs_file_is_refused_in_one_short_line(tmp_path):
+    levels = ['&a0 ["lol", "lol", "lol", "lol", "lol", "lol", "lol", "lol", "lol", "lol"]']
+    levels += [f'&a{n} [' + ', '.join([f'*a{n - 1}'] * 10) + ']' for n in range(1, 9)]
+    with pytest.raises(MovementError) as refused:
+        load_movements(written(tmp_path, f'window: 128\nmovements: [{", ".join(levels)}]\n'))
+    assert len(str(refused.value)) < 200 and '\n' not in str(refused.value)
+
+
+@pytest.mark.parametrize('text, match', [
+    ('window: 128\nwindow: 64\nmovements:\n  - {name: a}\n',
+     "line 2, column 1: key 'window' is given twice in one mapping \\(first on line 1\\)"),
+    ('movements:\n  - {name: a, name: b}\n',
+     "line 2, column 15: key 'name' is given twice .*first on line 2.*: keep one"),
+    ('movements:\n  - name: a\n    speed: 0.02\n    speed: 0.03\n',
+     "line 4, column 5: key 'speed' is given twice .*first on line 3"),
+])
+def test_a_key_given_twice_is_refused_naming_the_key_and_the_line(tmp_path, text, match):
+    with pytest.raises(MovementError, match=match):
+        load_movements(written(tmp_path, text))
+
+
+@pytest.mark.parametrize('written_as, value', [
+    ('1e-2', 0.01), ('10e-3', 0.01), ('1.5E-2', 0.015), ('+2e-2', 0.02), ('.015', 0.015),
+    ('1.5e-2', 0.015), ('0.02', 0.02)])
+def test_numbers_are_read_as_yaml_1_2_writes_them(tmp_path, written_as, value):
+    movement, = load_movements(one(tmp_path, speed=written_as)).movements
+    assert movement.speed_m_s == value
+
+
+def test_integers_stay_integers_and_merge_keys_are_plain_unknown_keys(tmp_path):
+    assert load_movements(one(tmp_path, window=64)).window == 64
+    with pytest.raises(MovementError, match='window must be an integer .*got 64.0'):
+        load_movements(one(tmp_path, window='6.4e1'))
+    with pytest.raises(MovementError, match='unknown keys <<'):
+        load_movements(one(tmp_path, **{'<<': '{x: 1}'}))
+
+
+@pytest.mark.parametrize('key, value, match', [
+    ('name', 'n' * 5000, "name must start with a letter.*got 'nnn"),
+    ('speed', 's' * 5000, "speed must be a number.*got 'sss"),
+    ('direction', 'd' * 5000, "direction must be one of forward, backward, got 'ddd"),
+    ('k' * 1000, 1, 'unknown keys kkk'),  # YAML's longest implicit key is 1024
+])
+def test_an_error_echoes_at_most_a_short_cut_of_a_long_value(tmp_path, key, value, match):
+    with pytest.raises(MovementError, match=match) as refused:
+        load_movements(one(tmp_path, **{key: value}))
+    assert len(str(refused.value)) < 400
+
+
+def test_many_unknown_keys_are_listed_in_part(tmp_path):
+    extra = {f'extra{n:03}': 1 for n in range(300)}
+    with pytest.raises(MovementError, match='unknown keys extra000, .*extra007 and 292 more'):
+        load_movements(one(tmp_path, **extra))
+
+
+def test_a_movement_that_is_no_mapping_is_echoed_cut(tmp_path):
+    row = '[' + ', '.join(['0.02'] * 5000) + ']'
+    with pytest.raises(MovementError, match=r'a movement is a mapping .*got \[0.02, ') as refused:
+        load_movements(written(tmp_path, f'movements:\n  - {row}\n'))
+    assert len(str(refused.value)) < 300
+
+
+def test_malformed_yaml_is_refused_in_one_line_with_its_line_and_column(tmp_path):
+    text = 'window: 128\nmovements:\n  - {name: a, speed: 0.01, press_depth: 0.0015\n'
+    with pytest.raises(MovementError) as refused:
+        load_movements(written(tmp_path, text))
+    assert '\n' not in str(refused.value)
+    assert re.search(r"not a YAML movement file: line 4, column 1: expected ',' or '}'.*"
+                     r'\(while parsing a flow mapping\); see config/movements.yaml',
+                     str(refused.value))
+
+
+def test_a_file_not_in_utf8_is_refused_with_the_fix(tmp_path):
+    path = tmp_path / 'movements.yaml'
+    path.write_bytes(b'\xff\xfe\x00movements')
+    with pytest.raises(MovementError, match='not a YAML movement file .*save it as UTF-8'):
+        load_movements(path)

@@ -2,12 +2,13 @@
 # SPDX-License-Identifier: Apache-2.0
 """One action goal from the command line: the server, a progress bar, cancel on Ctrl-C.
 
-`tactex probe` and `tactex sweep` send their goal through `send_goal` as
+`tactex probe`, `tactex sweep` and `tactex identify` send their goal through `send_goal` as
 `ros2 action send_goal --feedback` would: it waits for the server (an error naming the
 namespace when none answers), sends the goal again while the node refuses it (nodes
 refuse until the arm and sensor are heard), shows the feedback as a tqdm bar on stderr,
 and on a stop signal cancels the goal, waits for the node to finish it (the node lifts
-the sensor off first) and raises the signal on.
+the sensor off first) and raises the signal on. A goal still running after `--timeout` is
+canceled the same way; the error says how it really ended.
 """
 
 from __future__ import annotations
@@ -20,6 +21,7 @@ import threading
 import time
 
 from action_msgs.msg import GoalStatus
+from action_msgs.srv import CancelGoal
 from rclpy.executors import SingleThreadedExecutor
 from tqdm import tqdm
 
@@ -107,14 +109,43 @@ def shown_on(bar: tqdm | None, shown: Progress, what: str, unit: str) -> tqdm:
     return bar
 
 
+def canceled_end(handle, result, timeout_s: float = CANCEL_S) -> str:
+    """Cancel the goal of `handle`, wait for its `result` future; how the goal ended.
+
+    'it was canceled' only when the node ended it canceled; otherwise how it ended (with
+    the node's reason when its result carries a `message`), that the node refused the
+    cancel, or that it did not end the goal within `timeout_s`.
+    """
+    cancel = handle.cancel_goal_async()
+
+    def refused() -> bool:
+        return cancel.done() and cancel.result().return_code == CancelGoal.Response.ERROR_REJECTED
+    wait_until(lambda: result.done() or refused(), timeout_s)
+    if not result.done():
+        if refused():
+            return 'the node refused to cancel it: it may still be running'
+        return (f'the node did not end it within {timeout_s:g} s of the cancel; the node log '
+                'says why')
+    ended = result.result()
+    if ended.status == GoalStatus.STATUS_CANCELED:
+        return 'it was canceled'
+    message = getattr(ended.result, 'message', '')
+    return (f'asked to cancel, it ended {STATUS_NAMES.get(ended.status, ended.status)}'
+            + (f' ({message})' if message else ''))
+
+
 def send_goal(node, executor, action_type, action_name: str, goal, *, what: str,
               server_timeout_s: float, timeout_s: float,
-              progress: Callable[[object], Progress], unit: str):
+              progress: Callable[[object], Progress], unit: str, launch: str = ''):
     """Send one goal, show its feedback, return (status name, result message).
+
+    `launch` is what the no-server error suggests after `tactex launch` (default
+    '`what` sim:=true').
 
     Raises:
         CommandError: no server within `server_timeout_s`; not accepted in that time;
-            no result within `timeout_s` after acceptance.
+            no result within `timeout_s` after acceptance (the goal is canceled first, and
+            the error says how it ended).
         Stopped: a stop signal came; the goal was canceled first (and its end waited for).
     """
     sender = GoalSender(node, action_type, action_name)
@@ -123,8 +154,9 @@ def send_goal(node, executor, action_type, action_name: str, goal, *, what: str,
         if not sender.client.wait_for_server(timeout_sec=server_timeout_s):
             raise CommandError(
                 f'no {what} action server on {action_name} within {server_timeout_s:g} s: is '
-                f'its node running (`tactex launch {what} sim:=true`, or on the arm without '
-                'sim:=true), under that --namespace, ROS_DOMAIN_ID and discovery range?')
+                f'its node running (`tactex launch {launch or f"{what} sim:=true"}`, or on '
+                'the arm without sim:=true), under that --namespace, ROS_DOMAIN_ID and '
+                'discovery range?')
         handle = accepted_handle(sender, goal, server_timeout_s, what,
                                  feedback=lambda message: latest.append(message.feedback))
         result = handle.get_result_async()
@@ -133,9 +165,10 @@ def send_goal(node, executor, action_type, action_name: str, goal, *, what: str,
             deadline = time.monotonic() + timeout_s
             while not result.done():
                 if time.monotonic() > deadline:
-                    handle.cancel_goal_async()
+                    if bar is not None:
+                        bar.close()
                     raise CommandError(f'the {what} goal did not finish within {timeout_s:g} s '
-                                       '(--timeout); it was canceled')
+                                       f'(--timeout); {canceled_end(handle, result)}')
                 if latest:
                     bar = shown_on(bar, progress(latest[-1]), what, unit)
                 time.sleep(POLL_S)

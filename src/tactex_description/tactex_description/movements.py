@@ -18,6 +18,11 @@ cannot do: a press of at least MIN_PRESS_DEPTH_M (the sweep's default; shallower
 lose contact on the uneven plate's crests) and less than the compliant body's travel
 (`geometry.PRESS_TRAVEL_M`), a tilt in [0, pi/2) as the sweep's poses accept, a speed in
 SPEED_RANGE_M_S, and a contact that holds at least one window at the sensor's rate.
+
+The file is read strictly (`MovementLoader`): no anchors or aliases (a few hundred bytes of
+nested aliases expand to gigabytes), no repeated keys (PyYAML keeps the last silently),
+and numbers as YAML 1.2 writes them (`1e-2` is a number, not the text PyYAML 1.1 makes
+of it). Every value echoed in an error is cut to ECHO_CHARS.
 """
 
 from __future__ import annotations
@@ -26,6 +31,7 @@ from dataclasses import dataclass
 import math
 from pathlib import Path
 import re
+import reprlib
 
 import yaml
 
@@ -43,10 +49,120 @@ MAX_MOVEMENTS = 32
 MAX_FILE_BYTES = 1024 * 1024
 NAME = re.compile(r'^[A-Za-z][A-Za-z0-9_-]{0,63}$')
 KEYS = ('name', 'speed', 'press_depth', 'edge_tilt', 'direction', 'contact_length')
+ECHO_CHARS = 80  # the most of a value, or a YAML problem, an error message echoes
+ECHO_NAMES = 8  # the most unknown keys an error message lists
+# YAML 1.2's floats (core schema): a dot or an exponent, or .inf/.nan. YAML 1.1, which
+# PyYAML follows, wants both a dot and a signed exponent, so reads `1e-2` as text.
+YAML12_FLOAT = re.compile(r'^(?:[-+]?(?:[0-9]+\.[0-9]*|\.[0-9]+)(?:[eE][-+]?[0-9]+)?'
+                          r'|[-+]?[0-9]+[eE][-+]?[0-9]+'
+                          r'|[-+]?\.(?:inf|Inf|INF)|\.(?:nan|NaN|NAN))$')
+_FLOAT_TAG = 'tag:yaml.org,2002:float'
+_MERGE_TAG = 'tag:yaml.org,2002:merge'
+_ECHO = reprlib.Repr()
+_ECHO.maxstring = _ECHO.maxother = ECHO_CHARS
 
 
 class MovementError(ValueError):
     """A movement file that cannot be used, with the file, the movement, the key and the fix."""
+
+
+class RefusedYamlError(yaml.MarkedYAMLError):
+    """YAML that parses but that a movement file does not take (an alias, a repeated key)."""
+
+
+class MovementLoader(yaml.SafeLoader):
+    """PyYAML's safe loader without anchors, aliases, merge keys or repeated keys.
+
+    Floats are read as YAML 1.2 writes them (YAML12_FLOAT). Everything else resolves as
+    `yaml.SafeLoader` resolves it.
+    """
+
+    yaml_implicit_resolvers = {
+        first: [(tag, regexp) for tag, regexp in resolvers
+                if tag not in (_FLOAT_TAG, _MERGE_TAG)]
+        for first, resolvers in yaml.SafeLoader.yaml_implicit_resolvers.items()}
+
+    def compose_node(self, parent, index):
+        """The next node; an anchor (&name) or an alias (*name) is refused where it stands.
+
+        Raises:
+            RefusedYamlError: at the anchor or alias, before any alias is expanded.
+        """
+        event = self.peek_event()
+        if isinstance(event, yaml.AliasEvent) or getattr(event, 'anchor', None) is not None:
+            raise RefusedYamlError(
+                problem='a movement file takes no anchors or aliases (&name, *name): write '
+                        'each value out', problem_mark=event.start_mark)
+        return super().compose_node(parent, index)
+
+    def construct_mapping(self, node, deep=False):
+        """The mapping of `node`, refusing a key it holds twice.
+
+        Raises:
+            RefusedYamlError: at the key's second occurrence, naming it and the first line.
+        """
+        first_lines = {}
+        for key_node, _ in node.value:
+            key = self.construct_object(key_node, deep=deep)
+            if isinstance(key, (str, int, float, bool)) or key is None:
+                if key in first_lines:
+                    raise RefusedYamlError(
+                        problem=f'key {shown(key)} is given twice in one mapping (first on '
+                                f'line {first_lines[key]}): keep one',
+                        problem_mark=key_node.start_mark)
+                first_lines[key] = key_node.start_mark.line + 1
+        return super().construct_mapping(node, deep=deep)
+
+
+MovementLoader.add_implicit_resolver(_FLOAT_TAG, YAML12_FLOAT, list('-+0123456789.'))
+
+
+def shown(value) -> str:
+    """`value`'s repr for an error message, at most ECHO_CHARS long however large it is."""
+    return _cut(_ECHO.repr(value))
+
+
+def _cut(text: str) -> str:
+    return text if len(text) <= ECHO_CHARS else text[:ECHO_CHARS - 3] + '...'
+
+
+def _listed(names) -> str:
+    """Up to ECHO_NAMES of `names`, each cut, joined with commas (and how many more)."""
+    names = [_cut(str(name)) for name in names]
+    more = f' and {len(names) - ECHO_NAMES} more' if len(names) > ECHO_NAMES else ''
+    return ', '.join(names[:ECHO_NAMES]) + more
+
+
+def yaml_problem(err: yaml.YAMLError) -> str:
+    """One line for a YAML error: where (line, column), what, and the construct it was in.
+
+    PyYAML's own problems (which may quote the file) are cut to ECHO_CHARS; a
+    `RefusedYamlError`'s is ours and bounded already.
+    """
+    if not isinstance(err, yaml.MarkedYAMLError):
+        return _cut(' '.join(str(err).split()))
+    mark = err.problem_mark or err.context_mark
+    where = f'line {mark.line + 1}, column {mark.column + 1}: ' if mark else ''
+    problem = ' '.join(str(err.problem).split())
+    if not isinstance(err, RefusedYamlError):
+        problem = _cut(problem)
+    context = f' ({_cut(" ".join(err.context.split()))})' if err.context else ''
+    return f'{where}{problem}{context}'
+
+
+def parse_movement_yaml(text: str, path: Path | str):
+    """The document of a movement file's `text`, read with `MovementLoader`.
+
+    Raises:
+        MovementError: not YAML, or YAML a movement file does not take, naming the line.
+    """
+    try:
+        return yaml.load(text, Loader=MovementLoader)  # a SafeLoader: builds plain data only
+    except RefusedYamlError as err:
+        raise MovementError(f'{path}: {yaml_problem(err)}') from None
+    except yaml.YAMLError as err:
+        raise MovementError(f'{path}: not a YAML movement file: {yaml_problem(err)}; see '
+                            'config/movements.yaml') from None
 
 
 @dataclass(frozen=True)
@@ -96,7 +212,7 @@ class MovementSet:
         for movement in self.movements:
             if movement.name == name:
                 return movement
-        raise MovementError(f'unknown movement {name!r}; known: {", ".join(self.names)}')
+        raise MovementError(f'unknown movement {shown(name)}; known: {", ".join(self.names)}')
 
 
 def _number(raw: dict, key: str, where: str, low: float, high: float, unit: str,
@@ -105,7 +221,7 @@ def _number(raw: dict, key: str, where: str, low: float, high: float, unit: str,
     if isinstance(value, bool) or not isinstance(value, (int, float)) \
             or not math.isfinite(value) or not low <= value <= high:
         raise MovementError(f'{where}: {key} must be a number in [{low:g}, {high:g}] {unit} '
-                            f'({why}), got {value!r}')
+                            f'({why}), got {shown(value)}')
     return float(value)
 
 
@@ -117,22 +233,22 @@ def movement_from(raw, where: str) -> Movement:
     """
     if not isinstance(raw, dict):
         raise MovementError(f'{where}: a movement is a mapping of {", ".join(KEYS)}, got '
-                            f'{raw!r}')
+                            f'{shown(raw)}')
     unknown = sorted(str(key) for key in set(raw) - set(KEYS))
     missing = [key for key in KEYS if key not in raw]
     if unknown or missing:
         raise MovementError(f'{where}: ' + '; '.join(
-            part for part in (f'unknown keys {", ".join(unknown)}' if unknown else '',
+            part for part in (f'unknown keys {_listed(unknown)}' if unknown else '',
                               f'missing {", ".join(missing)}' if missing else '') if part)
             + f' (a movement has exactly {", ".join(KEYS)})')
     name = raw['name']
     if not isinstance(name, str) or not NAME.match(name):
         raise MovementError(f'{where}: name must start with a letter and hold only letters, '
-                            f'digits, _ and - (at most 64), got {name!r}')
+                            f'digits, _ and - (at most 64), got {shown(name)}')
     where = f'{where} ({name})'
     if raw['direction'] not in DIRECTIONS:
         raise MovementError(f'{where}: direction must be one of {", ".join(DIRECTIONS)}, got '
-                            f'{raw["direction"]!r}')
+                            f'{shown(raw["direction"])}')
     low_speed, high_speed = SPEED_RANGE_M_S
     return Movement(
         name=name,
@@ -162,21 +278,23 @@ def load_movements(path: Path | str, *, sample_rate_hz: float | None = None) -> 
         RefusedFileError: not a regular file, or larger than MAX_FILE_BYTES.
     """
     try:
-        document = yaml.safe_load(read_text(path, max_bytes=MAX_FILE_BYTES))
-    except (yaml.YAMLError, UnicodeDecodeError) as err:
-        raise MovementError(f'{path}: not a YAML movement file ({err})') from None
+        text = read_text(path, max_bytes=MAX_FILE_BYTES)
+    except UnicodeDecodeError as err:
+        raise MovementError(f'{path}: not a YAML movement file ({err.reason} at byte '
+                            f'{err.start}): save it as UTF-8 text') from None
+    document = parse_movement_yaml(text, path)
     if not isinstance(document, dict) or not isinstance(document.get('movements'), list) \
             or not document['movements']:
         raise MovementError(f'{path}: no movements: the file needs a non-empty list '
                             '`movements:` (see config/movements.yaml)')
     unknown = sorted(str(key) for key in set(document) - {'movements', 'window'})
     if unknown:
-        raise MovementError(f'{path}: unknown top-level keys {", ".join(unknown)} (known: '
+        raise MovementError(f'{path}: unknown top-level keys {_listed(unknown)} (known: '
                             'movements, window)')
     window = document.get('window', 128)
     if isinstance(window, bool) or not isinstance(window, int) or not 8 <= window <= 4096:
         raise MovementError(f'{path}: window must be an integer of samples in [8, 4096], got '
-                            f'{window!r}')
+                            f'{shown(window)}')
     raws = document['movements']
     if len(raws) > MAX_MOVEMENTS:
         raise MovementError(f'{path}: {len(raws)} movements; at most {MAX_MOVEMENTS}')

@@ -19,6 +19,8 @@ from tactex.options import add_goal_options, integer, number, trial_id
 from tactex_classify.identification.selection import POLICIES
 
 SHOWN_TEXTURES = 3  # the leading textures printed after each movement
+# What the no-server error suggests: identify_node needs a bundle and a sweep node.
+LAUNCH = 'system sim:=true bundle:=RUN/bundle'
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -29,7 +31,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('--policy', choices=POLICIES, default='active',
                         help='how the next movement is chosen (default active: the largest '
                              'expected information gain per contact second)')
-    parser.add_argument('--threshold', type=number(above=None, at_least=0.0, at_most=1.0),
+    parser.add_argument('--threshold', type=number(at_most=1.0),
                         default=0.99, metavar='P',
                         help='decide when the leading posterior exceeds this (default 0.99, '
                              "the live classifier's)")
@@ -87,7 +89,7 @@ def run(args: argparse.Namespace) -> int:
     with client_node('tactex_identify_client') as (node, executor):
         status, result = send_goal(node, executor, Identify, action, goal, what='identify',
                                    server_timeout_s=args.server_timeout,
-                                   timeout_s=args.timeout, unit='movements',
+                                   timeout_s=args.timeout, unit='movements', launch=LAUNCH,
                                    progress=partial(feedback_progress,
                                                     budget_movements=args.budget_movements))
     texture = result.texture or ('undecided' if status == 'succeeded' else '')

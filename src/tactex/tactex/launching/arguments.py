@@ -6,7 +6,9 @@ An argument means the same in every launch file that takes it (system.launch.py 
 its `scene` to sim.launch.py's), so its check is keyed by name. Arguments with
 `choices` are checked by `LaunchFile.resolve`; every other argument has a check here
 (a test keeps it so). Each check raises `LaunchError` naming the argument, the value
-and the fix, and writes nothing.
+and the fix, in one line, and writes nothing. A bundle given with a movement file is
+then loaded against it, so that one trained for other movements or another window is
+refused here rather than by identify_node once the system runs.
 """
 
 from __future__ import annotations
@@ -85,11 +87,33 @@ def _bundle(name: str, value: str) -> None:
 
 
 def _movements(name: str, value: str) -> None:
+    from tactex.cli import describe
     from tactex_description.movements import load_movements, MovementError
     try:
         load_movements(Path(value).expanduser())
     except (MovementError, OSError) as err:
-        raise LaunchError(f'{name}:={value!r}: {err}') from None
+        raise LaunchError(f'{name}:={value!r}: {describe(err)}') from None
+
+
+def _bundle_for_movements(values: Mapping[str, str]) -> None:
+    """A given bundle was trained for the given movement file: its movements and window.
+
+    Raises:
+        LaunchError: the bundle's refusal (a checkpoint, a movement or the window), naming
+            both arguments.
+    """
+    from tactex.cli import describe
+    from tactex_classify.errors import ClassifyError
+    from tactex_classify.identification.bundle import load_bundle
+    from tactex_description.movements import load_movements
+    bundle, movements = values.get('bundle'), values.get('movements')
+    if not bundle or movements is None:
+        return
+    try:
+        load_bundle(Path(bundle).expanduser(), load_movements(Path(movements).expanduser()))
+    except (ClassifyError, OSError) as err:
+        raise LaunchError(f'bundle:={bundle!r} with movements:={movements!r}: '
+                          f'{describe(err)}') from None
 
 
 def _threshold(name: str, value: str) -> None:
@@ -144,9 +168,11 @@ def check_arguments(launch: LaunchFile, values: Mapping[str, str]) -> None:
     """Check every argument of `launch` (resolved `values`), in its declared order.
 
     Raises:
-        LaunchError: the first bad one, named with its value and the fix.
+        LaunchError: the first bad one, named with its value and the fix; or a bundle
+            trained for another movement file than the one given.
     """
     for argument in launch.all_arguments:
         check = CHECKS.get(argument.name)
         if check is not None:
             check(argument.name, values[argument.name])
+    _bundle_for_movements(values)

@@ -16,7 +16,6 @@ from __future__ import annotations
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 import json
-import math
 import os
 from pathlib import Path
 import sys
@@ -31,6 +30,7 @@ from tactex_classify.data.bags import (
     ROLE_CHANNELS,
 )
 from tactex_classify.data.resampling import carry_mask, common_rate, resample
+from tactex_classify.data.sidecar import check_sidecar_stream, recorded_sweep
 from tactex_classify.data.sources import is_recording
 from tactex_classify.data.stream_alignment import nearest
 from tactex_classify.errors import BagError, DatasetError
@@ -175,48 +175,12 @@ class Dataset:
             raise DatasetError(f'{path}: X must hold floats, y and trial integers')
         classes = sidecar.pop('classes')
         channels = sidecar.pop('channels')
-        _check_sidecar_stream(sidecar, X.shape[1] if X.ndim == 3 else None, sidecar_path)
+        check_sidecar_stream(sidecar, X.shape[1] if X.ndim == 3 else None, sidecar_path)
         try:
             return cls(X.astype(np.float32), y.astype(np.int64), trial.astype(np.int64),
                        t0.astype(np.float64), list(classes), sidecar, channels)
         except DatasetError as err:
             raise DatasetError(f'{path}: {err}') from None
-
-
-# A recording's metadata names its sweep's parameters under these keys (sim, sweep_node).
-SWEEP_KEYS = {'speed_m_s': ('speed_m_s', 'sliding_speed_m_s'),
-              'press_depth_m': ('press_depth_m',), 'edge_tilt_rad': ('edge_offset_rad',)}
-
-
-def recorded_sweep(metadata: dict) -> dict[str, float]:
-    """The speed, press depth and edge tilt a recording's sweep ran at, where it says."""
-    sweep = metadata.get('sweep')
-    if not isinstance(sweep, dict):
-        return {}
-    found = {}
-    for name, keys in SWEEP_KEYS.items():
-        value = next((sweep[key] for key in keys if key in sweep), None)
-        if isinstance(value, (int, float)) and not isinstance(value, bool) \
-                and math.isfinite(value):
-            found[name] = float(value)
-    return found
-
-
-def _check_sidecar_stream(sidecar: dict, window: int | None, path: Path) -> None:
-    """A sidecar's rate (finite, > 0) and window (X's) agree with the arrays, when given.
-
-    Raises:
-        DatasetError: naming the sidecar, the value and what it must be.
-    """
-    rate = sidecar.get('sampling_rate_hz')
-    if rate is not None and not (isinstance(rate, (int, float)) and not isinstance(rate, bool)
-                                 and math.isfinite(rate) and rate > 0):
-        raise DatasetError(f'{path}: sampling_rate_hz must be a finite number > 0 Hz, got '
-                           f'{rate!r}: convert or import the recordings again')
-    stated = sidecar.get('window')
-    if stated is not None and window is not None and stated != window:
-        raise DatasetError(f'{path}: window {stated!r} but the dataset holds {window}-sample '
-                           'windows: the sidecar belongs to another dataset; convert again')
 
 
 class WindowCollector:

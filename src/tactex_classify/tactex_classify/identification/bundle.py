@@ -9,8 +9,9 @@ exponent and repeat discount and, per movement, its parameters, temperature and
 calibrated out-of-fold sweep vectors with their true textures (what the evidence table
 is built from), under a
 SHA-256 of its fields. Loading checks every checkpoint and refuses a bundle whose
-textures differ from its checkpoints' or whose movements differ, in name, order or any
-parameter, from the movement file the caller runs.
+textures or window differ from its checkpoints', or whose movements differ, in name,
+order or any parameter, or whose checkpoints' window differs, from the movement file the
+caller runs.
 """
 
 from __future__ import annotations
@@ -76,9 +77,9 @@ def load_bundle(folder: Path, movements: MovementSet) -> Bundle:
     """Read a bundle written by `save_bundle` for the movements of `movements`.
 
     Raises:
-        CheckpointError: a missing or edited bundle.json, a bad checkpoint, textures that
-            differ between the bundle and a checkpoint, or movements that differ from the
-            movement file (named).
+        CheckpointError: a missing or edited bundle.json, a bad checkpoint, textures or a
+            window that differ between the bundle and a checkpoint, or movements or a window
+            that differ from the movement file (named).
     """
     folder = Path(folder)
     try:
@@ -130,6 +131,7 @@ def _bundle(folder: Path, meta: dict, movements: MovementSet) -> Bundle:
         evidence.append(MovementEvidence(movement.name, movement.contact_s,
                                          np.asarray(row['vectors'], dtype=float),
                                          np.asarray(row['labels'], dtype=int)))
+    _check_window(folder, int(meta['window']), streams[0].window, movements)
     # A bundle written before the repeat discount counts every sweep fully. ValueError:
     # malformed.
     table = EvidenceTable(classes, evidence, float(meta['tempering']),
@@ -137,3 +139,25 @@ def _bundle(folder: Path, meta: dict, movements: MovementSet) -> Bundle:
     return Bundle(classes, tuple(stated), tuple(float(r['temperature'])
                                                 for r in meta['movements']),
                   tuple(estimators), table, streams[0])
+
+
+def _check_window(folder: Path, stated: int, trained: int, movements: MovementSet) -> None:
+    """Refuse a window that differs between bundle.json, its checkpoints and the movement file.
+
+    Args:
+        folder: the bundle, for the message.
+        stated: the window bundle.json states.
+        trained: the window every checkpoint reads.
+        movements: the movement file the caller runs.
+
+    Raises:
+        CheckpointError: naming both windows and the fix.
+    """
+    if stated != trained:
+        raise CheckpointError(f'{folder}: {BUNDLE_FILE} states a window of {stated} samples, '
+                              f'its checkpoints read {trained}: train the bundle again')
+    if movements.window != trained:
+        raise CheckpointError(f'{folder}: its checkpoints read windows of {trained} samples, '
+                              f'the movement file says window: {movements.window}: give the '
+                              f'movement file the bundle was trained with (window: {trained}) '
+                              'or train a bundle for this file')

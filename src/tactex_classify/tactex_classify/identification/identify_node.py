@@ -14,9 +14,10 @@ each movement. It imports no trajectory code: the arm's limits are the sweep nod
 
 Everything runs on one thread: the goal is a coroutine that waits on steady-clock
 ticks (`tactex_common.ticks`), so the sample callbacks run between its steps. A cancel
-cancels the running sweep (the sweep node lifts the edge off) before the goal ends; a
-missing or vanished sweep server, or a sweep that gives no window, aborts the goal with
-the reason.
+cancels the running sweep (the sweep node lifts the edge off) before the goal ends; every
+other wait of a goal (for the sweep server, its answer, the last windows) ends at the
+next tick after a cancel request, and the goal ends canceled. A missing or vanished sweep
+server, or a sweep that gives no window, aborts the goal with the reason.
 """
 
 from __future__ import annotations
@@ -69,6 +70,12 @@ def _range(description: str, low: float, high: float) -> ParameterDescriptor:
     return ParameterDescriptor(description=description, read_only=True,
                                floating_point_range=[FloatingPointRange(from_value=low,
                                                                         to_value=high)])
+
+
+def _cancel_if_accepted(answer) -> None:
+    """Cancel the Sweep goal of `answer` (a done future of its handle) if it was accepted."""
+    if answer.result().accepted:
+        answer.result().cancel_goal_async()
 
 
 def contact_seconds(result) -> float:
@@ -265,8 +272,10 @@ class IdentifyNode(TactexNode):
 
     async def _swept(self, goal_handle, sweep_goal: Sweep.Goal):
         """Run one sweep; (outcome, message, Sweep result or None, its windows)."""
-        handle, refusal = await self._accepted(sweep_goal)
+        handle, refusal = await self._accepted(goal_handle, sweep_goal)
         if handle is None:
+            if goal_handle.is_cancel_requested:
+                return 'cancel', 'canceled before the sweep started', None, []
             return 'abort', refusal, None, []
         self._collected = []
         answer = handle.get_result_async()
@@ -296,50 +305,66 @@ class IdentifyNode(TactexNode):
         if ended.status != GoalStatus.STATUS_SUCCEEDED:
             return 'abort', f'the sweep failed: {ended.result.message or ended.status}', \
                 ended.result, []
-        await self._settled(ended.result)
+        await self._settled(goal_handle, ended.result)
+        if goal_handle.is_cancel_requested:  # asked while the last windows came
+            return 'cancel', 'canceled after the sweep ended', ended.result, []
         windows, self._collected = self._collected, None
         return 'succeed', '', ended.result, windows
 
-    async def _waited(self, condition, deadline: float) -> bool:
-        """Pause until `condition()` holds (True) or the monotonic `deadline` passes (False)."""
+    async def _waited(self, goal_handle, condition, deadline: float) -> bool:
+        """Pause until `condition()` holds (True), `deadline` passes or a cancel comes (False).
+
+        The monotonic `deadline` and `goal_handle.is_cancel_requested` are looked at each
+        tick, so a cancel ends the wait within TICK_S; the caller tells which ended it.
+        """
         while not condition():
-            if time.monotonic() >= deadline:
+            if goal_handle.is_cancel_requested or time.monotonic() >= deadline:
                 return False
             await self._ticks.pause()
         return True
 
-    async def _settled(self, sweep_result) -> None:
+    async def _settled(self, goal_handle, sweep_result) -> None:
         """Wait until the stream is final past the sweep's last contact (or settle_s)."""
         end = max((stamp_ns(end) for end in sweep_result.contact_ends), default=None)
 
         def final() -> bool:
             horizon = self._windows.horizon_ns()
             return end is not None and horizon is not None and horizon >= end
-        await self._waited(final, time.monotonic() + self._settle_s)
+        await self._waited(goal_handle, final, time.monotonic() + self._settle_s)
         self._poll()
 
-    async def _accepted(self, goal: Sweep.Goal):
+    async def _accepted(self, goal_handle, goal: Sweep.Goal):
         """(goal handle, '') once the sweep server accepts `goal`; (None, why) when it does not.
 
         A copy unanswered for ANSWER_S is sent again (its request or answer was lost in
-        discovery); a refused goal (a sweep is running) again after REFUSED_RETRY_S.
+        discovery); a refused goal (a sweep is running) again after REFUSED_RETRY_S. A
+        cancel of `goal_handle` ends the wait at once: (None, ''); a copy whose answer is
+        still to come is then canceled when it is accepted, so no sweep runs unasked.
         """
         deadline = time.monotonic() + self._server_timeout_s
-        if not await self._waited(self._sweep.client.server_is_ready, deadline):
-            return None, (f'no {topics.SWEEP_ACTION} action server within '
+        if not await self._waited(goal_handle, self._sweep.client.server_is_ready, deadline):
+            return None, ('' if goal_handle.is_cancel_requested else
+                          f'no {topics.SWEEP_ACTION} action server within '
                           f'{self._server_timeout_s:g} s: is sweep_node running in this '
                           'namespace?')
         refused = False
-        while time.monotonic() < deadline:
+        while time.monotonic() < deadline and not goal_handle.is_cancel_requested:
             answer = self._sweep.send_goal_async(goal)
-            await self._waited(answer.done, min(deadline, time.monotonic() + ANSWER_S))
+            await self._waited(goal_handle, answer.done,
+                               min(deadline, time.monotonic() + ANSWER_S))
             if not answer.done():
-                self._sweep.forget(answer)
+                if goal_handle.is_cancel_requested:
+                    answer.add_done_callback(_cancel_if_accepted)
+                else:
+                    self._sweep.forget(answer)
             elif answer.result().accepted:
                 return answer.result(), ''
             else:
                 refused = True
-                await self._waited(lambda: False, time.monotonic() + REFUSED_RETRY_S)
+                await self._waited(goal_handle, lambda: False,
+                                   time.monotonic() + REFUSED_RETRY_S)
+        if goal_handle.is_cancel_requested:
+            return None, ''
         return None, ('the sweep goal was ' + ('refused' if refused else 'not answered')
                       + f' for {self._server_timeout_s:g} s (a sweep is running, or sweep_node '
                       'has not heard the arm and the sensor)')
