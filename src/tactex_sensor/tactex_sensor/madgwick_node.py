@@ -95,9 +95,9 @@ class MadgwickNode(TactexNode):
         a = msg.linear_acceleration
         self._filter.update((w.x, w.y, w.z), (a.x, a.y, a.z), dt, mag)
         if self._filter.last_flags & REJECTED_GYRO:
-            self.get_logger().warn(f'gyro samples rejected (an axis beyond max_rate_rad_s or '
-                                   f'not finite): {self._filter.rejected["gyro"]} so far',
-                                   throttle_duration_sec=5.0)
+            self.get_logger().warning(f'gyro samples rejected (an axis beyond max_rate_rad_s or '
+                                      f'not finite): {self._filter.rejected["gyro"]} so far',
+                                      throttle_duration_sec=5.0)
         if not self._filter.initialised:
             return
         out = Imu()

@@ -132,8 +132,8 @@ class MujocoBridgeNode(TactexNode):
                     self._faults.play(parameter.value)
                 except ValueError as err:
                     return SetParametersResult(successful=False, reason=str(err))
-                self.get_logger().warn(f'fault {parameter.value!r}' if parameter.value
-                                       else 'fault cleared')
+                self.get_logger().warning(f'fault {parameter.value!r}' if parameter.value
+                                          else 'fault cleared')
         return SetParametersResult(successful=True)
 
     def _goal(self, sim_time_s: float) -> np.ndarray:

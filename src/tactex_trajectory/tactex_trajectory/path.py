@@ -126,8 +126,16 @@ class SweepPath:
         return float(self.arclength_m[-1])
 
     def travel_of(self, positions) -> np.ndarray:
-        """Arc length (m) of the path point closest to each of (k, 3) positions."""
+        """Arc length (m) of the path point closest to each of (k, 3) positions.
+
+        A position so far away that its squared distances overflow is as far from every
+        point: any of them is right, so the overflow is not reported.
+        """
         positions = np.atleast_2d(np.asarray(positions, dtype=float))
+        with np.errstate(over='ignore'):
+            return self._travel_of(positions)
+
+    def _travel_of(self, positions: np.ndarray) -> np.ndarray:
         last = len(self.points) - 1
         travel = np.empty(len(positions))
         for index, position in enumerate(positions):

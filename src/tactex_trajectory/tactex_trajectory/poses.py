@@ -319,4 +319,4 @@ def _near_limit(joints: np.ndarray) -> str:
 
 
 def _mm(position: np.ndarray) -> str:
-    return '(' + ', '.join(f'{v * 1e3:.1f}' for v in position) + ') mm'
+    return '(' + ', '.join(f'{float(v) * 1e3:.1f}' for v in position) + ') mm'  # inf, no warning

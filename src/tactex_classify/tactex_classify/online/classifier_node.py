@@ -305,8 +305,8 @@ class ClassifierNode(TactexNode):
             waited = time.monotonic() - self._started
             needs = ', '.join(f'{ROLE_TOPICS[r][1]} ({", ".join(ROLE_CHANNELS[r])})'
                               for r in silent)
-            self.get_logger().warn(f'no samples for {waited:.0f} s on {needs}: is the sensor '
-                                   'node (or the simulator) running? Waiting.')
+            self.get_logger().warning(f'no samples for {waited:.0f} s on {needs}: is the sensor '
+                                      'node (or the simulator) running? Waiting.')
 
     def _publish_diagnostics(self) -> None:
         now = time.monotonic()
