@@ -207,7 +207,7 @@ class ContactDetector:
             return None
         self._recent.append(pressure_pa)
         self._approach.append((stamp_ns, pressure_pa - self.baseline_pa))
-        rise = float(np.median(self._recent)) - self.baseline_pa
+        rise = middle(self._recent) - self.baseline_pa
         config = self.config
         if self.in_contact:
             below = rise < config.release_fraction * self.threshold_pa
@@ -288,3 +288,10 @@ def _direction(accel) -> np.ndarray | None:
         return None
     valid, *direction = unit_direction(*(float(a) for a in accel), sys.float_info.max)
     return np.array(direction) if valid else None
+
+
+def middle(values) -> float:
+    """The median, its two middle values halved before they are added (no overflow)."""
+    ordered = sorted(values)
+    half = len(ordered) // 2
+    return float(ordered[half]) if len(ordered) % 2 else ordered[half - 1] / 2 + ordered[half] / 2

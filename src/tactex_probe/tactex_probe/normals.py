@@ -197,6 +197,13 @@ def angle_between(u, v) -> float:
     return math.atan2(float(np.linalg.norm(np.cross(u, v))), float(np.dot(u, v)))
 
 
+def scaled(quaternion) -> np.ndarray:
+    """A quaternion divided by its largest component (the same rotation; no overflow in it)."""
+    quaternion = np.asarray(quaternion, dtype=float)
+    largest = np.max(np.abs(quaternion))
+    return quaternion / largest if largest > 0 else quaternion
+
+
 def estimate_normal(free: SensorWindow, pressed: SensorWindow) -> NormalEstimate:
     """Normal and deformed face from a free-air window and a pressed, settled window.
 
@@ -206,13 +213,13 @@ def estimate_normal(free: SensorWindow, pressed: SensorWindow) -> NormalEstimate
     for name, window in (('free', free), ('pressed', pressed)):
         values = np.concatenate([window.quaternion, window.accel, window.joints,
                                  [window.compression_m]])
-        if not np.all(np.isfinite(values)) or not np.linalg.norm(window.accel) > 0:
+        if not np.all(np.isfinite(values)) or not np.any(np.asarray(window.accel) != 0):
             raise ParameterError(f'the {name} window holds non-finite or zero readings')
     undeformed_free = sensor_pose(free.joints)[:3, :3]
     pressed_pose = sensor_pose(pressed.joints)
     undeformed = pressed_pose[:3, :3]
-    filter_world = quat2mat(free.quaternion) @ undeformed_free.T
-    deformed = filter_world.T @ quat2mat(pressed.quaternion)
+    filter_world = quat2mat(scaled(free.quaternion)) @ undeformed_free.T
+    deformed = filter_world.T @ quat2mat(scaled(pressed.quaternion))
     up = np.array([0.0, 0.0, 1.0])
     mismatch = align(free.accel, undeformed_free.T @ up)
     # Only the direction of the pressed accel matters: scaled first, a huge one cannot
@@ -254,16 +261,17 @@ def bearing_point(estimate: NormalEstimate) -> np.ndarray:
     pivot = np.array([0.0, 0.0, -(_PRESS_ORIGIN_M - estimate.compression_m)])
     # Moment about the pivot of -F a applied at centre + u * along + v * y (linear in u, v).
     force_vector = -force * FACE_AXIS
-    base = np.cross(FACE_CENTRE - pivot, force_vector)
-    du = np.cross(_ALONG_FACE, force_vector)
-    dv = np.cross([0.0, 1.0, 0.0], force_vector)
-    # The hinges feel the moment about their own axes: use the pitch (y) and roll (x) rows.
-    matrix = np.array([[du[1], dv[1]], [du[0], dv[0]]])
-    target = np.array([torque[1] - base[1], torque[0] - base[0]])
-    try:
-        u, v = np.linalg.solve(matrix, target)
-    except np.linalg.LinAlgError:
-        return estimate.face_centre
+    with np.errstate(over='ignore', invalid='ignore'):  # an absurd one is caught below
+        base = np.cross(FACE_CENTRE - pivot, force_vector)
+        du = np.cross(_ALONG_FACE, force_vector)
+        dv = np.cross([0.0, 1.0, 0.0], force_vector)
+        # The hinges feel the moment about their own axes: use the pitch (y) and roll (x).
+        matrix = np.array([[du[1], dv[1]], [du[0], dv[0]]])
+        target = np.array([torque[1] - base[1], torque[0] - base[0]])
+        try:
+            u, v = np.linalg.solve(matrix, target)
+        except np.linalg.LinAlgError:
+            return estimate.face_centre
     if not (math.isfinite(u) and math.isfinite(v)):  # an absurd compression overflowed
         return estimate.face_centre
     # Never beyond the face: the contact is on it.

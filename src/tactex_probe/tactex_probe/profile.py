@@ -61,6 +61,8 @@ def slope_at(points: Sequence[np.ndarray], s: float, direction) -> float:
     centred = coordinates[nearest] - s
     if np.ptp(centred) < 1e-6:
         return 0.0
+    if degree == 2 and np.min(np.diff(np.sort(centred))) < 1e-6:
+        degree = 1  # two points at one place: a parabola through them is not determined
     coefficients = np.polyfit(centred, heights[nearest], degree)
     return float(coefficients[-2])
 

@@ -186,7 +186,7 @@ def path_from_contacts(points, normals, ok=None, settings: PathSettings = PathSe
             usable.append(index)
     groups = _merge_close(points, usable, settings.merge_within_m, dropped)
     kept = np.array([group[0] for group in groups], dtype=int)
-    merged_points = np.array([points[group].mean(axis=0) for group in groups]).reshape(-1, 3)
+    merged_points = np.array([_mean_point(points[group]) for group in groups]).reshape(-1, 3)
     merged_normals = np.array([_mean_direction(normals[group]) for group in groups]
                               ).reshape(-1, 3)
     if len(kept) < 2:
@@ -222,7 +222,7 @@ def _unusable(point: np.ndarray, normal: np.ndarray, ok: bool) -> str:
         return f'position is not finite ({point.tolist()!r})'
     if not np.all(np.isfinite(normal)):
         return f'normal is not finite ({normal.tolist()!r})'
-    if np.linalg.norm(normal) < 1e-9:
+    if np.max(np.abs(normal)) < 1e-9:  # its largest component: no overflow in a norm
         return 'normal has zero length'
     return ''
 
@@ -233,7 +233,8 @@ def _merge_close(points: np.ndarray, usable: Sequence[int], within_m: float,
     groups: list[list[int]] = []
     for index in usable:
         if groups:
-            gap = float(np.linalg.norm(points[index] - points[groups[-1]].mean(axis=0)))
+            with np.errstate(over='ignore'):  # too far to overflow is too far to merge
+                gap = float(np.linalg.norm(points[index] - _mean_point(points[groups[-1]])))
             if gap < within_m:
                 dropped.append(DroppedContact(index, f'{gap * 1e3:.2f} mm from contact '
                                                      f'{groups[-1][0]}: merged into it'))
@@ -254,6 +255,11 @@ def _unit_rows(vectors: np.ndarray) -> np.ndarray:
     """Each row scaled to unit length, without overflow for huge finite entries."""
     scaled = _scaled_rows(vectors)[1]
     return scaled / np.linalg.norm(scaled, axis=1, keepdims=True)
+
+
+def _mean_point(points: np.ndarray) -> np.ndarray:
+    """The mean of points near each other, taken about the first (no overflow far away)."""
+    return points[0] + (points - points[0]).mean(axis=0)
 
 
 def _mean_direction(normals: np.ndarray) -> np.ndarray:
