@@ -25,7 +25,8 @@ from support.movement_data import (
 
 from tactex.cli import main
 from tactex_classify.errors import CheckpointError
-from tactex_classify.identification.bundle import load_bundle
+from tactex_classify.identification import bundle as bundle_module
+from tactex_classify.identification.bundle import check_bundle, load_bundle
 from tactex_classify.models.checkpoint import CHECKSUM_FIELD, metadata_sha256
 from tactex_description.movements import load_movements
 
@@ -65,6 +66,18 @@ def test_a_bundle_trained_for_other_movements_is_refused(trained, tmp_path):
                                               ' tells_nothing; the movement file lists'):
         load_bundle(bundle, load_movements(renamed))
 
+
+
+def test_checking_a_bundle_refuses_what_loading_refuses_without_loading_a_model(
+        trained, tmp_path, monkeypatch):
+    def no_model(info):
+        raise AssertionError(f'a model was loaded from {info.folder}')
+    monkeypatch.setattr(bundle_module, 'load_estimator', no_model)
+    bundle = trained / 'run' / 'bundle'
+    check_bundle(bundle, load_movements(trained / 'movements.yaml'))
+    other = movement_file(tmp_path, contact_s=(2.0, 1.0, 1.5))
+    with pytest.raises(CheckpointError, match='movement tells_nothing was trained as'):
+        check_bundle(bundle, load_movements(other))
 
 def test_an_edited_or_missing_bundle_is_refused(trained, tmp_path):
     movements = load_movements(trained / 'movements.yaml')

@@ -98,19 +98,21 @@ def _movements(name: str, value: str) -> None:
 def _bundle_for_movements(values: Mapping[str, str]) -> None:
     """A given bundle was trained for the given movement file: its movements and window.
 
+    Reads bundle.json and the checkpoints' metadata only; identify_node loads the models.
+
     Raises:
         LaunchError: the bundle's refusal (a checkpoint, a movement or the window), naming
             both arguments.
     """
     from tactex.cli import describe
     from tactex_classify.errors import ClassifyError
-    from tactex_classify.identification.bundle import load_bundle
+    from tactex_classify.identification.bundle import check_bundle
     from tactex_description.movements import load_movements
     bundle, movements = values.get('bundle'), values.get('movements')
     if not bundle or movements is None:
         return
     try:
-        load_bundle(Path(bundle).expanduser(), load_movements(Path(movements).expanduser()))
+        check_bundle(Path(bundle).expanduser(), load_movements(Path(movements).expanduser()))
     except (ClassifyError, OSError) as err:
         raise LaunchError(f'bundle:={bundle!r} with movements:={movements!r}: '
                           f'{describe(err)}') from None

@@ -11,7 +11,8 @@ is built from), under a
 SHA-256 of its fields. Loading checks every checkpoint and refuses a bundle whose
 textures or window differ from its checkpoints', or whose movements differ, in name,
 order or any parameter, or whose checkpoints' window differs, from the movement file the
-caller runs.
+caller runs; `check_bundle` makes the same checks on bundle.json and the checkpoints'
+metadata without loading a model (a launch, before any node starts).
 """
 
 from __future__ import annotations
@@ -27,9 +28,11 @@ from tactex_classify.identification.evidence_table import EvidenceTable, Movemen
 from tactex_classify.identification.movement_evidence import FittedMovement
 from tactex_classify.identification.tempering import Tempering
 from tactex_classify.models.checkpoint import (
+    CheckpointInfo,
     CHECKSUM_FIELD,
-    load_checkpoint,
+    load_estimator,
     metadata_sha256,
+    read_checkpoint,
     save_checkpoint,
     StreamSpec,
     write_text_atomically,
@@ -82,6 +85,37 @@ def load_bundle(folder: Path, movements: MovementSet) -> Bundle:
             that differ from the movement file (named).
     """
     folder = Path(folder)
+    meta, stated, infos = _checked(folder, movements)
+    estimators = [load_estimator(info) for info in infos]
+    try:
+        evidence = [MovementEvidence(movement.name, movement.contact_s,
+                                     np.asarray(row['vectors'], dtype=float),
+                                     np.asarray(row['labels'], dtype=int))
+                    for movement, row in zip(stated, meta['movements'], strict=True)]
+        # A bundle written before the repeat discount counts every sweep fully.
+        table = EvidenceTable(tuple(meta['classes']), evidence, float(meta['tempering']),
+                              float(meta.get('repeat_discount', 0.0)))
+        temperatures = tuple(float(row['temperature']) for row in meta['movements'])
+    except (KeyError, TypeError, ValueError) as err:
+        raise CheckpointError(f'{folder}: malformed {BUNDLE_FILE}: {err!r}') from None
+    return Bundle(tuple(meta['classes']), tuple(stated), temperatures, tuple(estimators),
+                  table, infos[0].stream)
+
+
+def check_bundle(folder: Path, movements: MovementSet) -> None:
+    """Refuse what `load_bundle` refuses in bundle.json and the checkpoints' metadata.
+
+    No model is loaded: a launch checks the bundle this way before any node starts.
+
+    Raises:
+        CheckpointError: as `load_bundle`, but for a model file's contents.
+    """
+    _checked(Path(folder), movements)
+
+
+def _checked(folder: Path, movements: MovementSet
+             ) -> tuple[dict, list[Movement], list[CheckpointInfo]]:
+    """(bundle.json, its movements, each one's checkpoint metadata), every check passed."""
     try:
         meta = load_json(folder / BUNDLE_FILE, max_bytes=MAX_BUNDLE_BYTES,
                          max_depth=MAX_BUNDLE_DEPTH)
@@ -97,13 +131,16 @@ def load_bundle(folder: Path, movements: MovementSet) -> Bundle:
         raise CheckpointError(f'{folder}: {BUNDLE_FILE} does not match its {CHECKSUM_FIELD}: '
                               'edited or corrupt; train the bundle again')
     try:
-        return _bundle(folder, meta, movements)
+        stated = _stated_movements(folder, meta, movements)
+        infos = _checkpoints(folder, tuple(meta['classes']), stated)
+        _check_window(folder, int(meta['window']), infos[0].stream.window, movements)
     except (KeyError, TypeError, ValueError) as err:
         raise CheckpointError(f'{folder}: malformed {BUNDLE_FILE}: {err!r}') from None
+    return meta, stated, infos
 
 
-def _bundle(folder: Path, meta: dict, movements: MovementSet) -> Bundle:
-    classes = tuple(meta['classes'])
+def _stated_movements(folder: Path, meta: dict, movements: MovementSet) -> list[Movement]:
+    """The bundle's movements, refused unless they are the movement file's, in its order."""
     stated = [Movement(**{key: row[key] for key in Movement.__dataclass_fields__})
               for row in meta['movements']]
     if [m.name for m in stated] != list(movements.names):
@@ -115,30 +152,25 @@ def _bundle(folder: Path, meta: dict, movements: MovementSet) -> Bundle:
             raise CheckpointError(f'{folder}: movement {movement.name} was trained as '
                                   f'{movement}, the file now says '
                                   f'{movements.by_name(movement.name)}: train it again')
-    estimators, evidence, streams = [], [], []
-    for movement, row in zip(stated, meta['movements'], strict=True):
-        info, estimator = load_checkpoint(folder / 'movements' / movement.name)
+    return stated
+
+
+def _checkpoints(folder: Path, classes: tuple[str, ...], stated: list[Movement]
+                 ) -> list[CheckpointInfo]:
+    """Each movement's checkpoint metadata, refused unless all classify `classes` alike."""
+    infos: list[CheckpointInfo] = []
+    for movement in stated:
+        info = read_checkpoint(folder / 'movements' / movement.name)
         if tuple(info.classes) != classes:
             raise CheckpointError(f'{folder}: movement {movement.name} classifies '
                                   f'{", ".join(info.classes)}, the bundle '
                                   f'{", ".join(classes)}')
-        if streams and info.stream != streams[0]:
+        if infos and info.stream != infos[0].stream:
             raise CheckpointError(f'{folder}: movement {movement.name} reads {info.stream}, '
-                                  f'{stated[0].name} reads {streams[0]}: train the bundle '
+                                  f'{stated[0].name} reads {infos[0].stream}: train the bundle '
                                   'again from one dataset')
-        streams.append(info.stream)
-        estimators.append(estimator)
-        evidence.append(MovementEvidence(movement.name, movement.contact_s,
-                                         np.asarray(row['vectors'], dtype=float),
-                                         np.asarray(row['labels'], dtype=int)))
-    _check_window(folder, int(meta['window']), streams[0].window, movements)
-    # A bundle written before the repeat discount counts every sweep fully. ValueError:
-    # malformed.
-    table = EvidenceTable(classes, evidence, float(meta['tempering']),
-                          float(meta.get('repeat_discount', 0.0)))
-    return Bundle(classes, tuple(stated), tuple(float(r['temperature'])
-                                                for r in meta['movements']),
-                  tuple(estimators), table, streams[0])
+        infos.append(info)
+    return infos
 
 
 def _check_window(folder: Path, stated: int, trained: int, movements: MovementSet) -> None:
