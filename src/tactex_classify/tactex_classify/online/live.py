@@ -257,7 +257,8 @@ class LiveWindows:
         self._pending: list[ContactLost] = []  # resyncs, handed out by the next poll
         self.counts = {'samples': 0, 'late': 0, 'overflow': 0, 'dropped': 0, 'windows': 0,
                        'invalid': 0, 'off_timeline': 0, 'resyncs': 0}
-        self.longest_contact = 0  # the longest run of samples in contact, in samples
+        self._longest_ended = 0  # the longest run of samples in contact that has ended
+        self._run_count = 0
         self._reset_streams()
 
     def _reset_streams(self) -> None:
@@ -270,10 +271,20 @@ class LiveWindows:
         self._heard_at = dict.fromkeys(self.roles[1:], 0)
         self._recent = np.zeros(0, dtype=np.int64)  # newest aligned stamps
         self._rate_stamps: deque[int] = deque(maxlen=RATE_SPAN)  # newest IMU stamps, late too
-        self._run_count = 0
+        self._end_run()
         self._kept_before = False
         self._pressure = PressureContact(self.settings.contact_pa, self.settings.baseline_tau_s)
         self._pressure_done: int | None = None
+
+    @property
+    def longest_contact(self) -> int:
+        """The longest run of samples in contact so far (a window needs `window` of them)."""
+        return max(self._longest_ended, self._run_count)
+
+    def _end_run(self) -> None:
+        """The run of samples in contact ends: its length is kept, the next starts at 0."""
+        self._longest_ended = max(self._longest_ended, self._run_count)
+        self._run_count = 0
 
     @property
     def needed_roles(self) -> list[str]:
@@ -417,14 +428,13 @@ class LiveWindows:
             if keep[i] != self._kept_before or gap_before[i]:
                 if self._kept_before and not keep[i]:
                     events.append(ContactLost(stamp, reason))
-                self._run_count = 0
+                self._end_run()
             self._kept_before = bool(keep[i])
             if not keep[i]:
                 continue
             slot = self._run_count % self.window
             self._run[slot], self._run_stamps[slot] = values[i], stamp
             self._run_count += 1
-            self.longest_contact = max(self.longest_contact, self._run_count)
             if self._run_count >= self.window and (self._run_count - self.window) % self.hop == 0:
                 order = (np.arange(self._run_count, self._run_count + self.window)
                          % self.window)
