@@ -62,13 +62,13 @@ def parse_remap(text: str) -> tuple[str, str]:
     Raises:
         ValueError: not OLD:=NEW with two topic names, or NEW not a ROS topic name.
     """
-    from tactex.options import ROS_NAME_SEGMENT
+    from tactex.options import is_ros_name
     old, sep, new = text.partition(':=')
     if not sep or not old.strip('/ ') or not new.strip('/ '):
         raise ValueError(f'--remap {text!r} is not OLD:=NEW, e.g. '
                          '/imu/data:=/tactile/imu/data_raw')
     new = new.strip().strip('/')
-    if not all(ROS_NAME_SEGMENT.match(segment) for segment in new.split('/')):
+    if not is_ros_name(new):
         raise ValueError(f'--remap {text!r}: {new!r} is not a ROS topic name (segments of '
                          'letters, digits and _, not starting with a digit, split by /)')
     return '/' + old.strip().strip('/'), '/' + new

@@ -292,10 +292,15 @@ def check_finite_windows(dataset, path: Path, option: str = 'DATA') -> None:
 ROS_NAME_SEGMENT = re.compile(r'^[A-Za-z_][A-Za-z0-9_]*$')
 
 
+def is_ros_name(name: str) -> bool:
+    """Segments of letters, digits and _ (not starting with a digit) split by / ('' too)."""
+    name = name.strip('/')
+    return not name or all(ROS_NAME_SEGMENT.match(segment) for segment in name.split('/'))
+
+
 def namespace(value: str) -> str:
     """An argparse type: a ROS namespace (segments of letters, digits and _, split by /)."""
-    segments = value.strip('/').split('/') if value.strip('/') else []
-    if not all(ROS_NAME_SEGMENT.match(segment) for segment in segments):
+    if not is_ros_name(value):
         raise argparse.ArgumentTypeError(
             f'must be a ROS namespace such as left_arm or /robots/left (letters, digits and _, '
             f'not starting with a digit, split by /), got {value!r}')
