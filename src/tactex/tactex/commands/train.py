@@ -227,6 +227,7 @@ def _train_bundle(args: argparse.Namespace, dataset) -> int:
         movement_evidence,
         MovementDataError,
         subset,
+        trial_labels,
     )
     from tactex_classify.identification.tempering import DISCOUNTS, fit_tempering
     from tactex_classify.training.deep_classifier import TrainingConfig
@@ -252,7 +253,8 @@ def _train_bundle(args: argparse.Namespace, dataset) -> int:
     try:
         movement_of = checked_movements(dataset, movements)
         check_window(movements, dataset, args)
-        fewest = min((counts := cell_counts(dataset, movement_of, movements)).values())
+        counts = cell_counts(dataset.classes, trial_labels(dataset), movement_of, movements)
+        fewest = min(counts.values())
         check_cells(counts, args.folds, f'--folds {args.folds}',
                     f'give --folds {fewest}, or record more sweeps' if fewest >= 2 else
                     'record at least 2 sweeps of each (with --folds 2)')

@@ -110,12 +110,18 @@ def check_recorded_parameters(dataset: Dataset, movement_of: dict[int, str],
                     'movement file the recordings were made with')
 
 
-def cell_counts(dataset: Dataset, movement_of: dict[int, str],
+def trial_labels(dataset: Dataset) -> dict[int, int]:
+    """Each recording's texture (a class index), from its first window."""
+    trials, first = np.unique(dataset.trial, return_index=True)
+    return dict(zip(trials.tolist(), dataset.y[first].tolist(), strict=True))
+
+
+def cell_counts(classes: Sequence[str], label_of: dict[int, int], movement_of: dict[int, str],
                 movements: MovementSet) -> dict[tuple[str, str], int]:
     """Recordings per (texture, movement), every texture under every movement (0 too)."""
-    counts = {(texture, name): 0 for texture in dataset.classes for name in movements.names}
+    counts = {(texture, name): 0 for texture in classes for name in movements.names}
     for trial, name in movement_of.items():
-        counts[(dataset.classes[int(dataset.y[dataset.trial == trial][0])], name)] += 1
+        counts[(classes[label_of[trial]], name)] += 1
     return counts
 
 

@@ -42,6 +42,7 @@ from tactex_classify.identification.movement_evidence import (
     movement_evidence,
     MovementDataError,
     subset,
+    trial_labels,
 )
 from tactex_classify.identification.selection import Budget, Identification, POLICIES
 from tactex_classify.identification.tempering import DISCOUNTS, fit_tempering
@@ -140,12 +141,12 @@ def replay(dataset: Dataset, movements: MovementSet, settings: ReplaySettings = 
             the file does not list (or the reverse), or too few recordings for the folds.
     """
     movement_of = checked_movements(dataset, movements)
-    counts = cell_counts(dataset, movement_of, movements)
+    label_of = trial_labels(dataset)
+    counts = cell_counts(dataset.classes, label_of, movement_of, movements)
     needed = recordings_needed(settings.folds, settings.inner_folds)
     check_cells(counts, needed, f'--folds {settings.folds} with --inner-folds '
                 f'{settings.inner_folds}', _fold_fix(min(counts.values()), settings.folds))
     names = list(movements.names)
-    label_of = {int(t): int(dataset.y[dataset.trial == t][0]) for t in movement_of}
     fold_of = assign_folds({t: (dataset.classes[label_of[t]], m)
                             for t, m in movement_of.items()},
                            settings.folds, settings.seed)
