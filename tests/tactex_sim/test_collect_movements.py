@@ -5,7 +5,8 @@
 The movement's speed, press depth, tilt, direction and contact length replace the scene's
 nominal sweep (its variability drawn around them); trial ids stay unique across
 movements; a bag is the same whatever the order of the movement file; convert keeps each
-recording's movement; a movement the arm cannot sweep is refused before any bag.
+recording's movement; a movement the arm cannot sweep is refused before any bag, the
+command naming the movement file.
 """
 
 import json
@@ -113,3 +114,18 @@ def test_a_movement_the_arm_cannot_sweep_is_refused_before_any_bag(tmp_path):
                         '0.5, direction: forward, contact_length: 0.2}')
     with pytest.raises(SceneError, match="far slides 200 mm; the scene's swept path holds 114"):
         movement_scene(SCENE, far.movements[0])
+
+
+def test_the_command_names_the_movement_file_of_a_movement_the_arm_cannot_sweep(tmp_path,
+                                                                                capsys):
+    movement_file(tmp_path, '{name: steep, speed: 0.03, press_depth: 0.003, edge_tilt: 1.0, '
+                  'direction: forward, contact_length: 0.09}')
+    path = tmp_path / 'movements.yaml'
+    assert main(['sim', 'collect', '--movements', str(path), '--sweeps', '1', '--textures',
+                 'wood', '--out', str(tmp_path / 'bags')]) == 1
+    error = capsys.readouterr().err.strip()
+    assert error.startswith(f'error: --movements {path}: movement steep: sweep point')
+    assert error.endswith('lower its edge_tilt or press_depth, or shorten its contact_length')
+    reasons = error.split('every solution breaks a joint limit: ')[1].split('; lower')[0]
+    assert len(reasons.split('; ')) == len(set(reasons.split('; ')))  # each reason once
+    assert not (tmp_path / 'bags').exists()

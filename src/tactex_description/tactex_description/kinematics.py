@@ -287,7 +287,7 @@ def _limit_detail(candidates: list[np.ndarray], lower: np.ndarray, upper: np.nda
             if not lo - 1e-12 <= value <= hi + 1e-12:
                 reasons.append(f'{name}={value:.4f} rad outside [{lo:.4f}, {hi:.4f}]')
                 break
-    return 'every solution breaks a joint limit: ' + '; '.join(reasons)
+    return 'every solution breaks a joint limit: ' + '; '.join(dict.fromkeys(reasons))
 
 
 def inverse_kinematics(position: Sequence[float], pitch: float, *,

@@ -91,6 +91,7 @@ def _stats(args: argparse.Namespace) -> int:
 def _collect(args: argparse.Namespace) -> int:
     """Record the sweeps."""
     from tactex_sim.collect import collect, collectable_scenes
+    from tactex_sim.errors import SceneError
     from tactex_sim.scene import load_scene, resolve_scene
     from tactex_sim.textures import TEXTURES
 
@@ -106,7 +107,12 @@ def _collect(args: argparse.Namespace) -> int:
     if args.seed is not None:
         scene = replace(scene, seed=args.seed)
     movements = movement_file(args.movements, scene.sensor_rate_hz) if args.movements else None
-    collectable_scenes(scene, movements)
+    try:
+        collectable_scenes(scene, movements)
+    except SceneError as err:
+        if movements is None:
+            raise
+        raise CommandError(f'--movements {args.movements}: {err}') from None
     with staged_folder(args.out) as folder:
         paths = collect(scene, args.sweeps, folder, textures=textures,
                         workers=args.workers, address=args.address, movements=movements)
