@@ -15,6 +15,7 @@ with built-in cross-validation of its regularisation reads the features.
 from __future__ import annotations
 
 from pathlib import Path
+import warnings
 
 import numpy as np
 from scipy import stats
@@ -89,8 +90,11 @@ class StatsExtraTrees(Deployable):
         centred = X - X.mean(axis=1, keepdims=True)
         spectrum = np.abs(np.fft.rfft(centred, axis=1)) ** 2
         bands = np.array_split(spectrum[:, 1:], 4, axis=1)
-        parts = [X.mean(1), X.std(1), X.min(1), X.max(1), np.median(X, 1),
-                 np.nan_to_num(stats.skew(X, axis=1)), np.nan_to_num(stats.kurtosis(X, axis=1)),
+        with warnings.catch_warnings():  # a (nearly) constant channel's moments are NaN: 0
+            warnings.filterwarnings('ignore', 'Precision loss occurred', RuntimeWarning)
+            shape = [np.nan_to_num(stats.skew(X, axis=1)),
+                     np.nan_to_num(stats.kurtosis(X, axis=1))]
+        parts = [X.mean(1), X.std(1), X.min(1), X.max(1), np.median(X, 1), *shape,
                  np.abs(diff).mean(1), diff.std(1),
                  (np.diff(np.sign(centred), axis=1) != 0).mean(1),
                  np.argmax(spectrum[:, 1:], axis=1).astype(float)]
