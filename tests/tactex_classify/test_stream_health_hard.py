@@ -8,7 +8,7 @@ on whatever its model answers.
 
 import math
 
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 import numpy as np
@@ -71,6 +71,7 @@ def test_a_value_beyond_float32_does_not_fit_it(value):
 @given(st.one_of(hnp.arrays(np.float64, st.tuples(st.integers(0, 3), st.integers(0, 3)),
                             elements=anything()),
                  st.just(None), st.text(max_size=3)))
+@example(np.full((1, 2), -3.4028234663852886e38))  # negative probabilities (make hunt)
 def test_whatever_the_model_answers_the_classifier_goes_on(answer):
     rng = np.random.default_rng(0)
     answers = iter([answer])

@@ -50,6 +50,8 @@ def trajectories(draw):
 @given(trajectories(), st.lists(anything(), min_size=1, max_size=6))
 @example((['joint1', 'joint2'], [5e-324, 2.0, 3.0, 4.0],
           [[0.0, -0.46875], [0.0, -0.5], [0.0, -0.5], [0.0, -0.5]], []), [0.0])
+@example((['joint1', 'joint2', 'joint3'], [1.0, 2.0],
+          [[0.0, -0.5, 0.3], [5e-324, -0.5, 0.3]], []), [0.0])  # a subnormal step (make hunt)
 def test_any_trajectory_is_refused_or_plays_finite_goals_within_the_limits(trajectory,
                                                                           sample_times):
     names, point_times, positions, velocities = trajectory

@@ -112,6 +112,7 @@ def test_an_accel_detector_leaves_contact_after_bad_samples_stop(start, bad, see
 
 
 @example([(0.0, (0.0, 0.0, FLOAT32_MAX))], False)
+@example([(1e300, None), (FLOAT64_MAX, None)], True)  # a median that overflowed (make hunt)
 @settings(max_examples=80)
 @given(st.lists(st.tuples(anything(), st.one_of(st.none(), vectors(anything()))),
                 min_size=1, max_size=3), st.booleans())

@@ -92,6 +92,12 @@ def assert_valid_trajectory(trajectory):
           np.array([[0.06, 0.03, 1.0], [0.28, -0.01, 0.96]]), np.ones(2, dtype=bool)))
 @example((np.array([[1e300, 0.0, 0.026], [0.095, 0.0, 0.024]]),
           np.array([[0.06, 0.03, 1.0], [0.28, -0.01, 0.96]]), np.ones(2, dtype=bool)))
+@example((np.array([[3.94604064e153, -1.32104863e-4, 2.63678293e-2],
+                    [9.51049001e-2, -5.35669373e-4, 2.40184493e-2],
+                    [1.06304e-1, 9.47080963e-4, 1.93668171e-2]]),
+          np.array([[0.06098615, 0.02723276, 0.99776704], [0.27511718, -0.01095685, 0.96134826],
+                    [0.32670375, 0.06817846, 0.9426645]]),
+          np.ones(3, dtype=bool)))  # a far contact among three (make hunt)
 @example((np.array([[0.085, 0.0, 0.026], [0.095, 0.0, 0.024]]),
           np.array([[1.34e154, 0.03, 1.0], [0.28, -0.01, 0.96]]), np.ones(2, dtype=bool)))
 @settings(max_examples=40, deadline=None)
@@ -143,6 +149,7 @@ def test_any_path_setting_gives_a_valid_path_or_a_clear_error(name, value):
 
 @example('sliding_speed_m_s', 1e300)
 @example('descent_speed_m_s', 1e-300)
+@example('sliding_speed_m_s', FLOAT64_MAX)  # make hunt
 @example('approach_height_m', 1e300)
 @settings(max_examples=20, deadline=None)
 @given(st.sampled_from(['sliding_speed_m_s', 'approach_height_m', 'descent_speed_m_s',
@@ -233,6 +240,7 @@ def test_a_move_between_any_poses_in_reach_keeps_the_limits_or_is_refused_as_too
 
 
 @example(1.0, 5.5, 1.7e-276)
+@example(1.0, 0.5, FLOAT64_MAX)  # t / T overflowed (make hunt)
 @settings(max_examples=100)
 @given(st.floats(1e-6, 10.0), st.floats(0.01, MAX_PART_S), anything())
 def test_the_time_laws_stay_on_the_path_at_any_time(length, duration, t):

@@ -162,7 +162,9 @@ def plan(joint_names: Sequence[str], times_s: Sequence[float],
         curve = CubicHermiteSpline(knots_t, knots_q, knots_v, axis=0) if len(knots_t) > 1 \
             else None
     else:
-        curve = PchipInterpolator(knots_t, knots_q, axis=0) if len(knots_t) > 1 else None
+        with np.errstate(over='ignore'):  # subnormal steps: a slope's mean overflows to a
+            # flat 0; what is not finite is refused by _check_profile
+            curve = PchipInterpolator(knots_t, knots_q, axis=0) if len(knots_t) > 1 else None
     if curve is None:  # a single point at t = 0: hold it
         point = knots_q[0].copy()
         return Trajectory(0.0, lambda _t: point, limits)

@@ -157,11 +157,12 @@ class ContactDetector:
     def _refresh_baseline(self) -> None:
         if self._pressures:
             values = np.asarray(self._pressures)
-            self.baseline_pa = float(np.median(values))
+            self.baseline_pa = middle(values)
             # Robust spread: 1.4826 * median absolute deviation (a burst cannot inflate it),
             # never finer than the barometer resolves.
-            self.spread_pa = max(float(1.4826 * np.median(np.abs(values - self.baseline_pa))),
-                                 self.config.resolution_pa)
+            with np.errstate(over='ignore'):  # a wild sample's deviation may be inf
+                deviations = np.abs(values - self.baseline_pa)
+            self.spread_pa = max(1.4826 * middle(deviations), self.config.resolution_pa)
         if self._accels:
             # Per-axis median of the directions: a few wild readings cannot turn it.
             median = np.median(self._accels, axis=0)

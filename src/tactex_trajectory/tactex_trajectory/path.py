@@ -184,6 +184,7 @@ def path_from_contacts(points, normals, ok=None, settings: PathSettings = PathSe
             dropped.append(DroppedContact(index, reason))
         else:
             usable.append(index)
+    usable = _near_the_others(points, usable, dropped)
     groups = _merge_close(points, usable, settings.merge_within_m, dropped)
     kept = np.array([group[0] for group in groups], dtype=int)
     merged_points = np.array([_mean_point(points[group]) for group in groups]).reshape(-1, 3)
@@ -225,6 +226,29 @@ def _unusable(point: np.ndarray, normal: np.ndarray, ok: bool) -> str:
     if np.max(np.abs(normal)) < 1e-9:  # its largest component: no overflow in a norm
         return 'normal has zero length'
     return ''
+
+
+def _near_the_others(points: np.ndarray, usable: list[int], dropped: list[DroppedContact]
+                     ) -> list[int]:
+    """`usable` without the contacts farther than MAX_EXTENT_M from the others' middle.
+
+    The middle is each axis's lower median (no mean of two values to overflow), so one
+    wild contact cannot move it; a contact that far would overflow the fits.
+    """
+    if not usable:
+        return usable
+    middle = np.sort(points[usable], axis=0)[(len(usable) - 1) // 2]
+    near = []
+    for index in usable:
+        with np.errstate(over='ignore'):  # a deviation beyond float range is inf: far
+            away = float(np.max(np.abs(points[index] - middle)))
+        if away > MAX_EXTENT_M:
+            dropped.append(DroppedContact(index, f'position is {away:.3g} m from the other '
+                                                 f'contacts, beyond any path '
+                                                 f'({MAX_EXTENT_M:g} m)'))
+        else:
+            near.append(index)
+    return near
 
 
 def _merge_close(points: np.ndarray, usable: Sequence[int], within_m: float,

@@ -109,16 +109,19 @@ class TimeLaw:
 
 def min_jerk_law(length: float, duration_s: float) -> TimeLaw:
     """Rest to rest: s = L (10 r^3 - 15 r^4 + 6 r^5), r = t / T."""
+    def phase(t):  # r in [0, 1]; t clipped first, so a huge t cannot overflow t / T
+        return np.clip(np.asarray(t, dtype=float), 0.0, duration_s) / duration_s
+
     def position(t):
-        r = np.clip(t / duration_s, 0.0, 1.0)
+        r = phase(t)
         return length * (10 * r ** 3 - 15 * r ** 4 + 6 * r ** 5)
 
     def speed(t):
-        r = np.clip(t / duration_s, 0.0, 1.0)
+        r = phase(t)
         return length / duration_s * (30 * r ** 2 - 60 * r ** 3 + 30 * r ** 4)
 
     def acceleration(t):
-        r = np.clip(t / duration_s, 0.0, 1.0)
+        r = phase(t)
         return length / duration_s ** 2 * (60 * r - 180 * r ** 2 + 120 * r ** 3)
 
     return TimeLaw(duration_s, length, position, speed, acceleration)
@@ -227,10 +230,10 @@ def ramp_duration(path: JointPath, speed_m_s: float, ramp_acceleration_m_s2: flo
     first, second = path.derivative_bounds()
     velocity = VELOCITY_LIMITS * LIMIT_MARGIN
     acceleration = ACCELERATION_LIMITS * LIMIT_MARGIN
-    ratio = first * speed_m_s / velocity
-    with np.errstate(over='ignore'):  # a huge speed squares to inf: refused below
+    with np.errstate(over='ignore'):  # a huge speed gives inf ratios: refused below
+        ratio = first * speed_m_s / velocity
         squared = np.float64(speed_m_s) ** 2
-    spare = acceleration - second * squared
+        spare = acceleration - second * squared
     if np.any(ratio > 1.0) or np.any(spare <= 0.0):
         joint = int(np.argmax(np.maximum(ratio, second * squared / acceleration)))
         fastest = float(min(np.min(velocity / np.maximum(first, 1e-12)),

@@ -39,7 +39,8 @@ def part_length_m(movement: Movement, acceleration_m_s2: float) -> float:
 def pathway_length(points: np.ndarray) -> float:
     """Length of the polyline through `points` (N x 3, m); 0 for fewer than two."""
     points = np.asarray(points, dtype=float).reshape(-1, 3)
-    return float(np.sum(np.linalg.norm(np.diff(points, axis=0), axis=1)))
+    with np.errstate(over='ignore'):  # too long for a float: inf, which callers refuse
+        return float(np.sum(np.linalg.norm(np.diff(points, axis=0), axis=1)))
 
 
 def holds(points: np.ndarray, movement: Movement, acceleration_m_s2: float) -> bool:
@@ -91,6 +92,7 @@ def movement_part(points: np.ndarray, normals: np.ndarray, movement: Movement,
     fraction = (wanted - travelled[inside - 1]) / (travelled[inside] - travelled[inside - 1])
     end = points[inside - 1] + fraction * (points[inside] - points[inside - 1])
     normal = normals[inside - 1] + fraction * (normals[inside] - normals[inside - 1])
-    size = np.linalg.norm(normal)
+    with np.errstate(over='ignore'):  # normals far from unit: an infinite size gives 0
+        size = np.linalg.norm(normal)
     normal = normal / size if size > 1e-9 else normals[inside - 1]  # opposite normals
     return (np.vstack([points[:inside], end]), np.vstack([normals[:inside], normal]))

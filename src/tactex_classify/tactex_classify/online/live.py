@@ -552,9 +552,11 @@ class OnlineClassifier:
             return {}
         try:
             proba = np.asarray(self.predict(np.stack([w.values for w in windows])), dtype=float)
-            if proba.shape != (len(windows), self.classes) or not np.all(np.isfinite(proba)):
-                raise ValueError(f'the model returned {proba.shape} values, not finite '
-                                 f'probabilities of {self.classes} classes per window')
+            if proba.shape != (len(windows), self.classes) or \
+                    not np.all(np.isfinite(proba) & (proba >= 0)):
+                raise ValueError(f'the model returned {proba.shape} values, not finite, '
+                                 f'non-negative probabilities of {self.classes} classes per '
+                                 'window')
         except Exception as err:  # noqa: BLE001 - whatever the model raises skips its windows
             self.faults['model_errors'] += len(windows)
             self.last_fault = f'model error: {type(err).__name__}: {err}'
