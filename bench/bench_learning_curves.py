@@ -53,25 +53,33 @@ def markdown(summary: dict) -> str:
         lines.append(f'| {model} | ' + ' | '.join(cells) + ' |')
     if summary['skipped']:
         lines += ['', 'Not in this set: ' + ', '.join(summary['skipped']) + '.']
+    if len(summary.get('calls', [])) > 1:  # merged from calls run side by side
+        lines += ['', f'Run as {len(summary["calls"])} calls side by side (`-`: not run):', '']
+        lines += [f'- `{call.strip()}`' for call in summary['calls']]
     return '\n'.join(lines) + '\n'
 
 
 def plot(summary: dict, path: Path) -> None:
-    """Accuracy against recordings per texture, one line per model (log x)."""
+    """Accuracy against recordings per texture, one line per model (log x; baselines dashed)."""
     import matplotlib
     matplotlib.use('Agg')
     import matplotlib.pyplot as plt
 
+    from tactex_classify.models.registry import BASELINES
+
     figure, axes = plt.subplots(figsize=(8, 4.5))
     for model in summary['models']:
+        baseline = model in BASELINES  # dashed: the deep models are the solid lines
         points = [(n, summary['points'][f'{model}@{n}']) for n in summary['sizes']
                   if f'{model}@{n}' in summary['points']]
         if points:
             axes.errorbar([n for n, _ in points],
                           [100 * np.mean(p['accuracy']) for _, p in points],
                           yerr=[100 * np.std(p['accuracy']) for _, p in points], marker='o',
-                          capsize=3, label=model)
+                          capsize=3, linestyle='--' if baseline else '-',
+                          label=f'{model} (baseline)' if baseline else model)
     axes.set_xscale('log')
+    axes.minorticks_off()  # the sizes alone label the axis
     axes.set_xticks(summary['sizes'], [str(n) for n in summary['sizes']])
     axes.set_xlabel('training recordings per texture')
     axes.set_ylabel('accuracy on held-out recordings (%)')

@@ -222,13 +222,21 @@ def learning_curves() -> str:
             cells.append('-' if point is None else f'{100 * np.mean(point["accuracy"]):.1f} % '
                          f'({np.mean(point["seconds"]):.0f} s)')
         table.append(f'| {TEXTURE_MODELS.get(model, model)} | ' + ' | '.join(cells) + ' |')
-    return (f'Learning curves (`{data["command"].strip()}`): accuracy on '
+    calls = data.get('calls', [data['command']])
+    how = (f', run as {len(calls)} calls side by side on the two cores, one thread each (the '
+           'seconds include that sharing)' if len(calls) > 1 else '')
+    built = (' on the set of ' + ' then '.join(f'`{step}`' for step in data['dataset_commands'])
+             if 'dataset_commands' in data else '')
+    missing = ('; `-`: not run' if any(f'{m}@{n}' not in data['points'] for m in data['models']
+                                       for n in sizes) else '')
+    return (f'Learning curves (`{data["command"].strip()}`{built}{how}): accuracy on '
             f'{data["test_windows"]} windows of {data["test"]} held-out recordings per texture '
             'against the recordings per texture the model trained on, with the training '
             f'seconds of each point; {data["draws"]} draw(s); deep models with the `modern` '
             f'profile and per-window scaling, at most {data["epochs"]} epochs; chance '
-            f'{100 * data["chance"]:.1f} %; `bench/results/learning_curves/`, with '
-            '`learning_curves.png`:\n\n' + '\n'.join(table) + '\n')
+            f'{100 * data["chance"]:.1f} %{missing}; `bench/results/learning_curves/`:\n\n'
+            + '\n'.join(table) + '\n\n![learning curves]'
+            f'({FIGURES}/learning_curves/learning_curves.png)\n')
 
 
 def training() -> str:
