@@ -13,7 +13,9 @@ point keeps its accuracy and training seconds, so the curve shows where, if anyw
 deep model overtakes the baselines and what each point costs.
 
 Points are kept in RESULTS/learning_curves.json as they finish and a run with the same
-data and settings resumes. Writes learning_curves.{json,md,png}.
+data and settings resumes. `--merge DIR ...` trains nothing: it joins the points kept by
+calls run side by side (each with its own `--out`, the same set and settings) into
+`--out`. Writes learning_curves.{json,md,png}.
 """
 
 import hashlib
@@ -31,6 +33,8 @@ from bench_sim_to_real import accuracy, draw, hold_out  # noqa: E402
 import numpy as np  # noqa: E402
 
 RESULTS = Path(__file__).parent / 'results' / 'learning_curves'
+# What makes two calls' points comparable: the set (its hash) and the settings.
+KEY = ('dataset', 'test', 'draws', 'epochs', 'seed', 'device')
 
 
 def markdown(summary: dict) -> str:
@@ -94,7 +98,12 @@ def main() -> int:
     parser.add_argument('--models', default='minirocket,multirocket,extratrees,cnn_3,'
                         'cnn_attention,resnet,inception_time')
     parser.add_argument('--device', default='cpu')
+    parser.add_argument('--merge', nargs='+', type=Path, metavar='DIR',
+                        help='join the points kept in these --out folders; train nothing')
     args = parser.parse_args()
+    if args.merge:
+        return merge(args.merge, args.out, [int(n) for n in args.sizes.split(',')],
+                     [m.strip() for m in args.models.split(',') if m.strip()])
 
     started = time.monotonic()
     dataset = load_or_simulate(args.data, args.sweeps)
@@ -104,9 +113,8 @@ def main() -> int:
     wanted = [int(n) for n in args.sizes.split(',')]
     sizes = [n for n in wanted if n <= available]
     models = [m.strip() for m in args.models.split(',') if m.strip()]
-    key = {'dataset': hashlib.sha256(dataset.X.tobytes()).hexdigest()[:16], 'test': args.test,
-           'draws': args.draws, 'epochs': args.epochs, 'seed': args.seed,
-           'device': args.device}
+    key = dict(zip(KEY, (hashlib.sha256(dataset.X.tobytes()).hexdigest()[:16], args.test,
+                         args.draws, args.epochs, args.seed, args.device), strict=True))
     json_path = args.out / 'learning_curves.json'
     kept = json.loads(json_path.read_text(encoding='utf-8')) if json_path.is_file() else {}
     points = kept.get('points', {}) if all(kept.get(k) == v for k, v in key.items()) else {}
@@ -134,6 +142,26 @@ def main() -> int:
                   f'{np.mean(point["seconds"]):.0f} s', flush=True)
             json_path.write_text(json.dumps(summary, indent=1) + '\n', encoding='utf-8')
     keep(args.out, 'learning_curves', summary, markdown, plot)
+    return 0
+
+
+def merge(folders: list[Path], out: Path, sizes: list[int], models: list[str]) -> int:
+    """Join the points of calls run side by side into `out` (`models` in this order)."""
+    parts = [json.loads((folder / 'learning_curves.json').read_text(encoding='utf-8'))
+             for folder in folders]
+    for folder, part in zip(folders, parts, strict=True):
+        differ = [k for k in (*KEY, 'test_windows', 'chance') if part[k] != parts[0][k]]
+        if differ:
+            print(f'error: --merge {folder}: another set or settings than {folders[0]} '
+                  f'({", ".join(differ)})', file=sys.stderr)
+            return 1
+    points = {name: point for part in parts for name, point in part['points'].items()}
+    summary = {k: parts[0][k] for k in (*KEY, 'test_windows', 'chance')}
+    summary.update(sizes=sizes, points=points, skipped=[],
+                   models=[m for m in models if any(f'{m}@{n}' in points for n in sizes)],
+                   command='python bench/bench_learning_curves.py ' + ' '.join(sys.argv[1:]),
+                   calls=[part['command'] for part in parts])
+    keep(out, 'learning_curves', summary, markdown, plot)
     return 0
 
 

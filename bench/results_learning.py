@@ -223,13 +223,12 @@ def learning_curves() -> str:
                          f'({np.mean(point["seconds"]):.0f} s)')
         table.append(f'| {TEXTURE_MODELS.get(model, model)} | ' + ' | '.join(cells) + ' |')
     calls = data.get('calls', [data['command']])
-    how = (f', run as {len(calls)} calls side by side on the two cores, one thread each (the '
-           'seconds include that sharing)' if len(calls) > 1 else '')
-    built = (' on the set of ' + ' then '.join(f'`{step}`' for step in data['dataset_commands'])
-             if 'dataset_commands' in data else '')
+    how = (f', joining {len(calls)} calls run side by side on the two cores, one thread each, '
+           'listed in `learning_curves.md` (the seconds include that sharing)'
+           if len(calls) > 1 else '')
     missing = ('; `-`: not run' if any(f'{m}@{n}' not in data['points'] for m in data['models']
                                        for n in sizes) else '')
-    return (f'Learning curves (`{data["command"].strip()}`{built}{how}): accuracy on '
+    return (f'Learning curves (`{data["command"].strip()}`{how}): accuracy on '
             f'{data["test_windows"]} windows of {data["test"]} held-out recordings per texture '
             'against the recordings per texture the model trained on, with the training '
             f'seconds of each point; {data["draws"]} draw(s); deep models with the `modern` '
