@@ -147,6 +147,12 @@ def main() -> int:
 
 def merge(folders: list[Path], out: Path, sizes: list[int], models: list[str]) -> int:
     """Join the points of calls run side by side into `out` (`models` in this order)."""
+    missing = [str(folder) for folder in folders
+               if not (folder / 'learning_curves.json').is_file()]
+    if missing:
+        print(f'error: --merge: no learning_curves.json in {", ".join(missing)}',
+              file=sys.stderr)
+        return 1
     parts = [json.loads((folder / 'learning_curves.json').read_text(encoding='utf-8'))
              for folder in folders]
     for folder, part in zip(folders, parts, strict=True):
