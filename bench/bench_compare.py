@@ -1,16 +1,17 @@
 # Copyright 2026 The tactex authors
 # SPDX-License-Identifier: Apache-2.0
-"""The kept model comparison: the synthetic set, eight models and two baselines, 3 windows.
+"""The kept model comparisons: the synthetic set, any models and baselines, up to 3 windows.
 
 Collects the synthetic set once (`tactex sim collect`, 12 textures x 25 sweeps, on
 `--cpus` Ray workers; or takes `--bags`), keeps the first `--recordings` sweeps of each
 texture when asked (whole recordings, hard-linked into their own folder), converts them
 at 128, 256 and 512 samples (50 % overlap) into `--work`, then runs `tactex compare`
-on the datasets into bench/results/GRID/ (`--grid`, default compare: the README's
-table; compare_long: the deep models trained longer). The grid resumes: run this again
+on the datasets into bench/results/GRID/ (`--grid`, default compare: five epochs, both
+schemes; compare_long: the deep models trained longer; compare_converged: the README's
+main comparison; compare_gpu: the lent GPU's grid). The grid resumes: run this again
 (same settings) and only the cells not yet finished are trained, so the kept run can be
 built in chunks on a busy machine. Each call appends its steps and their durations to
-GRID/run.json; `bench/render_results.py` builds the README's comparison sections from
+GRID/run.json; `bench/render_results.py` builds the docs' comparison sections from
 summary.json and run.json only.
 """
 
@@ -110,7 +111,8 @@ def main() -> int:
     parser.add_argument('--early-stopping', type=int, default=0,
                         help='patience in epochs on held-out recordings (0: off)')
     parser.add_argument('--grid', default='compare',
-                        help='folder under bench/results/ (default compare, the README table)')
+                        help='folder under bench/results/ (default compare; compare_converged '
+                             'is the main comparison)')
     parser.add_argument('--profile', default='original', choices=('original', 'modern'))
     parser.add_argument('--scaling', default='minmax', choices=('minmax', 'standard', 'window'))
     parser.add_argument('--device', default='cpu', choices=('auto', 'cpu', 'cuda'),

@@ -6,6 +6,7 @@ import json
 from pathlib import Path
 
 import numpy as np
+import results_common
 from results_common import FIGURES, kept_json, RESULTS, TEXTURE_MODELS
 
 
@@ -510,3 +511,100 @@ def compare_gpu() -> str:
             'met with this setup.\n\n'
             + table(summary['rows'], seeds * folds) + '\n' + hydra + '\n\n'
             f'![accuracy]({FIGURES}/compare_gpu/accuracy.png)\n')
+
+
+def _cells(name: str) -> dict[tuple, dict]:
+    """A kept grid's finished cells, by (model, window, seed, fold, scheme)."""
+    cells = {}
+    for path in sorted((results_common.RESULTS / name / 'cells').rglob('*.json')):
+        cell = kept_json(str(path.relative_to(results_common.RESULTS)))
+        key = cell['cell']
+        cells[key['model'], key['window'], key['seed'], key['fold'], key['scheme']] = cell
+    return cells
+
+
+def compare_converged() -> str:
+    """The main comparison: deep models trained to convergence beside every baseline, paired."""
+    from tactex_classify.evaluation.grid_report import pareto_front, table
+    from tactex_classify.models.registry import BASELINES
+    summary, run, grid = _kept_grid('compare_converged')
+    settings, command = summary['settings'], grid[-1]['command']
+    seeds, folds = int(_option(command, '--seeds')), settings['folds']
+    expected = seeds * folds
+    rows = summary['rows']
+    (window, data), = summary['data'].items()
+    per_texture = {call['recordings_per_texture'] for call in run['calls']}
+    machines = {json.dumps(call['machine'], sort_keys=True) for call in run['calls']}
+    if len(per_texture) != 1 or len(machines) != 1:
+        raise ValueError(f'the main comparison mixes recordings per texture {per_texture} '
+                         f'or machines {machines}')
+    cores = run['calls'][0]['machine']['cpu_count']
+    cells = sum(row['schemes']['grouped']['cells'] for row in rows)
+    minutes = sum(step['seconds'] for step in grid) / 60
+    loads = [load for step in grid for load in step['load_average']]
+    deep = [row for row in rows if row['model'] not in BASELINES]
+    baselines = [row for row in rows if row['model'] in BASELINES]
+    incomplete = [f'{row["model"]} ({row["schemes"]["grouped"]["cells"]} of {expected})'
+                  for row in rows if row['schemes']['grouped']['cells'] < expected]
+    unconverged = [row['model'] for row in deep if row['not_converged']]
+
+    def figure(row: dict) -> str:
+        accuracy = row['schemes']['grouped']['accuracy']
+        return f'{row["model"]} {100 * accuracy["mean"]:.1f} ± {100 * accuracy["sd"]:.1f} %'
+    best_baseline = max(baselines, key=_mean_grouped)
+    versus = []
+    for row in sorted(deep, key=lambda row: -_mean_grouped(row)):
+        difference = row.get('vs_best_baseline')
+        if difference and difference['low'] is not None:
+            versus.append(f'{figure(row)}, {100 * difference["mean"]:+.1f} points '
+                          f'[{100 * difference["low"]:+.1f}, {100 * difference["high"]:+.1f}] '
+                          f'over {difference["n"]} paired cells')
+    graded = {row['model']: row['schemes']['grouped'] for row in rows}
+    front = pareto_front([(graded[name]['train_s']['mean'], graded[name]['accuracy']['mean'])
+                          for name in graded])
+    by_cost = {(graded[name]['train_s']['mean'], graded[name]['accuracy']['mean']): name
+               for name in graded}
+    ladder = ', then '.join(f'{by_cost[point]} ({100 * point[1]:.1f} % for {point[0]:.0f} s)'
+                            for point in front)
+    ours, gpu = _cells('compare_converged'), _cells('compare_gpu')
+    shared = [key for key in sorted(set(ours) & set(gpu)) if 'hydra' not in key[0]]
+    baseline_cells = [key for key in shared if key[0] in BASELINES]
+    windows = sum(len(ours[key]['y_pred']) for key in baseline_cells)
+    alike = sum(int(np.sum(np.equal(ours[key]['y_pred'], gpu[key]['y_pred'])))
+                for key in baseline_cells)
+    on_both = [key for key in shared if key[0] not in BASELINES]
+    devices = '; '.join(f'{key[0]} seed {key[2]} fold {key[3]}: '
+                        f'{100 * gpu[key]["accuracy"]:.1f} % on the GPU, '
+                        f'{100 * ours[key]["accuracy"]:.1f} % here' for key in on_both)
+    status = ('Complete: every cell of every row.' if not incomplete else
+              '**Incomplete**: ' + ', '.join(incomplete) + ' cells.')
+    converged = ('every deep row converged (none marked `not converged`)' if not unconverged
+                 else 'not converged: ' + ', '.join(unconverged))
+    return (f'The main comparison (`python bench/bench_compare.py --grid compare_converged '
+            f'--recordings {per_texture.pop()} --windows {window} --cv grouped --folds {folds} '
+            f'--seeds {seeds} '
+            f'--epochs {settings["epochs"]} --early-stopping {settings["early_stopping"]} '
+            f'--profile {settings["profile"]} --scaling {settings["scaling"]} --device '
+            f'{_option(command, "--device")} --cpus {_option(command, "--cpus")} --models '
+            f'{_option(command, "--models")}`, outputs in '
+            "`bench/results/compare_converged/`): the GPU grid's recordings (the same "
+            f'{data["windows"]} windows of {window} samples from {data["recordings"]} '
+            'recordings, '
+            'the same SHA-256), grouped by recording, every model trained and scored on the '
+            f'same {expected} splits ({seeds} seeds x {folds} folds), the deep models for at '
+            f'most {settings["epochs"]} epochs with early stopping after '
+            f'{settings["early_stopping"]} epochs without improvement on held-out training '
+            f'recordings: {converged}. On {cores} CPU cores and no GPU, one thread per cell, '
+            f'{_option(command, "--cpus")} cells at a time: {cells} cells in {minutes:.0f} '
+            'min (load average '
+            f'{min(loads):.1f}-{max(loads):.1f}). {status}\n\n'
+            f'Against the best baseline, {figure(best_baseline)}, paired by seed and fold '
+            "(95 % interval, Student's t; the folds of one seed share training recordings, "
+            f'so the interval is if anything too narrow): {"; ".join(versus)}. Accuracy '
+            f'against training time per fold, the Pareto front: {ladder}.\n\n'
+            f'The same cells on two machines: the {len(baseline_cells)} baseline cells the GPU '
+            f"grid also ran on its cores (HYDRA's aside: those predate its kernel "
+            f'normalisation) predicted {alike} of their {windows} windows alike; the deep '
+            'cells both ran, trained on the GPU there and on a core here: ' + devices + '.\n\n'
+            + table(rows, expected) + '\n'
+            f'![accuracy against cost]({FIGURES}/compare_converged/cost.png)\n')

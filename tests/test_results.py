@@ -63,3 +63,26 @@ def test_a_comparison_missing_cells_is_rendered_as_incomplete(tmp_path, monkeypa
     assert '**Incomplete**' in text and 'Complete:' not in text
     assert f'window {dropped["window"]} lacks {dropped["model"]}' in text
     assert f'{halved["model"]} (' in text
+
+
+def test_the_main_comparison_names_rows_short_of_cells_or_not_converged(tmp_path, monkeypatch):
+    renderer = _renderer()
+    kept = sys.modules['results_common']
+    grid = tmp_path / 'compare_converged'
+    grid.mkdir()
+    summary = json.loads((kept.RESULTS / 'compare_converged' / 'summary.json').read_text())
+    run = json.loads((kept.RESULTS / 'compare_converged' / 'run.json').read_text())
+    short = next(row for row in summary['rows'] if row['model'] == 'minirocket')
+    short['schemes']['grouped']['cells'] -= 1
+    falling = next(row for row in summary['rows'] if row['model'] == 'cnn_3')
+    falling['not_converged'] = True
+    (grid / 'summary.json').write_text(json.dumps(summary))
+    (grid / 'run.json').write_text(json.dumps(run))
+    monkeypatch.setattr(kept, 'RESULTS', tmp_path)
+    text = renderer.compare_converged()
+    assert '**Incomplete**: minirocket (14 of 15) cells.' in text
+    assert 'not converged: cnn_3' in text and 'Complete:' not in text
+    run['calls'].append({**run['calls'][0], 'machine': {'cpu_count': 16, 'gpu': None}})
+    (grid / 'run.json').write_text(json.dumps(run))
+    with pytest.raises(ValueError, match='mixes'):
+        renderer.compare_converged()

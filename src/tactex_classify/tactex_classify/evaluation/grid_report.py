@@ -279,6 +279,7 @@ def _plot_cost(path: Path, rows: list[dict]) -> None:
     for axis, label in zip(axes, ('training time per fold (s)', 'latency of one window (ms)'),
                            strict=True):
         axis.set_xscale('log')
+        axis.margins(x=0.15, y=0.08)  # room for the labels of the points at the edges
         axis.set_xlabel(label)
         axis.set_ylabel('accuracy, grouped by recording (%)')
         axis.grid(alpha=0.3)
