@@ -260,3 +260,13 @@ def test_the_pareto_front_keeps_the_points_no_other_beats_in_cost_and_accuracy()
     points = [(10.0, 80.0), (1.0, 50.0), (5.0, 40.0), (2.0, 70.0), (20.0, 75.0), (1.0, 45.0)]
     assert pareto_front(points) == [(1.0, 50.0), (2.0, 70.0), (10.0, 80.0)]
     assert pareto_front([]) == []
+
+
+def test_a_grid_run_grouped_only_has_no_leaky_columns_nor_words(tmp_path):
+    results = [fake_result('cnn_1', 'grouped', fold, 0.7) for fold in (1, 2)]
+    text = table(summarise(results, {64: ['a', 'b']}))
+    assert 'honest' in text and 'leaky' not in text
+    manifest = {'settings': {'folds': 2, 'epochs': 4, 'early_stopping': 0},
+                'data': {'64': {'classes': ['a', 'b'], 'windows': 20, 'recordings': 4}}}
+    report = write_report(tmp_path, results, manifest).read_text(encoding='utf-8')
+    assert 'grouped by recording (honest);' in report and 'leaky' not in report

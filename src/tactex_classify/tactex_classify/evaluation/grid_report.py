@@ -141,10 +141,12 @@ def table(rows: list[dict], expected_cells: int | None = None) -> str:
     """The markdown comparison table (percentages as mean ± sd over cells).
 
     `expected_cells` is the cells a row has when its grid is complete (seeds x folds x
-    schemes); the last column then shows how far each row is.
+    schemes); the last column then shows how far each row is. A scheme no row ran has no
+    columns.
     """
+    schemes = _schemes_run(rows)
     head = ['window', 'model', 'epochs', 'training accuracy']
-    for scheme in SCHEMES:
+    for scheme in schemes:
         tag = 'honest' if scheme == 'grouped' else 'leaky'
         head += [f'accuracy ({tag})', f'precision ({tag})', f'recall ({tag})']
     head += ['training s per fold', 'latency ms', 'cells',
@@ -156,7 +158,7 @@ def table(rows: list[dict], expected_cells: int | None = None) -> str:
                                               else '')
         cells = [str(row['window']), label, _epochs(row),
                  _percent(grouped.get('train_accuracy'))]
-        for scheme in SCHEMES:
+        for scheme in schemes:
             values = row['schemes'].get(scheme, {})
             cells += [_percent(values.get(key)) for key in
                       ('accuracy', 'macro_precision', 'macro_recall')]
@@ -169,6 +171,12 @@ def table(rows: list[dict], expected_cells: int | None = None) -> str:
                   _versus(row.get('vs_best_baseline'))]
         lines.append('| ' + ' | '.join(cells) + ' |')
     return '\n'.join(lines) + '\n'
+
+
+def _schemes_run(rows: list[dict]) -> list[str]:
+    """The schemes some row ran, in the table's order (all of them for no rows)."""
+    run = [scheme for scheme in SCHEMES if any(scheme in row['schemes'] for row in rows)]
+    return run or list(SCHEMES)
 
 
 def _versus(difference: dict | None) -> str:
@@ -198,10 +206,12 @@ def write_report(folder: Path, results: list[dict], manifest: dict, *,
     settings = manifest['settings']
     data = ', '.join(f'{window}: {d["windows"]} windows of {d["recordings"]} recordings'
                      for window, d in sorted(manifest['data'].items(), key=lambda i: int(i[0])))
+    described = {'grouped': 'grouped by recording (honest)',
+                 'stratified': 'stratified by window (leaky: overlapping windows of one '
+                               'recording on both sides)'}
+    schemes = ' and '.join(described[scheme] for scheme in _schemes_run(rows))
     lines = ['# Model comparison', '',
-             f'Data ({data}); {settings["folds"]}-fold cross-validation, grouped by recording '
-             '(honest) and stratified by window (leaky: overlapping windows of one recording '
-             'on both sides); at most '
+             f'Data ({data}); {settings["folds"]}-fold cross-validation, {schemes}; at most '
              f'{settings["epochs"]} epochs' + (f', early stopping after '
                                                 f'{settings["early_stopping"]} epochs without '
                                                 'improvement on held-out recordings'
