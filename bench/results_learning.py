@@ -567,6 +567,20 @@ def compare_converged() -> str:
     ladder = ', then '.join(f'{by_cost[point]} ({100 * point[1]:.1f} % for {point[0]:.0f} s)'
                             for point in front)
     ours, gpu = _cells('compare_converged'), _cells('compare_gpu')
+    splits = {}
+    for model, _, seed, fold, _ in ours:
+        splits.setdefault(model, set()).add((seed, fold))
+    common = set.intersection(*splits.values()) if splits else set()
+    alike_splits = ''
+    if common and len(common) < expected:
+        seeds_common = sorted({seed for seed, _ in common})
+        means = sorted(((np.mean([cell['accuracy'] for key, cell in ours.items()
+                                  if key[0] == model and (key[2], key[3]) in common]), model)
+                        for model in splits), reverse=True)
+        alike_splits = (f' On the {len(common)} splits every row has (seed(s) '
+                        f'{", ".join(map(str, seeds_common))}), so that the short rows are '
+                        'ranked on the same recordings: ' + ', '.join(
+                            f'{model} {100 * mean:.1f} %' for mean, model in means) + '.')
     shared = [key for key in sorted(set(ours) & set(gpu)) if 'hydra' not in key[0]]
     baseline_cells = [key for key in shared if key[0] in BASELINES]
     windows = sum(len(ours[key]['y_pred']) for key in baseline_cells)
@@ -586,7 +600,7 @@ def compare_converged() -> str:
             f'--epochs {settings["epochs"]} --early-stopping {settings["early_stopping"]} '
             f'--profile {settings["profile"]} --scaling {settings["scaling"]} --device '
             f'{_option(command, "--device")} --cpus {_option(command, "--cpus")} --models '
-            f'{_option(command, "--models")}`, outputs in '
+            f'{",".join(row["model"] for row in rows)}`, in {len(grid)} call(s), outputs in '
             "`bench/results/compare_converged/`): the GPU grid's recordings (the same "
             f'{data["windows"]} windows of {window} samples from {data["recordings"]} '
             'recordings, '
@@ -601,7 +615,7 @@ def compare_converged() -> str:
             f'Against the best baseline, {figure(best_baseline)}, paired by seed and fold '
             "(95 % interval, Student's t; the folds of one seed share training recordings, "
             f'so the interval is if anything too narrow): {"; ".join(versus)}. Accuracy '
-            f'against training time per fold, the Pareto front: {ladder}.\n\n'
+            f'against training time per fold, the Pareto front: {ladder}.{alike_splits}\n\n'
             f'The same cells on two machines: the {len(baseline_cells)} baseline cells the GPU '
             f"grid also ran on its cores (HYDRA's aside: those predate its kernel "
             f'normalisation) predicted {alike} of their {windows} windows alike; the deep '
