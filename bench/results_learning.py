@@ -449,8 +449,7 @@ def compare_gpu() -> str:
         f'{_option(step["command"], "--models").count(",") + 1} models, {shared} cells per GPU'
         for step, shared in zip(grid, sharing, strict=True))
     stopped = all(step['returncode'] not in (0, None) for step in grid)
-    cells = [kept_json(str(path.relative_to(RESULTS))) for path
-             in sorted((RESULTS / 'compare_gpu' / 'cells').rglob('*.json'))]
+    cells = list(_cells('compare_gpu').values())
     deep = [cell for cell in cells if cell['cell']['model'] not in BASELINES]
     pace = np.median([cell['epochs_per_s'] for cell in deep])
     epochs = np.mean([cell['epochs_run'] for cell in deep])
