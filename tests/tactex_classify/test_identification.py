@@ -88,7 +88,8 @@ def test_information_gain_matches_enumeration_for_three_textures_and_two_movemen
     labels = np.array([0, 0, 1, 1, 1, 2, 2])
     movements = [MovementEvidence('slow', 2.0, gaussian_posteriors(labels, 1.5, rng, 3), labels),
                  MovementEvidence('fast', 1.0, gaussian_posteriors(labels, 0.7, rng, 3), labels)]
-    for tempering, prior in ((1.0, [1 / 3] * 3), (0.6, [0.7, 0.2, 0.1]), (2.5, [0.05, 0.05, 0.9])):
+    for tempering, prior in ((1.0, [1 / 3] * 3), (0.6, [0.7, 0.2, 0.1]), (2.5, [0.05, 0.05, 0.9]),
+                             (1.0, [1e-250, 1e-6, 1 - 1e-6])):
         table = EvidenceTable(names(3), movements, tempering)
         assert table.information_gain(np.log(prior)) == pytest.approx(
             brute_force_gain(3, movements, tempering, prior), abs=1e-12)
