@@ -179,8 +179,8 @@ class EvidenceTable:
 
         Textures whose posterior, together, is below NEGLIGIBLE_MASS are left out of the
         expectation (their sweeps would be drawn that rarely): the gain moves by at most
-        that mass times log(textures) nats, and choosing costs far less once the belief
-        has narrowed.
+        that mass times log(textures) nats, and the row-by-row pass costs far less once
+        the belief has narrowed.
         """
         log_posterior = normalised(np.asarray(log_posterior, dtype=float))
         posterior = np.exp(log_posterior)
@@ -190,18 +190,18 @@ class EvidenceTable:
         discounted = (repeats is not None and self.repeat_discount > 0.0
                       and np.any(np.asarray(repeats) > 0))
         if self._by_products and not discounted:
+            rows = slice(None)
             drawn = posterior[self._label_of] * self._share_of * kept[self._label_of]
             after = self._entropy_after_by_products(log_posterior)
-            expected = np.bincount(self._movement_of, weights=drawn * after,
-                                   minlength=len(self.names))
-            return entropy(log_posterior) - expected
-        rows = kept[self._label_of] if not kept.all() else slice(None)
-        drawn = posterior[self._label_of[rows]] * self._share_of[rows]
-        terms = self._stacked[rows]
-        if discounted:
-            terms = terms * self.repeat_weights(repeats)[self._movement_of[rows]][:, None]
-        expected = np.bincount(self._movement_of[rows], weights=drawn * updated_entropy(
-            log_posterior, terms), minlength=len(self.names))
+        else:
+            rows = kept[self._label_of] if not kept.all() else slice(None)
+            drawn = posterior[self._label_of[rows]] * self._share_of[rows]
+            terms = self._stacked[rows]
+            if discounted:
+                terms = terms * self.repeat_weights(repeats)[self._movement_of[rows]][:, None]
+            after = updated_entropy(log_posterior, terms)
+        expected = np.bincount(self._movement_of[rows], weights=drawn * after,
+                               minlength=len(self.names))
         return entropy(log_posterior) - expected
 
     def _entropy_after_by_products(self, log_posterior: np.ndarray) -> np.ndarray:
