@@ -86,7 +86,7 @@ def _wrapped(text: str) -> str:
     paragraphs = text.strip('\n').split('\n\n')
     return '\n\n'.join(part if part.startswith('|') else textwrap.fill(
         part, WIDTH, subsequent_indent='  ' if part.startswith('- ') else '',
-        break_on_hyphens=False) for part in paragraphs) + '\n'
+        break_on_hyphens=False, break_long_words=False) for part in paragraphs) + '\n'
 
 
 def render() -> dict[str, str]:

@@ -522,6 +522,11 @@ def _cells(name: str) -> dict[tuple, dict]:
     return cells
 
 
+def _still_falling(model: str, cells: dict) -> int:
+    """How many of a model's kept cells ended with the training loss still falling."""
+    return sum(bool(cell.get('still_falling')) for key, cell in cells.items() if key[0] == model)
+
+
 def compare_converged() -> str:
     """The main comparison: deep models trained to convergence beside every baseline, paired."""
     from tactex_classify.evaluation.grid_report import pareto_front, table
@@ -545,30 +550,42 @@ def compare_converged() -> str:
     baselines = [row for row in rows if row['model'] in BASELINES]
     incomplete = [f'{row["model"]} ({row["schemes"]["grouped"]["cells"]} of {expected})'
                   for row in rows if row['schemes']['grouped']['cells'] < expected]
-    unconverged = [row['model'] for row in deep if row['not_converged']]
+    unconverged = [row for row in deep if row['not_converged']]
+    ranked = [row for row in rows if not row['not_converged']]
 
     def figure(row: dict) -> str:
         accuracy = row['schemes']['grouped']['accuracy']
         return f'{row["model"]} {100 * accuracy["mean"]:.1f} ± {100 * accuracy["sd"]:.1f} %'
     best_baseline = max(baselines, key=_mean_grouped)
-    versus = []
-    for row in sorted(deep, key=lambda row: -_mean_grouped(row)):
+    ours, gpu = _cells('compare_converged'), _cells('compare_gpu')
+
+    def versus(row: dict) -> str:
         difference = row.get('vs_best_baseline')
-        if difference and difference['low'] is not None:
-            versus.append(f'{figure(row)}, {100 * difference["mean"]:+.1f} points '
-                          f'[{100 * difference["low"]:+.1f}, {100 * difference["high"]:+.1f}] '
-                          f'over {difference["n"]} paired cells')
-    graded = {row['model']: row['schemes']['grouped'] for row in rows}
+        if not difference or difference['low'] is None:
+            return figure(row)
+        return (f'{figure(row)}, {100 * difference["mean"]:+.1f} points '
+                f'[{100 * difference["low"]:+.1f}, {100 * difference["high"]:+.1f}] '
+                f'over {difference["n"]} paired cells')
+    ranked_versus = '; '.join(versus(row) for row in sorted(
+        (row for row in deep if not row['not_converged']), key=lambda row: -_mean_grouped(row)))
+    unranked = ''
+    if unconverged:
+        unranked = (' Not ranked, because the training loss was still falling at the last '
+                    'epoch in some cells: ' + '; '.join(
+                        f'{versus(row)} ({_still_falling(row["model"], ours)} of '
+                        f'{row["schemes"]["grouped"]["cells"]} cells still falling)'
+                        for row in unconverged) + '.')
+    graded = {row['model']: row['schemes']['grouped'] for row in ranked}
     front = pareto_front([(graded[name]['train_s']['mean'], graded[name]['accuracy']['mean'])
                           for name in graded])
     by_cost = {(graded[name]['train_s']['mean'], graded[name]['accuracy']['mean']): name
                for name in graded}
     ladder = ', then '.join(f'{by_cost[point]} ({100 * point[1]:.1f} % for {point[0]:.0f} s)'
                             for point in front)
-    ours, gpu = _cells('compare_converged'), _cells('compare_gpu')
     splits = {}
     for model, _, seed, fold, _ in ours:
-        splits.setdefault(model, set()).add((seed, fold))
+        if model in graded:
+            splits.setdefault(model, set()).add((seed, fold))
     common = set.intersection(*splits.values()) if splits else set()
     alike_splits = ''
     if common and len(common) < expected:
@@ -592,7 +609,7 @@ def compare_converged() -> str:
     status = ('Complete: every cell of every row.' if not incomplete else
               '**Incomplete**: ' + ', '.join(incomplete) + ' cells.')
     converged = ('every deep row converged (none marked `not converged`)' if not unconverged
-                 else 'not converged: ' + ', '.join(unconverged))
+                 else 'not converged: ' + ', '.join(row['model'] for row in unconverged))
     return (f'The main comparison (`python bench/bench_compare.py --grid compare_converged '
             f'--recordings {per_texture.pop()} --windows {window} --cv grouped --folds {folds} '
             f'--seeds {seeds} '
@@ -613,8 +630,9 @@ def compare_converged() -> str:
             f'{min(loads):.1f}-{max(loads):.1f}). {status}\n\n'
             f'Against the best baseline, {figure(best_baseline)}, paired by seed and fold '
             "(95 % interval, Student's t; the folds of one seed share training recordings, "
-            f'so the interval is if anything too narrow): {"; ".join(versus)}. Accuracy '
-            f'against training time per fold, the Pareto front: {ladder}.{alike_splits}\n\n'
+            f'so the interval is if anything too narrow): {ranked_versus}.{unranked} Accuracy '
+            f'against training time per fold, the Pareto front of the ranked rows: '
+            f'{ladder}.{alike_splits}\n\n'
             f'The same cells on two machines: the {len(baseline_cells)} baseline cells the GPU '
             f"grid also ran on its cores (HYDRA's aside: those predate its kernel "
             f'normalisation) predicted {alike} of their {windows} windows alike; the deep '

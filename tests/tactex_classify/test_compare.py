@@ -15,7 +15,13 @@ import numpy as np
 import pytest
 
 from tactex_classify.data.dataset import Dataset
-from tactex_classify.evaluation.grid_report import pareto_front, summarise, table, write_report
+from tactex_classify.evaluation.grid_report import (
+    cost_front,
+    pareto_front,
+    summarise,
+    table,
+    write_report,
+)
 from tactex_classify.evaluation.model_grid import (
     Cell,
     dataset_digest,
@@ -173,6 +179,8 @@ def test_a_row_whose_loss_was_still_falling_is_marked_and_ranked_after_converged
     assert [(row['model'], row['not_converged']) for row in rows] == [
         ('cnn_3', False), ('cnn_1', True)]
     assert '| 64 | cnn_1 (not converged) |' in table(rows)
+    front = cost_front(rows, 'train_s')  # cnn_1 is more accurate, yet never on the front
+    assert [accuracy for _, accuracy in front] == [pytest.approx(60.0)]
 
 
 def test_a_training_knows_whether_its_loss_was_still_falling():

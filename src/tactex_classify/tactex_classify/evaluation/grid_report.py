@@ -263,6 +263,18 @@ def pareto_front(points: list[tuple[float, float]]) -> list[tuple[float, float]]
     return front
 
 
+def cost_front(rows: list[dict], cost: str) -> list[tuple[float, float]]:
+    """The Pareto front of (mean `cost`, grouped accuracy %) over the rows that converged.
+
+    A row marked `not_converged` is never ranked, so it is left off the front.
+    """
+    points = [(row['schemes']['grouped'][cost]['mean'],
+               100 * row['schemes']['grouped']['accuracy']['mean']) for row in rows
+              if row['schemes'].get('grouped', {}).get(cost)
+              and row['schemes']['grouped'].get('accuracy') and not row.get('not_converged')]
+    return pareto_front(points)
+
+
 def _plot_cost(path: Path, rows: list[dict]) -> None:
     plt, figure, axes = plotting.figure(1, 2)
     markers = dict(zip(sorted({row['window'] for row in rows}), 'os^Dv', strict=False))
@@ -271,17 +283,17 @@ def _plot_cost(path: Path, rows: list[dict]) -> None:
         if not grouped.get('train_s') or not grouped.get('accuracy'):
             continue
         accuracy = 100 * grouped['accuracy']['mean']
+        colour = 'C3' if row['model'] in BASELINES else 'C0'
         for axis, key in zip(axes, ('train_s', 'latency_ms'), strict=True):
             axis.scatter(grouped[key]['mean'], accuracy, marker=markers[row['window']],
-                         color='C3' if row['model'] in BASELINES else 'C0')
-            axis.annotate(f'{row["model"]} {row["window"]}', (grouped[key]['mean'], accuracy),
-                          fontsize=6, xytext=(3, 2), textcoords='offset points')
+                         facecolors='none' if row.get('not_converged') else colour,
+                         edgecolors=colour)
+            axis.annotate(f'{row["model"]} {row["window"]}'
+                          + (' (not converged)' if row.get('not_converged') else ''),
+                          (grouped[key]['mean'], accuracy), fontsize=6, xytext=(3, 2),
+                          textcoords='offset points')
     for axis, key in zip(axes, ('train_s', 'latency_ms'), strict=True):
-        points = [(row['schemes']['grouped'][key]['mean'],
-                   100 * row['schemes']['grouped']['accuracy']['mean']) for row in rows
-                  if row['schemes'].get('grouped', {}).get(key)
-                  and row['schemes']['grouped'].get('accuracy')]
-        front = pareto_front(points)
+        front = cost_front(rows, key)
         if len(front) > 1:
             axis.step(*zip(*front, strict=True), where='post', color='k', alpha=0.5,
                       linewidth=1, label='Pareto front')
@@ -294,5 +306,6 @@ def _plot_cost(path: Path, rows: list[dict]) -> None:
         axis.set_ylabel('accuracy, grouped by recording (%)')
         axis.grid(alpha=0.3)
     axes[0].set_title('marker: window (' + ', '.join(
-        f'{m} {w}' for w, m in markers.items()) + '); red: baselines', fontsize=8)
+        f'{m} {w}' for w, m in markers.items()) + '); red: baselines; hollow: not converged, '
+        'off the front', fontsize=8)
     plotting.save(plt, figure, path)
