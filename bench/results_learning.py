@@ -529,7 +529,7 @@ def _still_falling(model: str, cells: dict) -> int:
 
 def compare_converged() -> str:
     """The main comparison: deep models trained to convergence beside every baseline, paired."""
-    from tactex_classify.evaluation.grid_report import pareto_front, table
+    from tactex_classify.evaluation.grid_report import cost_front, table
     from tactex_classify.models.registry import BASELINES
     summary, run, grid = _kept_grid('compare_converged')
     settings, command = summary['settings'], grid[-1]['command']
@@ -551,7 +551,7 @@ def compare_converged() -> str:
     incomplete = [f'{row["model"]} ({row["schemes"]["grouped"]["cells"]} of {expected})'
                   for row in rows if row['schemes']['grouped']['cells'] < expected]
     unconverged = [row for row in deep if row['not_converged']]
-    ranked = [row for row in rows if not row['not_converged']]
+    ranked = {row['model'] for row in rows if not row['not_converged']}
 
     def figure(row: dict) -> str:
         accuracy = row['schemes']['grouped']['accuracy']
@@ -567,7 +567,7 @@ def compare_converged() -> str:
                 f'[{100 * difference["low"]:+.1f}, {100 * difference["high"]:+.1f}] '
                 f'over {difference["n"]} paired cells')
     ranked_versus = '; '.join(versus(row) for row in sorted(
-        (row for row in deep if not row['not_converged']), key=lambda row: -_mean_grouped(row)))
+        (row for row in deep if row['model'] in ranked), key=lambda row: -_mean_grouped(row)))
     unranked = ''
     if unconverged:
         unranked = (' Not ranked, because the training loss was still falling at the last '
@@ -575,16 +575,13 @@ def compare_converged() -> str:
                         f'{versus(row)} ({_still_falling(row["model"], ours)} of '
                         f'{row["schemes"]["grouped"]["cells"]} cells still falling)'
                         for row in unconverged) + '.')
-    graded = {row['model']: row['schemes']['grouped'] for row in ranked}
-    front = pareto_front([(graded[name]['train_s']['mean'], graded[name]['accuracy']['mean'])
-                          for name in graded])
-    by_cost = {(graded[name]['train_s']['mean'], graded[name]['accuracy']['mean']): name
-               for name in graded}
-    ladder = ', then '.join(f'{by_cost[point]} ({100 * point[1]:.1f} % for {point[0]:.0f} s)'
-                            for point in front)
+    by_cost = {(row['schemes']['grouped']['train_s']['mean'],
+                100 * row['schemes']['grouped']['accuracy']['mean']): row['model'] for row in rows}
+    ladder = ', then '.join(f'{by_cost[point]} ({point[1]:.1f} % for {point[0]:.0f} s)'
+                            for point in cost_front(rows, 'train_s'))
     splits = {}
     for model, _, seed, fold, _ in ours:
-        if model in graded:
+        if model in ranked:
             splits.setdefault(model, set()).add((seed, fold))
     common = set.intersection(*splits.values()) if splits else set()
     alike_splits = ''
