@@ -301,7 +301,7 @@ ROSDEP_KEYS = {'numpy': 'python3-numpy', 'scipy': 'python3-scipy', 'sklearn': 'p
                'onnxruntime': 'python3-onnxruntime-pip', 'skl2onnx': 'python3-skl2onnx-pip',
                'tqdm': 'python3-tqdm', 'yaml': 'python3-yaml',
                'foxglove': 'python3-foxglove-sdk-pip', 'mcap': 'python3-mcap-pip',
-               'lz4': 'python3-lz4'}
+               'lz4': 'python3-lz4', 'adjustText': 'python3-adjusttext-pip'}
 STANDARD_LIBRARY = sys.stdlib_module_names | {'__future__'}
 
 

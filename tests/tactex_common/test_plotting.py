@@ -202,3 +202,35 @@ def test_a_legend_of_many_entries_takes_columns_rather_than_run_off_the_figure(w
     legend = saved['legends'][0]
     assert saved['figure'].contains(legend.x0, legend.y0)
     assert saved['figure'].contains(legend.x1, legend.y1)
+
+
+def label_boxes(xs, ys, names):
+    """The display boxes of `names` labelling (xs, ys) on a house panel, after label_points."""
+    plt, figure, axes = plotting.figure()
+    axes.scatter(xs, ys)
+    axes.set_xscale('log')
+    plotting.label_points(axes, xs, ys, names)
+    renderer = figure.canvas.get_renderer()
+    boxes = [text.get_window_extent(renderer) for text in axes.texts]
+    plt.close(figure)
+    return boxes
+
+
+def test_point_labels_that_would_lie_on_each_other_are_moved_apart_the_same_way_each_time():
+    # The main comparison's cost against accuracy: rows within a point of accuracy and a
+    # few seconds of cost, whose labels written at their points would cover each other.
+    rows = {'extratrees 128': (1.6, 27.3), 'minirocket 128': (12.0, 35.8),
+            'hydra 128': (17.0, 20.6), 'multirocket 128': (58.0, 41.9),
+            'multirocket_hydra 128': (72.0, 41.3), 'cnn_attention 128': (72.0, 42.7),
+            'self_attention 128': (121.0, 46.1), 'cnn_3 128': (121.0, 62.7),
+            'cnn_1 128 (not converged)': (102.0, 62.0), 'resnet 128': (337.0, 65.8),
+            'inception_time 128': (715.0, 71.0)}
+    names = list(rows)
+    xs, ys = zip(*rows.values(), strict=True)
+    boxes = label_boxes(xs, ys, names)
+    assert len(boxes) == len(names)
+    for i, box in enumerate(boxes):
+        for other in boxes[i + 1:]:
+            assert not box.overlaps(other), 'two point labels lie on each other'
+    again = label_boxes(xs, ys, names)
+    assert [tuple(box.bounds) for box in again] == [tuple(box.bounds) for box in boxes]

@@ -24,6 +24,9 @@ CONFUSION_MARGIN_IN = 2.0
 LEGEND_FONTSIZE = 7
 LEGEND_ROWS = 18  # entries in one legend column before the next column starts
 FOOTNOTE_IN = 0.25  # the strip under the panels a footnote takes
+# Rounds of adjustText's repulsion that move point labels apart: a fixed count (not its
+# default one-second budget), so a figure comes out the same on a fast or a busy machine.
+LABEL_ITERATIONS = 300
 
 
 def panel_in(classes: int | None = None) -> tuple[float, float]:
@@ -66,6 +69,20 @@ def legend_outside(axes, source=None) -> None:
         axes.legend(handles, labels, loc='upper left', bbox_to_anchor=(1.02, 1.0),
                     borderaxespad=0.0, fontsize=LEGEND_FONTSIZE,
                     ncol=math.ceil(len(handles) / LEGEND_ROWS))
+
+
+def label_points(axes, xs, ys, labels, fontsize: float = 6) -> None:
+    """Name each point (xs[i], ys[i]) of `axes` with labels[i], moved apart to be legible.
+
+    adjustText pushes the labels off each other and off the points, and draws a thin line
+    from a label that moved to its point. Call it once the axes' scales and limits are final.
+    """
+    from adjustText import adjust_text
+    texts = [axes.text(x, y, label, fontsize=fontsize)
+             for x, y, label in zip(xs, ys, labels, strict=True)]
+    adjust_text(texts, x=list(xs), y=list(ys), ax=axes, iter_lim=LABEL_ITERATIONS,
+                force_text=(0.3, 0.6), force_static=(0.2, 0.4), expand=(1.1, 1.5),
+                time_lim=None, arrowprops={'arrowstyle': '-', 'color': '0.5', 'lw': 0.5})
 
 
 def save(plt, figure, path: Path, footnote: str | None = None) -> None:

@@ -69,11 +69,12 @@ def probing(path: Path, rows: list[dict], data: str) -> None:
                              (axes[1], 'position_mean_mm', 'mean position error (mm)')):
         for row in rows:
             axis.scatter(row['probing_s'], row[key])
-            axis.annotate(f'{row["step_mm"]:g} mm step, {row["descent_mm_s"]:g} mm/s',
-                          (row['probing_s'], row[key]), fontsize=7, xytext=(4, 3),
-                          textcoords='offset points')
         axis.set(xlabel='total probing time of the line (simulated s)', ylabel=label)
         axis.grid(alpha=0.3)
+        plotting.label_points(axis, [row['probing_s'] for row in rows],
+                              [row[key] for row in rows],
+                              [f'{row["step_mm"]:g} mm step, {row["descent_mm_s"]:g} mm/s'
+                               for row in rows], fontsize=7)
     plotting.save(plt, figure, path, footnote=f'data: {data}')
 
 

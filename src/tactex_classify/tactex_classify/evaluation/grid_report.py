@@ -278,20 +278,16 @@ def cost_front(rows: list[dict], cost: str) -> list[tuple[float, float]]:
 def _plot_cost(path: Path, rows: list[dict]) -> None:
     plt, figure, axes = plotting.figure(1, 2)
     markers = dict(zip(sorted({row['window'] for row in rows}), 'os^Dv', strict=False))
-    for row in rows:
-        grouped = row['schemes'].get('grouped', {})
-        if not grouped.get('train_s') or not grouped.get('accuracy'):
-            continue
-        accuracy = 100 * grouped['accuracy']['mean']
+    plotted = [row for row in rows if row['schemes'].get('grouped', {}).get('train_s')
+               and row['schemes']['grouped'].get('accuracy')]
+    for row in plotted:
+        grouped = row['schemes']['grouped']
         colour = 'C3' if row['model'] in BASELINES else 'C0'
         for axis, key in zip(axes, ('train_s', 'latency_ms'), strict=True):
-            axis.scatter(grouped[key]['mean'], accuracy, marker=markers[row['window']],
+            axis.scatter(grouped[key]['mean'], 100 * grouped['accuracy']['mean'],
+                         marker=markers[row['window']],
                          facecolors='none' if row.get('not_converged') else colour,
                          edgecolors=colour)
-            axis.annotate(f'{row["model"]} {row["window"]}'
-                          + (' (not converged)' if row.get('not_converged') else ''),
-                          (grouped[key]['mean'], accuracy), fontsize=6, xytext=(3, 2),
-                          textcoords='offset points')
     for axis, key in zip(axes, ('train_s', 'latency_ms'), strict=True):
         front = cost_front(rows, key)
         if len(front) > 1:
@@ -305,6 +301,12 @@ def _plot_cost(path: Path, rows: list[dict]) -> None:
         axis.set_xlabel(label)
         axis.set_ylabel('accuracy, grouped by recording (%)')
         axis.grid(alpha=0.3)
+    labels = [f'{row["model"]} {row["window"]}'
+              + (' (not converged)' if row.get('not_converged') else '') for row in plotted]
+    accuracies = [100 * row['schemes']['grouped']['accuracy']['mean'] for row in plotted]
+    for axis, key in zip(axes, ('train_s', 'latency_ms'), strict=True):
+        plotting.label_points(axis, [row['schemes']['grouped'][key]['mean'] for row in plotted],
+                              accuracies, labels)
     axes[0].set_title('marker: window (' + ', '.join(
         f'{m} {w}' for w, m in markers.items()) + '); red: baselines; hollow: not converged, '
         'off the front', fontsize=8)
