@@ -73,13 +73,14 @@ def plot(summary: dict, path: Path) -> None:
 
     figure, axes = plt.subplots(figsize=(8, 4.5))
     for model in summary['models']:
-        baseline = model in BASELINES  # dashed: the deep models are the solid lines
+        baseline = model in BASELINES  # dashed squares: the deep models are solid circles
         points = [(n, summary['points'][f'{model}@{n}']) for n in summary['sizes']
                   if f'{model}@{n}' in summary['points']]
         if points:
             axes.errorbar([n for n, _ in points],
                           [100 * np.mean(p['accuracy']) for _, p in points],
-                          yerr=[100 * np.std(p['accuracy']) for _, p in points], marker='o',
+                          yerr=[100 * np.std(p['accuracy']) for _, p in points],
+                          marker='s' if baseline else 'o',
                           capsize=3, linestyle='--' if baseline else '-',
                           label=f'{model} (baseline)' if baseline else model)
     axes.set_xscale('log')
