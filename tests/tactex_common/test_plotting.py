@@ -9,6 +9,7 @@ figure. Each plotting function of the workspace is called here on tiny inputs.
 """
 
 from pathlib import Path
+import warnings
 
 from matplotlib.figure import Figure
 import numpy as np
@@ -234,3 +235,11 @@ def test_point_labels_that_would_lie_on_each_other_are_moved_apart_the_same_way_
             assert not box.overlaps(other), 'two point labels lie on each other'
     again = label_boxes(xs, ys, names)
     assert [tuple(box.bounds) for box in again] == [tuple(box.bounds) for box in boxes]
+
+
+def test_a_point_that_is_not_drawn_gets_no_label():
+    with warnings.catch_warnings():
+        warnings.simplefilter('error')
+        boxes = label_boxes([1.0, 2.0, 3.0, 4.0], [float('nan'), 3.0, float('inf'), 5.0],
+                            ['lost', 'kept', 'off the chart', 'also kept'])
+    assert len(boxes) == 2

@@ -76,11 +76,14 @@ def label_points(axes, xs, ys, labels, fontsize: float = 6) -> None:
 
     adjustText pushes the labels off each other and off the points, and draws a thin line
     from a label that moved to its point. Call it once the axes' scales and limits are final.
+    A point matplotlib does not draw (NaN or infinite) gets no label.
     """
     from adjustText import adjust_text
-    texts = [axes.text(x, y, label, fontsize=fontsize)
-             for x, y, label in zip(xs, ys, labels, strict=True)]
-    adjust_text(texts, x=list(xs), y=list(ys), ax=axes, iter_lim=LABEL_ITERATIONS,
+    drawn = [(x, y, label) for x, y, label in zip(xs, ys, labels, strict=True)
+             if math.isfinite(x) and math.isfinite(y)]
+    texts = [axes.text(x, y, label, fontsize=fontsize) for x, y, label in drawn]
+    adjust_text(texts, x=[x for x, _, _ in drawn], y=[y for _, y, _ in drawn], ax=axes,
+                iter_lim=LABEL_ITERATIONS,
                 force_text=(0.3, 0.6), force_static=(0.2, 0.4), expand=(1.1, 1.5),
                 time_lim=None, arrowprops={'arrowstyle': '-', 'color': '0.5', 'lw': 0.5})
 
