@@ -150,6 +150,10 @@ def main() -> int:
                 'accuracy', 'median_contact_s', 'p90_contact_s', 'median_movements')},
             'offline_accuracy_after_budget': active['accuracy_after_k'][
                 min(args.budget_movements, len(active['accuracy_after_k'])) - 1],
+            'offline_first_three': {name: count for name, count in
+                                    active['first_three_movements'].items() if count},
+            'offline_sweep_accuracy': {name: row['sweep_accuracy'] for name, row in
+                                       offline_report['movements'].items()},
             'offline_episodes': offline_report['episodes'],
             'offline_folds': offline_report['settings']['folds'],
             'bundle': {key: json.loads((bundle / 'bundle.json').read_text()).get(key, 0.0)

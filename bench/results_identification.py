@@ -235,4 +235,18 @@ def _live_section(name: str) -> str:
         f'A live goal took a median {live["median_wall_s"]:.0f} s of wall time (the arm '
         'travels between sweeps). Movements the live goals ran: '
         + ', '.join(f'{movement} {count}' for movement, count in
-                    sorted(chosen.items(), key=lambda kv: -kv[1])) + '.\n')
+                    sorted(chosen.items(), key=lambda kv: -kv[1])) + '.'
+        + _offline_ranking(kept) + '\n')
+
+
+def _offline_ranking(kept: dict) -> str:
+    """What the replay chose first and how right each movement was on held-out sweeps."""
+    first, right = kept.get('offline_first_three'), kept.get('offline_sweep_accuracy')
+    if not first or not right:  # kept before the bench recorded them
+        return ''
+    return (" Offline, active's first three movements were "
+            + ', '.join(f'{name} {count}' for name, count in
+                        sorted(first.items(), key=lambda kv: -kv[1]))
+            + f' (of {sum(first.values())}); a single held-out sweep was right for '
+            + ', '.join(f'{name} {100 * share:.1f} %' for name, share in
+                        sorted(right.items(), key=lambda kv: -kv[1])) + '.')
