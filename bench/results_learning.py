@@ -529,7 +529,7 @@ def _still_falling(model: str, cells: dict) -> int:
 
 def compare_converged() -> str:
     """The main comparison: deep models trained to convergence beside every baseline, paired."""
-    from tactex_classify.evaluation.grid_report import cost_front, table
+    from tactex_classify.evaluation.grid_report import cost_front, cost_point, table
     from tactex_classify.models.registry import BASELINES
     summary, run, grid = _kept_grid('compare_converged')
     settings, command = summary['settings'], grid[-1]['command']
@@ -575,10 +575,9 @@ def compare_converged() -> str:
                         f'{versus(row)} ({_still_falling(row["model"], ours)} of '
                         f'{row["schemes"]["grouped"]["cells"]} cells still falling)'
                         for row in unconverged) + '.')
-    by_cost = {(row['schemes']['grouped']['train_s']['mean'],
-                100 * row['schemes']['grouped']['accuracy']['mean']): row['model'] for row in rows}
-    ladder = ', then '.join(f'{by_cost[point]} ({point[1]:.1f} % for {point[0]:.0f} s)'
-                            for point in cost_front(rows, 'train_s'))
+    ladder = ', then '.join(f'{row["model"]} ({accuracy:.1f} % for {seconds:.0f} s)'
+                            for row in cost_front(rows, 'train_s')
+                            for seconds, accuracy in [cost_point(row, 'train_s')])
     splits = {}
     for model, _, seed, fold, _ in ours:
         if model in ranked:

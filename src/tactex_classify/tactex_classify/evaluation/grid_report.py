@@ -12,6 +12,7 @@ finished, plus the epochs, the training time per fold and the latency of one win
 from __future__ import annotations
 
 from collections import defaultdict
+from collections.abc import Callable
 import json
 from pathlib import Path
 
@@ -254,25 +255,29 @@ def _plot_accuracy(path: Path, rows: list[dict]) -> None:
     plotting.save(plt, figure, path)
 
 
-def pareto_front(points: list[tuple[float, float]]) -> list[tuple[float, float]]:
-    """The (cost, accuracy) points no other point beats in both, cheapest first."""
-    front: list[tuple[float, float]] = []
-    for cost, accuracy in sorted(points, key=lambda p: (p[0], -p[1])):
-        if not front or accuracy > front[-1][1]:
-            front.append((cost, accuracy))
+def pareto_front(items: list, point: Callable = lambda item: item) -> list:
+    """The items whose (cost, accuracy) `point` no other item beats in both, cheapest first."""
+    front: list = []
+    for item in sorted(items, key=lambda item: (point(item)[0], -point(item)[1])):
+        if not front or point(item)[1] > point(front[-1])[1]:
+            front.append(item)
     return front
 
 
-def cost_front(rows: list[dict], cost: str) -> list[tuple[float, float]]:
-    """The Pareto front of (mean `cost`, grouped accuracy %) over the rows that converged.
+def cost_point(row: dict, cost: str) -> tuple[float, float]:
+    """A summary row's (mean `cost`, grouped accuracy %)."""
+    grouped = row['schemes']['grouped']
+    return grouped[cost]['mean'], 100 * grouped['accuracy']['mean']
+
+
+def cost_front(rows: list[dict], cost: str) -> list[dict]:
+    """The rows on the Pareto front of (mean `cost`, grouped accuracy %), cheapest first.
 
     A row marked `not_converged` is never ranked, so it is left off the front.
     """
-    points = [(row['schemes']['grouped'][cost]['mean'],
-               100 * row['schemes']['grouped']['accuracy']['mean']) for row in rows
-              if row['schemes'].get('grouped', {}).get(cost)
+    ranked = [row for row in rows if row['schemes'].get('grouped', {}).get(cost)
               and row['schemes']['grouped'].get('accuracy') and not row.get('not_converged')]
-    return pareto_front(points)
+    return pareto_front(ranked, lambda row: cost_point(row, cost))
 
 
 def _plot_cost(path: Path, rows: list[dict]) -> None:
@@ -289,7 +294,7 @@ def _plot_cost(path: Path, rows: list[dict]) -> None:
                          facecolors='none' if row.get('not_converged') else colour,
                          edgecolors=colour)
     for axis, key in zip(axes, ('train_s', 'latency_ms'), strict=True):
-        front = cost_front(rows, key)
+        front = [cost_point(row, key) for row in cost_front(rows, key)]
         if len(front) > 1:
             axis.step(*zip(*front, strict=True), where='post', color='k', alpha=0.5,
                       linewidth=1, label='Pareto front')
