@@ -13,7 +13,8 @@ distance from the reported point to the surface.
    point where the body's torque puts the contact) as the reference measured in the same
    run; the face alone turned to the extrapolated normal with refinement; and ours
    (locate with the tip, measure with the face) at several descent speeds, step sizes
-   and refinement counts. Table, and `bench/results/probe_accuracy_vs_time.png`.
+   and refinement counts. Table, and `bench/results/probe_accuracy_vs_time.png` drawn
+   from the points kept beside it (`--plot` redraws it without probing).
 2. Error budget of our default run: per contact, the normal error split into the
    orientation filter's (estimated face normal against the true face normal of the
    simulated body) and the compliance model's (the true face normal against the true
@@ -23,25 +24,25 @@ distance from the reported point to the surface.
 3. The default run again on the texture scene (the texture effect's vibration fools
    the filter; the gravity cross-check takes over).
 
-Run: `python bench/bench_probe.py` (about 15 minutes on one core).
+Run: `python bench/bench_probe.py` (a few minutes on one core; `--plot` redraws the figure
+from the kept points).
 """
 
 from __future__ import annotations
 
+import argparse
 import dataclasses
+import json
 import math
 from pathlib import Path
 import sys
 import time
 
-import matplotlib
+import numpy as np
+from transforms3d.quaternions import quat2mat
 
-matplotlib.use('Agg')
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from transforms3d.quaternions import quat2mat  # noqa: E402
-
-from tactex_probe.closed_loop import (  # noqa: E402
+from tactex_common import plotting
+from tactex_probe.closed_loop import (
     nearest_surface_point,
     PLATE_LINE,
     run_probe,
@@ -49,13 +50,14 @@ from tactex_probe.closed_loop import (  # noqa: E402
     summary,
     true_normal,
 )
-from tactex_probe.explorer_interface import ExplorerConfig, Method  # noqa: E402
-from tactex_probe.motion import FACE_AXIS  # noqa: E402
-from tactex_probe.normals import angle_between  # noqa: E402
-from tactex_probe.pathway import ProbeParameters  # noqa: E402
-from tactex_sim.scene import load_scene, resolve_scene  # noqa: E402
+from tactex_probe.explorer_interface import ExplorerConfig, Method
+from tactex_probe.motion import FACE_AXIS
+from tactex_probe.normals import angle_between
+from tactex_probe.pathway import ProbeParameters
+from tactex_sim.scene import load_scene, resolve_scene
 
 RESULTS = Path(__file__).parent / 'results'
+KEPT = RESULTS / 'probe_accuracy_vs_time.json'  # the plotted points, so `--plot` redraws
 LINE = PLATE_LINE
 
 
@@ -120,6 +122,12 @@ def budget(run, descent_speed: float) -> list[dict[str, float]]:
 
 
 def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split('\n')[0])
+    parser.add_argument('--plot', action='store_true',
+                        help=f'redraw the plot from the kept points ({KEPT.name}), probe nothing')
+    if parser.parse_args().plot:
+        plot(json.loads(KEPT.read_text()))
+        return 0
     RESULTS.mkdir(exist_ok=True)
     print(__doc__.split('\n')[0])
     print(f'line: {LINE}; times are simulated seconds of arm time for the whole line\n')
@@ -174,25 +182,35 @@ def main() -> int:
           f'{texture["position_max_mm"]:.2f}); the filter was overruled by gravity at '
           f'{used_gravity} of them ({texture_run.sim_time_s:.0f} s, wall {wall:.0f} s)')
 
-    figure, axes = plt.subplots(1, 2, figsize=(11, 4.2))
-    for variant, run, result in rows:
-        for axis, key in zip(axes, ('normal_mean_deg', 'position_mean_mm'), strict=True):
-            axis.scatter(run.sim_time_s, result[key], s=30)
-            axis.annotate(variant.label, (run.sim_time_s, result[key]), fontsize=7,
-                          xytext=(4, 3), textcoords='offset points')
-    for axis, label, must, goal in ((axes[0], 'mean normal error (deg)', 3.0, 1.5),
-                                    (axes[1], 'mean position error (mm)', 2.0, 1.0)):
+    KEPT.write_text(json.dumps([
+        {'variant': variant.label, 'points': len(run.pathway.probes),
+         'contacts': result['contacts'], 'probing_s': run.sim_time_s,
+         'normal_mean_deg': result['normal_mean_deg'],
+         'position_mean_mm': result['position_mean_mm']} for variant, run, result in rows],
+        indent=1) + '\n', encoding='utf-8')
+    plot(json.loads(KEPT.read_text()))
+    return 0
+
+
+def plot(variants: list[dict]) -> None:
+    """Each variant's mean normal and position error against its probing time."""
+    plt, figure, axes = plotting.figure(1, 2)
+    for axis, key, label, must, goal in (
+            (axes[0], 'normal_mean_deg', 'mean normal error (deg)', 3.0, 1.5),
+            (axes[1], 'position_mean_mm', 'mean position error (mm)', 2.0, 1.0)):
+        for row in variants:
+            axis.scatter(row['probing_s'], row[key], s=30)
         axis.axhline(must, color='tab:red', linestyle='--', linewidth=0.8, label='must')
         axis.axhline(goal, color='tab:green', linestyle='--', linewidth=0.8, label='goal')
-        axis.set_xlabel('probing time for the line (simulated s)')
-        axis.set_ylabel(label)
-        axis.set_yscale('log')
-        axis.legend(fontsize=7)
-    figure.suptitle('pathway accuracy against probing time (uneven plate, noise on)')
-    figure.tight_layout()
-    figure.savefig(RESULTS / 'probe_accuracy_vs_time.png', dpi=120)
-    print(f'\nplot: {RESULTS / "probe_accuracy_vs_time.png"}')
-    return 0
+        axis.set(xlabel='probing time for the line (simulated s)', ylabel=label, yscale='log')
+        plotting.legend_outside(axis)
+        plotting.label_points(axis, [row['probing_s'] for row in variants],
+                              [row[key] for row in variants],
+                              [row['variant'] for row in variants], fontsize=7)
+    path = RESULTS / 'probe_accuracy_vs_time.png'
+    plotting.save(plt, figure, path, footnote='pathway accuracy against probing time '
+                  '(uneven plate, noise on; `python bench/bench_probe.py`)')
+    print(f'\nplot: {path}')
 
 
 if __name__ == '__main__':
