@@ -449,7 +449,10 @@ def compare_gpu() -> str:
         f'{_option(step["command"], "--models").count(",") + 1} models, {shared} cells per GPU'
         for step, shared in zip(grid, sharing, strict=True))
     stopped = all(step['returncode'] not in (0, None) for step in grid)
-    cells = list(_cells('compare_gpu').values())
+    kept_cells = _cells('compare_gpu')
+    cells = list(kept_cells.values())
+    (data,) = summary['data'].values()
+    classes = len(data['classes'])
     deep = [cell for cell in cells if cell['cell']['model'] not in BASELINES]
     pace = np.median([cell['epochs_per_s'] for cell in deep])
     epochs = np.mean([cell['epochs_run'] for cell in deep])
@@ -497,7 +500,11 @@ def compare_gpu() -> str:
             f'first look, not a ranking. Best so far: {grouped(deep_rows[0])}, against the '
             f'best baseline {grouped(best_baseline)}; {above} of the {len(deep_rows)} deep '
             'models with a finished cell score above it'
-            + (f' ({", ".join(unfinished)}: none finished)' if unfinished else '') + '.\n\n'
+            + (f' ({", ".join(unfinished)}: none finished)' if unfinished else '') + '.'
+            + (' Not converged: ' + '; '.join(
+                f'{row["model"]} ({_unconverged_cells(row["model"], kept_cells, classes)})'
+                for row in summary['rows'] if row['not_converged']) + '.'
+               if any(row['not_converged'] for row in summary['rows']) else '') + '\n\n'
             f'Pace: {sharing[0]} deep-model cells shared the GPU, each training at a median '
             f'{pace:.2f} epochs per second (batch 32, augmentation on the cores), while the GPU '
             f'reported {busy[1]:.0f} % busy (10th percentile {busy[0]:.0f} %): the processes '
@@ -522,9 +529,16 @@ def _cells(name: str) -> dict[tuple, dict]:
     return cells
 
 
-def _still_falling(model: str, cells: dict) -> int:
-    """How many of a model's kept cells ended with the training loss still falling."""
-    return sum(bool(cell.get('still_falling')) for key, cell in cells.items() if key[0] == model)
+def _unconverged_cells(model: str, cells: dict, classes: int) -> str:
+    """How many of a model's kept cells did not converge, and why.
+
+    For example '2 of 15 cells still falling' or '3 of 3 cells stalled at chance'.
+    """
+    from tactex_classify.evaluation.grid_report import unconverged_because
+    mine = [cell for key, cell in cells.items() if key[0] == model]
+    reasons = [unconverged_because(cell, classes) for cell in mine]
+    return ', '.join(f'{reasons.count(reason)} of {len(mine)} cells {reason}'
+                     for reason in sorted({reason for reason in reasons if reason}))
 
 
 def compare_converged() -> str:
@@ -537,6 +551,7 @@ def compare_converged() -> str:
     expected = seeds * folds
     rows = summary['rows']
     (window, data), = summary['data'].items()
+    classes = len(data['classes'])
     per_texture = {call['recordings_per_texture'] for call in run['calls']}
     machines = {json.dumps(call['machine'], sort_keys=True) for call in run['calls']}
     if len(per_texture) != 1 or len(machines) != 1:
@@ -570,10 +585,9 @@ def compare_converged() -> str:
         (row for row in deep if row['model'] in ranked), key=lambda row: -_mean_grouped(row)))
     unranked = ''
     if unconverged:
-        unranked = (' Not ranked, because the training loss was still falling at the last '
-                    'epoch in some cells: ' + '; '.join(
-                        f'{versus(row)} ({_still_falling(row["model"], ours)} of '
-                        f'{row["schemes"]["grouped"]["cells"]} cells still falling)'
+        unranked = (' Not ranked, because some cells did not converge (the training loss '
+                    'still falling at the last epoch, or never below chance): ' + '; '.join(
+                        f'{versus(row)} ({_unconverged_cells(row["model"], ours, classes)})'
                         for row in unconverged) + '.')
     ladder = ', then '.join(f'{row["model"]} ({accuracy:.1f} % for {seconds:.0f} s)'
                             for row in cost_front(rows, 'train_s')

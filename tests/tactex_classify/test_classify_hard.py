@@ -16,7 +16,12 @@ from tactex_classify.models.hydra import HydraRidge
 from tactex_classify.models.multirocket import MultiRocketRidge
 from tactex_classify.models.registry import AUGMENTATIONS
 from tactex_classify.models.windows import ChannelScaler, SCALED_LIMIT, SCALINGS, softmax
-from tactex_classify.training.deep_classifier import DeepClassifier, TrainingConfig
+from tactex_classify.training.deep_classifier import (
+    DeepClassifier,
+    stalled_at_chance,
+    still_falling,
+    TrainingConfig,
+)
 
 pytestmark = pytest.mark.hard_case
 
@@ -121,3 +126,13 @@ def test_any_augmentation_of_any_scaled_batch_stays_finite_and_bounded(X, name, 
     out = augment(torch.from_numpy(X), (name,), torch.Generator().manual_seed(seed))
     assert out.shape == X.shape and bool(torch.isfinite(out).all())
     assert float(out.abs().max()) <= 2 * SCALED_LIMIT
+
+
+@settings(max_examples=200)
+@given(st.lists(anything(), max_size=40), st.integers(0, 1000))
+def test_convergence_verdicts_on_any_losses_are_plain_booleans(losses, classes):
+    # A diverged (inf), broken (NaN) or absurd loss history still gets a verdict, no error.
+    for verdict in (still_falling(losses), stalled_at_chance(losses, classes)):
+        assert isinstance(verdict, bool)
+    if not any(np.isfinite(losses)) and losses and classes >= 2:
+        assert stalled_at_chance(losses, classes)  # no finite loss: it learned nothing

@@ -3,6 +3,7 @@
 """`tactex compare`: cells kept whole, resumed without recomputing, summarised as a table."""
 
 import json
+import math
 import os
 from pathlib import Path
 import re
@@ -20,6 +21,7 @@ from tactex_classify.evaluation.grid_report import (
     pareto_front,
     summarise,
     table,
+    unconverged_because,
     write_report,
 )
 from tactex_classify.evaluation.model_grid import (
@@ -33,6 +35,7 @@ from tactex_classify.evaluation.model_grid import (
 )
 from tactex_classify.training.deep_classifier import (
     DeepClassifier,
+    stalled_at_chance,
     still_falling,
     TrainingConfig,
 )
@@ -181,6 +184,38 @@ def test_a_row_whose_loss_was_still_falling_is_marked_and_ranked_after_converged
     assert '| 64 | cnn_1 (not converged) |' in table(rows)
     front = cost_front(rows, 'train_s')  # cnn_1 is more accurate, yet never on the front
     assert [row['model'] for row in front] == ['cnn_3']
+
+
+def test_a_row_whose_training_never_left_chance_is_not_converged_and_off_the_front():
+    chance = math.log(2)  # the uniform prediction's loss over the two classes
+    stalled = [{**fake_result('bilstm_2', 'grouped', fold, 0.5, train_s=1.0),
+                'still_falling': False, 'train_losses': [1.1 * chance] + [chance] * 30}
+               for fold in (1, 2)]
+    learned = [{**fake_result('cnn_3', 'grouped', fold, 0.45, train_s=5.0),
+                'still_falling': False, 'train_losses': [chance, 0.5 * chance]}
+               for fold in (1, 2)]
+    rows = summarise(stalled + learned, {64: ['a', 'b']})
+    assert [(row['model'], row['not_converged']) for row in rows] == [
+        ('cnn_3', False), ('bilstm_2', True)]  # ranked after, though cheaper and better
+    assert [row['model'] for row in cost_front(rows, 'train_s')] == ['cnn_3']
+    assert [unconverged_because(cell, 2) for cell in (stalled[0], learned[0])] == [
+        'stalled at chance', None]
+
+
+def test_a_training_that_never_left_the_uniform_predictions_loss_stalled_at_chance():
+    chance = math.log(12)
+    assert stalled_at_chance([2.8, 2.6] + [chance] * 30, 12)
+    assert not stalled_at_chance([2.8, 2.6, 0.9 * chance], 12)
+    assert not stalled_at_chance([], 12) and not stalled_at_chance([0.5, 0.4], 1)
+    assert stalled_at_chance([math.nan, math.inf], 12)  # no finite loss: learned nothing
+    assert not stalled_at_chance([math.nan, 1.0], 12)
+    import torch  # the premise: the uniform prediction's loss is ln(classes) for any target
+    uniform, labels = torch.zeros(4, 12), torch.tensor([0, 3, 7, 11])
+    for smoothing in (0.0, 0.1, 0.5):
+        loss = torch.nn.CrossEntropyLoss(label_smoothing=smoothing)(uniform, labels)
+        assert float(loss) == pytest.approx(chance)
+    mixed = torch.softmax(torch.randn(4, 12), dim=1)  # a mixup batch's blended targets
+    assert float(torch.nn.functional.cross_entropy(uniform, mixed)) == pytest.approx(chance)
 
 
 def test_a_training_knows_whether_its_loss_was_still_falling():

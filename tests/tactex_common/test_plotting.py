@@ -243,3 +243,18 @@ def test_a_point_that_is_not_drawn_gets_no_label():
         boxes = label_boxes([1.0, 2.0, 3.0, 4.0], [float('nan'), 3.0, float('inf'), 5.0],
                             ['lost', 'kept', 'off the chart', 'also kept'])
     assert len(boxes) == 2
+
+
+def test_a_log_axis_under_a_decade_is_labelled_in_plain_numbers():
+    # The GPU grid's latencies (2 to 30 ms) once read "2 x 10^0 3 x 10^0 4 x 10^0 ..."
+    plt, figure, axes = plotting.figure()
+    axes.scatter([2.0, 9.7, 19.0, 30.0], [35, 19, 42, 27])
+    axes.set_xscale('log')
+    plotting.plain_log_ticks(axes.xaxis)
+    figure.canvas.draw()
+    low, high = axes.get_xlim()
+    shown = [label.get_text() for label, at in zip(axes.get_xticklabels(), axes.get_xticks(),
+                                                  strict=True) if low <= at <= high]
+    minor = [label.get_text() for label in axes.get_xticklabels(minor=True)]
+    plt.close(figure)
+    assert shown == ['2', '5', '10', '20'] and not any(minor)

@@ -88,6 +88,18 @@ def label_points(axes, xs, ys, labels, fontsize: float = 6) -> None:
                 time_lim=None, arrowprops={'arrowstyle': '-', 'color': '0.5', 'lw': 0.5})
 
 
+def plain_log_ticks(axis) -> None:
+    """Ticks of a log-scaled `axis` (`axes.xaxis`) at 1, 2 and 5 per decade, as plain numbers.
+
+    A range under a decade then gets readable labels instead of matplotlib's crowded minor
+    labels in scientific notation.
+    """
+    from matplotlib import ticker
+    axis.set_major_locator(ticker.LogLocator(subs=(1.0, 2.0, 5.0)))
+    axis.set_major_formatter(ticker.FuncFormatter(lambda value, _: f'{value:g}'))
+    axis.set_minor_formatter(ticker.NullFormatter())
+
+
 def save(plt, figure, path: Path, footnote: str | None = None) -> None:
     """Lay `figure` out tight (its legends too), write it at `DPI` to `path`, close it.
 

@@ -20,10 +20,13 @@ import numpy as np
 
 from tactex_classify.evaluation.cross_validation import confusion, metrics
 from tactex_classify.models.registry import ALL_MODELS, BASELINES, SCHEMES
+from tactex_classify.training.deep_classifier import stalled_at_chance
 from tactex_common import plotting
 
 SCHEME_LABELS = {'grouped': 'grouped by recording (honest)',
                  'stratified': 'stratified windows (leaky)'}
+# Points the cost plot names one by one; beyond it, only the Pareto front is named.
+MAX_COST_LABELS = 16
 FIGURES = ('accuracy', 'macro_precision', 'macro_recall', 'macro_f1', 'train_accuracy',
            'train_s', 'latency_ms', 'throughput_ms', 'epochs_per_s', 'chosen_epoch')
 
@@ -38,11 +41,25 @@ def _spread(values: list) -> dict | None:
             'min': min(present), 'max': max(present), 'n': len(present)}
 
 
+def unconverged_because(cell: dict, classes: int) -> str | None:
+    """Why a kept cell's training did not converge, or None if it did (or is a baseline).
+
+    'still falling': its training loss was still falling at the last epoch
+    (`DeepClassifier.still_falling_`); 'stalled at chance': its training loss never left
+    the uniform prediction's (`stalled_at_chance`), so it learned nothing before it ended.
+    """
+    if cell.get('still_falling'):
+        return 'still falling'
+    if stalled_at_chance(cell.get('train_losses') or [], classes):
+        return 'stalled at chance'
+    return None
+
+
 def summarise(results: list[dict], classes: dict[int, list[str]]) -> list[dict]:
     """One row per (window, model), best honest accuracy first within a window.
 
-    A row is `not_converged` when a cell's training loss was still falling at its last
-    epoch (`DeepClassifier.still_falling_`); such rows follow the converged ones.
+    A row is `not_converged` when a cell's training did not converge
+    (`unconverged_because`); such rows follow the converged ones.
 
     Per scheme: every figure as mean, sd, range and count over the row's cells, and the
     metrics of the confusion matrix summed over them (the original's way).
@@ -54,8 +71,8 @@ def summarise(results: list[dict], classes: dict[int, list[str]]) -> list[dict]:
     rows = []
     for (window, model), schemes in groups.items():
         row = {'window': window, 'model': model, 'schemes': {},
-               'not_converged': any(c.get('still_falling') for cells in schemes.values()
-                                    for c in cells)}
+               'not_converged': any(unconverged_because(c, len(classes[window]))
+                                    for cells in schemes.values() for c in cells)}
         for scheme, cells in schemes.items():
             names = classes[window]
             pooled = confusion(np.concatenate([c['y_true'] for c in cells]).astype(int),
@@ -302,17 +319,22 @@ def _plot_cost(path: Path, rows: list[dict]) -> None:
     for axis, label in zip(axes, ('training time per fold (s)', 'latency of one window (ms)'),
                            strict=True):
         axis.set_xscale('log')
+        plotting.plain_log_ticks(axis.xaxis)
         axis.margins(x=0.15, y=0.08)  # room for the labels of the points at the edges
         axis.set_xlabel(label)
         axis.set_ylabel('accuracy, grouped by recording (%)')
         axis.grid(alpha=0.3)
-    labels = [f'{row["model"]} {row["window"]}'
-              + (' (not converged)' if row.get('not_converged') else '') for row in plotted]
-    accuracies = [100 * row['schemes']['grouped']['accuracy']['mean'] for row in plotted]
+    crowded = len(plotted) > MAX_COST_LABELS
     for axis, key in zip(axes, ('train_s', 'latency_ms'), strict=True):
-        plotting.label_points(axis, [row['schemes']['grouped'][key]['mean'] for row in plotted],
-                              accuracies, labels)
+        named = cost_front(rows, key) if crowded else plotted
+        plotting.label_points(
+            axis, [row['schemes']['grouped'][key]['mean'] for row in named],
+            [100 * row['schemes']['grouped']['accuracy']['mean'] for row in named],
+            [f'{row["model"]} {row["window"]}'
+             + (' (not converged)' if row.get('not_converged') else '') for row in named])
     axes[0].set_title('marker: window (' + ', '.join(
         f'{m} {w}' for w, m in markers.items()) + '); red: baselines; hollow: not converged, '
-        'off the front', fontsize=8)
+        'off the front' + ('\nnamed: the Pareto front only (report.md has every row)'
+                          if crowded else ''),
+        fontsize=8)
     plotting.save(plt, figure, path)

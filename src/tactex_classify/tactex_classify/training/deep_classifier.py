@@ -42,6 +42,8 @@ os.environ.setdefault('OMP_WAIT_POLICY', 'PASSIVE')  # no spinning next to ROS n
 CHECKPOINT_VERSION = 1
 INITS = ('keras', 'pytorch')
 MAX_THREADS = 256
+# A training loss never this fraction below ln(classes) stayed at chance (stalled_at_chance).
+CHANCE_MARGIN = 0.05
 
 
 @dataclass
@@ -416,12 +418,30 @@ def still_falling(losses: Sequence[float], span: int = 5, drop: float = 0.02) ->
     """Whether a training loss was still falling at its end: not converged.
 
     True when the mean of the last `span` epochs lies more than `drop` (a fraction) below
-    the mean of the `span` before; too short a history to tell counts as falling.
+    the mean of the `span` before; a history too short to tell, or with a loss that is not
+    finite among those epochs, counts as falling.
     """
-    if len(losses) < 2 * span:
+    last = np.asarray(losses[-2 * span:], dtype=float)
+    if last.size < 2 * span or not np.all(np.isfinite(last)):
         return True
-    return float(np.mean(losses[-span:])) < (1.0 - drop) * float(np.mean(
-        losses[-2 * span:-span]))
+    before, after = (float(np.sum(part / span)) for part in (last[:span], last[span:]))
+    return after < (1.0 - drop) * before  # sums of parts: no overflow near the float limit
+
+
+def stalled_at_chance(losses: Sequence[float], classes: int,
+                      margin: float = CHANCE_MARGIN) -> bool:
+    """Whether a training never left chance: not converged, however it ended.
+
+    The loss of the uniform prediction is ln(classes) against any target, label smoothing
+    and mixup included; a training whose loss never fell `margin` (a fraction) below it
+    learned nothing before it ended, typically stopped early on its first plateau. A
+    training without one finite loss learned nothing either; no epoch or one class: False.
+    """
+    losses = np.asarray(losses, dtype=float)
+    if not losses.size or classes < 2:
+        return False
+    finite = losses[np.isfinite(losses)]
+    return not finite.size or float(finite.min()) >= (1.0 - margin) * math.log(classes)
 
 
 def _logits(model, data, classes: int) -> np.ndarray:
