@@ -31,6 +31,7 @@ from bench_profiles import (  # noqa: E402  (the grouped-fold benches' shared pa
     finish_plot,
     keep,
     load_or_simulate,
+    not_converged,
     row_cells,
     run_fold,
 )
@@ -173,7 +174,7 @@ def main() -> int:
         rows.append({'name': name, 'kind': 'baseline' if isinstance(config, str) else 'deep',
                      'config': config if isinstance(config, str) else dataclasses.asdict(config),
                      'accuracy': float(np.mean(accuracies)), 'sd': float(np.std(accuracies)),
-                     'not_converged': any(fold.get('still_falling') for fold in results),
+                     'not_converged': not_converged(results),
                      'inference_ms': inference_ms(config, dataset, folds[0][0], args.device),
                      'folds': results})
         summary = _summary(key, dataset, rows, kept)

@@ -8,9 +8,10 @@ converts it (128-sample windows) once, or reads `--data`. Then trains one deep m
 `modern` profile, modern without each of its elements in turn, and modern with
 per-window scaling; the two baselines run on the same folds as the reference. Each row
 gives grouped accuracy (mean and per fold), the epochs trained, seconds per fold, and
-whether the training loss was still falling when training stopped (`not converged`,
-`DeepClassifier.still_falling_`: the last 5 epochs' mean loss more than 2 % below the 5
-before, without early stopping having ended it). Writes
+whether the training converged (`not converged` when the loss was still falling when
+training stopped, `DeepClassifier.still_falling_`: the last 5 epochs' mean loss more than
+2 % below the 5 before, without early stopping having ended it; or when it never fell
+below chance, `stalled_at_chance`). Writes
 bench/results/profiles/profiles.{json,md,png}; the README's table is generated from the
 JSON.
 """
@@ -60,7 +61,11 @@ def configurations(model: str, epochs: int, seed: int) -> dict:
 
 def run_fold(config, dataset, train, test, device: str = 'cpu') -> dict:
     """Fit one row on one fold (deep models on `device`); accuracy, epochs, seconds."""
-    from tactex_classify.training.deep_classifier import DeepClassifier, TrainingConfig
+    from tactex_classify.training.deep_classifier import (
+        DeepClassifier,
+        stalled_at_chance,
+        TrainingConfig,
+    )
     from tactex_classify.training.estimators import build_estimator
     if isinstance(config, str):
         estimator = build_estimator(TrainingConfig(model=config))
@@ -77,8 +82,19 @@ def run_fold(config, dataset, train, test, device: str = 'cpu') -> dict:
         history = estimator.history_
         fold.update({'epochs': len(history), 'best_epoch': estimator.best_epoch_,
                      'stopped_early': len(history) < config.epochs,
-                     'still_falling': estimator.still_falling_})
+                     'still_falling': estimator.still_falling_,
+                     'stalled_at_chance': stalled_at_chance(
+                         [record['train_loss'] for record in history], len(dataset.classes))})
     return fold
+
+
+def not_converged(folds: list[dict]) -> bool:
+    """Whether a row's training did not converge in some fold.
+
+    Its loss was still falling at the last epoch, or never fell below chance
+    (`stalled_at_chance`).
+    """
+    return any(fold.get('still_falling') or fold.get('stalled_at_chance') for fold in folds)
 
 
 def markdown(summary: dict) -> str:
@@ -196,7 +212,7 @@ def main() -> int:
         rows.append({'name': name, 'kind': 'baseline' if isinstance(config, str) else 'deep',
                      'config': config if isinstance(config, str) else dataclasses.asdict(config),
                      'accuracy': float(np.mean(accuracies)), 'sd': float(np.std(accuracies)),
-                     'not_converged': any(fold.get('still_falling') for fold in results),
+                     'not_converged': not_converged(results),
                      'folds': results})
     summary = {'model': args.model, 'epochs': args.epochs, 'folds': args.folds,
                'seed': args.seed, 'windows': int(dataset.y.size),
