@@ -186,7 +186,7 @@ def test_a_row_whose_loss_was_still_falling_is_marked_and_ranked_after_converged
     assert [row['model'] for row in front] == ['cnn_3']
 
 
-def test_a_row_whose_training_never_left_chance_is_not_converged_and_off_the_front():
+def test_a_row_whose_training_never_left_chance_is_not_converged_and_off_the_front(tmp_path):
     chance = math.log(2)  # the uniform prediction's loss over the two classes
     stalled = [{**fake_result('bilstm_2', 'grouped', fold, 0.5, train_s=1.0),
                 'still_falling': False, 'train_losses': [1.1 * chance] + [chance] * 30}
@@ -200,6 +200,11 @@ def test_a_row_whose_training_never_left_chance_is_not_converged_and_off_the_fro
     assert [row['model'] for row in cost_front(rows, 'train_s')] == ['cnn_3']
     assert [unconverged_because(cell, 2) for cell in (stalled[0], learned[0])] == [
         'stalled at chance', None]
+    manifest = {'settings': {'folds': 2, 'epochs': 31, 'early_stopping': 30},
+                'data': {'64': {'classes': ['a', 'b'], 'windows': 20, 'recordings': 4}}}
+    report = write_report(tmp_path, stalled + learned, manifest).read_text(encoding='utf-8')
+    assert '| 64 | bilstm_2 (not converged) |' in report
+    assert 'never fell below chance' in report  # the report says what the mark means
 
 
 def test_a_training_that_never_left_the_uniform_predictions_loss_stalled_at_chance():

@@ -238,8 +238,13 @@ def write_report(folder: Path, results: list[dict], manifest: dict, *,
              f'and {settings.get("scaling", "minmax")} scaling'
              + '. Figures are mean ± sd over seeds and folds (%); training time is seconds '
              'per fold, latency the time to classify one window.', '',
-             table(rows, expected_cells), '![accuracy](accuracy.png)', '',
-             '![cost](cost.png)', '']
+             table(rows, expected_cells)]
+    if any(row['not_converged'] for row in rows):
+        lines += ['A row marked (not converged) has a cell whose training loss was still '
+                  'falling at its last epoch, or never fell below chance (the loss of '
+                  'predicting every class alike): it is ranked after the converged rows and '
+                  'left off the Pareto front.', '']
+    lines += ['![accuracy](accuracy.png)', '', '![cost](cost.png)', '']
     path = folder / 'report.md'
     path.write_text('\n'.join(lines), encoding='utf-8')
     return path
