@@ -3,11 +3,15 @@
 """`tactex train`: a run folder with both schemes side by side, plots, metrics, a checkpoint."""
 
 import json
+import math
 import re
 
+import numpy as np
 from support.toy_windows import toy
 
 from tactex.cli import main
+from tactex_classify.evaluation.cross_validation import CrossValidation
+from tactex_classify.evaluation.training_report import convergence_notes
 from tactex_classify.training.deep_classifier import DeepClassifier
 
 
@@ -34,7 +38,7 @@ def test_train_writes_the_report_with_both_schemes(tmp_path, capsys):
     assert re.search(r'most confused: \w+ as \w+ \(\d+\)', out) or 'accuracy 100.0 %' in out
 
 
-def test_train_keeps_a_deployable_checkpoint(tmp_path):
+def test_train_keeps_a_deployable_checkpoint(tmp_path, capsys):
     data = toy()
     data_path = data.save(tmp_path / 'toy.npz')
     assert main(['train', str(data_path), '--model', 'cnn_3', '--epochs', '2', '--folds', '4',
@@ -44,6 +48,24 @@ def test_train_keeps_a_deployable_checkpoint(tmp_path):
     assert model.predict_proba(data.X[:2]).shape == (2, 3)
     curves = json.loads((tmp_path / 'run' / 'metrics.json').read_text())
     assert len(curves['schemes']['grouped']['histories'][0]) == 2
+    # Two epochs of a deep model leave no fold converged: every fold says so, and what to change
+    out = capsys.readouterr().out
+    assert out.count('not converged') == 4 and ('--epochs' in out or '--early-stopping' in out)
+    assert 'not converged' in (tmp_path / 'run' / 'report.md').read_text()
+
+
+def test_a_fold_whose_training_never_left_chance_is_named_with_what_to_change():
+    chance = math.log(3)
+    result = CrossValidation('grouped', np.zeros((2, 3)), np.zeros(2), histories=[
+        [{'train_loss': chance}] * 40,  # early stopping ended it on its first plateau
+        [{'train_loss': chance}, {'train_loss': 0.2}] * 20,  # learned, then stopped early
+        [{'train_loss': 1.0 - epoch / 100} for epoch in range(50)],  # still falling at 50
+        []])  # a baseline: no history
+    notes = convergence_notes(result, classes=3, epochs=50)
+    assert len(notes) == 2
+    assert notes[0].startswith('grouped fold 1: not converged: its training loss never fell '
+                               'below chance (1.10') and '--early-stopping' in notes[0]
+    assert notes[1].startswith('grouped fold 3: not converged') and 'raise --epochs' in notes[1]
 
 
 def test_train_reports_a_missing_dataset(tmp_path, capsys):

@@ -90,7 +90,11 @@ def run(args: argparse.Namespace) -> int:
 
     from tactex_classify.errors import ClassifyError
     from tactex_classify.evaluation.cross_validation import cross_validate
-    from tactex_classify.evaluation.training_report import console_summary, write_report
+    from tactex_classify.evaluation.training_report import (
+        console_summary,
+        convergence_notes,
+        write_report,
+    )
     from tactex_classify.training.deep_classifier import TrainingConfig
     from tactex_classify.training.estimators import build_estimator
 
@@ -123,6 +127,8 @@ def run(args: argparse.Namespace) -> int:
         with staged_folder(args.out) as folder:
             results = [cross_validate(dataset, make, scheme, folds=args.folds, seed=args.seed,
                                       progress=log) for scheme in schemes]
+            for result in results:
+                result.notes += convergence_notes(result, len(dataset.classes), config.epochs)
             for note in (n for result in results for n in result.notes):
                 log(f'note: {note}')
             for line in console_summary(dataset, results):

@@ -9,6 +9,7 @@ touch time, with both cross-validation schemes side by side.
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 
 import numpy as np
@@ -20,11 +21,33 @@ from tactex_classify.evaluation.cross_validation import (
     metrics,
     sequence_accuracy,
 )
+from tactex_classify.training.deep_classifier import stalled_at_chance, still_falling
 from tactex_common import plotting
 from tactex_common.naming import natural_key, natural_sorted
 
 LABELS = {'grouped': 'grouped by recording (honest)',
           'stratified': 'stratified windows (leaky)'}
+
+
+def convergence_notes(result: CrossValidation, classes: int, epochs: int) -> list[str]:
+    """A note per fold whose deep model did not converge, saying what to change.
+
+    Its training loss never fell below chance (`stalled_at_chance`), or was still falling
+    when the `epochs` ran out (`still_falling`); a baseline's fold has no history.
+    """
+    notes = []
+    for fold, history in enumerate(result.histories, start=1):
+        losses = [record['train_loss'] for record in history]
+        where = f'{result.scheme} fold {fold}: not converged:'
+        if stalled_at_chance(losses, classes):
+            notes.append(f'{where} its training loss never fell below chance ('
+                         f'{math.log(classes):.2f}, the loss of predicting every class alike) '
+                         f'in {len(losses)} epochs, so the model learned nothing; give early '
+                         'stopping more patience (--early-stopping), or try another --model')
+        elif len(losses) == epochs and still_falling(losses):
+            notes.append(f'{where} its training loss was still falling at the last of '
+                         f'{epochs} epochs; raise --epochs')
+    return notes
 
 
 def summarise(dataset: Dataset, results: list[CrossValidation]) -> dict:
