@@ -534,9 +534,9 @@ def _unconverged_cells(model: str, cells: dict, classes: int) -> str:
 
     For example '2 of 15 cells still falling' or '3 of 3 cells stalled at chance'.
     """
-    from tactex_classify.evaluation.grid_report import unconverged_because
+    from tactex_classify.evaluation.grid_report import cell_unconverged_because
     mine = [cell for key, cell in cells.items() if key[0] == model]
-    reasons = [unconverged_because(cell, classes) for cell in mine]
+    reasons = [cell_unconverged_because(cell, classes) for cell in mine]
     return ', '.join(f'{reasons.count(reason)} of {len(mine)} cells {reason}'
                      for reason in sorted({reason for reason in reasons if reason}))
 

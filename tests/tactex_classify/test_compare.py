@@ -17,11 +17,11 @@ import pytest
 
 from tactex_classify.data.dataset import Dataset
 from tactex_classify.evaluation.grid_report import (
+    cell_unconverged_because,
     cost_front,
     pareto_front,
     summarise,
     table,
-    unconverged_because,
     write_report,
 )
 from tactex_classify.evaluation.model_grid import (
@@ -173,10 +173,17 @@ def test_the_table_gives_mean_and_sd_over_cells_best_honest_model_first(tmp_path
         assert (tmp_path / name).stat().st_size > 0
 
 
+def trained(result: dict, losses: list[float], epochs: int) -> dict:
+    """A fake deep cell: its training losses per epoch, of at most `epochs`."""
+    return {**result, 'train_losses': losses, 'config': {'epochs': epochs}}
+
+
 def test_a_row_whose_loss_was_still_falling_is_marked_and_ranked_after_converged_ones():
-    falling = [{**fake_result('cnn_1', 'grouped', fold, 0.95), 'still_falling': fold == 2}
+    falling_losses = [0.6 - 0.02 * epoch for epoch in range(10)]  # all 10 epochs, falling
+    falling = [trained(fake_result('cnn_1', 'grouped', fold, 0.95),
+                       falling_losses if fold == 2 else [0.3] * 10, epochs=10)
                for fold in (1, 2)]
-    converged = [{**fake_result('cnn_3', 'grouped', fold, 0.6), 'still_falling': False}
+    converged = [trained(fake_result('cnn_3', 'grouped', fold, 0.6), [0.3] * 10, epochs=10)
                  for fold in (1, 2)]
     rows = summarise(falling + converged, {64: ['a', 'b']})
     assert [(row['model'], row['not_converged']) for row in rows] == [
@@ -188,17 +195,16 @@ def test_a_row_whose_loss_was_still_falling_is_marked_and_ranked_after_converged
 
 def test_a_row_whose_training_never_left_chance_is_not_converged_and_off_the_front(tmp_path):
     chance = math.log(2)  # the uniform prediction's loss over the two classes
-    stalled = [{**fake_result('bilstm_2', 'grouped', fold, 0.5, train_s=1.0),
-                'still_falling': False, 'train_losses': [1.1 * chance] + [chance] * 30}
+    stalled = [trained(fake_result('bilstm_2', 'grouped', fold, 0.5, train_s=1.0),
+                       [1.1 * chance] + [chance] * 30, epochs=100)  # early stopping ended it
                for fold in (1, 2)]
-    learned = [{**fake_result('cnn_3', 'grouped', fold, 0.45, train_s=5.0),
-                'still_falling': False, 'train_losses': [chance, 0.5 * chance]}
-               for fold in (1, 2)]
+    learned = [trained(fake_result('cnn_3', 'grouped', fold, 0.45, train_s=5.0),
+                       [chance] + [0.5 * chance] * 30, epochs=100) for fold in (1, 2)]
     rows = summarise(stalled + learned, {64: ['a', 'b']})
     assert [(row['model'], row['not_converged']) for row in rows] == [
         ('cnn_3', False), ('bilstm_2', True)]  # ranked after, though cheaper and better
     assert [row['model'] for row in cost_front(rows, 'train_s')] == ['cnn_3']
-    assert [unconverged_because(cell, 2) for cell in (stalled[0], learned[0])] == [
+    assert [cell_unconverged_because(cell, 2) for cell in (stalled[0], learned[0])] == [
         'stalled at chance', None]
     manifest = {'settings': {'folds': 2, 'epochs': 31, 'early_stopping': 30},
                 'data': {'64': {'classes': ['a', 'b'], 'windows': 20, 'recordings': 4}}}

@@ -20,7 +20,7 @@ import numpy as np
 
 from tactex_classify.evaluation.cross_validation import confusion, metrics
 from tactex_classify.models.registry import ALL_MODELS, BASELINES, SCHEMES
-from tactex_classify.training.deep_classifier import stalled_at_chance
+from tactex_classify.training.deep_classifier import unconverged_because
 from tactex_common import plotting
 
 SCHEME_LABELS = {'grouped': 'grouped by recording (honest)',
@@ -41,25 +41,23 @@ def _spread(values: list) -> dict | None:
             'min': min(present), 'max': max(present), 'n': len(present)}
 
 
-def unconverged_because(cell: dict, classes: int) -> str | None:
-    """Why a kept cell's training did not converge, or None if it did (or is a baseline).
+def cell_unconverged_because(cell: dict, classes: int) -> str | None:
+    """Why a kept cell's training did not converge, or None if it did or is a baseline's.
 
-    'still falling': its training loss was still falling at the last epoch
-    (`DeepClassifier.still_falling_`); 'stalled at chance': its training loss never left
-    the uniform prediction's (`stalled_at_chance`), so it learned nothing before it ended.
+    `unconverged_because` of the cell's training losses and epochs.
     """
-    if cell.get('still_falling'):
-        return 'still falling'
-    if stalled_at_chance(cell.get('train_losses') or [], classes):
-        return 'stalled at chance'
-    return None
+    losses = cell.get('train_losses') or []
+    if not losses:
+        return None
+    return unconverged_because(losses, classes, (cell.get('config') or {}).get(
+        'epochs', len(losses)))
 
 
 def summarise(results: list[dict], classes: dict[int, list[str]]) -> list[dict]:
     """One row per (window, model), best honest accuracy first within a window.
 
     A row is `not_converged` when a cell's training did not converge
-    (`unconverged_because`); such rows follow the converged ones.
+    (`cell_unconverged_because`); such rows follow the converged ones.
 
     Per scheme: every figure as mean, sd, range and count over the row's cells, and the
     metrics of the confusion matrix summed over them (the original's way).
@@ -71,7 +69,7 @@ def summarise(results: list[dict], classes: dict[int, list[str]]) -> list[dict]:
     rows = []
     for (window, model), schemes in groups.items():
         row = {'window': window, 'model': model, 'schemes': {},
-               'not_converged': any(unconverged_because(c, len(classes[window]))
+               'not_converged': any(cell_unconverged_because(c, len(classes[window]))
                                     for cells in schemes.values() for c in cells)}
         for scheme, cells in schemes.items():
             names = classes[window]

@@ -21,7 +21,7 @@ from tactex_classify.evaluation.cross_validation import (
     metrics,
     sequence_accuracy,
 )
-from tactex_classify.training.deep_classifier import stalled_at_chance, still_falling
+from tactex_classify.training.deep_classifier import unconverged_because
 from tactex_common import plotting
 from tactex_common.naming import natural_key, natural_sorted
 
@@ -32,21 +32,23 @@ LABELS = {'grouped': 'grouped by recording (honest)',
 def convergence_notes(result: CrossValidation, classes: int, epochs: int) -> list[str]:
     """A note per fold whose deep model did not converge, saying what to change.
 
-    Its training loss never fell below chance (`stalled_at_chance`), or was still falling
-    when the `epochs` ran out (`still_falling`); a baseline's fold has no history.
+    Why it did not is `unconverged_because`; a baseline's fold has no history.
     """
+    advice = {'stalled at chance': lambda losses: (
+                  f'its training loss never fell below chance ({math.log(classes):.2f}, the '
+                  f'loss of predicting every class alike) in {len(losses)} epochs, so the '
+                  'model learned nothing; give early stopping more patience '
+                  '(--early-stopping), or try another --model'),
+              'still falling': lambda losses: (
+                  f'its training loss was still falling at the last of {epochs} epochs; '
+                  'raise --epochs')}
     notes = []
     for fold, history in enumerate(result.histories, start=1):
         losses = [record['train_loss'] for record in history]
-        where = f'{result.scheme} fold {fold}: not converged:'
-        if stalled_at_chance(losses, classes):
-            notes.append(f'{where} its training loss never fell below chance ('
-                         f'{math.log(classes):.2f}, the loss of predicting every class alike) '
-                         f'in {len(losses)} epochs, so the model learned nothing; give early '
-                         'stopping more patience (--early-stopping), or try another --model')
-        elif len(losses) == epochs and still_falling(losses):
-            notes.append(f'{where} its training loss was still falling at the last of '
-                         f'{epochs} epochs; raise --epochs')
+        reason = unconverged_because(losses, classes, epochs)
+        if reason:
+            notes.append(f'{result.scheme} fold {fold}: not converged: '
+                         + advice[reason](losses))
     return notes
 
 

@@ -279,9 +279,8 @@ class DeepClassifier(Deployable):
                     waited += 1
                     if waited >= config.early_stopping:
                         break
-        stopped_early = len(self.history_) < config.epochs
-        self.still_falling_ = not stopped_early and still_falling(
-            [record['train_loss'] for record in self.history_])
+        self.still_falling_ = ran_out_still_falling(
+            [record['train_loss'] for record in self.history_], config.epochs)
         if best_state is None:
             best_state = evaluated.state_dict()
             self.best_epoch_ = len(self.history_)
@@ -442,6 +441,26 @@ def stalled_at_chance(losses: Sequence[float], classes: int,
         return False
     finite = losses[np.isfinite(losses)]
     return not finite.size or float(finite.min()) >= (1.0 - margin) * math.log(classes)
+
+
+def ran_out_still_falling(losses: Sequence[float], epochs: int) -> bool:
+    """Whether a training ran all its `epochs` with its loss `still_falling` at the end.
+
+    One that early stopping ended before its last epoch had stopped improving.
+    """
+    return len(losses) >= epochs and still_falling(losses)
+
+
+def unconverged_because(losses: Sequence[float], classes: int, epochs: int) -> str | None:
+    """Why a training with these per-epoch `losses` did not converge, or None if it did.
+
+    'stalled at chance' (`stalled_at_chance`), or 'still falling' (`ran_out_still_falling`).
+    """
+    if stalled_at_chance(losses, classes):
+        return 'stalled at chance'
+    if ran_out_still_falling(losses, epochs):
+        return 'still falling'
+    return None
 
 
 def _logits(model, data, classes: int) -> np.ndarray:
