@@ -11,7 +11,7 @@ gives grouped accuracy (mean and per fold), the epochs trained, seconds per fold
 whether the training converged (`not converged` when the loss was still falling when
 training stopped, `DeepClassifier.still_falling_`: the last 5 epochs' mean loss more than
 2 % below the 5 before, without early stopping having ended it; or when it never fell
-below chance, `stalled_at_chance`). Writes
+below chance: `unconverged_because`). Writes
 bench/results/profiles/profiles.{json,md,png}; the README's table is generated from the
 JSON.
 """
@@ -63,8 +63,8 @@ def run_fold(config, dataset, train, test, device: str = 'cpu') -> dict:
     """Fit one row on one fold (deep models on `device`); accuracy, epochs, seconds."""
     from tactex_classify.training.deep_classifier import (
         DeepClassifier,
-        stalled_at_chance,
         TrainingConfig,
+        unconverged_because,
     )
     from tactex_classify.training.estimators import build_estimator
     if isinstance(config, str):
@@ -83,18 +83,18 @@ def run_fold(config, dataset, train, test, device: str = 'cpu') -> dict:
         fold.update({'epochs': len(history), 'best_epoch': estimator.best_epoch_,
                      'stopped_early': len(history) < config.epochs,
                      'still_falling': estimator.still_falling_,
-                     'stalled_at_chance': stalled_at_chance(
-                         [record['train_loss'] for record in history], len(dataset.classes))})
+                     'unconverged': unconverged_because(
+                         [record['train_loss'] for record in history], len(dataset.classes),
+                         config.epochs)})
     return fold
 
 
 def not_converged(folds: list[dict]) -> bool:
-    """Whether a row's training did not converge in some fold.
+    """Whether a row's training did not converge in some fold (`unconverged_because`).
 
-    Its loss was still falling at the last epoch, or never fell below chance
-    (`stalled_at_chance`).
+    A fold kept before that was recorded holds only `still_falling`.
     """
-    return any(fold.get('still_falling') or fold.get('stalled_at_chance') for fold in folds)
+    return any(fold.get('unconverged') or fold.get('still_falling') for fold in folds)
 
 
 def markdown(summary: dict) -> str:

@@ -460,6 +460,7 @@ def compare_gpu() -> str:
         busy = [int(row['utilization_gpu_percent']) for row in csv.DictReader(handle)]
     busy = np.percentile([value for value in busy if value > 0], [10, 50])
     rows = {row['model']: row for row in summary['rows']}
+    unconverged = [row for row in summary['rows'] if row['not_converged']]
     ranked = sorted(rows, key=lambda name: -_mean_grouped(rows[name]))
 
     def grouped(model: str) -> str:
@@ -503,8 +504,7 @@ def compare_gpu() -> str:
             + (f' ({", ".join(unfinished)}: none finished)' if unfinished else '') + '.'
             + (' Not converged: ' + '; '.join(
                 f'{row["model"]} ({_unconverged_cells(row["model"], kept_cells, classes)})'
-                for row in summary['rows'] if row['not_converged']) + '.'
-               if any(row['not_converged'] for row in summary['rows']) else '') + '\n\n'
+                for row in unconverged) + '.' if unconverged else '') + '\n\n'
             f'Pace: {sharing[0]} deep-model cells shared the GPU, each training at a median '
             f'{pace:.2f} epochs per second (batch 32, augmentation on the cores), while the GPU '
             f'reported {busy[1]:.0f} % busy (10th percentile {busy[0]:.0f} %): the processes '

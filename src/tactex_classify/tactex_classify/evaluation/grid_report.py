@@ -305,16 +305,16 @@ def _plot_cost(path: Path, rows: list[dict]) -> None:
     markers = dict(zip(sorted({row['window'] for row in rows}), 'os^Dv', strict=False))
     plotted = [row for row in rows if row['schemes'].get('grouped', {}).get('train_s')
                and row['schemes']['grouped'].get('accuracy')]
+    costs = ('train_s', 'latency_ms')
+    fronts = {key: cost_front(rows, key) for key in costs}
     for row in plotted:
-        grouped = row['schemes']['grouped']
         colour = 'C3' if row['model'] in BASELINES else 'C0'
-        for axis, key in zip(axes, ('train_s', 'latency_ms'), strict=True):
-            axis.scatter(grouped[key]['mean'], 100 * grouped['accuracy']['mean'],
-                         marker=markers[row['window']],
+        for axis, key in zip(axes, costs, strict=True):
+            axis.scatter(*cost_point(row, key), marker=markers[row['window']],
                          facecolors='none' if row.get('not_converged') else colour,
                          edgecolors=colour)
-    for axis, key in zip(axes, ('train_s', 'latency_ms'), strict=True):
-        front = [cost_point(row, key) for row in cost_front(rows, key)]
+    for axis, key in zip(axes, costs, strict=True):
+        front = [cost_point(row, key) for row in fronts[key]]
         if len(front) > 1:
             axis.step(*zip(*front, strict=True), where='post', color='k', alpha=0.5,
                       linewidth=1, label='Pareto front')
@@ -328,11 +328,11 @@ def _plot_cost(path: Path, rows: list[dict]) -> None:
         axis.set_ylabel('accuracy, grouped by recording (%)')
         axis.grid(alpha=0.3)
     crowded = len(plotted) > MAX_COST_LABELS
-    for axis, key in zip(axes, ('train_s', 'latency_ms'), strict=True):
-        named = cost_front(rows, key) if crowded else plotted
+    for axis, key in zip(axes, costs, strict=True):
+        named = fronts[key] if crowded else plotted
+        points = [cost_point(row, key) for row in named]
         plotting.label_points(
-            axis, [row['schemes']['grouped'][key]['mean'] for row in named],
-            [100 * row['schemes']['grouped']['accuracy']['mean'] for row in named],
+            axis, [cost for cost, _ in points], [accuracy for _, accuracy in points],
             [f'{row["model"]} {row["window"]}'
              + (' (not converged)' if row.get('not_converged') else '') for row in named])
     axes[0].set_title('marker: window (' + ', '.join(

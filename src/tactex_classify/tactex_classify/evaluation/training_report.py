@@ -34,21 +34,19 @@ def convergence_notes(result: CrossValidation, classes: int, epochs: int) -> lis
 
     Why it did not is `unconverged_because`; a baseline's fold has no history.
     """
-    advice = {'stalled at chance': lambda losses: (
-                  f'its training loss never fell below chance ({math.log(classes):.2f}, the '
-                  f'loss of predicting every class alike) in {len(losses)} epochs, so the '
-                  'model learned nothing; give early stopping more patience '
-                  '(--early-stopping), or try another --model'),
-              'still falling': lambda losses: (
-                  f'its training loss was still falling at the last of {epochs} epochs; '
-                  'raise --epochs')}
     notes = []
     for fold, history in enumerate(result.histories, start=1):
         losses = [record['train_loss'] for record in history]
         reason = unconverged_because(losses, classes, epochs)
-        if reason:
-            notes.append(f'{result.scheme} fold {fold}: not converged: '
-                         + advice[reason](losses))
+        if reason == 'stalled at chance':
+            notes.append(f'{result.scheme} fold {fold}: not converged: its training loss never '
+                         f'fell below chance ({math.log(classes):.2f}, the loss of predicting '
+                         f'every class alike) in {len(losses)} epochs, so the model learned '
+                         'nothing; give early stopping more patience (--early-stopping), or '
+                         'try another --model')
+        elif reason:
+            notes.append(f'{result.scheme} fold {fold}: not converged: its training loss was '
+                         f'still falling at the last of {epochs} epochs; raise --epochs')
     return notes
 
 
