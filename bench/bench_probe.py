@@ -126,7 +126,13 @@ def main() -> int:
     parser.add_argument('--plot', action='store_true',
                         help=f'redraw the plot from the kept points ({KEPT.name}), probe nothing')
     if parser.parse_args().plot:
-        plot(json.loads(KEPT.read_text()))
+        try:
+            variants = json.loads(KEPT.read_text(encoding='utf-8'))
+            plot(variants)
+        except (OSError, ValueError, KeyError, TypeError) as err:
+            print(f'error: --plot: cannot draw from {KEPT} ({err}); run the bench without '
+                  '--plot to probe and keep the points again', file=sys.stderr)
+            return 1
         return 0
     RESULTS.mkdir(exist_ok=True)
     print(__doc__.split('\n')[0])

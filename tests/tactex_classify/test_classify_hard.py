@@ -21,6 +21,7 @@ from tactex_classify.training.deep_classifier import (
     stalled_at_chance,
     still_falling,
     TrainingConfig,
+    unconverged_because,
 )
 
 pytestmark = pytest.mark.hard_case
@@ -129,10 +130,12 @@ def test_any_augmentation_of_any_scaled_batch_stays_finite_and_bounded(X, name, 
 
 
 @settings(max_examples=200)
-@given(st.lists(anything(), max_size=40), st.integers(0, 1000))
-def test_convergence_verdicts_on_any_losses_are_plain_booleans(losses, classes):
+@given(st.lists(anything(), max_size=40), st.integers(0, 1000), st.integers(1, 100))
+def test_convergence_verdicts_on_any_losses_are_plain_booleans(losses, classes, epochs):
     # A diverged (inf), broken (NaN) or absurd loss history still gets a verdict, no error.
     for verdict in (still_falling(losses), stalled_at_chance(losses, classes)):
         assert isinstance(verdict, bool)
+    assert unconverged_because(losses, classes, epochs) in (
+        None, 'stalled at chance', 'still falling')
     if not any(np.isfinite(losses)) and losses and classes >= 2:
         assert stalled_at_chance(losses, classes)  # no finite loss: it learned nothing
