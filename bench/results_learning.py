@@ -519,6 +519,109 @@ def compare_gpu() -> str:
             f'![accuracy]({FIGURES}/compare_gpu/accuracy.png)\n')
 
 
+def gpu_pace() -> str:
+    """How fast cells train together on the lent GPU, and what that makes of the full grid."""
+    from tactex_classify.models.modern_architectures import ENSEMBLE_MEMBERS
+    from tactex_classify.models.registry import BASELINES, DEEP_MODELS
+    calls = kept_json('gpu_pace.json')['calls']
+    machine = calls[-1]['machine']
+    runs = [(number, run) for number, call in enumerate(calls, 1) for run in call['runs']]
+
+    def best(model: str, **options) -> dict:
+        return max((run for _, run in runs if run['model'] == model and run['cell_epochs_per_s']
+                    and all(run.get(k, False) == v for k, v in options.items())),
+                   key=lambda run: run['cell_epochs_per_s'])
+
+    def pace(run: dict) -> str:
+        return f'{run["cell_epochs_per_s"]:.1f} cell-epochs/s'
+    rows = ['| call | model | cells at once | MPS | cuDNN autotune | epochs/s a cell | '
+            'cell-epochs/s (GPU) | vs one cell | GPU busy % | host / GPU ms a step |',
+            '|---|---|---|---|---|---|---|---|---|---|']
+    for number, run in runs:
+        if not run['cell_epochs_per_s']:
+            continue
+        profile = run.get('profile')
+        busy = run['gpu_busy_percent']
+        rows.append('| ' + ' | '.join([
+            str(number), run['model'], str(run['cells']), 'yes' if run['mps'] else '-',
+            'yes' if run.get('autotune') else '-', f'{run["median_epochs_per_s"]:.2f}',
+            f'{run["cell_epochs_per_s"]:.2f}',
+            f'{run["vs_one_cell"]:.2f}' if 'vs_one_cell' in run else '-',
+            '-' if busy is None else f'{busy:.0f}',
+            f'{profile["host_ms_per_step"]:.1f} / {profile["gpu_busy_ms_per_step"]:.1f} '
+            f'({profile["gpu_operations_per_step"]:.0f} GPU operations)' if profile else '-',
+        ]) + ' |')
+    small, inception = 'cnn_3', 'inception_time'
+    old_small, mps_small = best(small, mps=False, cells=12), best(small, mps=True, cells=12)
+    top_small = best(small)
+    alone_it, tuned_it, top_it = (best(inception, cells=1, autotune=False),
+                                  best(inception, cells=1, autotune=True), best(inception))
+    profile_it, profile_tuned = alone_it['profile'], tuned_it['profile']
+    repeats = [run['cell_epochs_per_s'] for _, run in runs if run['model'] == inception and
+               run['cells'] == 1 and not run.get('autotune') and run['cell_epochs_per_s']]
+    # The full grid of the issue, from the kept grids' epochs per cell and these paces.
+    kept = {**_cells('compare_gpu'), **_cells('compare_converged')}
+    epochs = {model: np.mean([cell['epochs_run'] for key, cell in kept.items()
+                              if key[0] == model]) for model in DEEP_MODELS
+              if any(key[0] == model for key in kept)}
+    epochs['inception_time_ensemble'] = epochs[inception]
+    throughput = {model: top_small['cell_epochs_per_s'] for model in DEEP_MODELS}
+    throughput[inception] = top_it['cell_epochs_per_s']
+    throughput['inception_time_ensemble'] = top_it['cell_epochs_per_s'] / ENSEMBLE_MEMBERS
+    per_model = 3 * 2 * 5  # windows 128/256/512, both schemes, 5 folds
+    deep_min = sum(per_model * epochs[m] / throughput[m] for m in DEEP_MODELS) / 60
+    core_s = sum(np.mean([cell['train_s'] for key, cell in _cells('compare_converged').items()
+                          if key[0] == model]) for model in BASELINES)
+    baseline_min = per_model * core_s / machine['cpu_count'] / 60
+    measured = (small, inception)
+    alone_small = best(small, cells=1)['profile']
+    old_16 = best(small, mps=False, cells=16)
+    return (
+        f'Measured with `python bench/bench_gpu_pace.py` on one {machine["gpu"]["name"]} with '
+        f'{machine["cpu_count"]} cores (torch {machine["gpu"]["torch"]}; {len(calls)} calls, '
+        'kept in `bench/results/gpu_pace.json`): N trainings of a grid cell started at once '
+        "(fold 1 of the GPU grid's data, modern profile, per-window scaling, batch 32), each "
+        'timed over its epochs after the first.\n\n'
+        f"**The host, not the GPU, set cnn_3's pace.** Alone, a step took "
+        f'{alone_small["host_ms_per_step"]:.1f} ms of wall time but '
+        f'{alone_small["gpu_busy_ms_per_step"]:.1f} ms of GPU time '
+        f'({alone_small["gpu_operations_per_step"]:.0f} GPU operations a step, each launched '
+        'from Python). Without MPS the processes take turns on the GPU: 12 cells at once '
+        f'trained {old_small["vs_one_cell"]:.2f} times as fast as one ({pace(old_small)}), '
+        f'16 cells {old_16["vs_one_cell"]:.2f} times ({pace(old_16)}). Under NVIDIA\'s '
+        'Multi-Process Service their kernels run side by side: 12 cells '
+        f'{pace(mps_small)}, {mps_small["cell_epochs_per_s"] / old_small["cell_epochs_per_s"]:.1f}'
+        f' times the same cells without it, and {top_small["cells"]} cells '
+        f'{pace(top_small)}.\n\n'
+        "**cuDNN's default algorithms set InceptionTime's pace.** Alone, its step took "
+        f'{profile_it["gpu_busy_ms_per_step"]:.1f} ms of GPU time for '
+        f'{profile_it["host_ms_per_step"]:.1f} ms of wall time (its 39-, 19- and 9-tap '
+        'convolutions), so more cells at once gained little (12 cells: '
+        f'{best(inception, cells=12, mps=False)["vs_one_cell"]:.2f} times one cell). With '
+        'cuDNN timing its algorithms once per shape (`torch.backends.cudnn.benchmark`, what '
+        "tactex's training now does on a GPU), a step took "
+        f'{profile_tuned["gpu_busy_ms_per_step"]:.1f} ms of GPU time and a cell trained '
+        f'{tuned_it["vs_one_cell"]:.2f} times as fast alone as an untuned one in the same '
+        f'call; {top_it["cells"]} cells with MPS reached {pace(top_it)}, '
+        f'{top_it["vs_one_cell"]:.0f} times one untuned cell. The untuned single cells of '
+        f'{inception} in the two calls differ by {100 * (max(repeats) / min(repeats) - 1):.0f} '
+        '% (call to call).\n\n'
+        '**The full grid, estimated (not run).** Every model at windows 128, 256 and 512, '
+        f'both schemes, 5 folds ({per_model * len(DEEP_MODELS)} deep cells), with each '
+        "model's mean epochs in the kept grids and these paces, needs about "
+        f'{deep_min:.0f} min of GPU time for the deep models and {baseline_min:.0f} min of the '
+        f'{machine["cpu_count"]} cores for the baselines: **about '
+        f'{deep_min + baseline_min:.0f} min, inside the hour** of the goal, against about 1.8 h '
+        'estimated for the setup the GPU grid above ran with. Its assumptions: the models not '
+        f"measured here train at {small}'s pace under MPS (only {' and '.join(measured)} were "
+        "measured), the ensemble at a fifth of InceptionTime's, windows of 256 and 512 take "
+        'no longer an epoch than 128 (they hold half and a quarter of the windows), and the '
+        "baselines' cores are free. `tactex compare --device cuda --mps --cells-per-gpu 16` "
+        'runs a grid this way; the estimate stands until a lent GPU runs it.\n\n'
+        + '\n'.join(rows) + '\n\n'
+        f'![GPU pace]({FIGURES}/gpu_pace.png)\n')
+
+
 def _cells(name: str) -> dict[tuple, dict]:
     """A kept grid's finished cells, by (model, window, seed, fold, scheme)."""
     cells = {}

@@ -455,6 +455,12 @@ BAD_INPUTS = {
              'choice', '{w}/g'),
         Case('compare {w}/data.npz --out {w}/g --device cuda', '--device cuda: this machine has '
              'no usable GPU', '{w}/g'),
+        Case('compare {w}/data.npz --out {w}/g --mps', '--mps: this machine has no usable GPU; '
+             'drop --mps', '{w}/g'),
+        Case('compare {w}/data.npz --out {w}/g --mps --device cpu', '--mps shares a GPU; drop '
+             'it with --device cpu', '{w}/g'),
+        Case('compare {w}/data.npz --out {w}/g --mps --address 127.0.0.1:1', '--mps starts '
+             'NVIDIA MPS on this machine; on a cluster start it on each GPU node', '{w}/g'),
         Case('compare {w}/data.npz --out {w}/g --address nohost', 'argument --address: must be '
              'HOST:PORT', '{w}/g'),
         Case('compare {w}/data.npz --out {w}/g --address 127.0.0.1:1', 'cannot reach Ray at '

@@ -146,3 +146,20 @@ def test_compare_with_an_address_nothing_answers_at_ends_in_one_error(tmp_path):
                                      'refused; start the head with `ray start --head` and give '
                                      'the address it prints')
     assert not (tmp_path / 'grid').exists()
+
+
+def test_compare_with_mps_where_it_cannot_start_writes_no_grid(tmp_path, capsys, monkeypatch):
+    from tactex_classify.evaluation import model_grid
+    from tactex_common import gpu_sharing
+    monkeypatch.setattr(model_grid, 'cuda_available', lambda: True)  # a GPU without MPS
+    monkeypatch.setattr(gpu_sharing, 'DRIVER_BIN', tmp_path / 'nowhere')
+    monkeypatch.setenv('PATH', str(tmp_path / 'nowhere'))
+    data = toy_dataset(3).save(tmp_path / 'data.npz')
+    code, _, stderr = in_process(capsys)(['compare', str(data), '--out', str(tmp_path / 'grid'),
+                                          '--mps', '--models', 'minirocket'])
+    assert code == 1
+    assert stderr.strip().splitlines()[-1] == (
+        'error: nvidia-cuda-mps-control not found (on PATH or in '
+        f"{tmp_path / 'nowhere'}): install NVIDIA's driver utilities, or share the GPU "
+        'without MPS')
+    assert not (tmp_path / 'grid').exists()

@@ -30,6 +30,7 @@ from tactex_classify.models.multirocket import MultiRocketRidge
 from tactex_classify.models.windows import ChannelScaler
 from tactex_classify.training.deep_classifier import (
     DeepClassifier,
+    training_device,
     TrainingConfig,
     validation_split,
 )
@@ -43,6 +44,14 @@ def test_training_is_deterministic_for_a_seed():
     second = DeepClassifier(FAST).fit(data.X, data.y, CLASSES).predict_proba(data.X)
     np.testing.assert_array_equal(first, second)
     assert first.shape == (len(data.X), 3)
+
+
+def test_training_on_a_gpu_lets_cudnn_autotune_and_on_the_cpu_leaves_it(monkeypatch):
+    monkeypatch.setattr(torch.backends.cudnn, 'benchmark', False)
+    assert training_device('cpu') == torch.device('cpu')
+    assert torch.backends.cudnn.benchmark is False
+    assert training_device('cuda:1') == torch.device('cuda:1')  # no GPU needed to choose
+    assert torch.backends.cudnn.benchmark is True
 
 
 def test_resume_from_checkpoint_gives_identical_predictions(tmp_path):

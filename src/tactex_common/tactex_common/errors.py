@@ -25,3 +25,7 @@ class ClusterError(CommonError):
 
 class NodeParameterError(CommonError, ValueError):
     """A node parameter has a value the node refuses; the message says what is allowed."""
+
+
+class GpuSharingError(CommonError):
+    """NVIDIA's Multi-Process Service cannot be started, or a GPU program cannot use it."""

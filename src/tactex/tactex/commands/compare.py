@@ -5,6 +5,7 @@
 from __future__ import annotations
 
 import argparse
+from contextlib import ExitStack
 from pathlib import Path
 import time
 
@@ -86,21 +87,25 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help='auto: a GPU per deep-model cell when the cluster has one')
     parser.add_argument('--cells-per-gpu', type=integer(1, 64), default=1,
                         help='deep-model cells sharing one GPU (1)')
+    parser.add_argument('--mps', action='store_true',
+                        help="run the cells sharing a GPU at once through NVIDIA's "
+                             'Multi-Process Service, started for the grid (a local GPU; '
+                             'not with --address)')
     parser.add_argument('--out', type=Path, required=True,
                         help='grid folder: new, or one to resume (finished cells are kept)')
 
 
 def run(args: argparse.Namespace) -> int:
     """Check everything, run the missing cells on Ray, write the table and plots."""
-    from tactex_classify.evaluation.grid_report import write_report
-    from tactex_classify.evaluation.model_grid import grid_cells, GridSettings, GridStore, run_grid
-    from tactex_common.cluster import ray_session
+    from tactex_classify.evaluation.model_grid import grid_cells, GridSettings, GridStore
 
     if args.device == 'cuda' and not args.address:
         from tactex_classify.evaluation.model_grid import cuda_available
         if not cuda_available():
             raise CommandError('--device cuda: this machine has no usable GPU; use --device '
                                'auto or cpu')
+    if args.mps:
+        check_mps(args)
     if args.address and args.cpus:
         raise CommandError("--cpus caps a local Ray instance; a cluster's cores are set where "
                            'its nodes start (ray start --num-cpus): drop --cpus or --address')
@@ -128,10 +133,42 @@ def run(args: argparse.Namespace) -> int:
         except CommandError as err:
             raise CommandError(f'window {window}: {err}') from None
         check_models_fit(args.models, window, dataset)
-    store.open(settings, datasets, sources)
-    for window in converted:
-        datasets[window].save(store.folder / 'data' / f'w{window}.npz')
     cells = grid_cells(args.models, sorted(datasets), args.seeds, args.folds, schemes)
+    with ExitStack() as sharing:
+        if args.mps:  # before the grid's folder is written: a refusal leaves nothing behind
+            from tactex_common.gpu_sharing import multi_process_service
+            sharing.enter_context(multi_process_service())
+            log('NVIDIA MPS started: the cells sharing a GPU run on it at once')
+        store.open(settings, datasets, sources)
+        for window in converted:
+            datasets[window].save(store.folder / 'data' / f'w{window}.npz')
+        run_cells(args, store, cells, datasets, settings,
+                  expected_cells=args.seeds * args.folds * len(schemes), log=log)
+    return 0
+
+
+def check_mps(args: argparse.Namespace) -> None:
+    """--mps asks for a GPU on this machine.
+
+    Raises:
+        CommandError: with --address, --device cpu, or no usable GPU here.
+    """
+    if args.address:
+        raise CommandError('--mps starts NVIDIA MPS on this machine; on a cluster start it on '
+                           'each GPU node (nvidia-cuda-mps-control -d) and drop --mps')
+    if args.device == 'cpu':
+        raise CommandError('--mps shares a GPU; drop it with --device cpu')
+    from tactex_classify.evaluation.model_grid import cuda_available
+    if not cuda_available():
+        raise CommandError('--mps: this machine has no usable GPU; drop --mps')
+
+
+def run_cells(args: argparse.Namespace, store, cells, datasets, settings, *,
+              expected_cells: int, log) -> None:
+    """Run the grid's missing cells on Ray, then write its report (also when stopped)."""
+    from tactex_classify.evaluation.grid_report import write_report
+    from tactex_classify.evaluation.model_grid import run_grid
+    from tactex_common.cluster import ray_session
     with ray_session(address=args.address, cpus=args.cpus) as resources:
         gpus = resources.get('GPU', 0.0)
         if args.device == 'cuda' and not gpus:
@@ -145,9 +182,8 @@ def run(args: argparse.Namespace) -> int:
                      gpus_per_cell=1.0 / args.cells_per_gpu, progress=log)
         finally:
             report = write_report(args.out, store.results(), store.manifest(),
-                                  expected_cells=args.seeds * args.folds * len(schemes))
+                                  expected_cells=expected_cells)
             log(f'report: {report}')
-    return 0
 
 
 def check_grid_folder(store) -> None:

@@ -1,0 +1,375 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""How fast deep-model cells train together on one GPU, with and without CUDA MPS.
+
+The GPU grid trains each cell in a process of its own, several sharing the GPU
+(`tactex compare --device cuda --cells-per-gpu N`). This bench starts N such trainings at
+once (fold 1 of seed 0, grouped, of the kept GPU grid's data; the modern profile with
+per-window scaling, as that grid), lets each warm up for one epoch, times the epochs after
+it, and reports the GPU's throughput in cell-epochs per second against one cell alone,
+measured in the same run. A run marked `mps` repeats it under NVIDIA's Multi-Process
+Service, which lets the processes' kernels share the GPU at once instead of taking turns.
+A profile of one cell says whether the host (Python and kernel launches) or the GPU's
+arithmetic sets a step's pace. A run marked `autotune` lets cuDNN time its algorithms for
+each shape first (`torch.backends.cudnn.benchmark`), as tactex's training does on a GPU.
+Each call is appended to results/gpu_pace.json (`--out`), written after each run, so a
+call stopped at its time limit keeps what it measured.
+"""
+
+import argparse
+from contextlib import ExitStack
+import hashlib
+import itertools
+import json
+import math
+import os
+from pathlib import Path
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+
+os.environ.setdefault('OMP_NUM_THREADS', '1')
+
+from bench_compare import machine  # noqa: E402
+
+from tactex_common.errors import GpuSharingError  # noqa: E402
+from tactex_common.gpu_sharing import multi_process_service  # noqa: E402
+
+RESULTS = Path(__file__).parent / 'results' / 'gpu_pace.json'
+DATA = Path('/tmp/cg/sim128_first20.npz')
+FOLDS = 5  # the kept grids' folds: fold 1's training windows are a cell's
+DEFAULT_RUNS = ('cnn_3:1,cnn_3:12,cnn_3:12:mps,inception_time:1,inception_time:12:mps,'
+                'inception_time:12,cnn_3:16:mps,cnn_3:6:mps,cnn_3:6,cnn_3:16')
+# mps: under NVIDIA's Multi-Process Service; autotune: cuDNN times its algorithms per shape.
+OPTIONS = ('mps', 'autotune')
+
+
+def parse_runs(text: str) -> list[dict]:
+    """'MODEL:CELLS[:OPTION...],...' as runs; raises ValueError naming a malformed one."""
+    runs = []
+    for item in filter(None, text.split(',')):
+        parts = item.split(':')
+        if len(parts) < 2 or not parts[1].isdigit() or int(parts[1]) < 1 or not set(
+                parts[2:]) <= set(OPTIONS):
+            raise ValueError(f'--runs: {item!r} is not MODEL:CELLS[:OPTION...] with options '
+                             f'among {", ".join(OPTIONS)}')
+        runs.append({'model': parts[0], 'cells': int(parts[1]),
+                     **{option: option in parts[2:] for option in OPTIONS}})
+    return runs
+
+
+def cell_pace(epoch_seconds: list[float]) -> float | None:
+    """Epochs per second of one cell: the median epoch after the first (warm-up) one."""
+    timed = [s for s in epoch_seconds[1:] if s > 0]
+    return 1.0 / statistics.median(timed) if timed else None
+
+
+def summarise(run: dict, cells: list[dict], alone: dict | None) -> dict:
+    """A run's result: each cell's pace, the GPU's throughput, and its ratio to one cell."""
+    paces = [cell_pace(cell['epoch_s']) for cell in cells]
+    finished = [pace for pace in paces if pace is not None]
+    throughput = sum(finished) if len(finished) == run['cells'] else None
+    result = {**run, 'epochs_per_s': [round(p, 3) for p in finished],
+              'median_epochs_per_s': round(statistics.median(finished), 3) if finished else None,
+              'cell_epochs_per_s': round(throughput, 3) if throughput else None,
+              'steps_per_epoch': cells[0]['steps_per_epoch'] if cells else None}
+    if throughput and alone and alone.get('cell_epochs_per_s'):
+        result['vs_one_cell'] = round(throughput / alone['cell_epochs_per_s'], 2)
+    return result
+
+
+def earlier_calls(path: Path) -> list[dict]:
+    """The calls kept in `path` before this one (each call appends its own); none if new."""
+    if not path.is_file():
+        return []
+    try:
+        calls = json.loads(path.read_text(encoding='utf-8'))['calls']
+        if isinstance(calls, list):
+            return calls
+    except (ValueError, KeyError, TypeError):
+        pass
+    raise SystemExit(f'error: --out {path}: not a kept pace file; give a new --out')
+
+
+def worker(args) -> int:
+    """One cell's training (a child process): wait for the start signal, then time epochs."""
+    import torch
+
+    from tactex_classify.data.dataset import Dataset
+    from tactex_classify.evaluation.cross_validation import splits
+    from tactex_classify.training import deep_classifier
+    from tactex_classify.training.deep_classifier import (
+        DeepClassifier,
+        TrainingConfig,
+        validation_split,
+    )
+    dataset = Dataset.load(args.data)
+    train, _ = splits(dataset, 'grouped', FOLDS, 0)[0]
+    config = TrainingConfig.for_profile('modern', model=args.worker, epochs=args.epochs,
+                                        scaling='window', seed=0, threads=1)
+    fitted, _ = validation_split(dataset.y[train], dataset.trial[train], config)
+    marks: list[float] = []
+    classifier = DeepClassifier(config, device=args.device,
+                                progress=lambda record: marks.append(time.perf_counter()))
+    if not args.autotune:  # as tactex trained before it autotuned cuDNN on a GPU
+        deep_classifier.training_device = torch.device
+    torch.zeros(1, device=args.device)  # the device's context before the clock starts
+    Path(args.ready).touch()
+    while not Path(args.go).exists():
+        time.sleep(0.02)
+    started = time.perf_counter()
+    classifier.fit(dataset.X[train], dataset.y[train], dataset.classes,
+                   groups=dataset.trial[train])
+    stamps = [started, *marks]
+    result = {'epoch_s': [b - a for a, b in itertools.pairwise(stamps)],
+              'steps_per_epoch': math.ceil(fitted.size / config.batch_size)}
+    if args.profile_cell:
+        result['profile'] = profile_epoch(classifier, dataset, train, result)
+    print(json.dumps(result), flush=True)
+    return 0
+
+
+def profile_epoch(classifier, dataset, train, timed: dict) -> dict:
+    """One more epoch under torch's profiler: GPU operations and their time per step.
+
+    The host's time per step is the unprofiled run's (its median epoch after the first,
+    over its steps); where the GPU's busy time per step is far below it, the host sets
+    the pace and more cells at once can use the idle GPU.
+    """
+    import torch
+    from torch.autograd import DeviceType
+    from torch.profiler import profile, ProfilerActivity
+    classifier.config.epochs = 1
+    activities = [ProfilerActivity.CPU]
+    if torch.cuda.is_available():
+        activities.append(ProfilerActivity.CUDA)
+    with profile(activities=activities) as profiled:
+        classifier.fit(dataset.X[train], dataset.y[train], dataset.classes,
+                       groups=dataset.trial[train])
+        if torch.cuda.is_available():
+            torch.cuda.synchronize()
+    operations, busy_us = 0, 0.0
+    for event in profiled.key_averages():
+        if event.device_type == DeviceType.CUDA:
+            operations += event.count
+            busy_us += event.self_device_time_total
+    steps = timed['steps_per_epoch']
+    return {'host_ms_per_step': round(1e3 / cell_pace(timed['epoch_s']) / steps, 2),
+            'gpu_busy_ms_per_step': round(busy_us / 1e3 / steps, 2),
+            'gpu_operations_per_step': round(operations / steps, 1)}
+
+
+class Utilisation:
+    """The GPU's utilisation sampled every half second while it runs (NVML), if available."""
+
+    def __init__(self) -> None:
+        self.samples: list[int] = []
+        self._stop = threading.Event()
+        self._thread = None
+        try:
+            import pynvml
+            pynvml.nvmlInit()
+            self._handle, self._nvml = pynvml.nvmlDeviceGetHandleByIndex(0), pynvml
+        except Exception:  # noqa: BLE001  (no NVML, no GPU: no samples, nothing else lost)
+            self._handle = None
+
+    def __enter__(self) -> 'Utilisation':
+        if self._handle is not None:
+            self._thread = threading.Thread(target=self._sample, daemon=True)
+            self._thread.start()
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self._stop.set()
+        if self._thread is not None:
+            self._thread.join()
+
+    def _sample(self) -> None:
+        while not self._stop.wait(0.5):
+            self.samples.append(self._nvml.nvmlDeviceGetUtilizationRates(self._handle).gpu)
+
+    def mean(self) -> float | None:
+        """Mean percent busy over the samples, or None without any."""
+        return round(statistics.mean(self.samples), 1) if self.samples else None
+
+
+def run_cells(run: dict, args, refused: dict) -> tuple[list[dict], dict]:
+    """Start `run['cells']` trainings at once; their results and what went wrong, if anything.
+
+    A run under MPS starts the service for itself (`multi_process_service`); once it could
+    not start, `refused['mps']` says why and later MPS runs are skipped with that reason.
+    """
+    with ExitStack() as sharing:
+        if run['mps']:
+            try:
+                if 'mps' not in refused:
+                    sharing.enter_context(multi_process_service())
+            except GpuSharingError as err:
+                refused['mps'] = str(err)
+            if 'mps' in refused:
+                return [], {'skipped': refused['mps']}
+        return start_cells(run, args)
+
+
+def start_cells(run: dict, args) -> tuple[list[dict], dict]:
+    """The cells of a run, started together and released at once when all are ready."""
+    problems: dict = {}
+    folder = Path(tempfile.mkdtemp(prefix='gpu-pace-'))
+    go = folder / 'go'
+    children = []
+    try:
+        for index in range(run['cells']):
+            command = [sys.executable, __file__, '--worker', run['model'], '--data',
+                       str(args.data), '--epochs', str(args.epochs[run['model']]),
+                       '--device', args.device, '--ready', str(folder / f'ready{index}'),
+                       '--go', str(go)]
+            if run['autotune']:
+                command.append('--autotune')
+            if args.profile and run['cells'] == 1:
+                command.append('--profile-cell')
+            children.append(subprocess.Popen(command, stdout=subprocess.PIPE,
+                                             stderr=subprocess.PIPE, text=True))
+        deadline = time.monotonic() + args.run_timeout
+        while len(list(folder.glob('ready*'))) < run['cells']:
+            if time.monotonic() > deadline or any(c.poll() is not None for c in children):
+                break
+            time.sleep(0.05)
+        go.touch()
+        with Utilisation() as busy:
+            outputs = []
+            for child in children:
+                try:
+                    out, err = child.communicate(timeout=max(1.0, deadline - time.monotonic()))
+                except subprocess.TimeoutExpired:
+                    child.kill()
+                    out, err = child.communicate()
+                    problems['timed_out'] = problems.get('timed_out', 0) + 1
+                outputs.append((child.returncode, out, err))
+        problems['gpu_busy_percent'] = busy.mean()
+    finally:
+        for child in children:
+            if child.poll() is None:
+                child.kill()
+        shutil.rmtree(folder, ignore_errors=True)
+    cells = []
+    for returncode, out, err in outputs:
+        lines = out.strip().splitlines()
+        if returncode == 0 and lines:
+            cells.append(json.loads(lines[-1]))
+        else:
+            problems.setdefault('failed', []).append((err.strip().splitlines() or [''])[-1])
+    return cells, problems
+
+
+def run_label(run: dict, call: int) -> str:
+    """'12 cells, mps, autotune (call 2)'."""
+    options = ''.join(f', {option}' for option in OPTIONS if run.get(option))
+    return f"{run['cells']} cell{'s' if run['cells'] > 1 else ''}{options} (call {call})"
+
+
+def plot(kept: dict, path: Path) -> None:
+    """The GPU's throughput of each run, a panel per model, one bar per run."""
+    from tactex_common import plotting
+    runs = [(run, number) for number, call in enumerate(kept['calls'], 1)
+            for run in call['runs'] if run.get('cell_epochs_per_s')]
+    models = sorted({run['model'] for run, _ in runs})
+    plt, figure, axes = plotting.figure(1, len(models), squeeze=False)
+    for axis, model in zip(axes[0], models, strict=True):
+        mine = sorted(((run, number) for run, number in runs if run['model'] == model),
+                      key=lambda item: item[0]['cell_epochs_per_s'])
+        values = [run['cell_epochs_per_s'] for run, _ in mine]
+        colours = ['tab:green' if run['mps'] else 'tab:gray' for run, _ in mine]
+        axis.barh(range(len(mine)), values, color=colours)
+        axis.set_yticks(range(len(mine)), [run_label(run, number) for run, number in mine],
+                        fontsize=7)
+        for row, value in enumerate(values):
+            axis.text(value, row, f' {value:.2f}', va='center', fontsize=7)
+        axis.set(xscale='log', xlabel='cell-epochs per second (GPU throughput)', title=model)
+        plotting.plain_log_ticks(axis.xaxis)
+        axis.set_xlim(right=max(values) * 3)
+    gpu = kept['calls'][-1]['machine']['gpu'] or {'name': 'no GPU'}
+    plotting.save(plt, figure, path, footnote=f'trainings at once on one {gpu["name"]} '
+                  '(green: under MPS); `python bench/bench_gpu_pace.py`')
+
+
+def main() -> int:
+    """Each run in turn; print a line per run and keep every result."""
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument('--data', type=Path, default=DATA,
+                        help="a converted dataset (.npz); default the kept GPU grid's")
+    parser.add_argument('--runs', default=DEFAULT_RUNS,
+                        help='MODEL:CELLS[:mps][:autotune],... in order (default %(default)s)')
+    parser.add_argument('--epochs', default='cnn_3:4,inception_time:3',
+                        help='MODEL:EPOCHS,...: epochs per cell, the first a warm-up; other '
+                             'models 3 (default %(default)s)')
+    parser.add_argument('--device', default='cuda')
+    parser.add_argument('--run-timeout', type=float, default=120.0,
+                        help='seconds a run may take before its cells are stopped')
+    parser.add_argument('--no-profile', dest='profile', action='store_false',
+                        help='skip the profile of the runs of one cell')
+    parser.add_argument('--out', type=Path, default=RESULTS)
+    parser.add_argument('--plot', action='store_true',
+                        help='only draw the PNG beside --out again from the kept calls')
+    parser.add_argument('--worker', help=argparse.SUPPRESS)
+    parser.add_argument('--ready', help=argparse.SUPPRESS)
+    parser.add_argument('--go', help=argparse.SUPPRESS)
+    parser.add_argument('--profile-cell', action='store_true', help=argparse.SUPPRESS)
+    parser.add_argument('--autotune', action='store_true', help=argparse.SUPPRESS)
+    args = parser.parse_args()
+    if args.worker:
+        args.epochs = int(args.epochs)
+        return worker(args)
+    if args.plot:
+        plot({'calls': earlier_calls(args.out)}, args.out.with_suffix('.png'))
+        return 0
+    try:
+        runs = parse_runs(args.runs)
+        args.epochs = {model: 3 for model in {run['model'] for run in runs}} | {
+            model: int(count) for model, count in
+            (item.split(':') for item in filter(None, args.epochs.split(',')))}
+    except ValueError as err:
+        raise SystemExit(f'error: {err}') from None
+    if not args.data.is_file():
+        raise SystemExit(f'error: --data {args.data}: no such file; give the converted set')
+    calls = earlier_calls(args.out)
+    call = {'command': ' '.join(['python', 'bench/bench_gpu_pace.py', *sys.argv[1:]]),
+            'started': time.strftime('%Y-%m-%dT%H:%M:%S%z'),
+            'data': {'file': args.data.name,
+                     'sha256': hashlib.sha256(args.data.read_bytes()).hexdigest()},
+            'machine': machine(), 'epochs': args.epochs, 'runs': []}
+    alone: dict[str, dict] = {}
+    refused: dict[str, str] = {}
+    for run in runs:
+        started = time.monotonic()
+        cells, problems = run_cells(run, args, refused)
+        result = {**summarise(run, cells, alone.get(run['model'])), **problems,
+                  'wall_s': round(time.monotonic() - started, 1)}
+        profiles = [cell['profile'] for cell in cells if 'profile' in cell]
+        if profiles:
+            result['profile'] = profiles[0]
+        if run['cells'] == 1 and not (run['mps'] or run['autotune']) and \
+                result['cell_epochs_per_s']:
+            alone[run['model']] = result
+        call['runs'].append(result)
+        args.out.parent.mkdir(parents=True, exist_ok=True)
+        args.out.write_text(json.dumps({'calls': [*calls, call]}, indent=1) + '\n',
+                            encoding='utf-8')
+        options = ''.join(' ' + option for option in OPTIONS if run[option])
+        print(f"{run['model']} x{run['cells']}{options}: "
+              f"{result['median_epochs_per_s']} epochs/s a cell, "
+              f"{result['cell_epochs_per_s']} cell-epochs/s "
+              f"(x{result.get('vs_one_cell', '-')} one cell), GPU "
+              f"{result.get('gpu_busy_percent')} % busy, {result['wall_s']} s"
+              f"{'; ' + json.dumps(problems) if set(problems) - {'gpu_busy_percent'} else ''}"
+              f"{'; profile ' + json.dumps(result['profile']) if profiles else ''}",
+              flush=True)
+    plot({'calls': [*calls, call]}, args.out.with_suffix('.png'))
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())
