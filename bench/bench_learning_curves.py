@@ -10,7 +10,10 @@ on the same held-out recordings. Deep models train with the `modern` profile and
 per-window scaling (its early stopping holds out some of the training recordings);
 baselines as they are. Each
 point keeps its accuracy and training seconds, so the curve shows where, if anywhere, a
-deep model overtakes the baselines and what each point costs.
+deep model overtakes the baselines and what each point costs, and for each draw of a deep
+model why it did not converge (`unconverged_because`: stalled at chance, or still falling
+at its last epoch; None when it converged), marked in the table (points kept before
+2026-11-29 carry no such mark).
 
 Points are kept in RESULTS/learning_curves.json as they finish and a run with the same
 data and settings resumes. `--merge DIR ...` trains nothing: it joins the points kept by
@@ -32,6 +35,8 @@ from bench_profiles import common_parser, finish_plot, keep, load_or_simulate  #
 from bench_sim_to_real import accuracy, draw, hold_out  # noqa: E402
 import numpy as np  # noqa: E402
 
+from tactex_classify.training.deep_classifier import unconverged_because  # noqa: E402
+
 RESULTS = Path(__file__).parent / 'results' / 'learning_curves'
 # What makes two calls' points comparable: the set (its hash) and the settings.
 KEY = ('dataset', 'test', 'draws', 'epochs', 'seed', 'device')
@@ -51,9 +56,11 @@ def markdown(summary: dict) -> str:
         cells = []
         for n in sizes:
             point = summary['points'].get(f'{model}@{n}')
+            reasons = sorted({r for r in (point or {}).get('unconverged', []) if r})
             cells.append('-' if point is None else
                          f'{100 * np.mean(point["accuracy"]):.1f} % '
-                         f'({np.mean(point["seconds"]):.0f} s)')
+                         f'({np.mean(point["seconds"]):.0f} s)'
+                         + (f' (not converged: {", ".join(reasons)})' if reasons else ''))
         lines.append(f'| {model} | ' + ' | '.join(cells) + ' |')
     if summary['skipped']:
         lines += ['', 'Not in this set: ' + ', '.join(summary['skipped']) + '.']
@@ -129,7 +136,7 @@ def main() -> int:
         for model in models:
             if f'{model}@{n}' in points:
                 continue
-            point = {'accuracy': [], 'seconds': []}
+            point = {'accuracy': [], 'seconds': [], 'unconverged': []}
             for index in range(args.draws):
                 train = dataset.select(draw(dataset, pool, n, np.random.default_rng(
                     [args.seed, n, index])))
@@ -137,6 +144,9 @@ def main() -> int:
                 estimator, seconds = fit_timed(config, train, args.device)
                 point['accuracy'].append(accuracy(estimator, test))
                 point['seconds'].append(round(seconds, 1))
+                point['unconverged'].append(unconverged_because(
+                    [record['train_loss'] for record in getattr(estimator, 'history_', [])],
+                    len(dataset.classes), args.epochs))
             points[f'{model}@{n}'] = point
             print(f'[{time.monotonic() - started:7.0f} s] n={n:3d} {model:16s} '
                   f'{100 * np.mean(point["accuracy"]):5.1f} %, '
