@@ -35,12 +35,14 @@ import time
 os.environ.setdefault('OMP_NUM_THREADS', '1')
 
 from bench_compare import machine  # noqa: E402
+import numpy as np  # noqa: E402
 
 from tactex_common.errors import GpuSharingError  # noqa: E402
 from tactex_common.gpu_sharing import multi_process_service  # noqa: E402
 
 RESULTS = Path(__file__).parent / 'results' / 'gpu_pace.json'
-DATA = Path('/tmp/cg/sim128_first20.npz')
+# Where bench/bench_compare.py converts the kept GPU grid's recordings (its --work).
+DATA = Path('/tmp/tactex-compare-data/sim128_first20.npz')
 FOLDS = 5  # the kept grids' folds: fold 1's training windows are a cell's
 DEFAULT_RUNS = ('cnn_3:1,cnn_3:12,cnn_3:12:mps,inception_time:1,inception_time:12:mps,'
                 'inception_time:12,cnn_3:16:mps,cnn_3:6:mps,cnn_3:6,cnn_3:16')
@@ -68,14 +70,39 @@ def cell_pace(epoch_seconds: list[float]) -> float | None:
     return 1.0 / statistics.median(timed) if timed else None
 
 
+def overlap(cells: list[dict]) -> tuple[float, float] | None:
+    """The span (start, end) in which every cell was in its timed epochs, or None.
+
+    It starts when the last cell ends its warm-up epoch and ends when the first cell ends
+    its last epoch; outside it some cells trained on a less crowded GPU.
+    """
+    if not cells or any(len(cell.get('stamps', [])) < 3 for cell in cells):
+        return None
+    start = max(cell['stamps'][1] for cell in cells)
+    end = min(cell['stamps'][-1] for cell in cells)
+    return (start, end) if end > start else None
+
+
 def summarise(run: dict, cells: list[dict], alone: dict | None) -> dict:
-    """A run's result: each cell's pace, the GPU's throughput, and its ratio to one cell."""
+    """A run's result: each cell's pace, the GPU's throughput, and its ratio to one cell.
+
+    The throughput counts the epochs every cell trained while all of them were training
+    (`overlap`; a cell's epochs counted in fractions, from its epoch stamps).
+    """
     paces = [cell_pace(cell['epoch_s']) for cell in cells]
     finished = [pace for pace in paces if pace is not None]
-    throughput = sum(finished) if len(finished) == run['cells'] else None
+    span = overlap(cells) if len(cells) == run['cells'] else None
+    throughput = None
+    if span:
+        start, end = span
+        throughput = sum(float(np.interp(end, cell['stamps'], range(len(cell['stamps'])))
+                               - np.interp(start, cell['stamps'], range(len(cell['stamps']))))
+                         for cell in cells) / (end - start)
     result = {**run, 'epochs_per_s': [round(p, 3) for p in finished],
               'median_epochs_per_s': round(statistics.median(finished), 3) if finished else None,
               'cell_epochs_per_s': round(throughput, 3) if throughput else None,
+              'throughput_over': 'overlap', 'overlap_s': round(span[1] - span[0], 1)
+              if span else None,
               'steps_per_epoch': cells[0]['steps_per_epoch'] if cells else None}
     if throughput and alone and alone.get('cell_epochs_per_s'):
         result['vs_one_cell'] = round(throughput / alone['cell_epochs_per_s'], 2)
@@ -116,7 +143,7 @@ def worker(args) -> int:
     classifier = DeepClassifier(config, device=args.device,
                                 progress=lambda record: marks.append(time.perf_counter()))
     if not args.autotune:  # as tactex trained before it autotuned cuDNN on a GPU
-        deep_classifier.training_device = torch.device
+        deep_classifier.prepare_training_device = torch.device
     torch.zeros(1, device=args.device)  # the device's context before the clock starts
     Path(args.ready).touch()
     while not Path(args.go).exists():
@@ -124,8 +151,8 @@ def worker(args) -> int:
     started = time.perf_counter()
     classifier.fit(dataset.X[train], dataset.y[train], dataset.classes,
                    groups=dataset.trial[train])
-    stamps = [started, *marks]
-    result = {'epoch_s': [b - a for a, b in itertools.pairwise(stamps)],
+    stamps = [started, *marks]  # CLOCK_MONOTONIC: one clock for every process here
+    result = {'epoch_s': [b - a for a, b in itertools.pairwise(stamps)], 'stamps': stamps,
               'steps_per_epoch': math.ceil(fitted.size / config.batch_size)}
     if args.profile_cell:
         result['profile'] = profile_epoch(classifier, dataset, train, result)
@@ -167,7 +194,7 @@ class Utilisation:
     """The GPU's utilisation sampled every half second while it runs (NVML), if available."""
 
     def __init__(self) -> None:
-        self.samples: list[int] = []
+        self.samples: list[tuple[float, int]] = []  # (perf_counter, percent busy)
         self._stop = threading.Event()
         self._thread = None
         try:
@@ -190,11 +217,13 @@ class Utilisation:
 
     def _sample(self) -> None:
         while not self._stop.wait(0.5):
-            self.samples.append(self._nvml.nvmlDeviceGetUtilizationRates(self._handle).gpu)
+            self.samples.append((time.perf_counter(),
+                                 self._nvml.nvmlDeviceGetUtilizationRates(self._handle).gpu))
 
-    def mean(self) -> float | None:
-        """Mean percent busy over the samples, or None without any."""
-        return round(statistics.mean(self.samples), 1) if self.samples else None
+    def mean(self, span: tuple[float, float] | None) -> float | None:
+        """Mean percent busy over the samples inside `span`, or None without any."""
+        inside = [busy for at, busy in self.samples if span and span[0] <= at <= span[1]]
+        return round(statistics.mean(inside), 1) if inside else None
 
 
 def run_cells(run: dict, args, refused: dict) -> tuple[list[dict], dict]:
@@ -216,11 +245,15 @@ def run_cells(run: dict, args, refused: dict) -> tuple[list[dict], dict]:
 
 
 def start_cells(run: dict, args) -> tuple[list[dict], dict]:
-    """The cells of a run, started together and released at once when all are ready."""
-    problems: dict = {}
+    """The cells of a run, started together and released at once when all are ready.
+
+    Cells not all ready within `--start-timeout` are stopped unreleased; released cells get
+    `--run-timeout` more. The GPU's utilisation is averaged over the span all were timed.
+    """
+    notes: dict = {}
     folder = Path(tempfile.mkdtemp(prefix='gpu-pace-'))
     go = folder / 'go'
-    children = []
+    children, outputs = [], []
     try:
         for index in range(run['cells']):
             command = [sys.executable, __file__, '--worker', run['model'], '--data',
@@ -233,23 +266,27 @@ def start_cells(run: dict, args) -> tuple[list[dict], dict]:
                 command.append('--profile-cell')
             children.append(subprocess.Popen(command, stdout=subprocess.PIPE,
                                              stderr=subprocess.PIPE, text=True))
-        deadline = time.monotonic() + args.run_timeout
+        ready_by = time.monotonic() + args.start_timeout
         while len(list(folder.glob('ready*'))) < run['cells']:
-            if time.monotonic() > deadline or any(c.poll() is not None for c in children):
+            if time.monotonic() > ready_by or any(c.poll() is not None for c in children):
+                notes['not_ready'] = (f'{len(list(folder.glob("ready*")))} of {run["cells"]} '
+                                      f'cells ready within {args.start_timeout:g} s')
+                for child in children:
+                    child.kill()
                 break
             time.sleep(0.05)
-        go.touch()
+        else:
+            go.touch()
+        deadline = time.monotonic() + args.run_timeout
         with Utilisation() as busy:
-            outputs = []
             for child in children:
                 try:
                     out, err = child.communicate(timeout=max(1.0, deadline - time.monotonic()))
                 except subprocess.TimeoutExpired:
                     child.kill()
                     out, err = child.communicate()
-                    problems['timed_out'] = problems.get('timed_out', 0) + 1
+                    notes['timed_out'] = notes.get('timed_out', 0) + 1
                 outputs.append((child.returncode, out, err))
-        problems['gpu_busy_percent'] = busy.mean()
     finally:
         for child in children:
             if child.poll() is None:
@@ -260,9 +297,10 @@ def start_cells(run: dict, args) -> tuple[list[dict], dict]:
         lines = out.strip().splitlines()
         if returncode == 0 and lines:
             cells.append(json.loads(lines[-1]))
-        else:
-            problems.setdefault('failed', []).append((err.strip().splitlines() or [''])[-1])
-    return cells, problems
+        elif 'not_ready' not in notes:
+            notes.setdefault('failed', []).append((err.strip().splitlines() or [''])[-1])
+    notes['gpu_busy_percent'] = busy.mean(overlap(cells))
+    return cells, notes
 
 
 def run_label(run: dict, call: int) -> str:
@@ -307,8 +345,10 @@ def main() -> int:
                         help='MODEL:EPOCHS,...: epochs per cell, the first a warm-up; other '
                              'models 3 (default %(default)s)')
     parser.add_argument('--device', default='cuda')
+    parser.add_argument('--start-timeout', type=float, default=120.0,
+                        help='seconds for every cell of a run to load before none starts')
     parser.add_argument('--run-timeout', type=float, default=120.0,
-                        help='seconds a run may take before its cells are stopped')
+                        help='seconds a run may train before its cells are stopped')
     parser.add_argument('--no-profile', dest='profile', action='store_false',
                         help='skip the profile of the runs of one cell')
     parser.add_argument('--out', type=Path, default=RESULTS)
@@ -324,7 +364,12 @@ def main() -> int:
         args.epochs = int(args.epochs)
         return worker(args)
     if args.plot:
-        plot({'calls': earlier_calls(args.out)}, args.out.with_suffix('.png'))
+        kept = {'calls': earlier_calls(args.out)}
+        if not any(run.get('cell_epochs_per_s') for call in kept['calls']
+                   for run in call['runs']):
+            raise SystemExit(f'error: --out {args.out}: no measured run kept there to plot; '
+                             'run the bench first')
+        plot(kept, args.out.with_suffix('.png'))
         return 0
     try:
         runs = parse_runs(args.runs)
@@ -345,8 +390,8 @@ def main() -> int:
     refused: dict[str, str] = {}
     for run in runs:
         started = time.monotonic()
-        cells, problems = run_cells(run, args, refused)
-        result = {**summarise(run, cells, alone.get(run['model'])), **problems,
+        cells, notes = run_cells(run, args, refused)
+        result = {**summarise(run, cells, alone.get(run['model'])), **notes,
                   'wall_s': round(time.monotonic() - started, 1)}
         profiles = [cell['profile'] for cell in cells if 'profile' in cell]
         if profiles:
@@ -364,10 +409,11 @@ def main() -> int:
               f"{result['cell_epochs_per_s']} cell-epochs/s "
               f"(x{result.get('vs_one_cell', '-')} one cell), GPU "
               f"{result.get('gpu_busy_percent')} % busy, {result['wall_s']} s"
-              f"{'; ' + json.dumps(problems) if set(problems) - {'gpu_busy_percent'} else ''}"
+              f"{'; ' + json.dumps(notes) if set(notes) - {'gpu_busy_percent'} else ''}"
               f"{'; profile ' + json.dumps(result['profile']) if profiles else ''}",
               flush=True)
-    plot({'calls': [*calls, call]}, args.out.with_suffix('.png'))
+    if any(run.get('cell_epochs_per_s') for run in call['runs']):
+        plot({'calls': [*calls, call]}, args.out.with_suffix('.png'))
     return 0
 
 

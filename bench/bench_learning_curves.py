@@ -35,8 +35,6 @@ from bench_profiles import common_parser, finish_plot, keep, load_or_simulate  #
 from bench_sim_to_real import accuracy, draw, hold_out  # noqa: E402
 import numpy as np  # noqa: E402
 
-from tactex_classify.training.deep_classifier import unconverged_because  # noqa: E402
-
 RESULTS = Path(__file__).parent / 'results' / 'learning_curves'
 # What makes two calls' points comparable: the set (its hash) and the settings.
 KEY = ('dataset', 'test', 'draws', 'epochs', 'seed', 'device')
@@ -44,6 +42,7 @@ KEY = ('dataset', 'test', 'draws', 'epochs', 'seed', 'device')
 
 def markdown(summary: dict) -> str:
     """Accuracy (mean ± sd over draws) and training seconds per model and size."""
+    from tactex_classify.models.registry import BASELINES
     sizes = summary['sizes']
     lines = [f'Accuracy on {summary["test_windows"]} windows of {summary["test"]} held-out '
              f'recordings per texture (chance {100 * summary["chance"]:.1f} %), trained on '
@@ -62,6 +61,10 @@ def markdown(summary: dict) -> str:
                          f'({np.mean(point["seconds"]):.0f} s)'
                          + (f' (not converged: {", ".join(reasons)})' if reasons else ''))
         lines.append(f'| {model} | ' + ' | '.join(cells) + ' |')
+    if any('unconverged' not in summary['points'].get(f'{model}@{n}', {'unconverged': 0})
+           for model in summary['models'] if model not in BASELINES for n in sizes):
+        lines += ['', 'Deep-model points kept before 2026-11-29 were not checked for '
+                  'convergence (no mark either way).']
     if summary['skipped']:
         lines += ['', 'Not in this set: ' + ', '.join(summary['skipped']) + '.']
     if len(summary.get('calls', [])) > 1:  # merged from calls run side by side
@@ -144,9 +147,8 @@ def main() -> int:
                 estimator, seconds = fit_timed(config, train, args.device)
                 point['accuracy'].append(accuracy(estimator, test))
                 point['seconds'].append(round(seconds, 1))
-                point['unconverged'].append(unconverged_because(
-                    [record['train_loss'] for record in getattr(estimator, 'history_', [])],
-                    len(dataset.classes), args.epochs))
+                point['unconverged'].append(estimator.unconverged_reason() if hasattr(
+                    estimator, 'unconverged_reason') else None)
             points[f'{model}@{n}'] = point
             print(f'[{time.monotonic() - started:7.0f} s] n={n:3d} {model:16s} '
                   f'{100 * np.mean(point["accuracy"]):5.1f} %, '

@@ -61,11 +61,7 @@ def configurations(model: str, epochs: int, seed: int) -> dict:
 
 def run_fold(config, dataset, train, test, device: str = 'cpu') -> dict:
     """Fit one row on one fold (deep models on `device`); accuracy, epochs, seconds."""
-    from tactex_classify.training.deep_classifier import (
-        DeepClassifier,
-        TrainingConfig,
-        unconverged_because,
-    )
+    from tactex_classify.training.deep_classifier import DeepClassifier, TrainingConfig
     from tactex_classify.training.estimators import build_estimator
     if isinstance(config, str):
         estimator = build_estimator(TrainingConfig(model=config))
@@ -83,9 +79,7 @@ def run_fold(config, dataset, train, test, device: str = 'cpu') -> dict:
         fold.update({'epochs': len(history), 'best_epoch': estimator.best_epoch_,
                      'stopped_early': len(history) < config.epochs,
                      'still_falling': estimator.still_falling_,
-                     'unconverged': unconverged_because(
-                         [record['train_loss'] for record in history], len(dataset.classes),
-                         config.epochs)})
+                     'unconverged': estimator.unconverged_reason()})
     return fold
 
 

@@ -427,6 +427,30 @@ def _mean_grouped(row: dict) -> float:
     return row['schemes']['grouped']['accuracy']['mean']
 
 
+def _first_gpu_grid() -> dict:
+    """The kept GPU grid's pace, and what it made of the rest and of the issue's full grid.
+
+    pace: median epochs per second of its deep cells; epochs: their mean epochs; left_min:
+    the minutes its missing deep cells need at that pace with its cells per GPU; full_h:
+    the hours of the full grid (three windows, both schemes: twice its one window and
+    scheme).
+    """
+    from tactex_classify.models.registry import BASELINES
+    _, _, grid = _kept_grid('compare_gpu')
+    first = grid[0]['command']
+    deep_models = [m for m in _option(first, '--models').split(',') if m not in BASELINES]
+    deep = [cell for cell in _cells('compare_gpu').values()
+            if cell['cell']['model'] not in BASELINES]
+    pace = float(np.median([cell['epochs_per_s'] for cell in deep]))
+    epochs = float(np.mean([cell['epochs_run'] for cell in deep]))
+    left = len(deep_models) * int(_option(first, '--seeds')) * \
+        int(_option(first, '--folds')) - len(deep)
+    left_min = left * epochs / (pace * int(_option(first, '--cells-per-gpu'))) / 60
+    elapsed_min = sum(step['seconds'] for step in grid) / 60
+    return {'pace': pace, 'left_cells': left, 'left_min': left_min,
+            'full_h': 2 * (elapsed_min + left_min) / 60}
+
+
 def compare_gpu() -> str:
     """The comparison on the physical sensor run on a lent GPU: what finished, and its pace."""
     import csv
@@ -454,8 +478,7 @@ def compare_gpu() -> str:
     (data,) = summary['data'].values()
     classes = len(data['classes'])
     deep = [cell for cell in cells if cell['cell']['model'] not in BASELINES]
-    pace = np.median([cell['epochs_per_s'] for cell in deep])
-    epochs = np.mean([cell['epochs_run'] for cell in deep])
+    estimate = _first_gpu_grid()
     with open(RESULTS / 'compare_gpu' / 'gpu_utilisation.csv', encoding='utf-8') as handle:
         busy = [int(row['utilization_gpu_percent']) for row in csv.DictReader(handle)]
     busy = np.percentile([value for value in busy if value > 0], [10, 50])
@@ -471,9 +494,6 @@ def compare_gpu() -> str:
     above = sum(_mean_grouped(rows[name]) > _mean_grouped(rows[best_baseline])
                 for name in deep_rows)
     unfinished = [model for model in deep_models if model not in rows]
-    remaining_cells = len(deep_models) * seeds * folds - len(deep)
-    elapsed_min = sum(step['seconds'] for step in grid) / 60
-    eta_min = remaining_cells * epochs / (pace * sharing[0]) / 60
     total = len(models) * seeds * folds
     levels = kept_json('hydra_levels.json')
     (ours, per_fold), (theirs, before) = levels['accuracy'].items()
@@ -506,15 +526,15 @@ def compare_gpu() -> str:
                 f'{row["model"]} ({_unconverged_cells(row["model"], kept_cells, classes)})'
                 for row in unconverged) + '.' if unconverged else '') + '\n\n'
             f'Pace: {sharing[0]} deep-model cells shared the GPU, each training at a median '
-            f'{pace:.2f} epochs per second (batch 32, augmentation on the cores), while the GPU '
-            f'reported {busy[1]:.0f} % busy (10th percentile {busy[0]:.0f} %): the processes '
-            'took turns on it, so per-step overhead, not arithmetic, set the pace. At the pace '
-            f'of the cells that finished, the {remaining_cells} deep cells left need about '
-            f'{eta_min:.0f} min more (the baselines run beside them on the cores), and the '
-            'full grid of the issue (three '
-            f'windows, both schemes, one seed: {2 * total} cells) about '
-            f'{2 * (elapsed_min + eta_min) / 60:.1f} h: the goal of one hour on a GPU is not '
-            'met with this setup.\n\n'
+            f'{estimate["pace"]:.2f} epochs per second (batch 32, augmentation on the cores), '
+            f'while the GPU reported {busy[1]:.0f} % busy (10th percentile {busy[0]:.0f} %): '
+            'the processes took turns on it, so per-step overhead, not arithmetic, set the '
+            'pace. At the pace of the cells that finished, the '
+            f'{estimate["left_cells"]} deep cells left need about {estimate["left_min"]:.0f} '
+            'min more (the baselines run beside them on the cores), and the full grid of the '
+            f'issue (three windows, both schemes, one seed: {2 * total} cells) about '
+            f'{estimate["full_h"]:.1f} h: the goal of one hour on a GPU is not met with this '
+            'setup ([Many cells on one GPU](#many-cells-on-one-gpu) says what changes it).\n\n'
             + table(summary['rows'], seeds * folds) + '\n' + hydra + '\n\n'
             f'![accuracy]({FIGURES}/compare_gpu/accuracy.png)\n')
 
@@ -525,11 +545,12 @@ def gpu_pace() -> str:
     from tactex_classify.models.registry import BASELINES, DEEP_MODELS
     calls = kept_json('gpu_pace.json')['calls']
     machine = calls[-1]['machine']
-    runs = [(number, run) for number, call in enumerate(calls, 1) for run in call['runs']]
+    runs = [(number, run) for number, call in enumerate(calls, 1) for run in call['runs']
+            if run['cell_epochs_per_s']]
 
     def best(model: str, **options) -> dict:
-        return max((run for _, run in runs if run['model'] == model and run['cell_epochs_per_s']
-                    and all(run.get(k, False) == v for k, v in options.items())),
+        return max((run for _, run in runs if run['model'] == model and
+                    all(run.get(k, False) == v for k, v in options.items())),
                    key=lambda run: run['cell_epochs_per_s'])
 
     def pace(run: dict) -> str:
@@ -538,86 +559,108 @@ def gpu_pace() -> str:
             'cell-epochs/s (GPU) | vs one cell | GPU busy % | host / GPU ms a step |',
             '|---|---|---|---|---|---|---|---|---|---|']
     for number, run in runs:
-        if not run['cell_epochs_per_s']:
-            continue
-        profile = run.get('profile')
-        busy = run['gpu_busy_percent']
+        profile, busy = run.get('profile'), run['gpu_busy_percent']
         rows.append('| ' + ' | '.join([
             str(number), run['model'], str(run['cells']), 'yes' if run['mps'] else '-',
             'yes' if run.get('autotune') else '-', f'{run["median_epochs_per_s"]:.2f}',
             f'{run["cell_epochs_per_s"]:.2f}',
             f'{run["vs_one_cell"]:.2f}' if 'vs_one_cell' in run else '-',
-            '-' if busy is None else f'{busy:.0f}',
+            '-' if busy is None or profile else f'{busy:.0f}',
             f'{profile["host_ms_per_step"]:.1f} / {profile["gpu_busy_ms_per_step"]:.1f} '
             f'({profile["gpu_operations_per_step"]:.0f} GPU operations)' if profile else '-',
         ]) + ' |')
     small, inception = 'cnn_3', 'inception_time'
-    old_small, mps_small = best(small, mps=False, cells=12), best(small, mps=True, cells=12)
-    top_small = best(small)
-    alone_it, tuned_it, top_it = (best(inception, cells=1, autotune=False),
-                                  best(inception, cells=1, autotune=True), best(inception))
-    profile_it, profile_tuned = alone_it['profile'], tuned_it['profile']
+    alone_small = best(small, cells=1)['profile']
+    plain = {cells: best(small, mps=False, cells=cells) for cells in (6, 12, 16)}
+    shared = {cells: best(small, mps=True, cells=cells) for cells in (6, 12, 16)}
+    gain = shared[12]['cell_epochs_per_s'] / plain[12]['cell_epochs_per_s']
+    alone_it, tuned_it = best(inception, cells=1, autotune=False), \
+        best(inception, cells=1, autotune=True)
+    together_it = best(inception, cells=12, mps=True, autotune=True)
     repeats = [run['cell_epochs_per_s'] for _, run in runs if run['model'] == inception and
-               run['cells'] == 1 and not run.get('autotune') and run['cell_epochs_per_s']]
-    # The full grid of the issue, from the kept grids' epochs per cell and these paces.
-    kept = {**_cells('compare_gpu'), **_cells('compare_converged')}
-    epochs = {model: np.mean([cell['epochs_run'] for key, cell in kept.items()
-                              if key[0] == model]) for model in DEEP_MODELS
-              if any(key[0] == model for key in kept)}
+               run['cells'] == 1 and not run.get('autotune')]
+    # The issue's full grid at tactex's GPU setting (MPS, autotune), from the kept grids'
+    # epochs per cell; a model not measured here is scaled by its seconds per epoch against
+    # cnn_3's in the first GPU grid, where both shared the GPU alike.
+    now_small = best(small, mps=True, autotune=True)
+    first = _cells('compare_gpu')
+    kept = {**first, **_cells('compare_converged')}
+
+    def mean_of(model: str, cells: dict, value) -> float:
+        return float(np.mean([value(cell) for key, cell in cells.items() if key[0] == model]))
+    epochs = {m: mean_of(m, kept, lambda cell: cell['epochs_run']) for m in DEEP_MODELS
+              if any(key[0] == m for key in kept)}
     epochs['inception_time_ensemble'] = epochs[inception]
-    throughput = {model: top_small['cell_epochs_per_s'] for model in DEEP_MODELS}
-    throughput[inception] = top_it['cell_epochs_per_s']
-    throughput['inception_time_ensemble'] = top_it['cell_epochs_per_s'] / ENSEMBLE_MEMBERS
+    per_epoch = {m: mean_of(m, first, lambda cell: cell['train_s'] / cell['epochs_run'])
+                 for m in DEEP_MODELS if any(key[0] == m for key in first)}
+    throughput = {m: now_small['cell_epochs_per_s'] * per_epoch[small] / per_epoch[m]
+                  for m in per_epoch}
+    throughput[inception] = together_it['cell_epochs_per_s']
+    throughput['inception_time_ensemble'] = throughput[inception] / ENSEMBLE_MEMBERS
     per_model = 3 * 2 * 5  # windows 128/256/512, both schemes, 5 folds
     deep_min = sum(per_model * epochs[m] / throughput[m] for m in DEEP_MODELS) / 60
-    core_s = sum(np.mean([cell['train_s'] for key, cell in _cells('compare_converged').items()
-                          if key[0] == model]) for model in BASELINES)
-    baseline_min = per_model * core_s / machine['cpu_count'] / 60
-    measured = (small, inception)
-    alone_small = best(small, cells=1)['profile']
-    old_16 = best(small, mps=False, cells=16)
+    single_thread_s = sum(mean_of(m, _cells('compare_converged'), lambda cell: cell['train_s'])
+                          for m in BASELINES)
+    baseline_min = per_model * single_thread_s / machine['cpu_count'] / 60
+    scaled = sorted(m for m in DEEP_MODELS if m not in (small, inception,
+                                                         'inception_time_ensemble'))
+    summed = [number for number, call in enumerate(calls, 1) if any(
+        run.get('throughput_over') == 'sum of cell medians' for run in call['runs'])]
+    calls_text = '; '.join(
+        f'call {number}: `{call["command"]}`, '
+        f'{sum(run["wall_s"] for run in call["runs"]) / 60:.1f} min'
+        for number, call in enumerate(calls, 1))
     return (
         f'Measured with `python bench/bench_gpu_pace.py` on one {machine["gpu"]["name"]} with '
-        f'{machine["cpu_count"]} cores (torch {machine["gpu"]["torch"]}; {len(calls)} calls, '
-        'kept in `bench/results/gpu_pace.json`): N trainings of a grid cell started at once '
-        "(fold 1 of the GPU grid's data, modern profile, per-window scaling, batch 32), each "
-        'timed over its epochs after the first.\n\n'
+        f'{machine["cpu_count"]} cores (torch {machine["gpu"]["torch"]}), kept in '
+        f'`bench/results/gpu_pace.json` ({calls_text}): N trainings of a grid cell started at '
+        "once (fold 1 of the GPU grid's data, modern profile, per-window scaling, batch 32), "
+        'each timed over its epochs after the first. '
+        + (f'In call(s) {", ".join(map(str, summed))} the throughput adds up each cell\'s '
+           'median epoch pace and the GPU busy column averages the whole run (later calls '
+           'count both over the span in which every cell trained only).' if summed else
+           'Throughput and GPU busy count the span in which every cell trained only.')
+        + '\n\n'
         f"**The host, not the GPU, set cnn_3's pace.** Alone, a step took "
         f'{alone_small["host_ms_per_step"]:.1f} ms of wall time but '
         f'{alone_small["gpu_busy_ms_per_step"]:.1f} ms of GPU time '
         f'({alone_small["gpu_operations_per_step"]:.0f} GPU operations a step, each launched '
-        'from Python). Without MPS the processes take turns on the GPU: 12 cells at once '
-        f'trained {old_small["vs_one_cell"]:.2f} times as fast as one ({pace(old_small)}), '
-        f'16 cells {old_16["vs_one_cell"]:.2f} times ({pace(old_16)}). Under NVIDIA\'s '
-        'Multi-Process Service their kernels run side by side: 12 cells '
-        f'{pace(mps_small)}, {mps_small["cell_epochs_per_s"] / old_small["cell_epochs_per_s"]:.1f}'
-        f' times the same cells without it, and {top_small["cells"]} cells '
-        f'{pace(top_small)}.\n\n'
+        'from Python). Without MPS the throughput stopped growing at 6 cells '
+        f'({pace(plain[6])}; 12 cells {pace(plain[12])}, 16 cells {pace(plain[16])}): the '
+        "processes' kernels take turns on the GPU. Under NVIDIA's Multi-Process Service they "
+        f'run side by side and it kept growing: 6 cells {pace(shared[6])}, 12 cells '
+        f'{pace(shared[12])} ({gain:.1f} times the same cells without it), 16 cells '
+        f'{pace(shared[16])}.\n\n'
         "**cuDNN's default algorithms set InceptionTime's pace.** Alone, its step took "
-        f'{profile_it["gpu_busy_ms_per_step"]:.1f} ms of GPU time for '
-        f'{profile_it["host_ms_per_step"]:.1f} ms of wall time (its 39-, 19- and 9-tap '
-        'convolutions), so more cells at once gained little (12 cells: '
+        f'{alone_it["profile"]["gpu_busy_ms_per_step"]:.1f} ms of GPU time for '
+        f'{alone_it["profile"]["host_ms_per_step"]:.1f} ms of wall time (its 39-, 19- and '
+        '9-tap convolutions), so more cells at once gained little (12 cells: '
         f'{best(inception, cells=12, mps=False)["vs_one_cell"]:.2f} times one cell). With '
         'cuDNN timing its algorithms once per shape (`torch.backends.cudnn.benchmark`, what '
         "tactex's training now does on a GPU), a step took "
-        f'{profile_tuned["gpu_busy_ms_per_step"]:.1f} ms of GPU time and a cell trained '
-        f'{tuned_it["vs_one_cell"]:.2f} times as fast alone as an untuned one in the same '
-        f'call; {top_it["cells"]} cells with MPS reached {pace(top_it)}, '
-        f'{top_it["vs_one_cell"]:.0f} times one untuned cell. The untuned single cells of '
-        f'{inception} in the two calls differ by {100 * (max(repeats) / min(repeats) - 1):.0f} '
-        '% (call to call).\n\n'
+        f'{tuned_it["profile"]["gpu_busy_ms_per_step"]:.1f} ms of GPU time and a cell trained '
+        f'{tuned_it["vs_one_cell"]:.2f} times as fast as an untuned one in the same call; 12 '
+        f'tuned cells under MPS reached {pace(together_it)}, '
+        f'{together_it["cell_epochs_per_s"] / tuned_it["cell_epochs_per_s"]:.1f} times one '
+        f'tuned cell and {together_it["vs_one_cell"]:.0f} times one untuned cell. The untuned '
+        f'single cells of {inception} in the two calls differ by '
+        f'{100 * (max(repeats) / min(repeats) - 1):.0f} % (call to call).\n\n'
         '**The full grid, estimated (not run).** Every model at windows 128, 256 and 512, '
-        f'both schemes, 5 folds ({per_model * len(DEEP_MODELS)} deep cells), with each '
-        "model's mean epochs in the kept grids and these paces, needs about "
-        f'{deep_min:.0f} min of GPU time for the deep models and {baseline_min:.0f} min of the '
-        f'{machine["cpu_count"]} cores for the baselines: **about '
-        f'{deep_min + baseline_min:.0f} min, inside the hour** of the goal, against about 1.8 h '
-        'estimated for the setup the GPU grid above ran with. Its assumptions: the models not '
-        f"measured here train at {small}'s pace under MPS (only {' and '.join(measured)} were "
-        "measured), the ensemble at a fifth of InceptionTime's, windows of 256 and 512 take "
-        'no longer an epoch than 128 (they hold half and a quarter of the windows), and the '
-        "baselines' cores are free. `tactex compare --device cuda --mps --cells-per-gpu 16` "
-        'runs a grid this way; the estimate stands until a lent GPU runs it.\n\n'
+        f"both schemes, 5 folds ({per_model * len(DEEP_MODELS)} deep cells) at tactex's GPU "
+        f'setting (MPS and autotune: {small} {pace(now_small)} with '
+        f'{now_small["cells"]} cells, {inception} {pace(together_it)} with '
+        f'{together_it["cells"]}), with each model\'s mean epochs in the kept grids, needs '
+        f'about {deep_min:.0f} min of GPU time for the deep models and {baseline_min:.0f} '
+        f'min of the {machine["cpu_count"]} cores for the baselines: about '
+        f'{deep_min + baseline_min:.0f} min, against about {_first_gpu_grid()["full_h"]:.1f} '
+        'h for the setup of the GPU grid above. Its assumptions: the models not measured '
+        f'here ({", ".join(scaled)}) keep the ratio of their seconds per epoch to '
+        f"{small}'s in the first GPU grid, the ensemble trains at a fifth of "
+        f"{inception}'s pace, windows of 256 and 512 take no longer an epoch than 128 "
+        '(they hold half and a quarter of the windows), and the baselines (their '
+        'single-thread training seconds in the main comparison) have the cores to '
+        'themselves. `tactex compare --device cuda --mps --cells-per-gpu 16` runs a grid this '
+        'way; the one-hour goal stays open until a lent GPU runs it.\n\n'
         + '\n'.join(rows) + '\n\n'
         f'![GPU pace]({FIGURES}/gpu_pace.png)\n')
 

@@ -159,7 +159,7 @@ def test_compare_with_mps_where_it_cannot_start_writes_no_grid(tmp_path, capsys,
                                           '--mps', '--models', 'minirocket'])
     assert code == 1
     assert stderr.strip().splitlines()[-1] == (
-        'error: nvidia-cuda-mps-control not found (on PATH or in '
+        'error: --mps: nvidia-cuda-mps-control not found (on PATH or in '
         f"{tmp_path / 'nowhere'}): install NVIDIA's driver utilities, or share the GPU "
         'without MPS')
     assert not (tmp_path / 'grid').exists()

@@ -30,7 +30,7 @@ from tactex_classify.models.multirocket import MultiRocketRidge
 from tactex_classify.models.windows import ChannelScaler
 from tactex_classify.training.deep_classifier import (
     DeepClassifier,
-    training_device,
+    prepare_training_device,
     TrainingConfig,
     validation_split,
 )
@@ -48,9 +48,9 @@ def test_training_is_deterministic_for_a_seed():
 
 def test_training_on_a_gpu_lets_cudnn_autotune_and_on_the_cpu_leaves_it(monkeypatch):
     monkeypatch.setattr(torch.backends.cudnn, 'benchmark', False)
-    assert training_device('cpu') == torch.device('cpu')
+    assert prepare_training_device('cpu') == torch.device('cpu')
     assert torch.backends.cudnn.benchmark is False
-    assert training_device('cuda:1') == torch.device('cuda:1')  # no GPU needed to choose
+    assert prepare_training_device('cuda:1') == torch.device('cuda:1')  # no GPU needed to choose
     assert torch.backends.cudnn.benchmark is True
 
 
@@ -164,6 +164,12 @@ def test_a_deep_model_fits_and_generalises_to_held_out_recordings():
     assert model.history_[-1]['train_accuracy'] > 0.9
     held_out = np.mean(model.predict(data.X[~train]) == data.y[~train])
     assert held_out > 0.5  # well above the 1/3 of chance on unseen recordings
+
+
+def test_a_training_cut_short_says_why_it_did_not_converge():
+    data = toy()
+    model = DeepClassifier(FAST).fit(data.X, data.y, CLASSES)  # 3 epochs: too few to tell
+    assert model.unconverged_reason() in ('still falling', 'stalled at chance')
 
 
 def test_grouped_folds_never_split_a_recording():

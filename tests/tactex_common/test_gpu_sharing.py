@@ -27,7 +27,8 @@ def control(tmp_path, monkeypatch):
                        f'  echo "start $CUDA_MPS_PIPE_DIRECTORY" >> {calls}\n'
                        '  echo "daemon refused" >&2; exit "${FAKE_MPS_EXIT:-0}"\n'
                        'fi\n'
-                       f'echo "$(cat) $CUDA_MPS_PIPE_DIRECTORY" >> {calls}\n')
+                       f'echo "$(cat) $CUDA_MPS_PIPE_DIRECTORY" >> {calls}\n'
+                       'exit "${FAKE_MPS_QUIT_EXIT:-0}"\n')
     program.chmod(0o755)
     monkeypatch.setenv('PATH', f'{program.parent}{os.pathsep}{os.environ["PATH"]}')
     monkeypatch.delenv(PIPE, raising=False)
@@ -74,10 +75,24 @@ def test_without_the_control_program_the_reason_and_the_way_out_are_named(monkey
 def test_a_daemon_that_will_not_start_is_reported_with_its_message(tmp_path, control,
                                                                    monkeypatch):
     monkeypatch.setenv('FAKE_MPS_EXIT', '3')
-    with pytest.raises(GpuSharingError, match='-d exited 3: daemon refused'):
+    with pytest.raises(GpuSharingError, match='-d exited 3: daemon refused; share the GPU '
+                                              'without MPS'):
         with multi_process_service(python=client(tmp_path, 'exit 0')):
             pass
     assert PIPE not in os.environ
+    # a daemon that forked before its launcher failed is asked to quit all the same
+    assert [line.split()[0] for line in control.read_text().splitlines()] == ['start', 'quit']
+
+
+def test_a_daemon_that_does_not_confirm_quitting_keeps_its_folders_and_says_how_to_stop_it(
+        tmp_path, control, monkeypatch, capsys):
+    monkeypatch.setenv('FAKE_MPS_QUIT_EXIT', '1')
+    with multi_process_service(python=client(tmp_path, 'exit 0')) as variables:
+        pipe = variables[PIPE]
+    warning = capsys.readouterr().err
+    assert f'echo quit | CUDA_MPS_PIPE_DIRECTORY={pipe}' in warning
+    assert 'nvidia-cuda-mps-control exited 1' in warning
+    assert Path(pipe).is_dir()  # the pipe a running daemon listens on is not pulled away
 
 
 def test_a_client_that_fails_stops_the_daemon_and_leaves_the_environment(tmp_path, control):

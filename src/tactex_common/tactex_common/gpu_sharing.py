@@ -54,54 +54,71 @@ def multi_process_service(python: str = sys.executable) -> Iterator[dict[str, st
 
     Raises:
         GpuSharingError: no control program, the daemon would not start, or a CUDA
-            client could not attach to it (the daemon is quit again first).
+            client could not attach to it (the daemon is asked to quit first).
     """
     control = control_program()
     if control is None:
         raise GpuSharingError(f'{CONTROL} not found (on PATH or in {DRIVER_BIN}): install '
                               "NVIDIA's driver utilities, or share the GPU without MPS")
-    with tempfile.TemporaryDirectory(prefix='tactex-mps-') as folder:
-        variables = {'CUDA_MPS_PIPE_DIRECTORY': str(Path(folder) / 'pipe'),
-                     'CUDA_MPS_LOG_DIRECTORY': str(Path(folder) / 'log')}
-        for path in variables.values():
-            Path(path).mkdir()
-        environment = {**os.environ, **variables}
-        try:
-            started = _run([control, '-d'], environment, DAEMON_TIMEOUT_S)
-        except (OSError, subprocess.TimeoutExpired) as err:
-            raise GpuSharingError(f'{control} -d could not run: {err}') from None
-        if started.returncode:
-            raise GpuSharingError(f'{CONTROL} -d exited {started.returncode}: '
-                                  f'{_last_line(started.stderr)}')
-        before = {name: os.environ.get(name) for name in variables}
-        try:
-            _check_client(python, environment)
-            os.environ.update(variables)
-            yield variables
-        finally:
-            for name, value in before.items():
-                if value is None:
-                    os.environ.pop(name, None)
-                else:
-                    os.environ[name] = value
-            _quit(control, environment)
+    folder = Path(tempfile.mkdtemp(prefix='tactex-mps-'))
+    variables = {'CUDA_MPS_PIPE_DIRECTORY': str(folder / 'pipe'),
+                 'CUDA_MPS_LOG_DIRECTORY': str(folder / 'log')}
+    for path in variables.values():
+        Path(path).mkdir()
+    environment = {**os.environ, **variables}
+    before = {name: os.environ.get(name) for name in variables}
+    try:
+        _start(control, environment)
+        _check_client(python, environment)
+        os.environ.update(variables)
+        yield variables
+    finally:
+        for name, value in before.items():
+            if value is None:
+                os.environ.pop(name, None)
+            else:
+                os.environ[name] = value
+        if _quit(control, environment):
+            shutil.rmtree(folder, ignore_errors=True)
 
 
-def _quit(control: str, environment: dict[str, str]) -> None:
-    """Ask the daemon to quit; say so on stderr if it would not (nothing else is lost)."""
+def _start(control: str, environment: dict[str, str]) -> None:
+    """Start the control daemon; raise GpuSharingError (with its reason) if it would not."""
+    try:
+        started = _run([control, '-d'], environment, DAEMON_TIMEOUT_S)
+    except (OSError, subprocess.TimeoutExpired) as err:
+        raise GpuSharingError(f'{control} -d could not run ({err}); share the GPU without '
+                              'MPS') from None
+    if started.returncode:
+        raise GpuSharingError(f'{CONTROL} -d exited {started.returncode}: '
+                              f'{_last_line(started.stderr)}; share the GPU without MPS')
+
+
+def _quit(control: str, environment: dict[str, str]) -> bool:
+    """Ask the daemon to quit (also one that may not have started); whether it answered.
+
+    A daemon that may still run keeps its folders, named on stderr with the way to stop it.
+    """
     try:
         done = _run([control], environment, DAEMON_TIMEOUT_S, stdin='quit\n')
-        failed = f'exited {done.returncode}' if done.returncode else None
+        failed = f'{CONTROL} exited {done.returncode}' if done.returncode else None
     except (OSError, subprocess.TimeoutExpired) as err:
         failed = str(err)
     if failed:
-        print(f'warning: the MPS daemon was asked to quit and {failed}', file=sys.stderr)
+        pipe = environment['CUDA_MPS_PIPE_DIRECTORY']
+        print(f'warning: the MPS daemon did not confirm it quit ({failed}); if it still runs, '
+              f'stop it with: echo quit | CUDA_MPS_PIPE_DIRECTORY={pipe} {control}',
+              file=sys.stderr)
+    return not failed
 
 
 def _check_client(python: str, environment: dict[str, str]) -> None:
     """Raise GpuSharingError unless a CUDA client attaches to the daemon in time."""
     try:
         probe = _run([python, '-c', CLIENT_PROBE], environment, CLIENT_TIMEOUT_S)
+    except OSError as err:
+        raise GpuSharingError(f'{python} could not run ({err}); share the GPU without MPS'
+                              ) from None
     except subprocess.TimeoutExpired:
         raise GpuSharingError(f'a CUDA client did not attach to MPS within '
                               f'{CLIENT_TIMEOUT_S:g} s; share the GPU without MPS') from None

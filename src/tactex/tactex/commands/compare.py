@@ -99,13 +99,13 @@ def run(args: argparse.Namespace) -> int:
     """Check everything, run the missing cells on Ray, write the table and plots."""
     from tactex_classify.evaluation.model_grid import grid_cells, GridSettings, GridStore
 
-    if args.device == 'cuda' and not args.address:
+    if args.mps:
+        check_mps(args)
+    elif args.device == 'cuda' and not args.address:
         from tactex_classify.evaluation.model_grid import cuda_available
         if not cuda_available():
             raise CommandError('--device cuda: this machine has no usable GPU; use --device '
                                'auto or cpu')
-    if args.mps:
-        check_mps(args)
     if args.address and args.cpus:
         raise CommandError("--cpus caps a local Ray instance; a cluster's cores are set where "
                            'its nodes start (ray start --num-cpus): drop --cpus or --address')
@@ -136,8 +136,12 @@ def run(args: argparse.Namespace) -> int:
     cells = grid_cells(args.models, sorted(datasets), args.seeds, args.folds, schemes)
     with ExitStack() as sharing:
         if args.mps:  # before the grid's folder is written: a refusal leaves nothing behind
+            from tactex_common.errors import GpuSharingError
             from tactex_common.gpu_sharing import multi_process_service
-            sharing.enter_context(multi_process_service())
+            try:
+                sharing.enter_context(multi_process_service())
+            except GpuSharingError as err:
+                raise CommandError(f'--mps: {err}') from None
             log('NVIDIA MPS started: the cells sharing a GPU run on it at once')
         store.open(settings, datasets, sources)
         for window in converted:

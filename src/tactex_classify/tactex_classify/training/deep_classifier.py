@@ -207,7 +207,7 @@ class DeepClassifier(Deployable):
         self.channels_ = channel_names(channels, self.n_channels_)
         train, validation = validation_split(y, groups, config)
         self.scaler_ = ChannelScaler(config.scaling).fit(X[train])
-        device = training_device(self.device)
+        device = prepare_training_device(self.device)
         self.model_ = build_model(config.model, self.window_, self.n_channels_,
                                   len(self.classes_), keras_init=config.init == 'keras'
                                   ).to(device)
@@ -286,6 +286,11 @@ class DeepClassifier(Deployable):
             self.best_epoch_ = len(self.history_)
         self.model_.load_state_dict(best_state)
         return self
+
+    def unconverged_reason(self) -> str | None:
+        """Why the last fit did not converge (`unconverged_because`), or None if it did."""
+        return unconverged_because([record['train_loss'] for record in self.history_],
+                                   len(self.classes_), self.config.epochs)
 
     def _logits(self, data) -> np.ndarray:
         """Logits of (n, window, channels) scaled windows, on the model's device."""
@@ -376,16 +381,16 @@ class DeepClassifier(Deployable):
         return self
 
 
-def training_device(name: str):
-    """The torch device to train on; on a GPU, cuDNN autotuned for the block's shapes.
+def prepare_training_device(name: str):
+    """The torch device to train on; for a GPU, cuDNN is first set to autotune (process-wide).
 
     With `torch.backends.cudnn.benchmark` cuDNN times its algorithms for each new input
     shape once and keeps the fastest: a training's few shapes (the batch, the last batch,
     the validation chunks) each pay that once. On an H200 it cut InceptionTime's GPU time
-    per step from 35.9 to 3.9 ms and doubled a cell's pace (bench/bench_gpu_pace.py, kept
-    in bench/results/gpu_pace.json). cuDNN may then choose other algorithms on another
-    run, so a GPU training repeats its seed's result to rounding, not to the bit (as
-    cuDNN's defaults already did).
+    per step from 35.9 to 3.9 ms and made a cell 2.3 times as fast (bench/bench_gpu_pace.py,
+    kept in bench/results/gpu_pace.json). cuDNN may then choose other algorithms on another
+    run, so a GPU training does not repeat its seed's result bit for bit (cuDNN's default
+    algorithms did not promise that either).
     """
     import torch
     device = torch.device(name)
