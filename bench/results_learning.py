@@ -602,6 +602,11 @@ def gpu_pace() -> str:
     single_thread_s = sum(mean_of(m, _cells('compare_converged'), lambda cell: cell['train_s'])
                           for m in BASELINES)
     baseline_min = per_model * single_thread_s / machine['cpu_count'] / 60
+    it_cpu = [cell['train_s'] for key, cell in _cells('compare_converged').items()
+              if key[0] == inception]
+    it_cpu_s, it_cpu_cells = float(np.mean(it_cpu)), len(it_cpu)
+    cpu_cores = _kept_grid('compare_converged')[1]['calls'][0]['machine']['cpu_count']
+    ensemble_cpu_h = per_model * ENSEMBLE_MEMBERS * it_cpu_s / cpu_cores / 3600
     scaled = sorted(m for m in DEEP_MODELS if m not in (small, inception,
                                                          'inception_time_ensemble'))
     summed = [number for number, call in enumerate(calls, 1) if any(
@@ -661,6 +666,12 @@ def gpu_pace() -> str:
         'single-thread training seconds in the main comparison) have the cores to '
         'themselves. `tactex compare --device cuda --mps --cells-per-gpu 16` runs a grid this '
         'way; the one-hour goal stays open until a lent GPU runs it.\n\n'
+        f'**{cpu_cores} CPU cores: the 8-hour goal is out of reach.** In the main comparison one '
+        f'{inception} cell took {it_cpu_s / 60:.0f} min of one core at window 128 '
+        f'(mean of {it_cpu_cells} cells, early stopping included); the ensemble trains '
+        f'{ENSEMBLE_MEMBERS} such networks, so its {per_model} cells of the full grid alone '
+        f'need about {ensemble_cpu_h:.0f} h of the {cpu_cores} cores, and {inception} itself '
+        f'{ensemble_cpu_h / ENSEMBLE_MEMBERS:.0f} h more.\n\n'
         + '\n'.join(rows) + '\n\n'
         f'![GPU pace]({FIGURES}/gpu_pace.png)\n')
 
