@@ -23,6 +23,7 @@ from tactex.bag_playback import Lateness, messages, parse_remap, PlayOptions
 from tactex_classify.online.live import LiveSettings
 from tactex_classify.online.replay import replay_recording
 from tactex_classify.online.runtime import load_predictor
+from tactex_common import topics
 
 TACTEX = Path(sys.executable).parent / 'tactex'
 
@@ -125,11 +126,11 @@ def test_played_into_classifier_node_it_decides_what_predict_decides_when(
         deadline = time.monotonic() + 60
         while node.count_publishers('texture/estimate') == 0 and time.monotonic() < deadline:
             executor.spin_once(timeout_sec=0.1)
-        # The delay lets the node's subscriptions match the player's publishers before the
-        # first message (with 2 s, a run on two cores busy with other work once got no
-        # decision: a node that misses the contact's start has nothing to decide on).
+        # The node must hear the contact's start, or it has nothing to decide on: a fixed
+        # --delay of 2 s once was not enough on two busy cores; --wait-for waits for it.
         player = subprocess.run([str(TACTEX), 'bag', 'play', str(recording), '--clock',
-                                 '--delay', '5'], capture_output=True, text=True, timeout=60)
+                                 '--wait-for', topics.IMU_RAW, topics.SWEEP_ACTIVE],
+                                capture_output=True, text=True, timeout=90)
         assert player.returncode == 0, player.stderr
         assert 'published 2,883 messages' in player.stdout
         end = time.monotonic() + 5
@@ -168,3 +169,27 @@ def test_a_play_that_publishes_nothing_fails_naming_the_options_that_emptied_it(
     assert played.returncode == 1 and 'Traceback' not in played.stderr
     assert ('error: published nothing: --topics /nonexistent names no recorded topic or '
             '--start-offset 100 s is past the end') in played.stderr
+
+
+@pytest.mark.ros
+def test_waiting_for_a_topic_that_is_not_played_names_the_played_ones(recording):
+    played = subprocess.run([str(TACTEX), 'bag', 'play', str(recording), '--delay', '0',
+                             '--wait-for', 'tactile/nothing'],
+                            capture_output=True, text=True, timeout=120)
+    assert played.returncode == 1 and 'Traceback' not in played.stderr
+    error = played.stderr.strip().splitlines()[-1]
+    assert error.startswith('error: --wait-for: /tactile/nothing not played; the played '
+                            'topics are ')
+    assert f'/{topics.IMU_RAW}' in error
+
+
+@pytest.mark.ros
+def test_a_topic_nobody_subscribes_to_ends_the_wait_with_the_way_out(recording):
+    played = subprocess.run([str(TACTEX), 'bag', 'play', str(recording), '--delay', '0',
+                             '--wait-for', topics.PRESSURE, '--wait-timeout', '0.5'],
+                            capture_output=True, text=True, timeout=120)
+    assert played.returncode == 1 and 'Traceback' not in played.stderr
+    assert played.stderr.strip().splitlines()[-1] == (
+        f'error: --wait-for: no subscriber to /{topics.PRESSURE} within 0.5 s; start the '
+        'node that reads it first, or give a longer --wait-timeout')
+    assert 'published' not in played.stdout  # nothing was played

@@ -32,6 +32,7 @@ from tactex_common import topics
 CLOCK_HZ = 100.0
 READ_AHEAD = 4096  # messages read before they are due
 GIL_SWITCH_INTERVAL_S = 0.0005  # how soon the reader thread yields to a due publish
+WAIT_POLL_S = 0.05  # how often the subscribers of --wait-for topics are counted
 SENSOR_TYPES = ('sensor_msgs/msg/Imu', 'sensor_msgs/msg/MagneticField',
                 'sensor_msgs/msg/FluidPressure', 'sensor_msgs/msg/Temperature',
                 'sensor_msgs/msg/JointState')
@@ -49,8 +50,40 @@ def message_class(msgtype: str):
         return None
 
 
+class NoSubscriberError(Exception):
+    """A topic to wait for is not played, or no subscriber matched it in time."""
+
+
+def wait_for_subscribers(publishers: dict, names: Sequence[str], timeout_s: float) -> None:
+    """Return once each named topic's publisher has a matched subscription.
+
+    The middleware's own count of matched subscriptions (no spinning needed): a node that
+    subscribed gets the first message. Names are as published (remapped, namespaced); a
+    name without a leading '/' is taken from the root.
+
+    Raises:
+        NoSubscriberError: a name that is not played, or one unmatched after `timeout_s`.
+    """
+    wanted = ['/' + name.strip('/') for name in names]
+    unknown = [name for name in wanted if name not in publishers]
+    if unknown:
+        raise NoSubscriberError(f'{", ".join(unknown)} not played; the played topics are '
+                                f'{", ".join(sorted(publishers))}')
+    deadline = time.monotonic() + timeout_s
+    while True:
+        waiting = [name for name in wanted if publishers[name].get_subscription_count() == 0]
+        if not waiting:
+            return
+        if time.monotonic() >= deadline:
+            raise NoSubscriberError(f'no subscriber to {", ".join(waiting)} within '
+                                    f'{timeout_s:g} s; start the node that reads it first, '
+                                    'or give a longer --wait-timeout')
+        time.sleep(WAIT_POLL_S)
+
+
 def play(paths: Sequence[Path], options: PlayOptions, *, loop: bool = False,
-         clock: bool = False, delay_s: float = 1.0, said: Callable[[str], None] = print,
+         clock: bool = False, delay_s: float = 1.0, wait_for: Sequence[str] = (),
+         wait_timeout_s: float = 30.0, said: Callable[[str], None] = print,
          progress: Callable[[float], None] | None = None) -> dict:
     """Publish the recordings one after another (again and again with `loop`).
 
@@ -60,13 +93,19 @@ def play(paths: Sequence[Path], options: PlayOptions, *, loop: bool = False,
         loop: start again after the last until a stop signal.
         clock: publish /clock with the recorded time.
         delay_s: wait this long after creating the publishers (discovery), as
-            `ros2 bag play --delay`.
+            `ros2 bag play --delay` (after `wait_for`'s subscribers matched, if any).
+        wait_for: topics (as published) that must each have a subscriber before the
+            first message (`wait_for_subscribers`).
+        wait_timeout_s: the longest wait for them.
         said: told about topics that cannot be played.
         progress: called with the seconds of recording played, twice a second.
 
     Returns:
         The lateness summary, with 'passes' (recordings played through) and 'stopped'
         (the stop signal's name, '' when played to the end).
+
+    Raises:
+        NoSubscriberError: a topic of `wait_for` not played, or without a subscriber.
     """
     lateness, passes = Lateness(), 0
     with client_node('tactex_bag_play') as (node, _executor):
@@ -80,6 +119,7 @@ def play(paths: Sequence[Path], options: PlayOptions, *, loop: bool = False,
             publishers[topic] = node.create_publisher(kind, topic, LATCHED if latched
                                                       else PLAYED)
         clock_publisher = node.create_publisher(Clock, '/clock', PLAYED) if clock else None
+        wait_for_subscribers(publishers, wait_for, wait_timeout_s)
         # What the imports and rclpy built stays: the garbage collector's full passes over
         # it paused playback for 100 ms and more.
         gc.freeze()

@@ -52,6 +52,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                       help='publish every topic under this namespace (e.g. left_arm)')
     play.add_argument('--delay', type=number(at_least=0.0), default=1.0, metavar='S',
                       help='wait S seconds after creating the publishers, for discovery (1)')
+    play.add_argument('--wait-for', nargs='+', default=[], metavar='TOPIC',
+                      help='before the first message, wait until each of these published '
+                           'topics has a subscriber (then --delay more)')
+    play.add_argument('--wait-timeout', type=number(at_least=0.0), default=30.0, metavar='S',
+                      help='longest wait for the --wait-for subscribers (30)')
 
 
 def run(args: argparse.Namespace) -> int:
@@ -88,13 +93,17 @@ def _play(args: argparse.Namespace) -> int:
     options = PlayOptions(args.rate_factor, args.start_offset, args.duration,
                           tuple(args.topics), remaps, args.namespace)
     recordings = _recordings(args.paths)
-    from tactex.bag_player import play
+    from tactex.bag_player import NoSubscriberError, play
     bar = tqdm(desc='playing', unit=' s', bar_format='{desc}: {n:.1f} s of recording',
                disable=None, file=sys.stderr)
     try:
         summary = play(recordings, options, loop=args.loop, clock=args.clock,
-                       delay_s=args.delay, said=lambda line: print(line, file=sys.stderr),
+                       delay_s=args.delay, wait_for=args.wait_for,
+                       wait_timeout_s=args.wait_timeout,
+                       said=lambda line: print(line, file=sys.stderr),
                        progress=lambda played: bar.update(played - bar.n))
+    except NoSubscriberError as err:
+        raise CommandError(f'--wait-for: {err}') from None
     finally:
         bar.close()
     if summary['stopped']:
