@@ -5,7 +5,8 @@
 Collects the synthetic set once (`tactex sim collect`, 12 textures x 25 sweeps, on
 `--cpus` Ray workers; or takes `--bags`), keeps the first `--recordings` sweeps of each
 texture when asked (whole recordings, hard-linked into their own folder), converts them
-at 128, 256 and 512 samples (50 % overlap) into `--work`, then runs `tactex compare`
+at 128, 256 and 512 samples (50 % overlap) into `--work` (datasets already there, such
+as those carried to a lent GPU, need no bags), then runs `tactex compare`
 on the datasets into bench/results/GRID/ (`--grid`, default compare: five epochs, both
 schemes; compare_long: the deep models trained longer; compare_converged: the README's
 main comparison; compare_gpu: the lent GPU's grid). The grid resumes: run this again
@@ -118,6 +119,8 @@ def main() -> int:
     parser.add_argument('--device', default='cpu', choices=('auto', 'cpu', 'cuda'),
                         help="the deep models' device (tactex compare --device)")
     parser.add_argument('--cells-per-gpu', type=int, default=1)
+    parser.add_argument('--mps', action='store_true',
+                        help="share each GPU through NVIDIA's MPS (tactex compare --mps)")
     parser.add_argument('--windows', default=','.join(map(str, WINDOWS)),
                         help='comma-separated window sizes (default 128,256,512); a later call '
                              'with more windows adds them to the same grid')
@@ -125,21 +128,21 @@ def main() -> int:
     started = time.strftime('%Y-%m-%dT%H:%M:%S%z')
     results = RESULTS / args.grid
     steps: list[dict] = []
-    bags = args.bags or args.work / 'bags'
-    if not bags.is_dir():
-        _timed([TACTEX, 'sim', 'collect', '--scene', 'uneven_texture', '--sweeps', '25',
-                '--workers', str(args.cpus), '--out', str(bags)], steps)
-    suffix = ''
-    if args.recordings:
-        bags = first_recordings(bags, args.recordings, args.work)
-        suffix = f'_first{args.recordings}'
-    datasets = []
-    for window in (int(w) for w in args.windows.split(',')):
-        data = args.work / f'sim{window}{suffix}.npz'
-        if not data.is_file():
-            _timed([TACTEX, 'convert', str(bags), '--out', str(data), '--window',
-                    str(window)], steps)
-        datasets.append(data)
+    suffix = f'_first{args.recordings}' if args.recordings else ''
+    datasets = [args.work / f'sim{window}{suffix}.npz'
+                for window in (int(w) for w in args.windows.split(','))]
+    missing = [data for data in datasets if not data.is_file()]
+    if missing:  # datasets converted before (or carried to a lent GPU) need no bags
+        bags = args.bags or args.work / 'bags'
+        if not bags.is_dir():
+            _timed([TACTEX, 'sim', 'collect', '--scene', 'uneven_texture', '--sweeps', '25',
+                    '--workers', str(args.cpus), '--out', str(bags)], steps)
+        if args.recordings:
+            bags = first_recordings(bags, args.recordings, args.work)
+        for data in missing:
+            window = data.stem.removeprefix('sim').removesuffix(suffix)
+            _timed([TACTEX, 'convert', str(bags), '--out', str(data), '--window', window],
+                   steps)
     command = [TACTEX, 'compare', *map(str, datasets), '--epochs', str(args.epochs),
                '--folds', str(args.folds), '--seeds', str(args.seeds), '--cpus', str(args.cpus),
                '--cv', args.cv, '--early-stopping', str(args.early_stopping),
@@ -147,6 +150,8 @@ def main() -> int:
                '--cells-per-gpu', str(args.cells_per_gpu), '--out', str(results)]
     if args.models:
         command += ['--models', args.models]
+    if args.mps:
+        command.append('--mps')
     try:
         _timed(command, steps)
     except KeyboardInterrupt:
