@@ -347,6 +347,10 @@ BAD_INPUTS = {
         Case('bag play {w}/bags/wood_0000 --remap /a:=/9b', "--remap '/a:=/9b': '9b' is not a "
              'ROS topic name'),
         Case('bag play {w}/bags/wood_0000 --namespace 1bad', 'argument --namespace'),
+        Case('bag play {w}/bags/wood_0000 --wait-for /x --wait-timeout 0', 'argument '
+             '--wait-timeout: must be a finite number > 0'),
+        Case('bag play {w}/bags/wood_0000 --wait-timeout 5', '--wait-timeout bounds the wait '
+             'of --wait-for: add --wait-for TOPIC ... or drop --wait-timeout'),
         Case('bag play {w}/foreign/text.bag', 'text.bag: cannot read: not a ROS 1 bag'),
         *[Case(f'bag info {{w}}/foreign/{name}', f'{name}: cannot read: .*{why}')
           for name, why in FOREIGN.items() if name not in ('lab.bag', 'other_imu.bag')],

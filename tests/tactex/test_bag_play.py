@@ -20,12 +20,16 @@ from support.foreign_bags import converted
 from support.livestream import PERIOD_NS, RATE_HZ, start_node, stop, write_checkpoints
 
 from tactex.bag_playback import Lateness, messages, parse_remap, PlayOptions
+from tactex.bag_player import NoSubscriberError, wait_for_subscribers
 from tactex_classify.online.live import LiveSettings
 from tactex_classify.online.replay import replay_recording
 from tactex_classify.online.runtime import load_predictor
 from tactex_common import topics
 
 TACTEX = Path(sys.executable).parent / 'tactex'
+# What classifier_node subscribes to and the test recording holds.
+NODE_READS = (topics.IMU_RAW, topics.MAG, topics.PRESSURE, topics.SWEEP_ACTIVE,
+              topics.RECORDING_METADATA)
 
 
 def texture_values(count: int, ridged: bool, seed: int = 0) -> np.ndarray:
@@ -129,7 +133,7 @@ def test_played_into_classifier_node_it_decides_what_predict_decides_when(
         # The node must hear the contact's start, or it has nothing to decide on: a fixed
         # --delay of 2 s once was not enough on two busy cores; --wait-for waits for it.
         player = subprocess.run([str(TACTEX), 'bag', 'play', str(recording), '--clock',
-                                 '--wait-for', topics.IMU_RAW, topics.SWEEP_ACTIVE],
+                                 '--wait-for', *NODE_READS, '/clock'],
                                 capture_output=True, text=True, timeout=90)
         assert player.returncode == 0, player.stderr
         assert 'published 2,883 messages' in player.stdout
@@ -169,6 +173,40 @@ def test_a_play_that_publishes_nothing_fails_naming_the_options_that_emptied_it(
     assert played.returncode == 1 and 'Traceback' not in played.stderr
     assert ('error: published nothing: --topics /nonexistent names no recorded topic or '
             '--start-offset 100 s is past the end') in played.stderr
+
+
+class CountingPublisher:
+    """A publisher whose subscription count turns 1 once asked `after` times."""
+
+    def __init__(self, after: int | None) -> None:
+        self.after, self.asked = after, 0
+
+    def get_subscription_count(self) -> int:
+        self.asked += 1
+        return int(self.after is not None and self.asked > self.after)
+
+
+def test_the_wait_ends_when_every_named_topic_has_a_subscriber():
+    publishers = {'/left/tactile/imu': CountingPublisher(after=2),
+                  '/sweep/active': CountingPublisher(after=5)}
+    wait_for_subscribers(publishers, ['left/tactile/imu', '/sweep/active/'], timeout_s=5.0)
+    assert publishers['/sweep/active'].asked == 6  # asked again until it matched
+
+
+def test_the_wait_names_only_the_topics_left_without_a_subscriber():
+    publishers = {'/a': CountingPublisher(after=0), '/b': CountingPublisher(after=None)}
+    with pytest.raises(NoSubscriberError, match=r'^no subscriber to /b within 0.2 s; start the '
+                                                r'node that reads it first'):
+        wait_for_subscribers(publishers, ['a', 'b'], timeout_s=0.2)
+
+
+def test_a_name_that_is_not_played_is_refused_before_any_wait():
+    publishers = {'/a': CountingPublisher(after=None)}
+    with pytest.raises(NoSubscriberError, match='^/c not played; the played topics are /a$'):
+        wait_for_subscribers(publishers, ['/a', 'c'], timeout_s=60.0)
+    assert publishers['/a'].asked == 0
+    with pytest.raises(NoSubscriberError, match='the played topics are none$'):
+        wait_for_subscribers({}, ['c'], timeout_s=60.0)
 
 
 @pytest.mark.ros

@@ -33,6 +33,7 @@ CLOCK_HZ = 100.0
 READ_AHEAD = 4096  # messages read before they are due
 GIL_SWITCH_INTERVAL_S = 0.0005  # how soon the reader thread yields to a due publish
 WAIT_POLL_S = 0.05  # how often the subscribers of --wait-for topics are counted
+WAIT_TIMEOUT_S = 30.0  # the longest wait for them, unless told
 SENSOR_TYPES = ('sensor_msgs/msg/Imu', 'sensor_msgs/msg/MagneticField',
                 'sensor_msgs/msg/FluidPressure', 'sensor_msgs/msg/Temperature',
                 'sensor_msgs/msg/JointState')
@@ -67,8 +68,9 @@ def wait_for_subscribers(publishers: dict, names: Sequence[str], timeout_s: floa
     wanted = ['/' + name.strip('/') for name in names]
     unknown = [name for name in wanted if name not in publishers]
     if unknown:
+        played = ', '.join(sorted(publishers)) or 'none'
         raise NoSubscriberError(f'{", ".join(unknown)} not played; the played topics are '
-                                f'{", ".join(sorted(publishers))}')
+                                f'{played}')
     deadline = time.monotonic() + timeout_s
     while True:
         waiting = [name for name in wanted if publishers[name].get_subscription_count() == 0]
@@ -83,7 +85,7 @@ def wait_for_subscribers(publishers: dict, names: Sequence[str], timeout_s: floa
 
 def play(paths: Sequence[Path], options: PlayOptions, *, loop: bool = False,
          clock: bool = False, delay_s: float = 1.0, wait_for: Sequence[str] = (),
-         wait_timeout_s: float = 30.0, said: Callable[[str], None] = print,
+         wait_timeout_s: float = WAIT_TIMEOUT_S, said: Callable[[str], None] = print,
          progress: Callable[[float], None] | None = None) -> dict:
     """Publish the recordings one after another (again and again with `loop`).
 
@@ -94,8 +96,8 @@ def play(paths: Sequence[Path], options: PlayOptions, *, loop: bool = False,
         clock: publish /clock with the recorded time.
         delay_s: wait this long after creating the publishers (discovery), as
             `ros2 bag play --delay` (after `wait_for`'s subscribers matched, if any).
-        wait_for: topics (as published) that must each have a subscriber before the
-            first message (`wait_for_subscribers`).
+        wait_for: topics (as published; /clock too with `clock`) that must each have a
+            subscriber before the first message (`wait_for_subscribers`).
         wait_timeout_s: the longest wait for them.
         said: told about topics that cannot be played.
         progress: called with the seconds of recording played, twice a second.
@@ -119,14 +121,15 @@ def play(paths: Sequence[Path], options: PlayOptions, *, loop: bool = False,
             publishers[topic] = node.create_publisher(kind, topic, LATCHED if latched
                                                       else PLAYED)
         clock_publisher = node.create_publisher(Clock, '/clock', PLAYED) if clock else None
-        wait_for_subscribers(publishers, wait_for, wait_timeout_s)
+        waited_on = {**publishers, '/clock': clock_publisher} if clock else publishers
         # What the imports and rclpy built stays: the garbage collector's full passes over
         # it paused playback for 100 ms and more.
         gc.freeze()
         sys.setswitchinterval(GIL_SWITCH_INTERVAL_S)
-        time.sleep(delay_s)
         stopped = ''
         try:
+            wait_for_subscribers(waited_on, wait_for, wait_timeout_s)
+            time.sleep(delay_s)
             while True:
                 for path in paths:
                     _play_one(path, options, publishers, clock_publisher, lateness, said,

@@ -54,8 +54,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                       help='wait S seconds after creating the publishers, for discovery (1)')
     play.add_argument('--wait-for', nargs='+', default=[], metavar='TOPIC',
                       help='before the first message, wait until each of these published '
-                           'topics has a subscriber (then --delay more)')
-    play.add_argument('--wait-timeout', type=number(at_least=0.0), default=30.0, metavar='S',
+                           'topics (/clock too with --clock) has a subscriber (then --delay '
+                           'more)')
+    play.add_argument('--wait-timeout', type=number(), metavar='S',
                       help='longest wait for the --wait-for subscribers (30)')
 
 
@@ -90,16 +91,19 @@ def _play(args: argparse.Namespace) -> int:
         remaps = tuple(parse_remap(text) for text in args.remap)
     except ValueError as err:
         raise CommandError(str(err)) from None
+    if args.wait_timeout is not None and not args.wait_for:
+        raise CommandError('--wait-timeout bounds the wait of --wait-for: add --wait-for '
+                           'TOPIC ... or drop --wait-timeout')
     options = PlayOptions(args.rate_factor, args.start_offset, args.duration,
                           tuple(args.topics), remaps, args.namespace)
     recordings = _recordings(args.paths)
-    from tactex.bag_player import NoSubscriberError, play
+    from tactex.bag_player import NoSubscriberError, play, WAIT_TIMEOUT_S
     bar = tqdm(desc='playing', unit=' s', bar_format='{desc}: {n:.1f} s of recording',
                disable=None, file=sys.stderr)
     try:
         summary = play(recordings, options, loop=args.loop, clock=args.clock,
                        delay_s=args.delay, wait_for=args.wait_for,
-                       wait_timeout_s=args.wait_timeout,
+                       wait_timeout_s=args.wait_timeout or WAIT_TIMEOUT_S,
                        said=lambda line: print(line, file=sys.stderr),
                        progress=lambda played: bar.update(played - bar.n))
     except NoSubscriberError as err:
