@@ -129,9 +129,9 @@ def main() -> int:
     results = RESULTS / args.grid
     steps: list[dict] = []
     suffix = f'_first{args.recordings}' if args.recordings else ''
-    datasets = [args.work / f'sim{window}{suffix}.npz'
-                for window in (int(w) for w in args.windows.split(','))]
-    missing = [data for data in datasets if not data.is_file()]
+    windows = dict.fromkeys(int(w) for w in args.windows.split(','))  # in order, once each
+    paths = {window: args.work / f'sim{window}{suffix}.npz' for window in windows}
+    missing = {window: data for window, data in paths.items() if not data.is_file()}
     if missing:  # datasets converted before (or carried to a lent GPU) need no bags
         bags = args.bags or args.work / 'bags'
         if not bags.is_dir():
@@ -139,10 +139,10 @@ def main() -> int:
                     '--workers', str(args.cpus), '--out', str(bags)], steps)
         if args.recordings:
             bags = first_recordings(bags, args.recordings, args.work)
-        for data in missing:
-            window = data.stem.removeprefix('sim').removesuffix(suffix)
-            _timed([TACTEX, 'convert', str(bags), '--out', str(data), '--window', window],
-                   steps)
+        for window, data in missing.items():
+            _timed([TACTEX, 'convert', str(bags), '--out', str(data), '--window',
+                    str(window)], steps)
+    datasets = list(paths.values())
     command = [TACTEX, 'compare', *map(str, datasets), '--epochs', str(args.epochs),
                '--folds', str(args.folds), '--seeds', str(args.seeds), '--cpus', str(args.cpus),
                '--cv', args.cv, '--early-stopping', str(args.early_stopping),
