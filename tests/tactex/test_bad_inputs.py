@@ -156,7 +156,7 @@ def test_compare_with_mps_where_it_cannot_start_writes_no_grid(tmp_path, capsys,
     monkeypatch.setenv('PATH', str(tmp_path / 'nowhere'))
     data = toy_dataset(3).save(tmp_path / 'data.npz')
     code, _, stderr = in_process(capsys)(['compare', str(data), '--out', str(tmp_path / 'grid'),
-                                          '--mps', '--models', 'minirocket'])
+                                          '--mps', '--models', 'bilstm_1'])
     assert code == 1
     assert stderr.strip().splitlines()[-1] == (
         'error: --mps: nvidia-cuda-mps-control not found (on PATH or in '
