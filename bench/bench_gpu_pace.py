@@ -6,9 +6,10 @@ The GPU grid trains each cell in a process of its own, several sharing the GPU
 (`tactex compare --device cuda --cells-per-gpu N`). This bench starts N such trainings at
 once (fold 1 of seed 0, grouped, of the kept GPU grid's data; the modern profile with
 per-window scaling, as that grid), lets each warm up for one epoch, times the epochs after
-it, and reports the GPU's throughput in cell-epochs per second against one cell alone,
-measured in the same run. A run marked `mps` repeats it under NVIDIA's Multi-Process
-Service, which lets the processes' kernels share the GPU at once instead of taking turns.
+it, and reports the GPU's throughput in cell-epochs per second, against one cell alone
+where the same call ran that model in one cell without options first. A run marked
+`mps` repeats it under NVIDIA's Multi-Process Service, which lets the processes' kernels
+share the GPU at once instead of taking turns.
 A profile of one cell says whether the host (Python and kernel launches) or the GPU's
 arithmetic sets a step's pace. A run marked `autotune` lets cuDNN time its algorithms for
 each shape first (`torch.backends.cudnn.benchmark`), as tactex's training does on a GPU.
