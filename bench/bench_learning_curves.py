@@ -13,7 +13,7 @@ point keeps its accuracy and training seconds, so the curve shows where, if anyw
 deep model overtakes the baselines and what each point costs, and for each draw of a deep
 model why it did not converge (`unconverged_because`: stalled at chance, or still falling
 at its last epoch; None when it converged), marked in the table (points kept before
-2026-11-29 carry no such mark).
+this check existed carry no mark).
 
 Points are kept in RESULTS/learning_curves.json as they finish and a run with the same
 data and settings resumes. `--merge DIR ...` trains nothing: it joins the points kept by
@@ -63,8 +63,8 @@ def markdown(summary: dict) -> str:
         lines.append(f'| {model} | ' + ' | '.join(cells) + ' |')
     if any('unconverged' not in summary['points'].get(f'{model}@{n}', {'unconverged': 0})
            for model in summary['models'] if model not in BASELINES for n in sizes):
-        lines += ['', 'Deep-model points kept before 2026-11-29 were not checked for '
-                  'convergence (no mark either way).']
+        lines += ['', 'Deep-model points kept before the convergence check existed carry '
+                  'no mark either way.']
     if summary['skipped']:
         lines += ['', 'Not in this set: ' + ', '.join(summary['skipped']) + '.']
     if len(summary.get('calls', [])) > 1:  # merged from calls run side by side
