@@ -676,6 +676,43 @@ def gpu_pace() -> str:
         f'![GPU pace]({FIGURES}/gpu_pace.png)\n')
 
 
+def convergence_check() -> str:
+    """The main comparison's unconverged cells trained again for longer: does the mark matter?"""
+    kept = kept_json('convergence_check.json')
+    rows = ['| cell | before | after | after: converged? |', '|---|---|---|---|']
+    for row in kept['cells']:
+        cell, before, after = row['cell'], row['before'], row['after']
+        rows.append(f'| {cell["model"]} seed {cell["seed"]} fold {cell["fold"]} | '
+                    f'{100 * before["accuracy"]:.1f} % after {before["epochs"]} epochs '
+                    f'({row["why_before"]}) | {100 * after["accuracy"]:.1f} % after '
+                    f'{after["epochs"]} epochs ({after["train_s"]:.0f} s) | '
+                    f'{after["unconverged"] or "yes"} |')
+    change = {row['cell']['model']: [] for row in kept['cells']}
+    for row in kept['cells']:
+        change[row['cell']['model']].append(100 * (row['after']['accuracy'] -
+                                                   row['before']['accuracy']))
+    grid = _cells(kept['grid'])
+    summary = kept_json(f'{kept["grid"]}/summary.json')
+    ranked = {row['model']: _mean_grouped(row) for row in summary['rows']
+              if not row['not_converged']}
+    means = {row['model']: _mean_grouped(row) for row in summary['rows']}
+
+    def moved(model: str, values: list[float]) -> str:
+        new_mean = 100 * means[model] + sum(values) / sum(key[0] == model for key in grid)
+        above = min((name for name in ranked if 100 * ranked[name] > new_mean),
+                    key=lambda name: ranked[name], default=None)
+        return (f'{model}: {", ".join(f"{value:+.1f}" for value in values)} points, so its '
+                f'mean over {sum(key[0] == model for key in grid)} cells would be about '
+                f'{new_mean:.1f} % (was {100 * means[model]:.1f} %)'
+                + (f', still below {above} ({100 * ranked[above]:.1f} %)' if above else ''))
+    moves = '; '.join(moved(model, values) for model, values in change.items())
+    return (f'The cells of the main comparison marked not converged, trained again with at '
+            f'most {kept["epochs"]} epochs instead of {kept["grid_epochs"]} and nothing else '
+            f'changed (`{kept["command"]}`; the warm-up and cosine schedule stretch over the '
+            f'longer run). Their accuracy changed by {moves}.\n\n'
+            + '\n'.join(rows) + '\n')
+
+
 def _cells(name: str) -> dict[tuple, dict]:
     """A kept grid's finished cells, by (model, window, seed, fold, scheme)."""
     cells = {}
