@@ -583,8 +583,8 @@ def gpu_pace() -> str:
     # epochs per cell; a model not measured here is scaled by its seconds per epoch against
     # cnn_3's in the first GPU grid, where both shared the GPU alike.
     now_small = best(small, mps=True, autotune=True)
-    first = _cells('compare_gpu')
-    kept = {**first, **_cells('compare_converged')}
+    first, converged = _cells('compare_gpu'), _cells('compare_converged')
+    kept = {**first, **converged}
 
     def mean_of(model: str, cells: dict, value) -> float:
         return float(np.mean([value(cell) for key, cell in cells.items() if key[0] == model]))
@@ -599,12 +599,11 @@ def gpu_pace() -> str:
     throughput['inception_time_ensemble'] = throughput[inception] / ENSEMBLE_MEMBERS
     per_model = 3 * 2 * 5  # windows 128/256/512, both schemes, 5 folds
     deep_min = sum(per_model * epochs[m] / throughput[m] for m in DEEP_MODELS) / 60
-    single_thread_s = sum(mean_of(m, _cells('compare_converged'), lambda cell: cell['train_s'])
+    single_thread_s = sum(mean_of(m, converged, lambda cell: cell['train_s'])
                           for m in BASELINES)
     baseline_min = per_model * single_thread_s / machine['cpu_count'] / 60
-    it_cpu = [cell['train_s'] for key, cell in _cells('compare_converged').items()
-              if key[0] == inception]
-    it_cpu_s, it_cpu_cells = float(np.mean(it_cpu)), len(it_cpu)
+    it_cpu_s = mean_of(inception, converged, lambda cell: cell['train_s'])
+    it_cpu_cells = sum(key[0] == inception for key in converged)
     cpu_cores = _kept_grid('compare_converged')[1]['calls'][0]['machine']['cpu_count']
     ensemble_cpu_h = per_model * ENSEMBLE_MEMBERS * it_cpu_s / cpu_cores / 3600
     scaled = sorted(m for m in DEEP_MODELS if m not in (small, inception,

@@ -135,9 +135,8 @@ def run(args: argparse.Namespace) -> int:
         check_models_fit(args.models, window, dataset)
     cells = grid_cells(args.models, sorted(datasets), args.seeds, args.folds, schemes)
     with ExitStack() as sharing:
-        deep_left = any(cell.model not in BASELINES and store.load(cell) is None
-                        for cell in cells)
-        if args.mps and not deep_left:
+        if args.mps and not any(cell.model not in BASELINES and store.load(cell) is None
+                                for cell in cells):
             log('--mps: no deep-model cell is left to train; MPS not started')
         elif args.mps:  # before the grid's folder is written: a refusal leaves nothing behind
             from tactex_common.errors import GpuSharingError
