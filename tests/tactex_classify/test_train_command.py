@@ -57,14 +57,14 @@ def test_train_keeps_a_deployable_checkpoint(tmp_path, capsys):
 def test_a_fold_whose_training_never_left_chance_is_named_with_what_to_change():
     chance = math.log(3)
     result = CrossValidation('grouped', np.zeros((2, 3)), np.zeros(2), histories=[
-        [{'train_loss': chance}] * 40,  # early stopping ended it on its first plateau
+        [{'train_loss': chance}] * 50,  # every epoch on its first plateau
         [{'train_loss': chance}, {'train_loss': 0.2}] * 20,  # learned, then stopped early
         [{'train_loss': 1.0 - epoch / 100} for epoch in range(50)],  # still falling at 50
         []])  # a baseline: no history
     notes = convergence_notes(result, classes=3, epochs=50)
     assert len(notes) == 2
     assert notes[0].startswith('grouped fold 1: not converged: its training loss never fell '
-                               'below chance (1.10') and '--early-stopping' in notes[0]
+                               'below chance (1.10') and 'raise --epochs' in notes[0]
     assert notes[1].startswith('grouped fold 3: not converged') and 'raise --epochs' in notes[1]
 
 

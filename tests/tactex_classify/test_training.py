@@ -280,6 +280,16 @@ def test_early_stopping_keeps_the_epoch_of_least_validation_loss():
     assert restored == pytest.approx(min(losses), rel=1e-4)
 
 
+def test_early_stopping_never_ends_a_training_still_at_chance():
+    # A learning rate too small to move the weights keeps the loss at ln(classes): the
+    # validation loss cannot judge such a model yet, so patience does not run out.
+    data = toy()
+    stuck = dataclasses.replace(EARLY, epochs=8, early_stopping=1, learning_rate=1e-12)
+    model = DeepClassifier(stuck).fit(data.X, data.y, CLASSES, groups=data.trial)
+    assert len(model.history_) == 8
+    assert model.unconverged_reason() == 'stalled at chance'
+
+
 def test_early_stopping_without_recordings_is_refused():
     data = toy()
     with pytest.raises(ValueError, match='pass groups'):

@@ -73,8 +73,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('--early-stopping', type=patience_epochs, default=None,
                         metavar='PATIENCE',
                         help='stop a cell when the loss on recordings held out of its '
-                             "training fold has not improved for PATIENCE epochs (0: off; "
-                             "default: the profile's, off or 30)")
+                             "training fold has not improved for PATIENCE epochs, counted "
+                             "once its training loss leaves chance (0: off; default: the "
+                             "profile's, off or 30)")
     parser.add_argument('--threads', type=integer(1, 256), default=1,
                         help='torch threads (and CPUs asked) per deep-model cell (1)')
     parser.add_argument('--cpus', type=integer(1, 4096),

@@ -54,7 +54,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('--early-stopping', type=patience_epochs, default=None,
                         metavar='PATIENCE',
                         help='stop when the validation loss has not improved for PATIENCE '
-                             'epochs (validation: recordings held out of the training fold; '
+                             'epochs, counted once the training loss leaves chance '
+                             '(validation: recordings held out of the training fold; '
                              "0: off; default: the profile's, off or 30)")
     parser.add_argument('--scaling', default='minmax', choices=SCALINGS,
                         help='per-channel Min-Max (default), z-score, or window: each '

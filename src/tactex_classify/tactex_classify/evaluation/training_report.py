@@ -42,8 +42,8 @@ def convergence_notes(result: CrossValidation, classes: int, epochs: int) -> lis
             notes.append(f'{result.scheme} fold {fold}: not converged: its training loss never '
                          f'fell below chance ({math.log(classes):.2f}, the loss of predicting '
                          f'every class alike) in {len(losses)} epochs, so the model learned '
-                         'nothing; give early stopping more patience (--early-stopping), or '
-                         'try another --model')
+                         'nothing (early stopping waits while it is at chance); raise '
+                         '--epochs, or try another --model')
         elif reason:
             notes.append(f'{result.scheme} fold {fold}: not converged: its training loss was '
                          f'still falling at the last of {epochs} epochs; raise --epochs')

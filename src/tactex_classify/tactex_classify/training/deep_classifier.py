@@ -62,7 +62,7 @@ class TrainingConfig:
     learning_rate: float = 1e-3
     clip_norm: float = 1.0
     scaling: str = 'minmax'
-    early_stopping: int = 0  # patience in epochs on a validation split; 0: off
+    early_stopping: int = 0  # patience (epochs on a validation split) once off chance; 0: off
     validation_fraction: float = 0.1
     seed: int = 0
     threads: int = 1
@@ -275,7 +275,8 @@ class DeepClassifier(Deployable):
                 if record['val_loss'] < best_loss - 1e-6:
                     best_loss, waited, self.best_epoch_ = record['val_loss'], 0, epoch
                     best_state = {k: v.clone() for k, v in evaluated.state_dict().items()}
-                else:
+                elif not stalled_at_chance([r['train_loss'] for r in self.history_],
+                                           len(self.classes_)):  # at chance it cannot judge
                     waited += 1
                     if waited >= config.early_stopping:
                         break
@@ -456,7 +457,8 @@ def stalled_at_chance(losses: Sequence[float], classes: int,
 
     The loss of the uniform prediction is ln(classes) against any target, label smoothing
     and mixup included; a training whose loss never fell `margin` (a fraction) below it
-    learned nothing before it ended, typically stopped early on its first plateau. A
+    learned nothing before it ended (early stopping waits while this holds; grids kept
+    before that rule hold trainings it ended on their first plateau). A
     training without one finite loss learned nothing either; no epoch or one class: False.
     """
     losses = np.asarray(losses, dtype=float)
