@@ -26,7 +26,7 @@ def client_node(name: str) -> Iterator[tuple[object, SingleThreadedExecutor]]:
     """(node, executor) with the middleware settings the launched nodes have; shut down after."""
     os.environ.update(ros_environment())
     context = rclpy.Context()
-    rclpy.init(context=context)
+    rclpy.init(args=[], context=context)  # the command line is the command's, not ROS's
     try:
         node = rclpy.create_node(name, context=context)
         executor = SingleThreadedExecutor(context=context)

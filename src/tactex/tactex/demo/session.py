@@ -83,7 +83,7 @@ class SystemClient:
 
     def __init__(self) -> None:
         self._context = Context()
-        rclpy.init(context=self._context)
+        rclpy.init(args=[], context=self._context)  # the command line is not ROS's
         self._node = rclpy.create_node('tactex_demo', context=self._context)
         self._lock = threading.Lock()
         self._pathway: Pathway | None = None
