@@ -351,6 +351,14 @@ BAD_INPUTS = {
              '--wait-timeout: must be a finite number > 0'),
         Case('bag play {w}/bags/wood_0000 --wait-timeout 5', '--wait-timeout bounds the wait '
              'of --wait-for: add --wait-for TOPIC ... or drop --wait-timeout'),
+        Case('bag play {w}/bags/wood_0000 --wait-for /a //', "argument --wait-for: must be a "
+             "ROS topic name such as /tactile/imu/data_raw .*got '//'"),
+        Case('bag play {w}/bags/wood_0000 --wait-for ~/imu', 'argument --wait-for: must be a '
+             "ROS topic name .*got '~/imu'"),
+        Case('bag play {w}/bags/wood_0000 --wait-for a:=b', 'argument --wait-for: must be a '
+             "ROS topic name .*got 'a:=b'"),
+        Case('bag play {w}/bags/wood_0000 --wait-for /clock', '--wait-for /clock: /clock is '
+             'published only with --clock; add --clock'),
         Case('bag play {w}/foreign/text.bag', 'text.bag: cannot read: not a ROS 1 bag'),
         *[Case(f'bag info {{w}}/foreign/{name}', f'{name}: cannot read: .*{why}')
           for name, why in FOREIGN.items() if name not in ('lab.bag', 'other_imu.bag')],

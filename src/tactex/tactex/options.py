@@ -307,6 +307,15 @@ def namespace(value: str) -> str:
     return value
 
 
+def topic_name(value: str) -> str:
+    """An argparse type: a ROS topic name (as a namespace, but not empty)."""
+    if not value.strip('/') or not is_ros_name(value):
+        raise argparse.ArgumentTypeError(
+            f'must be a ROS topic name such as /tactile/imu/data_raw (letters, digits and _, '
+            f'not starting with a digit, split by /), got {value!r}')
+    return value
+
+
 def add_goal_options(parser: argparse.ArgumentParser, node: str) -> None:
     """--namespace, --server-timeout and --timeout of a command that sends `node` a goal."""
     parser.add_argument('--namespace', type=namespace, default='', metavar='NS',

@@ -10,7 +10,7 @@ from pathlib import Path
 import sys
 
 from tactex.errors import CommandError
-from tactex.options import namespace, number
+from tactex.options import namespace, number, topic_name
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -52,7 +52,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                       help='publish every topic under this namespace (e.g. left_arm)')
     play.add_argument('--delay', type=number(at_least=0.0), default=1.0, metavar='S',
                       help='wait S seconds after creating the publishers, for discovery (1)')
-    play.add_argument('--wait-for', nargs='+', default=[], metavar='TOPIC',
+    play.add_argument('--wait-for', nargs='+', type=topic_name, default=[], metavar='TOPIC',
                       help='before the first message, wait until each of these published '
                            'topics (/clock too with --clock) has a subscriber (then --delay '
                            'more)')
@@ -94,6 +94,9 @@ def _play(args: argparse.Namespace) -> int:
     if args.wait_timeout is not None and not args.wait_for:
         raise CommandError('--wait-timeout bounds the wait of --wait-for: add --wait-for '
                            'TOPIC ... or drop --wait-timeout')
+    if not args.clock and '/clock' in {'/' + name.strip('/') for name in args.wait_for}:
+        raise CommandError('--wait-for /clock: /clock is published only with --clock; add '
+                           '--clock')
     options = PlayOptions(args.rate_factor, args.start_offset, args.duration,
                           tuple(args.topics), remaps, args.namespace)
     recordings = _recordings(args.paths)
