@@ -179,6 +179,13 @@ def test_random_bytes_named_bag_are_called_no_ros1_bag(tmp_path):
         read_recording(tmp_path / 'random.bag')
 
 
+def test_an_mcap_cut_inside_its_first_record_is_called_truncated(tmp_path):
+    (tmp_path / 'stub.mcap').write_bytes(b'\x89MCAP0\r\n\x01\x1a' + bytes(10))
+    with pytest.raises(BagError, match=r'stub.mcap: cannot read: a truncated or damaged MCAP '
+                                       r'file \(a record runs past the end of the file\)'):
+        read_recording(tmp_path / 'stub.mcap')
+
+
 METADATA_LIES = {
     'empty': ('', 'its metadata.yaml is empty or not a rosbag2 description'),
     'not_yaml': ('rosbag2_bagfile_information: [unclosed\n: :\n',

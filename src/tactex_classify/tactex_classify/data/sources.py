@@ -208,6 +208,9 @@ def explain(err: Exception, part: Path) -> str:
                 '`rosbag reindex` on it on a ROS 1 machine')
     if '.mcap' in storage and 'end magic is invalid' in text:
         return 'a truncated MCAP file (it ends before its footer: it was never closed)'
+    if '.mcap' in storage and 'Truncated record' in text:
+        return ('a truncated or damaged MCAP file (a record runs past the end of the file); '
+                'copy it again from where it was recorded')
     if '.mcap' in storage and 'File magic is invalid' in text:
         return 'not an MCAP file (it does not start with the MCAP magic)'
     if 'Profile is not ros2' in text or 'Serialization format' in text:
