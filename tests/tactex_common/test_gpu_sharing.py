@@ -84,6 +84,18 @@ def test_a_daemon_that_will_not_start_is_reported_with_its_message(tmp_path, con
     assert [line.split()[0] for line in control.read_text().splitlines()] == ['start', 'quit']
 
 
+def test_a_daemon_that_never_started_leaves_no_warning_and_no_folder(tmp_path, control,
+                                                                    monkeypatch, capsys):
+    monkeypatch.setenv('FAKE_MPS_EXIT', '1')
+    monkeypatch.setenv('FAKE_MPS_QUIT_EXIT', '1')  # nobody answers the quit: none ran
+    with pytest.raises(GpuSharingError, match='-d exited 1'):
+        with multi_process_service(python=client(tmp_path, 'exit 0')):
+            pass
+    assert 'warning' not in capsys.readouterr().err
+    pipe = control.read_text().split()[1]
+    assert not Path(pipe).parent.exists()
+
+
 def test_a_daemon_that_does_not_confirm_quitting_keeps_its_folders_and_says_how_to_stop_it(
         tmp_path, control, monkeypatch, capsys):
     monkeypatch.setenv('FAKE_MPS_QUIT_EXIT', '1')

@@ -67,8 +67,10 @@ def multi_process_service(python: str = sys.executable) -> Iterator[dict[str, st
         Path(path).mkdir()
     environment = {**os.environ, **variables}
     before = {name: os.environ.get(name) for name in variables}
+    started = False
     try:
         _start(control, environment)
+        started = True
         _check_client(python, environment)
         os.environ.update(variables)
         yield variables
@@ -78,7 +80,9 @@ def multi_process_service(python: str = sys.executable) -> Iterator[dict[str, st
                 os.environ.pop(name, None)
             else:
                 os.environ[name] = value
-        if _quit(control, environment):
+        # A launcher that failed may have forked its daemon: ask it to quit all the same,
+        # but a quit nobody answers then means none ran (no warning, no folder kept).
+        if _quit(control, environment, warn=started) or not started:
             shutil.rmtree(folder, ignore_errors=True)
 
 
@@ -94,17 +98,17 @@ def _start(control: str, environment: dict[str, str]) -> None:
                               f'{_last_line(started.stderr)}; share the GPU without MPS')
 
 
-def _quit(control: str, environment: dict[str, str]) -> bool:
+def _quit(control: str, environment: dict[str, str], *, warn: bool = True) -> bool:
     """Ask the daemon to quit (also one that may not have started); whether it answered.
 
-    A daemon that may still run keeps its folders, named on stderr with the way to stop it.
+    With `warn`, one that did not answer is named on stderr with the way to stop it.
     """
     try:
         done = _run([control], environment, DAEMON_TIMEOUT_S, stdin='quit\n')
         failed = f'{CONTROL} exited {done.returncode}' if done.returncode else None
     except (OSError, subprocess.TimeoutExpired) as err:
         failed = str(err)
-    if failed:
+    if failed and warn:
         pipe = environment['CUDA_MPS_PIPE_DIRECTORY']
         print(f'warning: the MPS daemon did not confirm it quit ({failed}); if it still runs, '
               f'stop it with: echo quit | CUDA_MPS_PIPE_DIRECTORY={pipe} {control}',
