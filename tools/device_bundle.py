@@ -15,7 +15,11 @@ to .git/info/exclude) with:
 - run.sh: installs the above into /tmp/site (again when the bundle changed; whole or
   not at all), checks that the image has what Ray and tactex need besides, puts `src/*`
   on PYTHONPATH, writes a `tactex` script beside the image's python3, and runs its
-  arguments.
+  arguments;
+- .tactex-device-bundle: the mark of a bundle this tool wrote, listing its files.
+OUT is built in a temporary folder beside it and renamed into place only when whole: an
+earlier bundle (marked, and holding no file the mark does not list) is replaced then, and
+left as it was when a step fails. Any other existing OUT, or a symbolic link, is refused.
 Then, for example:
     .venv/bin/python tools/device_bundle.py --data /tmp/tactex-compare-data/sim128_first20.npz
     run(command='bash .device/run.sh python3 bench/bench_gpu_pace.py --data '
@@ -46,6 +50,10 @@ RAY_UNUSED = ('ray/jars', 'ray/rllib', 'ray/data', 'ray/serve', 'ray/train', 'ra
 PLATFORMS = ('manylinux_2_28_x86_64', 'manylinux_2_27_x86_64', 'manylinux_2_17_x86_64',
              'manylinux2014_x86_64', 'manylinux1_x86_64')
 CARRY_LIMIT = 64 * 2**20
+# Written last into a bundle, this line and the files written: what tells an earlier bundle
+# (replaced whole) from a user's folder or files.
+MARK = '.tactex-device-bundle'
+MARK_LINE = 'written by tools/device_bundle.py; rebuilt whole on each run'
 RUN_SH = r"""#!/bin/bash
 # Written by tools/device_bundle.py: install what the image lacks (again when the bundle
 # changed), then run the arguments with tactex importable and a `tactex` script.
@@ -75,19 +83,38 @@ exec "$@"
 """
 
 
+class BundleError(Exception):
+    """A step of writing the bundle failed; the message says which and what to do."""
+
+
+def pinned(name: str) -> str:
+    """`name`==the version installed here."""
+    try:
+        return f'{name}=={importlib.metadata.version(name)}'
+    except importlib.metadata.PackageNotFoundError:
+        raise BundleError(f'{name} is not installed in this environment, so its version is '
+                          'unknown; install requirements.txt into .venv') from None
+
+
 def download(names: list[str], into: Path) -> None:
     """CPython 3.12 manylinux wheels of `names` (pinned specs) into `into`, no dependencies."""
     platforms = [option for name in PLATFORMS for option in ('--platform', name)]
-    subprocess.run([sys.executable, '-m', 'pip', 'download', '-q', '--no-deps',
-                    '--only-binary=:all:', '--python-version', '3.12', '--implementation',
-                    'cp', *platforms, '-d', str(into), *names], check=True)
+    pip = subprocess.run([sys.executable, '-m', 'pip', 'download', '-q', '--no-deps',
+                          '--only-binary=:all:', '--python-version', '3.12', '--implementation',
+                          'cp', *platforms, '-d', str(into), *names],
+                         stderr=subprocess.PIPE, text=True, check=False)
+    if pip.returncode:
+        last = (pip.stderr.strip().splitlines() or ['(no message)'])[-1].strip()
+        what = names[0] if len(names) == 1 else f'{len(names)} packages'
+        raise BundleError(f'downloading wheels for cp312 ({what}) failed (pip exited '
+                          f'{pip.returncode}): {last}; check the package index is reachable')
 
 
 def trimmed_ray(into: Path) -> Path:
     """Ray's pinned wheel unpacked without RAY_UNUSED, as `into`/ray.tar.xz."""
     with tempfile.TemporaryDirectory(prefix='ray-wheel-') as folder:
         folder = Path(folder)
-        download([f'ray=={importlib.metadata.version("ray")}'], folder)
+        download([pinned('ray')], folder)
         (wheel,) = folder.glob('ray-*.whl')
         unpacked = folder / 'site'
         with zipfile.ZipFile(wheel) as archive:
@@ -109,14 +136,90 @@ def ignore(folder: Path) -> None:
     if not folder.resolve().is_relative_to(ROOT):
         return
     entry = f'/{folder.resolve().relative_to(ROOT)}/'
-    found = subprocess.run(['git', 'rev-parse', '--git-path', 'info/exclude'], cwd=ROOT,
-                           capture_output=True, text=True, check=True).stdout.strip()
-    exclude = (ROOT / found).resolve()
+    git = subprocess.run(['git', 'rev-parse', '--git-path', 'info/exclude'], cwd=ROOT,
+                         capture_output=True, text=True, check=False)
+    if git.returncode:
+        return  # no git checkout: nothing to exclude from
+    exclude = (ROOT / git.stdout.strip()).resolve()
     exclude.parent.mkdir(parents=True, exist_ok=True)
     known = exclude.read_text(encoding='utf-8').splitlines() if exclude.is_file() else []
     if entry not in known:
         with exclude.open('a', encoding='utf-8') as handle:
             handle.write(entry + '\n')
+
+
+def files(folder: Path) -> set[str]:
+    """The paths of what is under `folder` but folders, relative to it."""
+    return {str(path.relative_to(folder)) for path in folder.rglob('*')
+            if path.is_symlink() or not path.is_dir()}
+
+
+def check(out: Path, data: list[Path]) -> None:
+    """Raise BundleError saying what is wrong with the arguments, before anything is written."""
+    for path in data:
+        if path.is_dir():
+            raise BundleError(f'--data {path} is a folder; give the files the device command '
+                              'reads (a dataset .npz, its .json sidecar beside it; a bag file)')
+    missing = [str(path) for path in data if not path.is_file()]
+    if missing:
+        raise BundleError(f'--data {", ".join(missing)}: no such file')
+    if out.is_symlink():
+        raise BundleError(f'--out {out} is a symbolic link, which this tool does not follow '
+                          '(it replaces --out whole); give the folder itself or a new one')
+    if out.exists():
+        mark = out / MARK
+        listed = mark.read_text(errors='replace').splitlines() if mark.is_file() else []
+        if not out.is_dir() or listed[:1] != [MARK_LINE]:
+            raise BundleError(f'--out {out} exists and is no bundle of this tool (it has no '
+                              f'{MARK}); give a new folder, or remove that one yourself')
+        if extra := sorted(files(out) - {MARK, *listed[1:]}):
+            raise BundleError(f'--out {out} holds files this tool did not write '
+                              f'({", ".join(extra[:3])}); move them out or give a new folder')
+    if not out.parent.is_dir():
+        raise BundleError(f'--out {out}: its folder {out.parent} does not exist; create it')
+
+
+def build(into: Path, data: list[Path]) -> None:
+    """Write the bundle's files into the empty folder `into`, its mark last."""
+    (into / 'wheels').mkdir()
+    download([pinned(name) for name in PACKAGES], into / 'wheels')
+    trimmed_ray(into)
+    (into / 'data').mkdir()
+    for path in data:
+        shutil.copy2(path, into / 'data' / path.name)
+        sidecar = path.with_suffix('.json')  # a dataset's classes, channels and origin
+        if path.suffix == '.npz' and sidecar.is_file():
+            shutil.copy2(sidecar, into / 'data' / sidecar.name)
+    (into / 'run.sh').write_text(RUN_SH, encoding='utf-8')
+    (into / 'run.sh').chmod(0o755)
+    (into / MARK).write_text('\n'.join([MARK_LINE, *sorted(files(into))]) + '\n',
+                             encoding='utf-8')
+
+
+def replace(out: Path, new: Path) -> None:
+    """Rename the whole bundle `new` to `out`; an earlier bundle there is removed only then."""
+    old = new.with_name(new.name + '.old')
+    if out.exists():
+        out.rename(old)
+    try:
+        new.rename(out)
+    except OSError:
+        if old.exists():
+            old.rename(out)
+        raise
+    shutil.rmtree(old, ignore_errors=True)
+
+
+def write(out: Path, data: list[Path]) -> None:
+    """Build the bundle beside `out` (same folder: the rename is atomic), then put it there."""
+    work = Path(tempfile.mkdtemp(prefix=f'.{out.name}.', suffix='.partial', dir=out.parent))
+    try:
+        work.chmod(0o755)  # mkdtemp's is 0o700
+        build(work, data)
+        ignore(out)
+        replace(out, work)
+    finally:
+        shutil.rmtree(work, ignore_errors=True)  # gone already when it was put in place
 
 
 def main() -> int:
@@ -127,29 +230,16 @@ def main() -> int:
     parser.add_argument('--data', type=Path, nargs='*', default=[],
                         help='files the device command reads (datasets, bags)')
     args = parser.parse_args()
-    missing = [str(path) for path in args.data if not path.is_file()]
-    if missing:
-        print(f'error: --data {", ".join(missing)}: no such file', file=sys.stderr)
+    try:
+        check(args.out, args.data)
+        write(args.out, args.data)
+    except BundleError as failure:
+        print(f'error: {failure}', file=sys.stderr)
         return 1
-    if args.out.exists():
-        if not (args.out / 'run.sh').is_file() or not args.out.is_dir():
-            print(f'error: --out {args.out} exists and is no bundle of this tool; give a new '
-                  'folder', file=sys.stderr)
-            return 1
-        shutil.rmtree(args.out)  # an earlier bundle: written again whole
-    (args.out / 'wheels').mkdir(parents=True)
-    download([f'{name}=={importlib.metadata.version(name)}' for name in PACKAGES],
-             args.out / 'wheels')
-    trimmed_ray(args.out)
-    (args.out / 'data').mkdir()
-    for path in args.data:
-        shutil.copy2(path, args.out / 'data' / path.name)
-        sidecar = path.with_suffix('.json')  # a dataset's classes, channels and origin
-        if path.suffix == '.npz' and sidecar.is_file():
-            shutil.copy2(sidecar, args.out / 'data' / sidecar.name)
-    (args.out / 'run.sh').write_text(RUN_SH, encoding='utf-8')
-    (args.out / 'run.sh').chmod(0o755)
-    ignore(args.out)
+    except OSError as failure:
+        print(f'error: writing the bundle {args.out} failed: {failure}; {args.out} is as it '
+              'was', file=sys.stderr)
+        return 1
     size = sum(path.stat().st_size for path in args.out.rglob('*') if path.is_file())
     print(f'{args.out}: {size / 2**20:.1f} MiB of the {CARRY_LIMIT // 2**20} MiB a call '
           'carries (the working tree counts too)')
