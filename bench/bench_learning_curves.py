@@ -18,7 +18,9 @@ this check existed carry no mark).
 Points are kept in RESULTS/learning_curves.json as they finish and a run with the same
 data and settings resumes. `--merge DIR ...` trains nothing: it joins the points kept by
 calls run side by side (each with its own `--out`, the same set and settings) into
-`--out`. Writes learning_curves.{json,md,png}.
+`--out`; a point two folders hold is the later folder's, the earlier kept aside as
+`replaced`, and a merged folder's calls are listed one by one (so new calls can be merged
+into the kept results). Writes learning_curves.{json,md,png}.
 """
 
 import hashlib
@@ -67,6 +69,11 @@ def markdown(summary: dict) -> str:
                   'no mark either way.']
     if summary['skipped']:
         lines += ['', 'Not in this set: ' + ', '.join(summary['skipped']) + '.']
+    if summary.get('replaced'):
+        lines += ['', 'Points a later call replaced (what the earlier call measured):', '']
+        lines += [f'- {name.replace("@", " at n = ")}: {100 * np.mean(old["accuracy"]):.1f} % '
+                  f'({np.mean(old["seconds"]):.0f} s), replaced by `{old["by"].strip()}`'
+                  for name, old in summary['replaced'].items()]
     if len(summary.get('calls', [])) > 1:  # merged from calls run side by side
         lines += ['', f'Run as {len(summary["calls"])} calls side by side (`-`: not run):', '']
         lines += [f'- `{call.strip()}`' for call in summary['calls']]
@@ -174,12 +181,18 @@ def merge(folders: list[Path], out: Path, sizes: list[int], models: list[str]) -
             print(f'error: --merge {folder}: another set or settings than {folders[0]} '
                   f'({", ".join(differ)})', file=sys.stderr)
             return 1
-    points = {name: point for part in parts for name, point in part['points'].items()}
+    points, replaced = {}, dict(parts[0].get('replaced', {}))
+    for part in parts:  # a later call's point replaces an earlier one's, which is kept aside
+        for name, point in part['points'].items():
+            if name in points and points[name] != point:
+                replaced[name] = {**points[name], 'by': part['command']}
+            points[name] = point
     summary = {k: parts[0][k] for k in (*KEY, 'test_windows', 'chance')}
-    summary.update(sizes=sizes, points=points, skipped=[],
+    summary.update(sizes=sizes, points=points, skipped=[], replaced=replaced,
                    models=[m for m in models if any(f'{m}@{n}' in points for n in sizes)],
                    command='python bench/bench_learning_curves.py ' + ' '.join(sys.argv[1:]),
-                   calls=[part['command'] for part in parts])
+                   calls=[call for part in parts for call in part.get('calls',
+                                                                      [part['command']])])
     keep(out, 'learning_curves', summary, markdown, plot)
     return 0
 
