@@ -8,7 +8,10 @@ For every deep-model cell of a kept grid (`--grid`, default the main comparison)
 warm-up and cosine schedule stretch over the longer run, as `tactex compare --epochs`
 would), on the grid's data (`--data`, default the source its manifest names), `--cpus`
 cells at a time. Prints each cell's accuracy and epochs before and after, and why it
-still did not converge if it did not; keeps them in results/convergence_check.json.
+still did not converge if it did not; keeps them in results/convergence_check.json
+(`--out`). The grid (a comparison of one window), the data (the grid's own, by the digest
+its manifest keeps) and --out are checked before any training; a grid without such a
+cell has nothing to check, says so, and writes nothing.
 """
 
 import argparse
@@ -22,17 +25,77 @@ import time
 
 os.environ.setdefault('OMP_NUM_THREADS', '1')
 
+from tactex.cli import CommandParser, guarded  # noqa: E402
+from tactex.errors import CommandError  # noqa: E402
+from tactex.options import (  # noqa: E402
+    check_input_file,
+    check_input_folder,
+    check_output_file,
+    epoch_count,
+    integer,
+)
 from tactex_classify.data.dataset import Dataset  # noqa: E402
+from tactex_classify.errors import DatasetError  # noqa: E402
 from tactex_classify.evaluation.grid_report import cell_unconverged_because  # noqa: E402
 from tactex_classify.evaluation.model_grid import (  # noqa: E402
     Cell,
+    dataset_digest,
+    GridError,
     GridSettings,
     GridStore,
     run_cell,
 )
 from tactex_classify.models.registry import BASELINES  # noqa: E402
+from tactex_common.stopping import raise_on_stop_signals  # noqa: E402
 
 RESULTS = Path(__file__).parent / 'results'
+
+
+def open_grid(name: str) -> tuple[GridStore, GridSettings, dict]:
+    """The kept grid `name` (or a grid folder's path): its store, settings and its data.
+
+    The data is grid.json's entry of the grid's one window (source, digest, classes).
+
+    Raises:
+        CommandError: no such folder.
+        GridError: not a comparison, or one of several windows (naming --grid).
+    """
+    store = GridStore(check_input_folder(RESULTS / name, '--grid'))
+    if not store.manifest_path.is_file():
+        raise GridError(f'--grid {store.folder} has no grid.json: not a tactex comparison; '
+                        'give a grid folder `tactex compare` wrote')
+    not_a_grid = GridError(f'--grid {store.manifest_path} is not a tactex comparison manifest; '
+                           'give a grid folder `tactex compare` wrote')
+    try:
+        manifest = store.manifest()
+        settings = GridSettings(**manifest['settings'])
+        windows = dict(manifest['data'].items())
+    except (ValueError, KeyError, TypeError, AttributeError):
+        raise not_a_grid from None
+    if len(windows) != 1:
+        raise GridError(f'--grid {store.folder} holds {len(windows)} windows '
+                        f'({", ".join(windows)}); this check takes a grid of one window')
+    data, = windows.values()
+    if not (isinstance(data, dict) and isinstance(data.get('source'), str)
+            and isinstance(data.get('sha256'), str) and isinstance(data.get('classes'), list)):
+        raise not_a_grid
+    return store, settings, data
+
+
+def check_data(path: Path, kept: dict) -> None:
+    """--data is the dataset the grid was run on (the digest grid.json keeps).
+
+    Raises:
+        CommandError: naming --data: missing, not a dataset, or other data.
+    """
+    check_input_file(path, '--data')
+    try:
+        dataset = Dataset.load(path)
+    except DatasetError as err:
+        raise CommandError(f'--data {err}') from None
+    if dataset_digest(dataset) != kept['sha256']:
+        raise CommandError(f'--data {path} is not the dataset the grid was run on (its source '
+                           f'was {kept["source"]}); give that one')
 
 
 def train_again(data: Path, cell: Cell, settings: GridSettings) -> dict:
@@ -41,28 +104,37 @@ def train_again(data: Path, cell: Cell, settings: GridSettings) -> dict:
                     device='cpu')
 
 
-def main() -> int:
-    """Train the marked cells again; print and keep before and after."""
-    parser = argparse.ArgumentParser(description=__doc__)
+def parse(argv: list[str] | None) -> argparse.Namespace:
+    """The command line; a bad value is one `error:` line and exit status 1."""
+    parser = CommandParser(prog='bench/bench_convergence_check.py', description=__doc__)
     parser.add_argument('--grid', default='compare_converged',
-                        help='a kept grid under bench/results/ (default compare_converged)')
+                        help='a kept grid under bench/results/ (default compare_converged), '
+                             "or a grid folder's path")
     parser.add_argument('--data', type=Path, help="the grid's dataset (default: its source)")
-    parser.add_argument('--epochs', type=int, help="epochs at most (default: twice the grid's)")
-    parser.add_argument('--cpus', type=int, default=2)
-    args = parser.parse_args()
-    store = GridStore(RESULTS / args.grid)
-    manifest = store.manifest()
-    settings = GridSettings(**manifest['settings'])
-    (window, data_info), = manifest['data'].items()
-    data = args.data or Path(data_info['source'])
-    if not data.is_file():
-        print(f'error: --data {data}: no such file; give the dataset the grid was run on',
-              file=sys.stderr)
-        return 1
+    parser.add_argument('--epochs', type=epoch_count,
+                        help="epochs at most (default: twice the grid's)")
+    parser.add_argument('--cpus', type=integer(1, os.cpu_count() or 1), default=2,
+                        help='cells trained at a time, at most the cores (2)')
+    parser.add_argument('--out', type=Path, default=RESULTS / 'convergence_check.json',
+                        help='the JSON file to write (default results/convergence_check.json)')
+    return parser.parse_args(argv)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Train the marked cells again; print and keep before and after."""
+    store, settings, data_info = open_grid(args.grid)
+    check_output_file(args.out)
     classes = len(data_info['classes'])
+    finished = store.results()
     marked = [(Cell(**result['cell']), result, cell_unconverged_because(result, classes))
-              for result in store.results() if result['cell']['model'] not in BASELINES]
+              for result in finished if result['cell']['model'] not in BASELINES]
     marked = [(cell, result, why) for cell, result, why in marked if why]
+    if not marked:
+        print(f'--grid {store.folder}: no unconverged deep-model cell among its {len(finished)} '
+              f'finished cells; nothing to check, nothing written to {args.out}')
+        return 0
+    data = args.data or Path(data_info['source'])
+    check_data(data, data_info)
     longer = dataclasses.replace(settings, epochs=args.epochs or 2 * settings.epochs)
     rows = []
     started = time.monotonic()
@@ -86,9 +158,16 @@ def main() -> int:
     kept = {'command': ' '.join(['python', 'bench/bench_convergence_check.py', *sys.argv[1:]]),
             'grid': args.grid, 'grid_epochs': settings.epochs, 'epochs': longer.epochs,
             'cells': rows}
-    (RESULTS / 'convergence_check.json').write_text(json.dumps(kept, indent=1) + '\n',
-                                                    encoding='utf-8')
+    args.out.parent.mkdir(parents=True, exist_ok=True)
+    args.out.write_text(json.dumps(kept, indent=1) + '\n', encoding='utf-8')
     return 0
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point: one `error:` line and exit status 1 on bad input, 128+n on a signal."""
+    raise_on_stop_signals()
+    args = parse(argv)
+    return guarded(lambda: run(args))
 
 
 if __name__ == '__main__':

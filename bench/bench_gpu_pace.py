@@ -14,7 +14,10 @@ A profile of one cell says whether the host (Python and kernel launches) or the 
 arithmetic sets a step's pace. A run marked `autotune` lets cuDNN time its algorithms for
 each shape first (`torch.backends.cudnn.benchmark`), as tactex's training does on a GPU.
 Each call is appended to results/gpu_pace.json (`--out`), written after each run, so a
-call stopped at its time limit keeps what it measured.
+call stopped at its time limit keeps what it measured. Its options, --data (a tactex
+dataset) and --out (this bench's file) are checked before anything starts, and a machine
+without a CUDA device is refused; a run none of whose cells trained stops the call with
+the workers' error, and a call that measured nothing writes nothing.
 """
 
 import argparse
@@ -38,8 +41,22 @@ os.environ.setdefault('OMP_NUM_THREADS', '1')
 from bench_compare import machine  # noqa: E402
 import numpy as np  # noqa: E402
 
+from tactex.cli import CommandParser, guarded  # noqa: E402
+from tactex.errors import CommandError  # noqa: E402
+from tactex.options import (  # noqa: E402
+    check_finite_windows,
+    check_input_file,
+    check_output_file,
+    epoch_count,
+    integer,
+    number,
+)
+from tactex_classify.errors import DatasetError  # noqa: E402
+from tactex_classify.evaluation.model_grid import cuda_available  # noqa: E402
+from tactex_classify.models.registry import DEEP_MODELS  # noqa: E402
 from tactex_common.errors import GpuSharingError  # noqa: E402
 from tactex_common.gpu_sharing import multi_process_service  # noqa: E402
+from tactex_common.stopping import raise_on_stop_signals  # noqa: E402
 
 RESULTS = Path(__file__).parent / 'results' / 'gpu_pace.json'
 # Where bench/bench_compare.py converts the kept GPU grid's recordings (its --work).
@@ -52,20 +69,43 @@ DEFAULT_RUNS = ('cnn_3:16:mps:autotune,resnet:16:mps:autotune,bilstm_1:16:mps:au
                 'inception_time_ensemble:12:mps:autotune')
 # mps: under NVIDIA's Multi-Process Service; autotune: cuDNN times its algorithms per shape.
 OPTIONS = ('mps', 'autotune')
+cell_count = integer(1, 64)  # trainings at once, at most as `tactex compare --cells-per-gpu`
+
+
+def model_items(text: str, field: str, count, options: tuple[str, ...] = ()) -> list[tuple]:
+    """Comma-separated MODEL:FIELD[:OPTION]... items as (model, count, options).
+
+    An argparse type's helper: at least one item, each a deep model's name, its FIELD
+    checked by `count`, its options among `options`.
+    """
+    form = f'MODEL:{field}' + ''.join(f'[:{option}]' for option in options)
+    found = []
+    for item in filter(str.strip, text.split(',')):
+        model, *rest = item.split(':')
+        wrong = f'{item!r} is not {form}'
+        if model not in DEEP_MODELS:
+            raise argparse.ArgumentTypeError(f'{wrong}: unknown model {model!r}; known: '
+                                             f'{",".join(DEEP_MODELS)}')
+        if not rest or not set(rest[1:]) <= set(options):
+            raise argparse.ArgumentTypeError(wrong)
+        try:
+            found.append((model, count(rest[0]), rest[1:]))
+        except argparse.ArgumentTypeError as err:
+            raise argparse.ArgumentTypeError(f'{wrong}: {field} {err}') from None
+    if not found:
+        raise argparse.ArgumentTypeError(f'give at least one {form}, got {text!r}')
+    return found
 
 
 def parse_runs(text: str) -> list[dict]:
-    """'MODEL:CELLS[:OPTION...],...' as runs; raises ValueError naming a malformed one."""
-    runs = []
-    for item in filter(None, text.split(',')):
-        parts = item.split(':')
-        if len(parts) < 2 or not parts[1].isdigit() or int(parts[1]) < 1 or not set(
-                parts[2:]) <= set(OPTIONS):
-            raise ValueError(f'--runs: {item!r} is not MODEL:CELLS[:OPTION...] with options '
-                             f'among {", ".join(OPTIONS)}')
-        runs.append({'model': parts[0], 'cells': int(parts[1]),
-                     **{option: option in parts[2:] for option in OPTIONS}})
-    return runs
+    """--runs: 'MODEL:CELLS[:OPTION...],...' as runs."""
+    return [{'model': model, 'cells': cells, **{option: option in chosen for option in OPTIONS}}
+            for model, cells, chosen in model_items(text, 'CELLS', cell_count, OPTIONS)]
+
+
+def parse_epochs(text: str) -> dict[str, int]:
+    """--epochs: 'MODEL:EPOCHS,...' as epochs by model."""
+    return {model: epochs for model, epochs, _ in model_items(text, 'EPOCHS', epoch_count)}
 
 
 def cell_pace(epoch_seconds: list[float]) -> float | None:
@@ -114,16 +154,51 @@ def summarise(run: dict, cells: list[dict], alone: dict | None) -> dict:
 
 
 def earlier_calls(path: Path) -> list[dict]:
-    """The calls kept in `path` before this one (each call appends its own); none if new."""
+    """The calls kept in `path` before this one (each call appends its own); none if new.
+
+    Raises:
+        CommandError: `path` is not this bench's file (what `plot` reads of it is checked).
+    """
     if not path.is_file():
         return []
     try:
         calls = json.loads(path.read_text(encoding='utf-8'))['calls']
-        if isinstance(calls, list):
+        if isinstance(calls, list) and all(kept_call(call) for call in calls):
             return calls
-    except (ValueError, KeyError, TypeError):
+    except (ValueError, KeyError, TypeError, AttributeError):
         pass
-    raise SystemExit(f'error: --out {path}: not a kept pace file; give a new --out')
+    raise CommandError(f'--out {path} is not a gpu_pace result ({{"calls": [...]}} as this bench '
+                       'writes); give a file it wrote, or a new --out')
+
+
+def kept_call(call: dict) -> bool:
+    """Whether `call` is one this bench keeps, as far as `plot` reads it."""
+    gpu = call['machine']['gpu']
+    return (gpu is None or isinstance(gpu['name'], str)) and all(map(kept_run, call['runs']))
+
+
+def kept_run(run: dict) -> bool:
+    """Whether `run` is one this bench keeps: a model, its cells, MPS or not, a pace or None."""
+    pace = run['cell_epochs_per_s']
+    return (isinstance(run['model'], str) and type(run['cells']) is int and run['cells'] >= 1
+            and isinstance(run['mps'], bool)
+            and (pace is None or type(pace) in (int, float) and 0 <= pace < math.inf))
+
+
+def check_data(path: Path) -> None:
+    """--data is a tactex dataset of finite windows, read as each cell will read it.
+
+    Raises:
+        CommandError: naming --data: not a .npz file, or not a dataset.
+    """
+    from tactex_classify.data.dataset import Dataset
+    if path.suffix != '.npz':
+        raise CommandError(f'--data {path}: give a converted dataset (.npz)')
+    check_input_file(path, '--data')
+    try:
+        check_finite_windows(Dataset.load(path), path, '--data')
+    except DatasetError as err:
+        raise CommandError(f'--data {err}') from None
 
 
 def worker(args) -> int:
@@ -140,7 +215,8 @@ def worker(args) -> int:
     )
     dataset = Dataset.load(args.data)
     train, _ = splits(dataset, 'grouped', FOLDS, 0)[0]
-    config = TrainingConfig.for_profile('modern', model=args.worker, epochs=args.epochs,
+    config = TrainingConfig.for_profile('modern', model=args.worker,
+                                        epochs=args.epochs[args.worker],
                                         scaling='window', seed=0, threads=1)
     fitted, _ = validation_split(dataset.y[train], dataset.trial[train], config)
     marks: list[float] = []
@@ -251,8 +327,10 @@ def run_cells(run: dict, args, refused: dict) -> tuple[list[dict], dict]:
 def start_cells(run: dict, args) -> tuple[list[dict], dict]:
     """The cells of a run, started together and released at once when all are ready.
 
-    Cells not all ready within `--start-timeout` are stopped unreleased; released cells get
-    `--run-timeout` more. The GPU's utilisation is averaged over the span all were timed.
+    Cells not all ready within `--start-timeout`, or once one has failed, are stopped
+    unreleased; released cells get `--run-timeout` more. The notes keep the last line a
+    failed cell wrote to stderr (its error). The GPU's utilisation is averaged over the
+    span all were timed.
     """
     notes: dict = {}
     folder = Path(tempfile.mkdtemp(prefix='gpu-pace-'))
@@ -261,7 +339,7 @@ def start_cells(run: dict, args) -> tuple[list[dict], dict]:
     try:
         for index in range(run['cells']):
             command = [sys.executable, __file__, '--worker', run['model'], '--data',
-                       str(args.data), '--epochs', str(args.epochs[run['model']]),
+                       str(args.data), '--epochs', f"{run['model']}:{args.epochs[run['model']]}",
                        '--device', args.device, '--ready', str(folder / f'ready{index}'),
                        '--go', str(go)]
             if run['autotune']:
@@ -272,9 +350,10 @@ def start_cells(run: dict, args) -> tuple[list[dict], dict]:
                                              stderr=subprocess.PIPE, text=True))
         ready_by = time.monotonic() + args.start_timeout
         while len(list(folder.glob('ready*'))) < run['cells']:
-            if time.monotonic() > ready_by or any(c.poll() is not None for c in children):
+            if time.monotonic() > ready_by:
                 notes['not_ready'] = (f'{len(list(folder.glob("ready*")))} of {run["cells"]} '
                                       f'cells ready within {args.start_timeout:g} s')
+            if 'not_ready' in notes or any(c.poll() is not None for c in children):
                 for child in children:
                     child.kill()
                 break
@@ -301,8 +380,9 @@ def start_cells(run: dict, args) -> tuple[list[dict], dict]:
         lines = out.strip().splitlines()
         if returncode == 0 and lines:
             cells.append(json.loads(lines[-1]))
-        elif 'not_ready' not in notes:
-            notes.setdefault('failed', []).append((err.strip().splitlines() or [''])[-1])
+        elif returncode > 0:  # it failed; negative: this bench stopped it
+            notes.setdefault('failed', []).append(
+                (err.strip().splitlines() or [f'exit status {returncode}'])[-1])
     notes['gpu_busy_percent'] = busy.mean(overlap(cells))
     return cells, notes
 
@@ -338,20 +418,23 @@ def plot(kept: dict, path: Path) -> None:
                   '(green: under MPS); `python bench/bench_gpu_pace.py`')
 
 
-def main() -> int:
-    """Each run in turn; print a line per run and keep every result."""
-    parser = argparse.ArgumentParser(description=__doc__)
+def parse(argv: list[str] | None) -> argparse.Namespace:
+    """The command line; a bad value is one `error:` line and exit status 1."""
+    parser = CommandParser(prog='bench/bench_gpu_pace.py', description=__doc__)
     parser.add_argument('--data', type=Path, default=DATA,
                         help="a converted dataset (.npz); default the kept GPU grid's")
-    parser.add_argument('--runs', default=DEFAULT_RUNS,
-                        help='MODEL:CELLS[:mps][:autotune],... in order (default %(default)s)')
-    parser.add_argument('--epochs', default='cnn_3:4,inception_time:3,inception_time_ensemble:2',
+    parser.add_argument('--runs', type=parse_runs, default=DEFAULT_RUNS,
+                        help='MODEL:CELLS[:mps][:autotune],... in order, CELLS 1..64 '
+                             '(default %(default)s)')
+    parser.add_argument('--epochs', type=parse_epochs,
+                        default='cnn_3:4,inception_time:3,inception_time_ensemble:2',
                         help='MODEL:EPOCHS,...: epochs per cell, the first a warm-up; other '
                              'models 3 (default %(default)s)')
-    parser.add_argument('--device', default='cuda')
-    parser.add_argument('--start-timeout', type=float, default=120.0,
+    parser.add_argument('--device', default='cuda', choices=['cuda'],
+                        help='the GPU the cells share (this bench measures a GPU)')
+    parser.add_argument('--start-timeout', type=number(), default=120.0,
                         help='seconds for every cell of a run to load before none starts')
-    parser.add_argument('--run-timeout', type=float, default=120.0,
+    parser.add_argument('--run-timeout', type=number(), default=120.0,
                         help='seconds a run may train before its cells are stopped')
     parser.add_argument('--no-profile', dest='profile', action='store_false',
                         help='skip the profile of the runs of one cell')
@@ -363,28 +446,25 @@ def main() -> int:
     parser.add_argument('--go', help=argparse.SUPPRESS)
     parser.add_argument('--profile-cell', action='store_true', help=argparse.SUPPRESS)
     parser.add_argument('--autotune', action='store_true', help=argparse.SUPPRESS)
-    args = parser.parse_args()
+    return parser.parse_args(argv)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Each run in turn; print a line per run and keep every result."""
     if args.worker:
-        args.epochs = int(args.epochs)
         return worker(args)
-    if args.plot:
-        kept = {'calls': earlier_calls(args.out)}
-        if not any(run.get('cell_epochs_per_s') for call in kept['calls']
-                   for run in call['runs']):
-            raise SystemExit(f'error: --out {args.out}: no measured run kept there to plot; '
-                             'run the bench first')
-        plot(kept, args.out.with_suffix('.png'))
-        return 0
-    try:
-        runs = parse_runs(args.runs)
-        args.epochs = {model: 3 for model in {run['model'] for run in runs}} | {
-            model: int(count) for model, count in
-            (item.split(':') for item in filter(None, args.epochs.split(',')))}
-    except ValueError as err:
-        raise SystemExit(f'error: {err}') from None
-    if not args.data.is_file():
-        raise SystemExit(f'error: --data {args.data}: no such file; give the converted set')
+    check_output_file(args.out, companions=('.png',))
     calls = earlier_calls(args.out)
+    if args.plot:
+        if not any(run['cell_epochs_per_s'] for call in calls for run in call['runs']):
+            raise CommandError(f'--out {args.out}: no measured run kept there to plot; run '
+                               'the bench first')
+        plot({'calls': calls}, args.out.with_suffix('.png'))
+        return 0
+    check_data(args.data)
+    if not cuda_available():
+        raise CommandError('no CUDA device: this bench measures a GPU; run it on a GPU machine')
+    args.epochs = dict.fromkeys({run['model'] for run in args.runs}, 3) | args.epochs
     call = {'command': ' '.join(['python', 'bench/bench_gpu_pace.py', *sys.argv[1:]]),
             'started': time.strftime('%Y-%m-%dT%H:%M:%S%z'),
             'data': {'file': args.data.name,
@@ -392,9 +472,19 @@ def main() -> int:
             'machine': machine(), 'epochs': args.epochs, 'runs': []}
     alone: dict[str, dict] = {}
     refused: dict[str, str] = {}
-    for run in runs:
+    trained = False
+    for run in args.runs:
+        name = f"{run['model']} x{run['cells']}" + ''.join(
+            ' ' + option for option in OPTIONS if run[option])
         started = time.monotonic()
         cells, notes = run_cells(run, args, refused)
+        if not cells and 'skipped' not in notes:
+            reason = (notes.get('failed') or [notes.get('not_ready')
+                                              or 'every cell ran past --run-timeout'])[0]
+            raise CommandError(f'--runs {name}: no cell trained ({reason}); '
+                               + (f'{args.out} keeps the runs before it' if trained else
+                                  'nothing written'))
+        trained = trained or bool(cells)
         result = {**summarise(run, cells, alone.get(run['model'])), **notes,
                   'wall_s': round(time.monotonic() - started, 1)}
         profiles = [cell['profile'] for cell in cells if 'profile' in cell]
@@ -404,21 +494,30 @@ def main() -> int:
                 result['cell_epochs_per_s']:
             alone[run['model']] = result
         call['runs'].append(result)
-        args.out.parent.mkdir(parents=True, exist_ok=True)
-        args.out.write_text(json.dumps({'calls': [*calls, call]}, indent=1) + '\n',
-                            encoding='utf-8')
-        options = ''.join(' ' + option for option in OPTIONS if run[option])
-        print(f"{run['model']} x{run['cells']}{options}: "
-              f"{result['median_epochs_per_s']} epochs/s a cell, "
+        if trained:
+            args.out.parent.mkdir(parents=True, exist_ok=True)
+            args.out.write_text(json.dumps({'calls': [*calls, call]}, indent=1) + '\n',
+                                encoding='utf-8')
+        print(f"{name}: {result['median_epochs_per_s']} epochs/s a cell, "
               f"{result['cell_epochs_per_s']} cell-epochs/s "
               f"(x{result.get('vs_one_cell', '-')} one cell), GPU "
               f"{result.get('gpu_busy_percent')} % busy, {result['wall_s']} s"
               f"{'; ' + json.dumps(notes) if set(notes) - {'gpu_busy_percent'} else ''}"
               f"{'; profile ' + json.dumps(result['profile']) if profiles else ''}",
               flush=True)
+    if not trained:
+        raise CommandError(f'--runs: every run was skipped (mps: {refused["mps"]}); nothing '
+                           'written: run without :mps, or where MPS starts')
     if any(run.get('cell_epochs_per_s') for run in call['runs']):
         plot({'calls': [*calls, call]}, args.out.with_suffix('.png'))
     return 0
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point: one `error:` line and exit status 1 on bad input, 128+n on a signal."""
+    raise_on_stop_signals()
+    args = parse(argv)
+    return guarded(lambda: run(args))
 
 
 if __name__ == '__main__':
