@@ -16,13 +16,12 @@ from tactex_classify.models.hydra import HydraRidge
 from tactex_classify.models.multirocket import MultiRocketRidge
 from tactex_classify.models.registry import AUGMENTATIONS
 from tactex_classify.models.windows import ChannelScaler, SCALED_LIMIT, SCALINGS, softmax
-from tactex_classify.training.deep_classifier import (
-    DeepClassifier,
+from tactex_classify.training.convergence import (
     stalled_at_chance,
     still_falling,
-    TrainingConfig,
     unconverged_because,
 )
+from tactex_classify.training.deep_classifier import DeepClassifier, TrainingConfig
 
 pytestmark = pytest.mark.hard_case
 

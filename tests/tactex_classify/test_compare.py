@@ -33,12 +33,8 @@ from tactex_classify.evaluation.model_grid import (
     GridStore,
     run_cell,
 )
-from tactex_classify.training.deep_classifier import (
-    DeepClassifier,
-    stalled_at_chance,
-    still_falling,
-    TrainingConfig,
-)
+from tactex_classify.training.convergence import stalled_at_chance, still_falling
+from tactex_classify.training.deep_classifier import DeepClassifier, TrainingConfig
 
 TACTEX = Path(sys.executable).parent / 'tactex'
 

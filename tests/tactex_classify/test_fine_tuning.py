@@ -97,28 +97,44 @@ def test_train_init_fine_tunes_and_keeps_the_checkpoint_it_started_from(pretrain
 @pytest.mark.parametrize('extra, message', [
     (['--model', 'cnn_1'], 'holds cnn_3, not --model cnn_1'),
     (['--window-of-another'], None),
+    (['--channels-of-another'], None),
 ])
 def test_train_init_refuses_what_cannot_be_fine_tuned(pretrained, tmp_path, capsys, extra,
                                                       message):
     data = toy()
     if extra == ['--window-of-another']:
         short = Dataset(data.X[:, :80], data.y, data.trial, data.t0, data.classes, data.info)
-        path, extra, message = short.save(tmp_path / 'short.npz'), [], 'window 96'
+        path, extra = short.save(tmp_path / 'short.npz'), []
+        message = (f"--init {pretrained} was trained on 96-sample windows, DATA's are 80: "
+                   'convert with --window 96, or start from a checkpoint of window 80')
+    elif extra == ['--channels-of-another']:
+        other = Dataset(data.X, data.y, data.trial, data.t0, data.classes, data.info,
+                        channels=[f'c{i}' for i in range(10)])
+        path, extra, message = other.save(tmp_path / 'other.npz'), [], 'DATA has c0, c1'
     else:
         path = data.save(tmp_path / 'toy.npz')
     assert main(['train', str(path), '--init', str(pretrained), '--epochs', '1', '--folds',
                  '2', '--cv', 'grouped', '--out', str(tmp_path / 'run'), *extra]) == 1
-    err = capsys.readouterr().err
+    out, err = capsys.readouterr()
     assert err.startswith('error:') and message in err and 'Traceback' not in err
+    assert 'fold' not in out  # refused before any training
     assert not (tmp_path / 'run').exists()
 
 
-def test_train_init_refuses_a_baseline_and_a_missing_checkpoint(tmp_path, capsys):
+def test_train_init_refuses_a_baseline_and_a_missing_or_broken_checkpoint(tmp_path, capsys):
     path = toy().save(tmp_path / 'toy.npz')
     assert main(['train', str(path), '--model', 'extratrees', '--folds', '2', '--cv',
                  'grouped', '--out', str(tmp_path / 'forest')]) == 0
-    for checkpoint, message in ((tmp_path / 'forest' / 'model', 'only a deep model'),
-                                (tmp_path / 'none', 'not a checkpoint folder')):
+    (tmp_path / 'bad').mkdir()
+    (tmp_path / 'bad' / 'checkpoint.json').write_text('{\n')
+    for checkpoint, message in (
+            (tmp_path / 'forest' / 'model', 'only a deep model'),
+            (tmp_path / 'none', f'--init {tmp_path / "none"} does not exist'),
+            (tmp_path / 'forest', f'missing checkpoint.json; give its checkpoint, '
+                                  f'{tmp_path / "forest" / "model"}'),
+            (tmp_path / 'bad', 'refused checkpoint.json: Expecting property name enclosed in '
+                               'double quotes: line 2 column 1 (char 2); retrain or copy the '
+                               'whole folder again')):
         capsys.readouterr()
         assert main(['train', str(path), '--init', str(checkpoint), '--folds', '2',
                      '--out', str(tmp_path / 'run')]) == 1

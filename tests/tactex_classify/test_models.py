@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 import torch
 
-from tactex_classify.models.architectures import build_model, MODELS
+from tactex_classify.errors import WindowError
+from tactex_classify.models.architectures import build_model, check_window, min_window, MODELS
 from tactex_classify.models.registry import DEEP_MODELS
 from tactex_classify.models.windows import softmax
 
@@ -50,6 +51,24 @@ def test_unknown_model_and_too_short_window_are_refused():
         build_model('lstm_fcn', 128, 10, 12)
     with pytest.raises(ValueError, match='too short'):
         build_model('cnn_3', 16, 10, 12)
+
+
+@pytest.mark.parametrize('name', DEEP_MODELS)
+def test_min_window_is_the_shortest_window_each_model_builds_at(name):
+    shortest = min_window(name)
+    build_model(name, shortest, 10, 3)
+    if shortest > 1:
+        with pytest.raises(ValueError, match='too short'):
+            build_model(name, shortest - 1, 10, 3)
+
+
+def test_the_window_check_names_the_model_the_lengths_and_the_ways_out():
+    assert (min_window('cnn_3'), min_window('cnn_1'), min_window('resnet')) == (76, 40, 1)
+    check_window('cnn_3', 76)
+    with pytest.raises(WindowError, match=r"^--model cnn_3 needs windows of at least 76 "
+                       r"samples, the data's are 64: convert with --window 76 or more, or "
+                       'choose another --model$'):
+        check_window('cnn_3', 64)
 
 
 def test_softmax_and_log_softmax_of_huge_logits_stay_finite():

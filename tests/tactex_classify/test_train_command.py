@@ -7,6 +7,8 @@ import math
 import re
 
 import numpy as np
+import pytest
+from support.movement_data import movement_dataset, movement_file
 from support.toy_windows import toy
 
 from tactex.cli import main
@@ -91,5 +93,23 @@ def test_a_failing_run_leaves_no_output_behind(tmp_path, capsys):
     path = toy(window=40).save(tmp_path / 'toy.npz')
     assert main(['train', str(path), '--model', 'cnn_3', '--epochs', '1', '--folds', '2',
                  '--out', str(tmp_path / 'run')]) == 1
-    assert 'too short' in capsys.readouterr().err
+    assert 'needs windows of at least 76' in capsys.readouterr().err
     assert sorted(p.name for p in tmp_path.iterdir()) == ['toy.json', 'toy.npz']
+
+
+@pytest.mark.parametrize('command', [
+    'train {data} --folds 2 --epochs 1',
+    'train {data} --folds 2 --epochs 1 --movements {movements}',
+    'report identification {data} --movements {movements} --folds 2 --inner-folds 2 --seeds 1',
+])
+def test_a_model_needing_longer_windows_is_refused_before_any_training(tmp_path, capsys,
+                                                                       command):
+    data = movement_dataset(tmp_path).save(tmp_path / 'data.npz')  # 32-sample windows
+    argv = command.format(data=data, movements=movement_file(tmp_path)).split()
+    assert main([*argv, '--model', 'cnn_1', '--out', str(tmp_path / 'run')]) == 1
+    captured = capsys.readouterr()
+    assert captured.out == ''  # nothing trained, not even a fold begun
+    assert captured.err == ("error: --model cnn_1 needs windows of at least 40 samples, the "
+                            "data's are 32: convert with --window 40 or more, or choose another "
+                            '--model\n')
+    assert not (tmp_path / 'run').exists()

@@ -1,6 +1,6 @@
 # Copyright 2026 The tactex authors
 # SPDX-License-Identifier: Apache-2.0
-"""Errors of tactex_classify: unreadable bags, bad datasets, unfit models, bad checkpoints."""
+"""Errors of tactex_classify: bad bags, datasets, windows, checkpoints; unfit models."""
 
 
 class ClassifyError(Exception):
@@ -13,6 +13,10 @@ class BagError(ClassifyError):
 
 class DatasetError(ClassifyError):
     """A dataset file or its sidecar breaks the format."""
+
+
+class WindowError(ClassifyError):
+    """A dataset's windows are too short for a model's layers."""
 
 
 class NotFittedError(ClassifyError):

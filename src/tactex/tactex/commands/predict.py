@@ -94,7 +94,14 @@ def run(args: argparse.Namespace) -> int:
               file=sys.stderr)
     results, failed = [], []
     for path in datasets:
-        results += replay_dataset(predictor, Dataset.load(path), str(path), evidence)
+        dataset = Dataset.load(path)
+        if dataset.X.shape[1] != info.stream.window:
+            raise CommandError(f'RECORDING_OR_DATASET {path} holds {dataset.X.shape[1]}-sample '
+                               f'windows, CHECKPOINT {args.checkpoint} takes '
+                               f'{info.stream.window}: convert the recordings with --window '
+                               f'{info.stream.window}, or give a checkpoint trained on '
+                               f'{dataset.X.shape[1]}-sample windows')
+        results += replay_dataset(predictor, dataset, str(path), evidence)
     for path in recordings:
         with tqdm(desc=path.name, unit=' IMU samples', unit_scale=True, leave=False,
                   disable=None, file=sys.stderr) as bar:

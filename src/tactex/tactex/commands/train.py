@@ -18,6 +18,7 @@ import time
 from tactex.errors import CommandError
 from tactex.options import (
     check_finite_windows,
+    check_input_folder,
     check_output_folder,
     epoch_count,
     fold_count,
@@ -27,7 +28,13 @@ from tactex.options import (
     seed_value,
     staged_folder,
 )
-from tactex_classify.models.registry import ALL_MODELS, BASELINES, PROFILE_NAMES, SCHEMES
+from tactex_classify.models.registry import (
+    ALL_MODELS,
+    BASELINES,
+    DEEP_MODELS,
+    PROFILE_NAMES,
+    SCHEMES,
+)
 from tactex_classify.models.windows import SCALINGS
 
 
@@ -99,8 +106,9 @@ def run(args: argparse.Namespace) -> int:
     from tactex_classify.training.deep_classifier import TrainingConfig
     from tactex_classify.training.estimators import build_estimator
 
-    args.model = pretrained_model(args.init, args.model) if args.init else (
+    args.model = pretrained_model(args.init, args.model, dataset) if args.init else (
         args.model or 'cnn_1')
+    check_model_window(args.model, dataset)
     config = TrainingConfig.for_profile(
         args.profile, model=args.model, pretrained=str(args.init or ''), epochs=args.epochs,
         scaling=args.scaling, seed=args.seed, threads=args.threads,
@@ -149,14 +157,18 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def pretrained_model(checkpoint: Path, model: str | None) -> str:
+def pretrained_model(checkpoint: Path, model: str | None, dataset) -> str:
     """The deep model a fine-tuning starts from: the checkpoint's (`--model` must agree).
 
+    Checked before any training: the checkpoint's window and channels must be the dataset's.
+
     Raises:
-        CommandError: the checkpoint is refused, holds a baseline, or another model.
+        CommandError: the checkpoint is missing or refused, holds a baseline, another model,
+            or another window or channels than the dataset's.
     """
     from tactex_classify.errors import CheckpointError
     from tactex_classify.models.checkpoint import read_checkpoint
+    check_input_folder(checkpoint, '--init')
     try:
         info = read_checkpoint(checkpoint)
     except CheckpointError as err:
@@ -167,7 +179,28 @@ def pretrained_model(checkpoint: Path, model: str | None) -> str:
     if model is not None and model != info.model:
         raise CommandError(f'--init: {checkpoint} holds {info.model}, not --model {model}; '
                            "leave --model out to fine-tune the checkpoint's model")
+    window = dataset.X.shape[1]
+    if info.stream.window != window:
+        raise CommandError(f'--init {checkpoint} was trained on {info.stream.window}-sample '
+                           f"windows, DATA's are {window}: convert with --window "
+                           f'{info.stream.window}, or start from a checkpoint of window {window}')
+    if info.stream.channels != tuple(dataset.channels):
+        raise CommandError(f'--init {checkpoint} was trained on channels '
+                           f'{", ".join(info.stream.channels)}, DATA has '
+                           f'{", ".join(dataset.channels)}: start from a checkpoint of the '
+                           "dataset's channels")
     return info.model
+
+
+def check_model_window(model: str, dataset) -> None:
+    """Refuse a deep model that needs longer windows than the dataset's, before training.
+
+    Raises:
+        WindowError: naming --model, both lengths and the ways out.
+    """
+    if model in DEEP_MODELS:
+        from tactex_classify.models import architectures
+        architectures.check_window(model, dataset.X.shape[1])
 
 
 def deployable_stream(dataset, without: str = ', or pass --no-final') -> dict:
@@ -252,6 +285,7 @@ def _train_bundle(args: argparse.Namespace, dataset) -> int:
     stream = deployable_stream(dataset, without='')
     movements = movement_file(args.movements, dataset.info.get('sampling_rate_hz'))
     model = args.model or 'minirocket'
+    check_model_window(model, dataset)
     config = TrainingConfig.for_profile(
         args.profile, model=model, epochs=args.epochs, scaling=args.scaling, seed=args.seed,
         threads=args.threads,

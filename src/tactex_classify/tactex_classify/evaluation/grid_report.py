@@ -20,7 +20,7 @@ import numpy as np
 
 from tactex_classify.evaluation.cross_validation import confusion, metrics
 from tactex_classify.models.registry import ALL_MODELS, BASELINES, SCHEMES
-from tactex_classify.training.deep_classifier import unconverged_because
+from tactex_classify.training.convergence import unconverged_because
 from tactex_common import plotting
 
 SCHEME_LABELS = {'grouped': 'grouped by recording (honest)',

@@ -21,7 +21,7 @@ from tactex_classify.evaluation.cross_validation import (
     metrics,
     sequence_accuracy,
 )
-from tactex_classify.training.deep_classifier import unconverged_because
+from tactex_classify.training.convergence import unconverged_because
 from tactex_common import plotting
 from tactex_common.naming import natural_key, natural_sorted
 

@@ -26,10 +26,12 @@ returns its final state, like cnn_bilstm_3.
 from __future__ import annotations
 
 from collections.abc import Callable
+import functools
 
 import torch
 from torch import nn
 
+from tactex_classify.errors import WindowError
 from tactex_classify.models import modern_architectures
 from tactex_classify.models.registry import DEEP_MODELS, ORIGINAL_MODELS
 
@@ -271,3 +273,41 @@ def build_model(name: str, window: int, channels: int, classes: int, *,
         raise ValueError(f'unknown model {name!r}; known: {", ".join(MODELS)}')
     model = MODELS[name](window, channels, classes)
     return keras_initialise(model) if keras_init else model
+
+
+@functools.cache
+def min_window(name: str) -> int:
+    """The fewest samples per window the deep model called `name` takes.
+
+    Each builder refuses a window too short for its convolutions, pooling or patches (a
+    ValueError), and takes every longer one; so the shortest it builds, found by doubling
+    then bisecting over builds on the meta device (no weights allocated), is exact.
+    """
+    def builds(window: int) -> bool:
+        try:
+            with torch.device('meta'):
+                MODELS[name](window, 1, 2)
+        except ValueError:
+            return False
+        return True
+
+    low, high = 0, 1  # low: too short (or 0), high: builds
+    while not builds(high):
+        low, high = high, 2 * high
+    while high - low > 1:
+        middle = (low + high) // 2
+        low, high = (low, middle) if builds(middle) else (middle, high)
+    return high
+
+
+def check_window(name: str, window: int) -> None:
+    """Refuse windows of `window` samples that the deep model `name` cannot take.
+
+    Raises:
+        WindowError: naming --model, both lengths and the ways out.
+    """
+    needed = min_window(name)
+    if window < needed:
+        raise WindowError(f'--model {name} needs windows of at least {needed} samples, the '
+                          f"data's are {window}: convert with --window {needed} or more, or "
+                          'choose another --model')

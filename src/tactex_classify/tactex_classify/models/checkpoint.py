@@ -246,9 +246,13 @@ def read_checkpoint(folder: Path) -> CheckpointInfo:
     try:
         meta = load_json(path, max_bytes=MAX_JSON_BYTES, max_depth=MAX_JSON_DEPTH)
     except FileNotFoundError:
-        raise CheckpointError(f'{folder}: missing {METADATA_FILE}') from None
+        run = (folder / 'model' / METADATA_FILE).is_file()  # a `tactex train` run folder
+        raise CheckpointError(f'{folder}: missing {METADATA_FILE}'
+                              + (f'; give its checkpoint, {folder / "model"}' if run else '')
+                              ) from None
     except (UnicodeDecodeError, ValueError, OSError) as err:
-        raise CheckpointError(f'{folder}: refused {METADATA_FILE}: {err}') from None
+        raise CheckpointError(f'{folder}: refused {METADATA_FILE}: {err}; retrain or copy the '
+                              'whole folder again') from None
     if not isinstance(meta, dict) or meta.get('kind') not in KINDS:
         raise CheckpointError(f'{folder}: not a tactex checkpoint (kind must be one of '
                               f'{", ".join(KINDS)})')

@@ -36,14 +36,17 @@ from tactex_classify.models.windows import (
     SCALINGS,
     softmax,
 )
+from tactex_classify.training.convergence import (
+    ran_out_still_falling,
+    stalled_at_chance,
+    unconverged_because,
+)
 from tactex_common.constants import MAX_SEED
 
 os.environ.setdefault('OMP_WAIT_POLICY', 'PASSIVE')  # no spinning next to ROS nodes
 CHECKPOINT_VERSION = 1
 INITS = ('keras', 'pytorch')
 MAX_THREADS = 256
-# A training loss never this fraction below ln(classes) stayed at chance (stalled_at_chance).
-CHANCE_MARGIN = 0.05
 
 
 @dataclass
@@ -180,10 +183,11 @@ class DeepClassifier(Deployable):
         Raises:
             ValueError: bad windows, labels or settings; early stopping without groups,
                 with fewer than two recordings, or with nothing left to train on.
+            WindowError: windows shorter than the model takes (`check_window`).
         """
         import torch
 
-        from tactex_classify.models.architectures import build_model
+        from tactex_classify.models.architectures import build_model, check_window
         from tactex_classify.training.augmentation import augment, mixup
         from tactex_classify.training.fine_tuning import start_from
         from tactex_classify.training.steps import (
@@ -195,6 +199,7 @@ class DeepClassifier(Deployable):
         )
         config = self.config.check()
         X = check_windows(X)
+        check_window(config.model, X.shape[1])
         y = np.asarray(y, dtype=np.int64)
         if y.shape != (len(X),) or (y.size and not 0 <= y.min() <= y.max() < len(classes)):
             raise ValueError(f'y must hold {len(X)} class indices into the {len(classes)} '
@@ -435,57 +440,6 @@ def validation_split(y: np.ndarray, groups, config: TrainingConfig
     splitter = GroupShuffleSplit(n_splits=1, test_size=config.validation_fraction,
                                  random_state=config.seed)
     return next(splitter.split(indices, y, groups))
-
-
-def still_falling(losses: Sequence[float], span: int = 5, drop: float = 0.02) -> bool:
-    """Whether a training loss was still falling at its end: not converged.
-
-    True when the mean of the last `span` epochs lies more than `drop` (a fraction) below
-    the mean of the `span` before; a history too short to tell, or with a loss that is not
-    finite among those epochs, counts as falling.
-    """
-    last = np.asarray(losses[-2 * span:], dtype=float)
-    if last.size < 2 * span or not np.all(np.isfinite(last)):
-        return True
-    before, after = (float(np.sum(part / span)) for part in (last[:span], last[span:]))
-    return after < (1.0 - drop) * before  # sums of parts: no overflow near the float limit
-
-
-def stalled_at_chance(losses: Sequence[float], classes: int,
-                      margin: float = CHANCE_MARGIN) -> bool:
-    """Whether a training never left chance: not converged, however it ended.
-
-    The loss of the uniform prediction is ln(classes) against any target, label smoothing
-    and mixup included; a training whose loss never fell `margin` (a fraction) below it
-    learned nothing before it ended (early stopping waits while this holds; grids kept
-    before that rule hold trainings it ended on their first plateau). A
-    training without one finite loss learned nothing either; no epoch or one class: False.
-    """
-    losses = np.asarray(losses, dtype=float)
-    if not losses.size or classes < 2:
-        return False
-    finite = losses[np.isfinite(losses)]
-    return not finite.size or float(finite.min()) >= (1.0 - margin) * math.log(classes)
-
-
-def ran_out_still_falling(losses: Sequence[float], epochs: int) -> bool:
-    """Whether a training ran all its `epochs` with its loss `still_falling` at the end.
-
-    One that early stopping ended before its last epoch had stopped improving.
-    """
-    return len(losses) >= epochs and still_falling(losses)
-
-
-def unconverged_because(losses: Sequence[float], classes: int, epochs: int) -> str | None:
-    """Why a training with these per-epoch `losses` did not converge, or None if it did.
-
-    'stalled at chance' (`stalled_at_chance`), or 'still falling' (`ran_out_still_falling`).
-    """
-    if stalled_at_chance(losses, classes):
-        return 'stalled at chance'
-    if ran_out_still_falling(losses, epochs):
-        return 'still falling'
-    return None
 
 
 def _logits(model, data, classes: int) -> np.ndarray:
