@@ -58,12 +58,14 @@ def identification() -> str:
         + (f'every movement here holds {report["contact_s"][0]:g} s of contact; ' if same else '')
         + 'an episode that stopped earlier keeps its last leader), and the two movements each '
         'policy took most often among its first three'
-        + ('; under them, the best plan of k movements fixed in advance, picked in hindsight '
-           'on the same held-out sweeps (an optimistic bound on every policy that does not '
-           'look at its sweeps, fixed and round-robin included, flattered by the luck of '
-           "picking among many plans), and the plan picked on the other folds' held-out "
-           "sweeps, scored on each fold's (the luck taken out)" if report.get('best_plans')
-           else '') + ':\n\n' + '\n'.join(after)
+        + ('; under them, the best plan of at most k movements fixed in advance, picked in '
+           'hindsight on the same held-out sweeps (optimistic for plans fixed in advance for '
+           'every episode, such as fixed and round-robin while they run to k; a policy that '
+           'stops on its threshold, or random, which draws a plan per episode, can pass it; '
+           'flattered by the luck of picking among many plans; this run took plans of exactly '
+           'k, the same best figures here as they rise with k), and the plan picked on the '
+           "other folds' held-out sweeps, scored on each fold's (the luck taken out)"
+           if report.get('best_plans') else '') + ':\n\n' + '\n'.join(after)
         + (_against_goals(report) if same else '')
         + _without_discount(report, steps)
         + '\n\nEach movement on its own, one held-out sweep '

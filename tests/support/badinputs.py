@@ -189,6 +189,9 @@ def make_workspace(w: Path) -> Path:
     data = toy_dataset(3)
     MiniRocketRidge(dilations=2).fit(data.X, data.y, data.classes).save(
         w / 'minirocket', hop=16, sampling_rate_hz=100.0)
+    shutil.copytree(w / 'minirocket', w / 'trained' / 'model')  # a run folder
+    Dataset(data.X[:, :16], data.y, data.trial, data.t0, data.classes, data.info).save(
+        w / 'window16.npz')
     (w / 'corrupt_checkpoint').mkdir()
     (w / 'corrupt_checkpoint' / 'checkpoint.json').write_bytes(b'\xff\xfe\x00garbage')
     make_lying_files(w)
@@ -320,6 +323,9 @@ BAD_INPUTS = {
         Case('predict {w}/minirocket {w}/foreign/text.bag', 'text.bag: cannot read: not a ROS 1 '
              'bag'),
         Case('predict {w}/minirocket {w}/garbage.npz', 'garbage'),
+        Case('predict {w}/minirocket {w}/window16.npz', 'RECORDING_OR_DATASET .*window16.npz '
+             'holds 16-sample windows, CHECKPOINT .*minirocket takes 32: convert the recordings '
+             'with --window 32, or give a checkpoint trained on 16-sample windows'),
         Case('predict {w}/minirocket {w}/pickled.npz', 'pickled.npz is not a tactex dataset: it '
              'is not an .npz of plain arrays .*never does'),
         Case('predict {w}/minirocket {w}/bags --hop 33', "--hop 33 is longer than the "
@@ -401,7 +407,14 @@ BAD_INPUTS = {
         Case('train {w}/one_class.npz --out {w}/run', 'DATA has 1 class.*at least two',
              '{w}/run'),
         Case('train {w}/data.npz --out {w}/run --model cnn_3 --epochs 1 --folds 2',
-             'the window is too short for this model', '{w}/run'),  # fails mid-way
+             "--model cnn_3 needs windows of at least 76 samples, the data's are 32: convert "
+             'with --window 76 or more, or choose another --model', '{w}/run'),
+        Case('train {w}/data.npz --out {w}/run --init {w}/nothing', '--init .*nothing does not '
+             'exist', '{w}/run'),
+        Case('train {w}/data.npz --out {w}/run --init {w}/trained', '--init: .*trained: missing '
+             'checkpoint.json; give its checkpoint, .*trained/model', '{w}/run'),
+        Case('train {w}/data.npz --out {w}/run --init {w}/corrupt_checkpoint', '--init: .*refused '
+             'checkpoint.json: .*; retrain or copy the whole folder again', '{w}/run'),
         Case('train {w}/data.npz --out {w}/text.txt', '--out .*text.txt is a file; give a '
              'folder', '{w}/text.txt'),
         Case('train {w}/data.npz --out {w}/full', '--out .*full already holds files; choose a '
@@ -456,7 +469,7 @@ BAD_INPUTS = {
              'least 50 recordings', '{w}/g'),
         Case('compare {w}/one_class.npz --out {w}/g', 'window 32: DATA has 1 class', '{w}/g'),
         Case('compare {w}/data.npz --out {w}/g --models cnn_3', '--models cnn_3 cannot take '
-             'window 32.*drop the model or the window', '{w}/g'),
+             'window 32: it needs at least 76 samples; drop the model or the window', '{w}/g'),
         Case('compare {w}/data.npz --out {w}/g --seeds 0', 'argument --seeds', '{w}/g'),
         Case('compare {w}/data.npz --out {w}/g --epochs 0', 'argument --epochs', '{w}/g'),
         Case('compare {w}/data.npz --out {w}/g --threads 0', 'argument --threads', '{w}/g'),
@@ -547,6 +560,8 @@ BAD_INPUTS = {
         Case('identify --namespace nowhere --server-timeout 1', 'no identify action server on '
              r'/nowhere/identify within 1 s: is its node running \(`tactex launch system '
              r'sim:=true bundle:=RUN/bundle`'),
+        Case('identify --server-timeout 1e300', 'argument --server-timeout: must be a finite '
+             'number > 0 and <= 3600'),
     ],
     'view': [
         Case('view --port 70000', 'argument --port: must be a whole number in 0..65535'),
@@ -834,6 +849,11 @@ BAD_INPUTS = {
              '--movements .*nothing.yaml does not exist', '{w}/report'),
         Case('report identification {w}/data.npz --out {w}/full', '--out .*already holds files',
              '{w}/full'),
+        Case('report identification {w}/data.npz --out {w}/report --threshold 0.3',
+             r'--threshold 0.3 is at or below 1/3 = 0.333, the starting belief over 3 textures: '
+             r'give more than 0.333 .*in DATA .*data.npz', '{w}/report'),
+        Case('report identification {w}/data.npz --out {w}/report --policies active,,random',
+             "argument --policies: must be distinct names .*got 'active,,random'", '{w}/report'),
     ],
     'launch': [
         Case('launch', 'name a launch file'),

@@ -317,3 +317,24 @@ def test_only_available_movements_are_chosen_and_none_left_stops_the_loop():
         chosen = identification.next_movement(np.array([False, True, False]))
         assert chosen == (1 if policy != 'fixed' else None)
         assert identification.stop_reason(np.zeros(3, dtype=bool)) == NONE_LEFT
+
+
+def test_a_leader_above_the_threshold_from_the_start_decides_only_after_one_movement():
+    rows = separating((0, 1), 2, sure=0.7)
+    table = EvidenceTable(names(2), [movement('a', 1.0, rows)])
+    identification = Identification(table, 'active', Budget(threshold=0.8),
+                                     log_prior=np.log([0.9, 0.1]))
+    assert identification.stop_reason() == '' and identification.next_movement() == 0
+    identification.observe(0, [0.7, 0.3])
+    assert identification.stop_reason() == DECIDED
+
+
+@pytest.mark.parametrize('threshold', [0.0, 0.3, 0.5])
+def test_a_threshold_the_uniform_belief_reaches_is_refused_naming_the_least_value(threshold):
+    table = EvidenceTable(names(2), [movement('a', 1.0, separating((0, 1), 2))])
+    with pytest.raises(ValueError, match=f'threshold {threshold:g} is at or below 1/2 = 0.5, '
+                                         'the starting belief over 2 textures: give more than '
+                                         '0.5'):
+        Identification(table, 'active', Budget(threshold=threshold))
+    assert Identification(table, 'active', Budget(threshold=1.0)).next_movement() == 0
+    assert Identification(table, 'active', Budget(threshold=0.51)).next_movement() == 0

@@ -120,6 +120,31 @@ def test_a_contact_too_short_for_one_window_is_refused_at_the_sensors_rate(tmp_p
         load_movements(one(tmp_path, window=4))
 
 
+def test_a_name_ending_in_a_newline_is_refused(tmp_path):
+    with pytest.raises(MovementError, match=r"name must start with a letter.*got 'a\\n'"):
+        load_movements(written(tmp_path, 'movements:\n  - ' + ', '.join(
+            ['{name: "a\\n"'] + [f'{k}: {v}' for k, v in GOOD.items() if k != 'name']) + '}\n'))
+
+
+def test_a_contact_must_hold_one_window_after_the_converters_unmeasured_start(tmp_path):
+    from tactex.errors import CommandError
+    from tactex.options import movement_file
+    from tactex_classify.data.dataset import FilterRule
+    # 5.4 mm at 5 mm/s: 1.08 s, 130 samples at 120 Hz, but the converter does not count
+    # the first slide_span_s (0.1 s, 12 samples) as sliding: 118 are left, under 128.
+    slowest = one(tmp_path, window=128, speed=0.005, contact_length=0.0054)
+    assert load_movements(slowest, sample_rate_hz=120.0).window == 128
+    with pytest.raises(MovementError, match=r'probe_me: its contact \(1.08 s, 118 samples at '
+                                            r'120 Hz kept after the first 0.1 s\) is too short'):
+        load_movements(slowest, sample_rate_hz=120.0, unmeasured_s=0.1)
+    assert FilterRule().slide_span_s == 0.1
+    with pytest.raises(CommandError, match='--movements .*118 samples at 120 Hz kept after '
+                                           'the first 0.1 s'):
+        movement_file(slowest, 120.0)
+    assert movement_file(one(tmp_path, window=128, speed=0.005, contact_length=0.006),
+                         120.0).window == 128  # 1.2 s: 132 samples after the start
+
+
 def test_a_movement_set_written_as_a_file_reads_back_unchanged(tmp_path):
     from tactex_description.movements import movements_yaml
     shipped = load_movements(SHIPPED)

@@ -208,15 +208,20 @@ def check_input_file(path: Path, option: str) -> Path:
 def movement_file(path: Path, sample_rate_hz: float | None):
     """The `--movements` file, every movement held to the arm and to the sensor's rate.
 
+    Each contact must hold one window after the converter's first `slide_span_s`, which it
+    does not count as sliding.
+
     Raises:
         CommandError: the file is missing or unreadable, or a movement is refused (the
             loader's reason, naming the movement and the key).
     """
+    from tactex_classify.data.dataset import FilterRule
     from tactex_description.movements import load_movements, MovementError
 
     check_input_file(path, '--movements')
-    try:
-        return load_movements(path, sample_rate_hz=sample_rate_hz)
+    try:  # the converter does not keep a contact's first slide_span_s: it must hold a window
+        return load_movements(path, sample_rate_hz=sample_rate_hz,
+                              unmeasured_s=FilterRule().slide_span_s)
     except MovementError as err:
         raise CommandError(f'--movements {err}') from None
 
@@ -316,11 +321,15 @@ def topic_name(value: str) -> str:
     return value
 
 
+MAX_SERVER_WAIT_S = 3600.0  # an hour: a node that has not answered by then will not
+
+
 def add_goal_options(parser: argparse.ArgumentParser, node: str) -> None:
     """--namespace, --server-timeout and --timeout of a command that sends `node` a goal."""
     parser.add_argument('--namespace', type=namespace, default='', metavar='NS',
                         help=f'namespace of {node} (e.g. left_arm)')
-    parser.add_argument('--server-timeout', type=number(), default=30.0, metavar='S',
-                        help=f'seconds to wait for {node} and for it to accept the goal (30)')
+    parser.add_argument('--server-timeout', type=number(at_most=MAX_SERVER_WAIT_S), default=30.0,
+                        metavar='S', help=f'seconds to wait for {node} and for it to accept '
+                        f'the goal (30; at most {MAX_SERVER_WAIT_S:g})')
     parser.add_argument('--timeout', type=number(), default=1800.0, metavar='S',
                         help='seconds the goal may run before it is canceled (1800)')

@@ -47,7 +47,7 @@ SPEED_RANGE_M_S = (0.005, 0.05)
 DIRECTIONS = ('forward', 'backward')
 MAX_MOVEMENTS = 32
 MAX_FILE_BYTES = 1024 * 1024
-NAME = re.compile(r'^[A-Za-z][A-Za-z0-9_-]{0,63}$')
+NAME = re.compile(r'^[A-Za-z][A-Za-z0-9_-]{0,63}\Z')  # \Z: no newline after the name
 KEYS = ('name', 'speed', 'press_depth', 'edge_tilt', 'direction', 'contact_length')
 ECHO_CHARS = 80  # the most of a value, or a YAML problem, an error message echoes
 ECHO_NAMES = 8  # the most unknown keys an error message lists
@@ -242,7 +242,7 @@ def movement_from(raw, where: str) -> Movement:
                               f'missing {", ".join(missing)}' if missing else '') if part)
             + f' (a movement has exactly {", ".join(KEYS)})')
     name = raw['name']
-    if not isinstance(name, str) or not NAME.match(name):
+    if not isinstance(name, str) or not NAME.fullmatch(name):
         raise MovementError(f'{where}: name must start with a letter and hold only letters, '
                             f'digits, _ and - (at most 64), got {shown(name)}')
     where = f'{where} ({name})'
@@ -264,13 +264,19 @@ def movement_from(raw, where: str) -> Movement:
                                  'of pathway slid along in contact'))
 
 
-def load_movements(path: Path | str, *, sample_rate_hz: float | None = None) -> MovementSet:
+def load_movements(path: Path | str, *, sample_rate_hz: float | None = None,
+                   unmeasured_s: float = 0.0) -> MovementSet:
     """The movement file at `path`, every movement checked against the arm's limits.
 
     Args:
         path: a movements YAML file.
         sample_rate_hz: the sensor's rate; given, each movement's contact must hold at
-            least one window of the file's `window` samples.
+            least one window of the file's `window` samples after its first
+            `unmeasured_s`.
+        unmeasured_s: seconds at the start of a contact that a converter does not keep
+            (`tactex_classify.data.dataset.FilterRule.slide_span_s`: the edge starts the
+            contact from rest, and its speed, measured over that span, reaches the
+            sliding threshold only that much later).
 
     Raises:
         MovementError: an unreadable file, no movements, repeated names, a value outside
@@ -306,13 +312,14 @@ def load_movements(path: Path | str, *, sample_rate_hz: float | None = None) -> 
         raise MovementError(f'{path}: movement names repeat: {", ".join(repeated)}')
     if sample_rate_hz is not None:
         for movement in movements:
-            samples = movement.contact_s * sample_rate_hz
+            samples = (movement.contact_s - unmeasured_s) * sample_rate_hz
             if samples < window:
                 raise MovementError(
                     f'{path}: movement {movement.name}: its contact ({movement.contact_s:.2f} '
-                    f's, {samples:.0f} samples at {sample_rate_hz:g} Hz) is too short for one '
-                    f'window of {window} samples: lengthen contact_length, slow down, or '
-                    'lower window')
+                    f's, {samples:.0f} samples at {sample_rate_hz:g} Hz'
+                    f'{f" kept after the first {unmeasured_s:g} s" if unmeasured_s else ""}) '
+                    f'is too short for one window of {window} samples: '
+                    'lengthen contact_length, slow down, or lower window')
     return MovementSet(movements, window)
 
 

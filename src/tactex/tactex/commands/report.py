@@ -81,9 +81,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def _policies(text: str) -> tuple[str, ...]:
-    names = tuple(name.strip() for name in text.split(',') if name.strip())
+    names = tuple(name.strip() for name in text.split(','))
     unknown = [name for name in names if name not in POLICY_NAMES]
-    if not names or unknown or len(set(names)) != len(names):
+    if unknown or len(set(names)) != len(names):
         raise argparse.ArgumentTypeError(f'must be distinct names of {", ".join(POLICY_NAMES)}'
                                          f' separated by commas, got {text!r}')
     return names
@@ -109,11 +109,15 @@ def run(args: argparse.Namespace) -> int:
 
 def _identification(args: argparse.Namespace) -> int:
     """Replay identification on held-out recordings and write the report."""
+    from tactex.commands.train import check_window
     from tactex_classify.data.dataset import Dataset
-    from tactex_classify.identification.movement_evidence import MovementDataError
+    from tactex_classify.identification.movement_evidence import (
+        checked_movements,
+        MovementDataError,
+    )
     from tactex_classify.identification.offline import replay, ReplaySettings
     from tactex_classify.identification.report import write_report
-    from tactex_classify.identification.selection import Budget
+    from tactex_classify.identification.selection import Budget, check_threshold
     from tactex_classify.models.registry import ALL_MODELS
     from tactex_common.share import share_directory
 
@@ -124,12 +128,21 @@ def _identification(args: argparse.Namespace) -> int:
     check_input_file(path, '--movements')  # before the dataset, which takes longer to read
     dataset = Dataset.load(args.data)
     check_finite_windows(dataset, args.data)
+    try:
+        check_threshold(args.threshold, len(dataset.classes))
+    except ValueError as err:
+        raise CommandError(f'--{err} in DATA {args.data}') from None
     movements = movement_file(path, dataset.info.get('sampling_rate_hz'))
     shortest = min(movement.contact_s for movement in movements.movements)
     if args.budget_seconds is not None and args.budget_seconds < shortest:
         raise CommandError(f'--budget-seconds {args.budget_seconds:g} is shorter than every '
                            f'movement: the shortest contact lasts {shortest:.2f} s; give at '
                            'least that')
+    try:  # the recordings' movements first: a dataset without them needs collecting again
+        checked_movements(dataset, movements)
+    except MovementDataError as err:
+        raise CommandError(f'DATA {args.data}: {err}') from None
+    check_window(movements, dataset, argparse.Namespace(movements=path, data=args.data))
     settings = ReplaySettings(
         policies=args.policies, folds=args.folds, inner_folds=args.inner_folds,
         seeds=args.seeds, model=args.model, seed=args.seed,

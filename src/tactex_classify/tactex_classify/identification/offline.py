@@ -12,10 +12,12 @@ movement's next held-out sweep of that texture, never the same sweep twice (a mo
 whose sweeps are used up is no longer available). Every policy sees the same sweeps in
 the same order for a (fold, texture, seed), so policies differ only by their choices.
 
-`best_plans` bounds what choosing can buy: the best plan of k movements fixed in advance
-(how many sweeps of each), picked in hindsight on those same held-out sweeps. Fixed and
-round-robin are such plans, so no policy that decides its movements before sweeping can
-do better; only an adaptive policy (active) can.
+`best_plans` bounds what choosing can buy: the best plan of at most k movements fixed in
+advance (how many sweeps of each), picked in hindsight on those same held-out sweeps.
+Fixed and round-robin run such plans, so they do not pass it while they run to k; a
+policy that stops on its threshold picks how many sweeps from them, random draws its plan
+per episode (on few episodes it can pass by luck), and active, which looks at each sweep,
+can pass it by choosing.
 """
 
 from __future__ import annotations
@@ -239,16 +241,19 @@ def repeat_sums(table: EvidenceTable, pools: list[list[np.ndarray]]) -> list[np.
 
 
 def best_plans(result: dict, most: int = PLAN_MOVEMENTS) -> list[dict]:
-    """Per k in 1..most, the plan of k sweeps (per movement how many) right most often.
+    """Per k in 1..most, the plan of at most k sweeps (per movement how many) right most often.
 
     A plan's answer in an episode is the leader after its sweeps, taken from the same
     held-out pools the policies drew from; its `accuracy` is the mean over every (fold,
-    texture, seed). A movement is repeated at most as often as every pool allows. That
-    plan is picked on the held-out sweeps it is scored on: an optimistic bound, not a
-    policy, and the more plans there are the more it flatters. `chosen_elsewhere` takes
-    the selection's luck out: each fold's episodes scored with the plan best on the other
-    folds' (None with one fold). The list ends before a k with more than MAX_PLANS plans,
-    and is empty when no episode was replayed.
+    texture, seed). A movement is repeated at most as often as every pool allows. At most
+    k, as a policy's accuracy after k keeps the leader of an episode that stopped
+    earlier. That plan is picked on the held-out sweeps it is scored on: optimistic, not
+    a policy, and the more plans there are the more it flatters; it bounds only plans
+    fixed in advance for every episode (random draws one per episode, and a policy that
+    stops on its threshold chooses how many sweeps from them, so either may pass it).
+    `chosen_elsewhere` takes the selection's luck out: each fold's episodes scored with
+    the plan best on the other folds' (None with one fold). The list ends before a k with
+    more than MAX_PLANS plans of k sweeps, and is empty when no episode was replayed.
     """
     plan_terms: list[tuple[int, int, list[np.ndarray]]] = result['plan_terms']
     if not plan_terms:
@@ -265,14 +270,16 @@ def best_plans(result: dict, most: int = PLAN_MOVEMENTS) -> list[dict]:
     folds = np.unique(fold)
     truth = np.array([texture for _, texture, _ in plan_terms])
     every = np.arange(len(names))
-    best = []
+    best, plans, rows = [], [], []
     for k in range(1, min(most, int(deepest.sum())) + 1):
         if math.comb(len(names) + k - 1, k) > MAX_PLANS:
             break
-        plans = [counts for chosen in itertools.combinations_with_replacement(every, k)
-                 if np.all((counts := np.bincount(chosen, minlength=len(names))) <= deepest)]
-        right = np.array([sums[:, every, counts].sum(axis=1).argmax(axis=1) == truth
-                          for counts in plans])  # (plans, episodes)
+        longest = [counts for chosen in itertools.combinations_with_replacement(every, k)
+                   if np.all((counts := np.bincount(chosen, minlength=len(names))) <= deepest)]
+        plans += longest
+        rows += [sums[:, every, counts].sum(axis=1).argmax(axis=1) == truth
+                 for counts in longest]
+        right = np.array(rows)  # (plans of 1..k sweeps, episodes)
         shares = right.mean(axis=1)
         top = plans[int(np.argmax(shares))]
         elsewhere = [right[np.argmax(right[:, fold != f].mean(axis=1)), fold == f]

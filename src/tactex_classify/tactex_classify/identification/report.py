@@ -3,7 +3,7 @@
 """The identification report: identification.json, identification.md and its PNGs.
 
 Plots: accuracy against contact seconds per policy (mean over folds x seeds, shaded one
-standard deviation; dashed, the best plan of k movements in hindsight), movements to
+standard deviation; dashed, the best plan of at most k movements in hindsight), movements to
 decision, the movements `active` chose per true texture, arm and wall time beside
 contact time, the reliability of each movement's calibrated sweep probabilities, and each
 movement's confusion matrix (what shows whether any movement tells more than another).
@@ -102,15 +102,18 @@ def plots_of(table: dict) -> tuple[str, ...]:
 
 
 def _plans_table(table: dict) -> list[str]:
-    """Each policy's accuracy after k movements beside the best plan of k in hindsight."""
+    """Each policy's accuracy after k movements beside the best plan of at most k in hindsight."""
     plans, policies = table.get('best_plans', []), list(table['policies'])
     if not plans:
         return []
     lines = ['', 'Accuracy after k movements (the leader after the k-th; an episode that '
-             'stopped earlier keeps its last), beside the best plan of k movements fixed in '
-             'advance, picked in hindsight on these same held-out sweeps: an optimistic bound '
-             'on every policy that does not look at the sweeps (fixed and round-robin are such '
-             'plans; only active, which does, can pass it). Picked among many plans, it is '
+             'stopped earlier keeps its last), beside the best plan of at most k movements '
+             'fixed in advance, picked in hindsight on these same held-out sweeps: an '
+             'optimistic bound on plans fixed in advance for every episode, such as fixed and '
+             'round-robin while they run to k. A policy that stops on its threshold chooses '
+             'how many sweeps from them, random draws a plan per episode (on few episodes it '
+             'can pass by luck), and active chooses from each sweep: these can pass it. '
+             'Picked among many plans, it is '
              'flattered by luck; "chosen elsewhere" scores each fold with the plan best on the '
              'other folds, what a choice learnt from more recordings could reach.', '',
              f'| k | {" | ".join(policies)} | best plan (hindsight) | chosen elsewhere | its '
@@ -142,7 +145,7 @@ def _plot_accuracy(path: Path, episodes: list[Episode], policies: tuple[str, ...
     if plans:
         axis.plot([plan['contact_s'] for plan in plans],
                   [100 * plan['accuracy'] for plan in plans], 'k--o', ms=3, lw=1,
-                  label='best plan of k, hindsight')
+                  label='best plan of <= k, hindsight')
     axis.set_xlabel('contact seconds')
     axis.set_ylabel('textures identified right (%)')
     plotting.legend_outside(axis)

@@ -17,7 +17,8 @@ Every policy picks only among movements that fit the remaining time budget (and,
 offline replay, that still have a held-out sweep: `available`), and ties go to the
 movement listed first, so a run is the same for the same seed. The loop stops when the
 leading texture's posterior exceeds the threshold (the live node's rule), when the
-movement budget is spent, when no movement fits the time left, or when none is available.
+movement budget is spent, when no movement fits the time left, or when none is available;
+it decides only after at least one movement (the starting belief is no evidence).
 """
 
 from __future__ import annotations
@@ -33,6 +34,22 @@ from tactex_classify.identification.posterior import normalised, uniform, update
 POLICIES = ('active', 'random', 'fixed', 'round-robin')
 DECIDED, MOVEMENT_BUDGET, TIME_BUDGET = 'decided', 'movement budget', 'time budget'
 NONE_LEFT = 'no movement left'
+
+
+def check_threshold(threshold: float, classes: int) -> None:
+    """Refuse a threshold the uniform starting belief over `classes` textures reaches.
+
+    Below 1, a threshold at or below 1/classes (the uniform belief) would decide on the
+    first movement whatever it measured. 1 (never decide) is kept, and so is any threshold
+    for one texture (every belief is right).
+
+    Raises:
+        ValueError: naming the threshold and the least sensible value.
+    """
+    if classes > 1 and threshold < 1.0 and threshold <= 1.0 / classes:
+        raise ValueError(f'threshold {threshold:g} is at or below 1/{classes} = '
+                         f'{1.0 / classes:.3g}, the starting belief over {classes} textures: '
+                         f'give more than {1.0 / classes:.3g} (e.g. 0.99)')
 
 
 @dataclass(frozen=True)
@@ -78,7 +95,8 @@ class Identification:
         log_prior: the starting belief's log (default: uniform over the textures).
 
     Raises:
-        ValueError: an unknown policy or a prior that is not a finite log belief.
+        ValueError: an unknown policy, a prior that is not a finite log belief, or a
+            threshold the uniform belief reaches (`check_threshold`).
     """
 
     def __init__(self, table: EvidenceTable, policy: str, budget: Budget = Budget(),
@@ -86,6 +104,7 @@ class Identification:
         if policy not in POLICIES:
             raise ValueError(f'unknown policy {policy!r}; known: {", ".join(POLICIES)}')
         classes = len(table.classes)
+        check_threshold(budget.threshold, classes)
         prior = uniform(classes) if log_prior is None else np.asarray(log_prior, dtype=float)
         if prior.shape != (classes,) or not np.all(np.isfinite(prior)):
             raise ValueError(f'the prior must be {classes} finite log probabilities')
@@ -119,7 +138,7 @@ class Identification:
             available: which movements can still be run (default: all); NONE_LEFT when
                 the policy's candidates are all unavailable.
         """
-        if self.posterior[self.leader] > self.budget.threshold:
+        if self.movements and self.posterior[self.leader] > self.budget.threshold:
             return DECIDED
         if self.budget.movements is not None and len(self.movements) >= self.budget.movements:
             return MOVEMENT_BUDGET
