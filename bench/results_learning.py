@@ -220,8 +220,9 @@ def learning_curves() -> str:
         cells = []
         for n in sizes:
             point = data['points'].get(f'{model}@{n}')
+            stalled = point and 'stalled at chance' in point.get('unconverged', [])
             cells.append('-' if point is None else f'{100 * np.mean(point["accuracy"]):.1f} % '
-                         f'({np.mean(point["seconds"]):.0f} s)')
+                         f'({np.mean(point["seconds"]):.0f} s)' + ' (stalled)' * bool(stalled))
         table.append(f'| {TEXTURE_MODELS.get(model, model)} | ' + ' | '.join(cells) + ' |')
     calls = data.get('calls', [data['command']])
     how = (f', joining {len(calls)} calls run side by side on the two cores, one thread each, '
@@ -234,7 +235,11 @@ def learning_curves() -> str:
             'against the recordings per texture the model trained on, with the training '
             f'seconds of each point; {data["draws"]} draw(s); deep models with the `modern` '
             f'profile and per-window scaling, at most {data["epochs"]} epochs; chance '
-            f'{100 * data["chance"]:.1f} %{missing}; `bench/results/learning_curves/`:\n\n'
+            f'{100 * data["chance"]:.1f} %{missing}'
+            + ('; (stalled): a training whose loss never left chance in all its epochs'
+               if any('stalled at chance' in point.get('unconverged', [])
+                      for point in data['points'].values()) else '')
+            + '; `bench/results/learning_curves/`:\n\n'
             + '\n'.join(table) + '\n\n![learning curves]'
             f'({FIGURES}/learning_curves/learning_curves.png)\n')
 
