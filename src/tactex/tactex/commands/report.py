@@ -109,7 +109,7 @@ def run(args: argparse.Namespace) -> int:
 
 def _identification(args: argparse.Namespace) -> int:
     """Replay identification on held-out recordings and write the report."""
-    from tactex.commands.train import check_window
+    from tactex.commands.train import check_movement_window
     from tactex_classify.data.dataset import Dataset
     from tactex_classify.identification.movement_evidence import (
         checked_movements,
@@ -142,7 +142,7 @@ def _identification(args: argparse.Namespace) -> int:
         checked_movements(dataset, movements)
     except MovementDataError as err:
         raise CommandError(f'DATA {args.data}: {err}') from None
-    check_window(movements, dataset, argparse.Namespace(movements=path, data=args.data))
+    check_movement_window(movements, dataset, path, args.data)
     settings = ReplaySettings(
         policies=args.policies, folds=args.folds, inner_folds=args.inner_folds,
         seeds=args.seeds, model=args.model, seed=args.seed,

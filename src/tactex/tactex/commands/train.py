@@ -221,15 +221,15 @@ def deployable_stream(dataset, without: str = ', or pass --no-final') -> dict:
     return {'hop': hop, 'sampling_rate_hz': float(rate)}
 
 
-def check_window(movements, dataset, args: argparse.Namespace) -> None:
+def check_movement_window(movements, dataset, movements_path: Path, data_path: Path) -> None:
     """Refuse a movement file whose window is not the dataset's (the bundle keeps both).
 
     Raises:
-        CommandError: naming both windows and the fix.
+        CommandError: naming both files, both windows and the fix.
     """
     if movements.window != dataset.X.shape[1]:
-        raise CommandError(f'--movements {args.movements} gives window {movements.window}, '
-                           f'DATA {args.data} holds {dataset.X.shape[1]}-sample windows: '
+        raise CommandError(f'--movements {movements_path} gives window {movements.window}, '
+                           f'DATA {data_path} holds {dataset.X.shape[1]}-sample windows: '
                            "convert at the file's window, or give the dataset's in the file")
 
 
@@ -293,7 +293,7 @@ def _train_bundle(args: argparse.Namespace, dataset) -> int:
     fitted = []
     try:
         movement_of = checked_movements(dataset, movements)
-        check_window(movements, dataset, args)
+        check_movement_window(movements, dataset, args.movements, args.data)
         counts = cell_counts(dataset.classes, trial_labels(dataset), movement_of, movements)
         fewest = min(counts.values())
         check_cells(counts, args.folds, f'--folds {args.folds}',
