@@ -69,9 +69,9 @@ def open_grid(name: str) -> tuple[GridStore, GridSettings, dict]:
     try:
         manifest = store.manifest()
         settings = GridSettings(**manifest['settings'])
-        windows = dict(manifest['data'].items())
-    except (ValueError, KeyError, TypeError, AttributeError):
+    except (GridError, TypeError):  # TypeError: a setting GridSettings does not have
         raise not_a_grid from None
+    windows = manifest['data']
     if len(windows) != 1:
         raise GridError(f'--grid {store.folder} holds {len(windows)} windows '
                         f'({", ".join(windows)}); this check takes a grid of one window')

@@ -111,14 +111,11 @@ class GridStore:
                                 'comparison; choose a new --out')
             return {'format_version': GRID_FORMAT, 'settings': asdict(settings), 'data': {}}
         try:
-            manifest = json.loads(self.manifest_path.read_text(encoding='utf-8'))
-            old = manifest['settings']
-            if not isinstance(manifest['data'], dict):
-                raise TypeError
-        except (ValueError, KeyError, TypeError):
-            raise GridError(f'{self.manifest_path} is not a tactex comparison manifest; '
-                            'choose a new --out') from None
-        before = {**asdict(GridSettings()), **old}  # a grid older than a setting had its default
+            manifest = self.manifest()
+        except GridError as err:
+            raise GridError(f'{err}; choose a new --out') from None
+        # A grid older than a setting had its default.
+        before = {**asdict(GridSettings()), **manifest['settings']}
         changed = {k: (before.get(k), v) for k, v in asdict(settings).items()
                    if before.get(k) != v}
         if changed:
@@ -155,8 +152,19 @@ class GridStore:
         _write_json(self.manifest_path, manifest)
 
     def manifest(self) -> dict:
-        """The grid's settings and datasets."""
-        return json.loads(self.manifest_path.read_text(encoding='utf-8'))
+        """The grid's settings and datasets.
+
+        Raises:
+            GridError: grid.json is not a comparison manifest (unreadable JSON, or without
+                its settings and data mappings).
+        """
+        try:
+            manifest = json.loads(self.manifest_path.read_text(encoding='utf-8'))
+            if not (isinstance(manifest['settings'], dict) and isinstance(manifest['data'], dict)):
+                raise TypeError
+        except (ValueError, KeyError, TypeError):
+            raise GridError(f'{self.manifest_path} is not a tactex comparison manifest') from None
+        return manifest
 
     def load(self, cell: Cell) -> dict | None:
         """A finished cell's result, or None (not run, or unreadable: run it again)."""
