@@ -6,6 +6,7 @@ import os
 from pathlib import Path
 import subprocess
 import sys
+import tempfile
 
 import pytest
 
@@ -18,7 +19,12 @@ PIPE = 'CUDA_MPS_PIPE_DIRECTORY'
 
 @pytest.fixture
 def control(tmp_path, monkeypatch):
-    """A stand-in control program on PATH that logs its calls; FAKE_MPS_EXIT sets -d's exit."""
+    """A stand-in control program on PATH that logs its calls; FAKE_MPS_EXIT sets -d's exit.
+
+    The service's temporary folders go under tmp_path: one it keeps on purpose (a daemon
+    that did not confirm quitting) must not be left in the machine's /tmp by the suite.
+    """
+    monkeypatch.setattr(tempfile, 'tempdir', str(tmp_path))
     calls = tmp_path / 'calls.log'
     program = tmp_path / 'bin' / gpu_sharing.CONTROL
     program.parent.mkdir()
@@ -105,6 +111,7 @@ def test_a_daemon_that_does_not_confirm_quitting_keeps_its_folders_and_says_how_
     assert f'echo quit | CUDA_MPS_PIPE_DIRECTORY={pipe}' in warning
     assert 'nvidia-cuda-mps-control exited 1' in warning
     assert Path(pipe).is_dir()  # the pipe a running daemon listens on is not pulled away
+    assert Path(pipe).parent.parent == tmp_path
 
 
 def test_a_client_that_fails_stops_the_daemon_and_leaves_the_environment(tmp_path, control):
