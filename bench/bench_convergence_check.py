@@ -28,14 +28,13 @@ os.environ.setdefault('OMP_NUM_THREADS', '1')
 from tactex.cli import CommandParser, guarded  # noqa: E402
 from tactex.errors import CommandError  # noqa: E402
 from tactex.options import (  # noqa: E402
-    check_input_file,
     check_input_folder,
     check_output_file,
     epoch_count,
     integer,
+    load_dataset,
 )
 from tactex_classify.data.dataset import Dataset  # noqa: E402
-from tactex_classify.errors import DatasetError  # noqa: E402
 from tactex_classify.evaluation.grid_report import cell_unconverged_because  # noqa: E402
 from tactex_classify.evaluation.model_grid import (  # noqa: E402
     Cell,
@@ -88,12 +87,7 @@ def check_data(path: Path, kept: dict) -> None:
     Raises:
         CommandError: naming --data: missing, not a dataset, or other data.
     """
-    check_input_file(path, '--data')
-    try:
-        dataset = Dataset.load(path)
-    except DatasetError as err:
-        raise CommandError(f'--data {err}') from None
-    if dataset_digest(dataset) != kept['sha256']:
+    if dataset_digest(load_dataset(path, '--data')) != kept['sha256']:
         raise CommandError(f'--data {path} is not the dataset the grid was run on (its source '
                            f'was {kept["source"]}); give that one')
 

@@ -45,13 +45,12 @@ from tactex.cli import CommandParser, guarded  # noqa: E402
 from tactex.errors import CommandError  # noqa: E402
 from tactex.options import (  # noqa: E402
     check_finite_windows,
-    check_input_file,
     check_output_file,
     epoch_count,
     integer,
+    load_dataset,
     number,
 )
-from tactex_classify.errors import DatasetError  # noqa: E402
 from tactex_classify.evaluation.model_grid import cuda_available  # noqa: E402
 from tactex_classify.models.registry import DEEP_MODELS  # noqa: E402
 from tactex_common.errors import GpuSharingError  # noqa: E402
@@ -191,14 +190,9 @@ def check_data(path: Path) -> None:
     Raises:
         CommandError: naming --data: not a .npz file, or not a dataset.
     """
-    from tactex_classify.data.dataset import Dataset
     if path.suffix != '.npz':
         raise CommandError(f'--data {path}: give a converted dataset (.npz)')
-    check_input_file(path, '--data')
-    try:
-        check_finite_windows(Dataset.load(path), path, '--data')
-    except DatasetError as err:
-        raise CommandError(f'--data {err}') from None
+    check_finite_windows(load_dataset(path, '--data'), path, '--data')
 
 
 def worker(args) -> int:

@@ -205,6 +205,22 @@ def check_input_file(path: Path, option: str) -> Path:
     return path
 
 
+def load_dataset(path: Path, option: str):
+    """The converted dataset at `path`, given with `option`.
+
+    Raises:
+        CommandError: naming `option`: missing, unreadable, or not a dataset.
+    """
+    from tactex_classify.data.dataset import Dataset
+    from tactex_classify.errors import DatasetError
+
+    check_input_file(path, option)
+    try:
+        return Dataset.load(path)
+    except DatasetError as err:
+        raise CommandError(f'{option} {err}') from None
+
+
 def movement_file(path: Path, sample_rate_hz: float | None):
     """The `--movements` file, every movement held to the arm and to the sensor's rate.
 
