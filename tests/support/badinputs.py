@@ -136,7 +136,9 @@ def make_workspace(w: Path) -> Path:
     (w / 'garbage.json').write_text(json.dumps({'classes': ['a'], 'channels': ['x']}))
     (w / 'pickled.npz').write_bytes(pickle.dumps({'X': [1.0]}))
     (w / 'pickled.json').write_text(json.dumps({'classes': ['a'], 'channels': ['x']}))
-    for name, info in (('bad_rate', {'sampling_rate_hz': -5.0}), ('wrong_window', {'window': 64})):
+    # 10**400: JSON reads any whole number as an int, this one past the float range
+    for name, info in (('bad_rate', {'sampling_rate_hz': -5.0}), ('wrong_window', {'window': 64}),
+                       ('huge_rate', {'sampling_rate_hz': 10**400})):
         toy = toy_dataset(3)
         toy.info.update(info)
         toy.save(w / f'{name}.npz')
@@ -384,6 +386,8 @@ BAD_INPUTS = {
              '{w}/run'),
         Case('train {w}/bad_rate.npz --out {w}/run', r'bad_rate.json: sampling_rate_hz must be '
              'a finite number > 0 Hz, got -5.0', '{w}/run'),
+        Case('train {w}/huge_rate.npz --out {w}/run', r'huge_rate.json: sampling_rate_hz must '
+             'be a finite number > 0 Hz, got 1000', '{w}/run'),
         Case('train {w}/wrong_window.npz --out {w}/run', 'wrong_window.json: window 64 but the '
              'dataset holds 32-sample windows', '{w}/run'),
         Case('train {w}/bad_labels.npz --out {w}/run', r'bad_labels.npz: y holds class indices '

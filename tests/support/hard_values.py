@@ -20,6 +20,25 @@ NON_FINITE = (math.nan, math.inf, -math.inf)
 BAD_STEPS_S = (0.0, -0.0, -1e-3, -1.0, 5e-324, 1e300, FLOAT64_MAX, *NON_FINITE)
 
 
+# Whole numbers past the float range, as JSON, TOML and YAML read a long integer literal.
+HUGE_INTEGERS = (10**400, -10**400, 2**1024, -2**1024)
+
+
+def parsed_numbers() -> st.SearchStrategy:
+    """Any number a JSON, TOML or YAML file can hold: floats, ints of any size, booleans."""
+    return st.one_of(anything(), st.integers(), st.sampled_from(HUGE_INTEGERS), st.booleans())
+
+
+def finite_as_float(value) -> bool:
+    """Whether `value` (not a bool) converts to a finite float: the oracle of the checks."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return False
+    try:
+        return math.isfinite(float(value))
+    except OverflowError:
+        return False
+
+
 def finite() -> st.SearchStrategy[float]:
     """Any finite float, the extreme ones often."""
     return st.one_of(st.sampled_from(EXTREME_FINITE),

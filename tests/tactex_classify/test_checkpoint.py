@@ -259,6 +259,10 @@ def test_a_checkpoint_of_format_2_is_refused_with_what_to_do(saved, tmp_path):
 @pytest.mark.parametrize('kind, change, message', [
     ('extratrees', lambda m: {**m, 'sampling_rate_hz': 1e300},
      r'sampling_rate_hz must be a finite number in 0.01..100000 Hz, got 1e\+300'),
+    ('minirocket', lambda m: {**m, 'sampling_rate_hz': 10**400},
+     'sampling_rate_hz must be a finite number in 0.01..100000 Hz, got 1000'),
+    ('deep', lambda m: {**m, 'scaler': {**m['scaler'], 'offset': [10**400] * 10}},
+     'scaler offset must be 10 finite numbers'),
     ('extratrees', lambda m: {**m, 'window': 10**12}, 'window must be <= 65536 samples'),
     ('minirocket', lambda m: {**m, 'channels': [f'c{i}' for i in range(65)]},
      'channels must be at most 64'),

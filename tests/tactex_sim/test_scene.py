@@ -54,6 +54,9 @@ def test_bad_values_fail_with_the_key(change, match):
     ({'timestep_s': 1e-12}, r'timestep_s must be in 0.0001..0.02 s, got 1e-12'),
     ({'seed': 10**20}, r'seed must be a whole number in 0..4294967295'),
     ({'sensor_rate_hz': 'fast'}, 'sensor_rate_hz must be a finite number'),
+    # TOML reads a long whole number as an int past the float range
+    ({'sensor_rate_hz': 10**400}, 'sensor_rate_hz must be a finite number'),
+    ({'surface': {'size_m': [10**400, 0.3]}}, 'size_m must hold finite numbers'),
     ({'patches': [{'texture': 'wood', 'x_m': [0.1, 0.2], 'y_m': [0.0, 0.1]}] * 65},
      '65 patches; at most 64'),
 ])

@@ -36,6 +36,7 @@ import reprlib
 import yaml
 
 from tactex_common.files import read_text
+from tactex_common.numbers import is_finite_number
 from tactex_description.geometry import PRESS_TRAVEL_M
 
 MIN_PRESS_DEPTH_M = 0.0015
@@ -218,8 +219,7 @@ class MovementSet:
 def _number(raw: dict, key: str, where: str, low: float, high: float, unit: str,
             why: str) -> float:
     value = raw.get(key)
-    if isinstance(value, bool) or not isinstance(value, (int, float)) \
-            or not math.isfinite(value) or not low <= value <= high:
+    if not is_finite_number(value) or not low <= value <= high:
         raise MovementError(f'{where}: {key} must be a number in [{low:g}, {high:g}] {unit} '
                             f'({why}), got {shown(value)}')
     return float(value)

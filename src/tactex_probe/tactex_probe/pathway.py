@@ -38,6 +38,7 @@ from typing import Any
 import numpy as np
 
 from tactex_common.files import load_json
+from tactex_common.numbers import is_finite_number
 from tactex_probe.errors import ParameterError, PathwayError
 
 FORMAT = 'tactex-pathway'
@@ -208,7 +209,7 @@ class ProbeRecord:
             raise ParameterError(f'stamp_ns must be an integer, got {self.stamp_ns!r}')
         for name in ('force_proxy', 'confidence'):
             value = getattr(self, name)
-            if not isinstance(value, (int, float)) or not math.isfinite(value):
+            if not is_finite_number(value):
                 raise ParameterError(f'{name} must be a finite number, got {value!r}')
         if self.status is ContactStatus.OK:
             if abs(_unit_length(self.normal) - 1.0) > UNIT_TOLERANCE:

@@ -22,6 +22,7 @@ import numpy as np
 from tactex_common.constants import MAX_SEED, SLIDING_SPEED_M_S
 from tactex_common.errors import RefusedFileError
 from tactex_common.files import read_bytes
+from tactex_common.numbers import is_finite_number
 from tactex_sim.errors import SceneError
 
 MAX_SCENE_BYTES = 1024 * 1024
@@ -264,7 +265,7 @@ def _coerce(value, default, source: str, section: str, key: str):
                                            and len(value) != len(default)):
             size = len(default) if isinstance(default, tuple) else 'a'
             raise SceneError(f'{where} must be a list of {size} numbers, got {value!r}')
-        if not all(isinstance(v, (int, float)) and math.isfinite(v) for v in value):
+        if not all(is_finite_number(v) for v in value):
             raise SceneError(f'{where} must hold finite numbers, got {value!r}')
         cast = int if default and isinstance(default[0], int) else float
         return tuple(cast(v) for v in value)
@@ -272,6 +273,6 @@ def _coerce(value, default, source: str, section: str, key: str):
         if not isinstance(value, str):
             raise SceneError(f'{where} must be text, got {value!r}')
         return value
-    if not isinstance(value, (int, float)) or isinstance(value, bool) or not math.isfinite(value):
+    if not is_finite_number(value):
         raise SceneError(f'{where} must be a finite number, got {value!r}')
     return float(value)

@@ -27,6 +27,7 @@ import math
 
 import numpy as np
 
+from tactex_common.numbers import is_finite_number
 from tactex_description.geometry import OPEN_MANIPULATOR_X
 from tactex_description.mjcf import EDGE_TIP_RADIUS_M
 from tactex_trajectory.planner import SPEED_WINDOW_S, SweepPlan
@@ -66,7 +67,7 @@ class MonitorSettings:
         for name in ('contact_threshold_pa', 'pressure_pa_per_m', 'force_limit_n',
                      'contact_loss_tolerance_s', 'tracking_tolerance_m'):
             value = getattr(self, name)
-            if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
+            if not (is_finite_number(value) and value > 0):
                 raise ValueError(f'{name} must be a finite number > 0, got {value!r}')
 
 

@@ -25,6 +25,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from tactex_common.numbers import is_finite_number
 from tactex_trajectory.errors import PathError
 
 if TYPE_CHECKING:
@@ -77,7 +78,7 @@ class PathSettings:
         for name in ('spacing_m', 'merge_within_m', 'position_noise_m', 'normal_noise_rad',
                      'position_tolerance_m', 'normal_tolerance_rad'):
             value = getattr(self, name)
-            if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
+            if not (is_finite_number(value) and value > 0):
                 raise ValueError(f'{name} must be a finite number > 0, got {value!r}')
         for name in ('position_noise_m', 'normal_noise_rad'):
             value = getattr(self, name)

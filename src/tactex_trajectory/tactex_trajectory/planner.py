@@ -22,6 +22,7 @@ import math
 import numpy as np
 
 from tactex_common.constants import SLIDING_SPEED_M_S
+from tactex_common.numbers import is_finite_number
 from tactex_description.mjcf import EDGE_TIP_RADIUS_M
 from tactex_driver.errors import TrajectoryRejected
 from tactex_driver.playback import JointLimits, LIMIT_TOLERANCE, plan
@@ -90,7 +91,7 @@ class SweepSettings:
         for name in ('sliding_speed_m_s', 'approach_height_m', 'descent_speed_m_s',
                      'ramp_acceleration_m_s2'):
             value = getattr(self, name)
-            if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
+            if not (is_finite_number(value) and value > 0):
                 raise ValueError(f'{name} must be a finite number > 0, got {value!r}')
         if not (isinstance(self.settle_s, (int, float)) and 0 <= self.settle_s < 60):
             raise ValueError(f'settle_s must be in [0, 60), got {self.settle_s!r}')

@@ -26,6 +26,7 @@ import math
 
 import numpy as np
 
+from tactex_common.numbers import is_finite_number
 from tactex_description.geometry import OPEN_MANIPULATOR_X, PRESS_TRAVEL_M
 from tactex_description.kinematics import PlanarArm
 from tactex_description.mjcf import EDGE_TIP_RADIUS_M
@@ -69,8 +70,7 @@ class PoseSettings:
                   ('max_residual_rad', 1e-6, math.pi))
         for name, low, high in checks:
             value = getattr(self, name)
-            if not (isinstance(value, (int, float)) and math.isfinite(value)
-                    and low <= value < high):
+            if not (is_finite_number(value) and low <= value < high):
                 raise ValueError(f'{name} must be in [{low:g}, {high:g}), got {value!r}')
 
 

@@ -211,10 +211,10 @@ def deployable_stream(dataset, without: str = ', or pass --no-final') -> dict:
     Raises:
         CommandError: the sidecar lacks them (or they are not usable).
     """
-    import math
+    from tactex_common.numbers import is_finite_number
     hop, rate = dataset.info.get('hop'), dataset.info.get('sampling_rate_hz')
     if not isinstance(hop, int) or isinstance(hop, bool) or not 1 <= hop <= dataset.X.shape[1] \
-            or not isinstance(rate, (int, float)) or not math.isfinite(rate) or rate <= 0:
+            or not is_finite_number(rate) or rate <= 0:
         raise CommandError(f"DATA's sidecar gives hop {hop!r} and sampling_rate_hz {rate!r}; "
                            'a deployable model needs both (convert the recordings again)'
                            f'{without}')

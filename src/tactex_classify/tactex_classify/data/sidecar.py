@@ -4,10 +4,10 @@
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 
 from tactex_classify.errors import DatasetError
+from tactex_common.numbers import is_finite_number
 
 # A recording's metadata names its sweep's parameters under these keys (sim, sweep_node).
 SWEEP_KEYS = {'speed_m_s': ('speed_m_s', 'sliding_speed_m_s'),
@@ -22,8 +22,7 @@ def recorded_sweep(metadata: dict) -> dict[str, float]:
     found = {}
     for name, keys in SWEEP_KEYS.items():
         value = next((sweep[key] for key in keys if key in sweep), None)
-        if isinstance(value, (int, float)) and not isinstance(value, bool) \
-                and math.isfinite(value):
+        if is_finite_number(value):
             found[name] = float(value)
     return found
 
@@ -35,8 +34,7 @@ def check_sidecar_stream(sidecar: dict, window: int | None, path: Path) -> None:
         DatasetError: naming the sidecar, the value and what it must be.
     """
     rate = sidecar.get('sampling_rate_hz')
-    if rate is not None and not (isinstance(rate, (int, float)) and not isinstance(rate, bool)
-                                 and math.isfinite(rate) and rate > 0):
+    if rate is not None and not (is_finite_number(rate) and rate > 0):
         raise DatasetError(f'{path}: sampling_rate_hz must be a finite number > 0 Hz, got '
                            f'{rate!r}: convert or import the recordings again')
     stated = sidecar.get('window')

@@ -30,7 +30,6 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
-import math
 
 import numpy as np
 
@@ -41,6 +40,7 @@ from tactex_classify.identification.posterior import (
     normalised,
     tempered_log_likelihoods,
 )
+from tactex_common.numbers import is_finite_number
 
 MAX_TEMPERING = 100.0
 MAX_REPEAT_DISCOUNT = 100.0
@@ -89,10 +89,10 @@ class EvidenceTable:
         names = [movement.name for movement in movements]
         if len(set(names)) != len(names):
             raise ValueError(f'movement names repeat: {names}')
-        if not (isinstance(tempering, (int, float)) and math.isfinite(tempering)
+        if not (is_finite_number(tempering)
                 and 0.0 < tempering <= MAX_TEMPERING):
             raise ValueError(f'tempering must be in (0, {MAX_TEMPERING:g}], got {tempering!r}')
-        if not (isinstance(repeat_discount, (int, float)) and math.isfinite(repeat_discount)
+        if not (is_finite_number(repeat_discount)
                 and 0.0 <= repeat_discount <= MAX_REPEAT_DISCOUNT):
             raise ValueError(f'repeat_discount must be in [0, {MAX_REPEAT_DISCOUNT:g}], got '
                              f'{repeat_discount!r}')
@@ -118,7 +118,7 @@ class EvidenceTable:
     @staticmethod
     def _seconds(movement: MovementEvidence) -> float:
         seconds = movement.contact_seconds
-        if not (isinstance(seconds, (int, float)) and math.isfinite(seconds) and seconds > 0):
+        if not (is_finite_number(seconds) and seconds > 0):
             raise ValueError(f'movement {movement.name!r}: contact_seconds must be finite and '
                              f'> 0, got {seconds!r}')
         return float(seconds)

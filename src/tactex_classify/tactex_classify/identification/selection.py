@@ -24,12 +24,12 @@ it decides only after at least one movement (the starting belief is no evidence)
 from __future__ import annotations
 
 from dataclasses import dataclass
-import math
 
 import numpy as np
 
 from tactex_classify.identification.evidence_table import EvidenceTable
 from tactex_classify.identification.posterior import normalised, uniform, updated
+from tactex_common.numbers import is_finite_number
 
 POLICIES = ('active', 'random', 'fixed', 'round-robin')
 DECIDED, MOVEMENT_BUDGET, TIME_BUDGET = 'decided', 'movement budget', 'time budget'
@@ -79,8 +79,7 @@ class Budget:
             raise ValueError(f'the movement budget must be an integer >= 1, got '
                              f'{self.movements!r}')
         if self.seconds is not None and not (
-                isinstance(self.seconds, (int, float)) and math.isfinite(self.seconds)
-                and self.seconds > 0):
+                is_finite_number(self.seconds) and self.seconds > 0):
             raise ValueError(f'the time budget must be finite and > 0 s, got {self.seconds!r}')
 
 

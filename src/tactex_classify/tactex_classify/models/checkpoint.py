@@ -25,13 +25,13 @@ from dataclasses import dataclass
 import hashlib
 import importlib
 import json
-import math
 import os
 from pathlib import Path
 import secrets
 
 from tactex_classify.errors import CheckpointError
 from tactex_common.files import load_json, open_regular
+from tactex_common.numbers import is_finite_number
 
 FORMAT_VERSION = 3
 # Why checkpoints of an older format are refused (each needs `tactex train` again).
@@ -96,8 +96,7 @@ class StreamSpec:
         if self.hop > self.window:
             raise ValueError(f'hop must be <= window ({self.window}), got {self.hop!r}')
         rate, (low, high) = self.sampling_rate_hz, SAMPLING_RATE_RANGE_HZ
-        if not isinstance(rate, (int, float)) or isinstance(rate, bool) or not (
-                math.isfinite(rate) and low <= rate <= high):
+        if not (is_finite_number(rate) and low <= rate <= high):
             raise ValueError(f'sampling_rate_hz must be a finite number in {low:g}..{high:g} '
                              f'Hz, got {rate!r}')
 

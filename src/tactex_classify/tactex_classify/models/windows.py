@@ -5,12 +5,12 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-import math
 
 import numpy as np
 
 from tactex_classify.errors import NotFittedError
 from tactex_common.channels import CHANNELS
+from tactex_common.numbers import is_finite_number
 
 SCALINGS = ('minmax', 'standard', 'window')
 SCALED_LIMIT = 1e4
@@ -68,8 +68,7 @@ class ChannelScaler:
         for name in ('offset', 'scale'):
             values = state[name]
             if not isinstance(values, list) or len(values) != channels or not all(
-                    isinstance(v, (int, float)) and not isinstance(v, bool)
-                    and math.isfinite(v) for v in values):
+                    is_finite_number(v) for v in values):
                 raise ValueError(f'scaler {name} must be {channels} finite numbers (one per '
                                  f'channel), got {values!r}')
             arrays[name] = [float(v) for v in values]

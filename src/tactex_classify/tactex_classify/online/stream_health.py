@@ -26,6 +26,7 @@ import numpy as np
 from tactex_classify.models.checkpoint import StreamSpec
 from tactex_common import chips
 from tactex_common.channels import ACCEL, BARO, GYRO, MAG
+from tactex_common.numbers import is_finite_number
 
 CONFIRM_SAMPLES = 3  # consecutive stamps on a new timeline that make it the stream's
 SATURATED_FRACTION = 0.5  # of a window's samples at a rail
@@ -119,8 +120,7 @@ class RateJudge:
 
     def stated(self, rate) -> str:
         """Take a recording's stated rate (metadata `sensor_rate_hz`); '' or why it is no rate."""
-        if isinstance(rate, bool) or not isinstance(rate, (int, float)) or not (
-                math.isfinite(rate) and rate > 0):
+        if not (is_finite_number(rate) and rate > 0):
             return (f'sensor_rate_hz {rate!r} is not a rate (a finite number of Hz > 0); '
                     'judging the stream by its stamps')
         lines = self.stream.mismatches(sampling_rate_hz=float(rate),

@@ -42,6 +42,7 @@ from tactex_classify.training.convergence import (
     unconverged_because,
 )
 from tactex_common.constants import MAX_SEED
+from tactex_common.numbers import is_finite_number
 
 os.environ.setdefault('OMP_WAIT_POLICY', 'PASSIVE')  # no spinning next to ROS nodes
 CHECKPOINT_VERSION = 1
@@ -109,8 +110,7 @@ class TrainingConfig:
                 raise ValueError(f'{name} must be an integer in {low}..{high}, got {value!r}')
         for name in ('learning_rate', 'clip_norm'):
             value = getattr(self, name)
-            if not isinstance(value, (int, float)) or isinstance(value, bool) or not (
-                    math.isfinite(value) and 0 < value <= 1e6):
+            if not (is_finite_number(value) and 0 < value <= 1e6):
                 raise ValueError(f'{name} must be finite, > 0 and <= 1e6, got {value!r}')
         for name, high in (('weight_decay', 1.0), ('label_smoothing', 0.5),
                            ('ema_decay', 1.0 - 1e-9), ('batchnorm_momentum', 1.0),
