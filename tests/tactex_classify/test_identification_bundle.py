@@ -116,6 +116,23 @@ def test_a_bundle_whose_window_differs_from_its_checkpoints_is_refused(trained, 
         load_bundle(copy, load_movements(trained / 'movements.yaml'))
 
 
+@pytest.mark.parametrize('change', [
+    lambda meta: meta.update(tempering=10**400),  # JSON's long whole number, past float range
+    lambda meta: meta['movements'][0].update(temperature=10**400),
+    lambda meta: meta['movements'][0].update(vectors=[[10**400]]),
+])
+def test_a_checksummed_bundle_with_a_number_past_the_float_range_is_refused(trained, tmp_path,
+                                                                            change):
+    copy = tmp_path / 'bundle'
+    shutil.copytree(trained / 'run' / 'bundle', copy)
+    meta = json.loads((copy / 'bundle.json').read_text())
+    change(meta)
+    meta[CHECKSUM_FIELD] = metadata_sha256(meta)
+    (copy / 'bundle.json').write_text(json.dumps(meta))
+    with pytest.raises(CheckpointError, match='malformed bundle.json'):
+        load_bundle(copy, load_movements(trained / 'movements.yaml'))
+
+
 @pytest.mark.parametrize('key, value', [
     ('speed', '0.03'), ('press_depth', '0.003'), ('edge_tilt', '0.4'),
     ('direction', 'backward'), ('contact_length', '0.05')])

@@ -46,7 +46,9 @@ def applied(instance, inputs=SLIDING):
     ('sensor', 'accel_range_g', 3.0), ('sensor', 'pressure_noise_pa', -1.0),
     ('imu_noise', 'accel_sd', -0.1), ('magnetometer', 'magnet_radius_m', 0.0),
     ('magnetometer', 'earth_field_t', [0.0, 2e-5]), ('magnetometer', 'noise_sd_t', 1.0),
-    ('barometer', 'sea_level_pa', 0.0), ('barometer', 'temperature_c', -300.0)])
+    ('barometer', 'sea_level_pa', 0.0), ('barometer', 'temperature_c', -300.0),
+    # TOML reads a long whole number as an int past the float range
+    pytest.param('texture', 'resonance_hz', 10**400, id='texture-resonance_hz-10**400')])
 def test_an_option_outside_its_range_is_refused_by_name(name, option, value):
     with pytest.raises(SceneError, match=f"effect '{name}': option {option} must"):
         effect(name, **{option: value})

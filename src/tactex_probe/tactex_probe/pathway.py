@@ -96,7 +96,7 @@ PARAMETER_RANGES: dict[str, ParameterRange] = {
 def _vector(value: Any, name: str) -> Vector3:
     try:
         vector = tuple(float(v) for v in value)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):  # a whole number past the float range
         raise ParameterError(f'{name} must be 3 numbers, got {value!r}') from None
     if len(vector) != 3 or not all(math.isfinite(v) for v in vector):
         raise ParameterError(f'{name} must be 3 finite numbers, got {value!r}')
@@ -148,7 +148,7 @@ class ProbeParameters:
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, (int, float)):
                 raise ParameterError(f'{name} must be a number, got {value!r}')
-            if not allowed.contains(float(value)):
+            if not (is_finite_number(value) and allowed.contains(float(value))):
                 bracket = '[' if allowed.low_inclusive else '('
                 raise ParameterError(
                     f'{name} must be in {bracket}{allowed.low:g}, {allowed.high:g}] '

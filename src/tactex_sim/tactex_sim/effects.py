@@ -27,6 +27,7 @@ import numpy as np
 
 from tactex_common import chips
 from tactex_common.constants import EARTH_FIELD_T, SEA_LEVEL_PRESSURE_PA
+from tactex_common.numbers import is_finite_number
 from tactex_description import edge
 from tactex_sim import vibration
 from tactex_sim.errors import SceneError, UnknownNameError
@@ -79,8 +80,7 @@ class Option:
             raise SceneError(f'{where} must be a list of {len(self.default)} numbers, got '
                              f'{value!r}')
         for item in items:
-            if not isinstance(item, (int, float)) or isinstance(item, bool) \
-                    or not math.isfinite(item):
+            if not is_finite_number(item):
                 raise SceneError(f'{where} must be a finite number, got {value!r}')
             if not self.low <= item <= self.high or (self.choices
                                                      and item not in self.choices):

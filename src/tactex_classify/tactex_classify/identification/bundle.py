@@ -96,7 +96,7 @@ def load_bundle(folder: Path, movements: MovementSet) -> Bundle:
         table = EvidenceTable(tuple(meta['classes']), evidence, float(meta['tempering']),
                               float(meta.get('repeat_discount', 0.0)))
         temperatures = tuple(float(row['temperature']) for row in meta['movements'])
-    except (KeyError, TypeError, ValueError) as err:
+    except (KeyError, TypeError, ValueError, OverflowError) as err:
         raise CheckpointError(f'{folder}: malformed {BUNDLE_FILE}: {err!r}') from None
     return Bundle(tuple(meta['classes']), tuple(stated), temperatures, tuple(estimators),
                   table, infos[0].stream)
