@@ -138,7 +138,8 @@ def make_workspace(w: Path) -> Path:
     (w / 'pickled.json').write_text(json.dumps({'classes': ['a'], 'channels': ['x']}))
     # 10**400: JSON reads any whole number as an int, this one past the float range
     for name, info in (('bad_rate', {'sampling_rate_hz': -5.0}), ('wrong_window', {'window': 64}),
-                       ('huge_rate', {'sampling_rate_hz': 10**400})):
+                       ('huge_rate', {'sampling_rate_hz': 10**400}),
+                       ('fast_rate', {'sampling_rate_hz': 1e9})):
         toy = toy_dataset(3)
         toy.info.update(info)
         toy.save(w / f'{name}.npz')
@@ -385,9 +386,12 @@ BAD_INPUTS = {
         Case('train {w}/garbage.npz --out {w}/run', 'garbage.npz is not a tactex dataset',
              '{w}/run'),
         Case('train {w}/bad_rate.npz --out {w}/run', r'bad_rate.json: sampling_rate_hz must be '
-             'a finite number > 0 Hz, got -5.0', '{w}/run'),
+             r'a finite number in 0.01..100000 Hz, got -5.0', '{w}/run'),
         Case('train {w}/huge_rate.npz --out {w}/run', r'huge_rate.json: sampling_rate_hz must '
-             'be a finite number > 0 Hz, got 1000', '{w}/run'),
+             r'be a finite number in 0.01..100000 Hz, got 1000', '{w}/run'),
+        Case('train {w}/fast_rate.npz --out {w}/run', r'fast_rate.json: sampling_rate_hz must '
+             r'be a finite number in 0.01..100000 Hz, got 1000000000.0: convert or import the '
+             'recordings again', '{w}/run'),
         Case('train {w}/wrong_window.npz --out {w}/run', 'wrong_window.json: window 64 but the '
              'dataset holds 32-sample windows', '{w}/run'),
         Case('train {w}/bad_labels.npz --out {w}/run', r'bad_labels.npz: y holds class indices '
@@ -637,7 +641,9 @@ BAD_INPUTS = {
     'import': [
         Case('import csv {w}/good --out {w}/o.npz', 'csv needs --rate HZ', OUT_NPZ),
         Case('import csv {w}/good --out {w}/o.npz --rate 0', 'argument --rate: must be a finite '
-             'number > 0', OUT_NPZ),
+             'number >= 0.01 and <= 100000', OUT_NPZ),
+        Case('import csv {w}/good --out {w}/o.npz --rate 1e9', 'argument --rate: must be a '
+             'finite number >= 0.01 and <= 100000', OUT_NPZ),
         Case('import csv {w}/good --out {w}/o.npz --rate nan', 'argument --rate', OUT_NPZ),
         Case('import csv {w}/good --out {w}/o.npz --rate inf', 'argument --rate', OUT_NPZ),
         Case('import mun {w}/mun --out {w}/o.npz --rate 350', '--rate apply to csv only',

@@ -431,6 +431,14 @@ def test_milliseconds_read_as_seconds_are_refused_with_the_unit_that_fits(tmp_pa
     assert import_ramps(tmp_path, time_unit='ms').info['sampling_rate_hz'] == \
         pytest.approx(100.0)
 
+def test_milliseconds_read_as_nanoseconds_are_refused_with_the_unit_that_fits(tmp_path):
+    write_csv(tmp_path / 'wood' / 'a.csv', np.arange(100) * 10, np.arange(100))
+    with pytest.raises(DatasetError, match=r'wood/a.csv: its time column in ns gives 1e\+08 Hz, '
+                       r'too fast for a tactile stream; if its times are in ms, give '
+                       r'--time-unit ms \(100 Hz\)'):
+        import_ramps(tmp_path, time_unit='ns')
+
+
 def test_hidden_folders_and_files_are_skipped_and_named(tmp_path):
     write_ramps(tmp_path, ['cork', 'felt'])
     write_ramps(tmp_path / '.ipynb_checkpoints', ['cork'])

@@ -17,6 +17,7 @@ from tactex.options import (
     text,
     window_samples,
 )
+from tactex_classify.models.checkpoint import SAMPLING_RATE_RANGE_HZ
 
 DELIMITER_NAMES = {'tab': '\t', '\\t': '\t', 'comma': ',', 'semicolon': ';', 'pipe': '|'}
 
@@ -33,7 +34,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help='samples per window (1050: 3 s at 350 Hz)')
     parser.add_argument('--hop', type=hop_samples, help='samples between window starts '
                         '(window/2)')
-    parser.add_argument('--rate', type=number(), help='csv: sampling rate (Hz), unless --time '
+    parser.add_argument('--rate', type=number(at_least=SAMPLING_RATE_RANGE_HZ[0],
+                                              at_most=SAMPLING_RATE_RANGE_HZ[1]),
+                        help='csv: sampling rate (Hz), unless --time '
                         'gives it')
     parser.add_argument('--time', type=text, metavar='COLUMN',
                         help='csv: column of timestamps; gives the rate and the gaps')

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, replace
+import math
 from pathlib import Path
 import pickle
 import sys
@@ -32,6 +33,7 @@ from tactex_classify.data.dataset import (
 from tactex_classify.data.pickles import load_frame, RefusedPickle
 from tactex_classify.data.stream_alignment import align, Stream
 from tactex_classify.errors import DatasetError
+from tactex_classify.models.checkpoint import SAMPLING_RATE_RANGE_HZ
 from tactex_common.channels import CHANNELS
 from tactex_common.errors import TableError
 from tactex_common.naming import natural_sorted
@@ -48,6 +50,10 @@ RATE_TOLERANCE = 0.02
 MAX_STAMP_NS = 9.2e18
 # Slower than this, a tactile log's time column is in another unit than --time-unit says.
 MIN_PLAUSIBLE_RATE_HZ = 1.0
+# Faster than this no tactile model is kept (checkpoint.SAMPLING_RATE_RANGE_HZ): another unit.
+MAX_RATE_HZ = SAMPLING_RATE_RANGE_HZ[1]
+# About the middle of the rates tactile modules stream at (this one: 120-350 Hz).
+TACTILE_RATE_HZ = 200.0
 # The dataset stores float32: a larger value would become inf, so its sample is dropped.
 FLOAT32_MAX = float(np.finfo(np.float32).max)
 Progress = Callable[[str], None]
@@ -401,22 +407,27 @@ def _date_time_stamps(table, column: str) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _check_time_unit(rates: dict[str, float], unit: str) -> None:
-    """Refuse a rate below MIN_PLAUSIBLE_RATE_HZ: its times are in a finer unit than `unit`.
+    """Refuse a rate outside MIN_PLAUSIBLE_RATE_HZ..MAX_RATE_HZ: its times are in another unit.
 
     Raises:
         DatasetError: naming the file, its rate and the --time-unit that fits.
     """
-    slow = [name for name, rate in rates.items() if rate < MIN_PLAUSIBLE_RATE_HZ]
-    if not slow:
+    wrong = [name for name, rate in rates.items()
+             if not MIN_PLAUSIBLE_RATE_HZ <= rate <= MAX_RATE_HZ]
+    if not wrong:
         return
-    rate = rates[slow[0]]
-    fitting = [name for name, ns in TIME_UNITS_NS.items() if ns < TIME_UNITS_NS[unit]
-               and rate * TIME_UNITS_NS[unit] / ns >= MIN_PLAUSIBLE_RATE_HZ]
-    raise DatasetError(f'{slow[0]}: its time column in {unit} gives {rate:.3g} Hz, too slow for '
+    rate = rates[wrong[0]]
+    speed = 'too slow' if rate < MIN_PLAUSIBLE_RATE_HZ else 'too fast'
+    rates_in = {name: rate * TIME_UNITS_NS[unit] / ns for name, ns in TIME_UNITS_NS.items()}
+    fitting = [name for name, value in rates_in.items()
+               if MIN_PLAUSIBLE_RATE_HZ <= value <= MAX_RATE_HZ]
+    # of the units that fit, the one whose rate lies nearest to a tactile stream's
+    likely = min(fitting, key=lambda name: abs(math.log(rates_in[name] / TACTILE_RATE_HZ)),
+                 default=None)
+    raise DatasetError(f'{wrong[0]}: its time column in {unit} gives {rate:.3g} Hz, {speed} for '
                        'a tactile stream; ' + (
-                           f'if its times are in {fitting[0]}, give --time-unit {fitting[0]} '
-                           f'({rate * TIME_UNITS_NS[unit] / TIME_UNITS_NS[fitting[0]]:.4g} Hz)'
-                           if fitting else 'check the time column'))
+                           f'if its times are in {likely}, give --time-unit {likely} '
+                           f'({rates_in[likely]:.4g} Hz)' if likely else 'check the time column'))
 
 
 def _common_rate(rates: dict[str, float], given: float | None) -> float:

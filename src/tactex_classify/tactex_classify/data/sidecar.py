@@ -7,6 +7,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from tactex_classify.errors import DatasetError
+from tactex_classify.models.checkpoint import SAMPLING_RATE_RANGE_HZ
 from tactex_common.numbers import is_finite_number
 
 # A recording's metadata names its sweep's parameters under these keys (sim, sweep_node).
@@ -28,15 +29,15 @@ def recorded_sweep(metadata: dict) -> dict[str, float]:
 
 
 def check_sidecar_stream(sidecar: dict, window: int | None, path: Path) -> None:
-    """A sidecar's rate (finite, > 0) and window (X's) agree with the arrays, when given.
+    """A sidecar's rate (a model's range) and window (X's) agree with the arrays, when given.
 
     Raises:
         DatasetError: naming the sidecar, the value and what it must be.
     """
-    rate = sidecar.get('sampling_rate_hz')
-    if rate is not None and not (is_finite_number(rate) and rate > 0):
-        raise DatasetError(f'{path}: sampling_rate_hz must be a finite number > 0 Hz, got '
-                           f'{rate!r}: convert or import the recordings again')
+    rate, (low, high) = sidecar.get('sampling_rate_hz'), SAMPLING_RATE_RANGE_HZ
+    if rate is not None and not (is_finite_number(rate) and low <= rate <= high):
+        raise DatasetError(f'{path}: sampling_rate_hz must be a finite number in {low:g}..'
+                           f'{high:g} Hz, got {rate!r}: convert or import the recordings again')
     stated = sidecar.get('window')
     if stated is not None and window is not None and stated != window:
         raise DatasetError(f'{path}: window {stated!r} but the dataset holds {window}-sample '
