@@ -312,6 +312,17 @@ def test_the_pareto_front_keeps_the_points_no_other_beats_in_cost_and_accuracy()
     assert pareto_front([]) == []
 
 
+@pytest.mark.parametrize('points, front', [
+    ([(0.5, math.nan), (1.0, 60.0), (2.0, 70.0)], [(1.0, 60.0), (2.0, 70.0)]),
+    ([(math.nan, 50.0), (1.0, 60.0), (2.0, 70.0), (0.5, 40.0)],
+     [(0.5, 40.0), (1.0, 60.0), (2.0, 70.0)]),
+    ([(math.inf, 99.0), (1.0, 60.0)], [(1.0, 60.0)]),
+    ([(1.0, 60.0), (1.0, 60.0), (2.0, 60.0)], [(1.0, 60.0), (1.0, 60.0)]),
+], ids=['nan-accuracy', 'nan-cost', 'inf-cost', 'ties'])
+def test_points_that_cannot_be_compared_stay_off_the_front_and_ties_share_it(points, front):
+    assert pareto_front(points) == front
+
+
 def test_a_grid_run_grouped_only_has_no_leaky_columns_nor_words(tmp_path):
     results = [fake_result('cnn_1', 'grouped', fold, 0.7) for fold in (1, 2)]
     text = table(summarise(results, {64: ['a', 'b']}))

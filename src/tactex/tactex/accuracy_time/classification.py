@@ -135,11 +135,11 @@ def run_key(model: str, window: int) -> str:
 
 def mark_pareto(points: list[dict]) -> None:
     """Set `pareto` on every point: no other point is as fast and more accurate (or both)."""
+    from tactex_classify.evaluation.grid_report import pareto_front
+    front = {id(point) for point in pareto_front(
+        points, lambda point: (point['contact_s'], point['accuracy']))}
     for point in points:
-        point['pareto'] = not any(
-            other['contact_s'] <= point['contact_s'] and other['accuracy'] >= point['accuracy']
-            and (other['contact_s'] < point['contact_s']
-                 or other['accuracy'] > point['accuracy']) for other in points)
+        point['pareto'] = id(point) in front
 
 
 def compute_time(data: Data, section1: dict, size: Size, scratch: Path,

@@ -14,6 +14,7 @@ from __future__ import annotations
 from collections import defaultdict
 from collections.abc import Callable
 import json
+import math
 from pathlib import Path
 
 import numpy as np
@@ -276,10 +277,15 @@ def _plot_accuracy(path: Path, rows: list[dict]) -> None:
 
 
 def pareto_front(items: list, point: Callable = lambda item: item) -> list:
-    """The items whose (cost, accuracy) `point` no other item beats in both, cheapest first."""
+    """The items whose (cost, accuracy) `point` no other item beats in both, cheapest first.
+
+    Items at the same point are all on the front or all off it. An item whose cost or
+    accuracy is not finite (NaN from a corrupt file) cannot be compared, so is left off.
+    """
+    comparable = [item for item in items if all(math.isfinite(float(v)) for v in point(item))]
     front: list = []
-    for item in sorted(items, key=lambda item: (point(item)[0], -point(item)[1])):
-        if not front or point(item)[1] > point(front[-1])[1]:
+    for item in sorted(comparable, key=lambda item: (point(item)[0], -point(item)[1])):
+        if not front or point(item)[1] > point(front[-1])[1] or point(item) == point(front[-1]):
             front.append(item)
     return front
 
