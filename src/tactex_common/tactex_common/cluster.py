@@ -12,6 +12,14 @@ A cluster's address is tried first (`check_reachable`): a connection, then the H
 greeting every gRPC server (Ray's head and its client server) answers with its settings.
 Ray's own client waits minutes, deaf to signals, for a head that is not there or for an
 answer from a program that is not Ray.
+
+Ray 2.60's servers listen on every network interface and cannot be told otherwise, so a
+local instance gets a token of its own (Ray's token authentication): a secret drawn once
+per process, in the environment the instance's processes inherit, which nothing else
+holds and nothing writes down (Ray's default keeps one in ~/.ray/auth_token, readable
+by every user of the machine). Ray reads these settings once, on import: a process that
+imported Ray before, or a user who set RAY_AUTH_MODE, RAY_AUTH_TOKEN or
+RAY_AUTH_TOKEN_PATH, keeps Ray's own way.
 """
 
 from __future__ import annotations
@@ -19,13 +27,18 @@ from __future__ import annotations
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass
+import functools
 import os
+import secrets
 import socket
+import sys
 from typing import Any
 
 from tactex_common.errors import ClusterError
 
 CONNECT_TIMEOUT_S = 10.0
+# Where Ray reads its token authentication settings; any of them set is the user's choice.
+AUTH_VARIABLES = ('RAY_AUTH_MODE', 'RAY_AUTH_TOKEN', 'RAY_AUTH_TOKEN_PATH')
 # The HTTP/2 client preface and an empty SETTINGS frame (RFC 9113, 3.4 and 6.5); a gRPC
 # server answers with a frame header whose type byte (the fourth) is SETTINGS, 0x4.
 HTTP2_GREETING = b'PRI * HTTP/2.0\r\n\r\nSM\r\n\r\n' + bytes([0, 0, 0, 4, 0, 0, 0, 0, 0])
@@ -39,6 +52,26 @@ class Resources:
 
     cpus: float = 1.0
     gpus: float = 0.0
+
+
+def own_token_applies(address: str | None) -> bool:
+    """Whether a session gets this process's token: a local instance, the user's choice unset.
+
+    Ray reads its authentication settings when first imported, so they apply only where
+    Ray was not imported yet or was imported under them (otherwise Ray's default holds).
+    """
+    return address is None and not any(name in os.environ for name in AUTH_VARIABLES) \
+        and ('ray' not in sys.modules or _own_token_imported_ray)
+
+
+# Whether this process imported Ray with its own token set (so later sessions keep it).
+_own_token_imported_ray = False
+
+
+@functools.cache
+def process_token() -> str:
+    """This process's secret for its local Ray instances (Ray's client caches the first)."""
+    return secrets.token_hex(32)
 
 
 @contextmanager
@@ -60,22 +93,31 @@ def ray_session(*, address: str | None = None, cpus: int | None = None) -> Itera
     if address is not None:
         check_reachable(address)
     os.environ.setdefault('RAY_USAGE_STATS_ENABLED', '0')  # never phone home
+    token = {'RAY_AUTH_MODE': 'token', 'RAY_AUTH_TOKEN': process_token()} \
+        if own_token_applies(address) else {}
+    os.environ.update(token)  # before Ray is imported: it reads them once
+    global _own_token_imported_ray
+    _own_token_imported_ray = _own_token_imported_ray or bool(token)
     import ray
     options = {'include_dashboard': False, 'log_to_driver': False,
                'logging_level': 'WARNING', 'configure_logging': True}
     try:
-        if address is None:
-            ray.init(address='local', num_cpus=cpus, **options)
-        else:
-            ray.init(address=address, **options)
-    except (ConnectionError, RuntimeError, ValueError) as err:
-        reason = (str(err).strip().splitlines() or [type(err).__name__])[0]
-        raise ClusterError(f'cannot start or reach Ray at {address or "a local instance"}: '
-                           f'{reason}') from None
-    try:
-        yield dict(ray.cluster_resources())
+        try:
+            if address is None:
+                ray.init(address='local', num_cpus=cpus, **options)
+            else:
+                ray.init(address=address, **options)
+        except (ConnectionError, RuntimeError, ValueError) as err:
+            reason = (str(err).strip().splitlines() or [type(err).__name__])[0]
+            raise ClusterError(f'cannot start or reach Ray at {address or "a local instance"}'
+                               f': {reason}') from None
+        try:
+            yield dict(ray.cluster_resources())
+        finally:
+            ray.shutdown()
     finally:
-        ray.shutdown()
+        for name in token:
+            os.environ.pop(name, None)
 
 
 def check_reachable(address: str, timeout_s: float = CONNECT_TIMEOUT_S) -> None:
