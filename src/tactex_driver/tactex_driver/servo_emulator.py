@@ -192,10 +192,6 @@ class ServoChainEmulator:
             servo.table[ct.HARDWARE_ERROR_STATUS] |= ct.ERROR_OVERLOAD
             servo.table[ct.TORQUE_ENABLE] = 0
 
-    def angles_rad(self) -> dict[int, float]:
-        """Present angle of every servo (rad)."""
-        return {i: float(ct.position_to_rad(s.position)) for i, s in self.servos.items()}
-
     # -- protocol -----------------------------------------------------------------------
     def _serve(self) -> None:
         buffer = bytearray()

@@ -80,5 +80,3 @@ DEFAULT = Size(name='default', textures=8, sweeps=4, folds=4, windows=(64, 128, 
                filter_rates_hz=(50.0, 100.0, 120.0, 200.0, 350.0),
                filter_gains=(0.01, 0.02, 0.03, 0.06, 0.1, 0.2, 0.3), job_sweeps=2,
                latency_calls=200, identify_movements=8, identify_sweeps=5, identify_seeds=10)
-
-SIZES = {size.name: size for size in (QUICK, DEFAULT)}

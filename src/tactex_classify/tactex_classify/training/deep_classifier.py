@@ -45,7 +45,6 @@ from tactex_common.constants import MAX_SEED
 from tactex_common.numbers import is_finite_number
 
 os.environ.setdefault('OMP_WAIT_POLICY', 'PASSIVE')  # no spinning next to ROS nodes
-CHECKPOINT_VERSION = 1
 INITS = ('keras', 'pytorch')
 MAX_THREADS = 256
 
@@ -216,8 +215,9 @@ class DeepClassifier(Deployable):
         self.model_ = build_model(config.model, self.window_, self.n_channels_,
                                   len(self.classes_), keras_init=config.init == 'keras'
                                   ).to(device)
-        self.reset_ = start_from(self.model_, config.pretrained, config.model, self.window_,
-                                 self.channels_, self.classes_) if config.pretrained else []
+        if config.pretrained:
+            start_from(self.model_, config.pretrained, config.model, self.window_,
+                       self.channels_, self.classes_)
         for layer in self.model_.modules():
             if isinstance(layer, torch.nn.BatchNorm1d):
                 layer.momentum = config.batchnorm_momentum
