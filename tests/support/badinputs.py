@@ -646,6 +646,10 @@ BAD_INPUTS = {
              'finite number >= 0.01 and <= 100000', OUT_NPZ),
         Case('import csv {w}/good --out {w}/o.npz --rate nan', 'argument --rate', OUT_NPZ),
         Case('import csv {w}/good --out {w}/o.npz --rate inf', 'argument --rate', OUT_NPZ),
+        Case('import mun {w}/mun --out {w}/o.npz --resample 350', '--resample apply to csv '
+             'only', OUT_NPZ),
+        Case('import csv {w}/good --out {w}/o.npz --rate 9 --resample 0', 'argument '
+             '--resample: must be a finite number >= 0.01 and <= 100000', OUT_NPZ),
         Case('import mun {w}/mun --out {w}/o.npz --rate 350', '--rate apply to csv only',
              OUT_NPZ),
         Case('import csv {w}/nothing --out {w}/o.npz --rate 9', 'ROOT .*nothing does not exist',

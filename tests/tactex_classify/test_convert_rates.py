@@ -232,6 +232,23 @@ def test_cli_mixed_rates_end_in_one_error_line_and_convert_with_resample(tmp_pat
     assert run_cli(capsys, *argv, '--resample', '50') == (0, [])
 
 
+def test_resampling_onto_a_recordings_own_rate_keeps_it(tmp_path, capsys):
+    record(tmp_path / 'bags' / 'fast', *sampled(120, 2.0), trial=0)
+    record(tmp_path / 'bags' / 'slow', *sampled(30, 2.0), trial=1)
+    out = tmp_path / 'd.npz'
+    assert run_cli(capsys, tmp_path / 'bags', '--out', out, '--window', '16', '--resample',
+                   '120') == (0, [])
+    rows = json.loads(out.with_suffix('.json').read_text())['recordings']
+    assert len(rows) == 2 and all(row['windows'] > 0 for row in rows)  # none skipped
+
+
+def test_at_the_measured_rate_resampling_only_makes_the_grid_uniform():
+    stamps, values = sampled(120, 1.0)
+    measured_hz = 1e9 / float(np.diff(stamps)[0])
+    [(kept_stamps, kept_values)] = resample(stamps, values, measured_hz, measured_hz)
+    assert np.array_equal(kept_stamps, stamps) and np.allclose(kept_values, values)
+
+
 @pytest.mark.parametrize('rate', ['0', '-30', 'nan', 'inf', 'fast', '1e6'])
 def test_cli_refuses_a_resample_rate_that_is_no_rate(tmp_path, capsys, rate):
     record(tmp_path / 'rec', *sampled(30, 1.0))

@@ -12,7 +12,7 @@ from support.hard_values import anything
 
 from tactex_classify.data.dataset import window_starts
 from tactex_classify.data.stream_alignment import align, Stream
-from tactex_common.stamps import gaps, mean_rate_hz
+from tactex_common.stamps import after_clock_resets, gaps, mean_rate_hz
 
 pytestmark = pytest.mark.hard_case
 
@@ -107,3 +107,29 @@ def test_the_mean_rate_of_whole_millisecond_stamps_is_the_true_rate():
     true_ns = np.arange(3500) * 1e9 / 350.0
     assert mean_rate_hz((np.floor(true_ns / 1e6) * 1e6).astype(np.int64)) == \
         pytest.approx(350.0, rel=1e-3)
+
+
+@given(st.lists(stamps, min_size=0, max_size=50))
+def test_after_clock_resets_any_stamps_keep_their_count_and_go_on_from_each_reset(values):
+    raw = np.array(values, dtype=np.int64)
+    try:
+        moved, resets = after_clock_resets(raw)
+    except OverflowError:
+        return  # refused: a part would pass int64 nanoseconds
+    assert moved.dtype == np.int64 and moved.size == raw.size and resets >= 0
+    steps = np.diff(moved)
+    if resets:  # every part now starts after the latest stamp before it
+        assert np.sum(steps < 0) < np.sum(np.diff(raw) < 0)
+    assert np.array_equal(np.diff(moved)[np.diff(raw) >= 0], np.diff(raw)[np.diff(raw) >= 0])
+
+
+def test_a_clock_that_restarts_gives_parts_that_follow_each_other_with_a_gap():
+    period = 4_000_000  # 250 Hz
+    part = np.arange(100, dtype=np.int64) * period
+    moved, resets = after_clock_resets(np.concatenate([part + 10**9, part]))  # back 1 s
+    assert resets == 1 and np.all(np.diff(moved) > 0)
+    assert gaps(moved).sum() == 1 and mean_rate_hz(moved) == pytest.approx(250.0)
+    swapped = part.copy()
+    swapped[[10, 11]] = swapped[[11, 10]]  # rows out of order by one period: sorting's
+    kept, resets = after_clock_resets(swapped)
+    assert resets == 0 and np.array_equal(kept, swapped)

@@ -439,6 +439,44 @@ def test_milliseconds_read_as_nanoseconds_are_refused_with_the_unit_that_fits(tm
         import_ramps(tmp_path, time_unit='ns')
 
 
+def test_a_clock_that_restarts_mid_file_gives_parts_windowed_on_their_own(tmp_path):
+    times = np.concatenate([np.arange(50) + 1000.0, np.arange(50)]) * 4  # ms, back 4 s
+    write_csv(tmp_path / 'wood' / 'a.csv', times, np.arange(100))
+    lines = []
+    data = import_ramps(tmp_path, time_unit='ms', progress=lines.append)
+    assert data.info['sampling_rate_hz'] == pytest.approx(250.0)
+    assert data.info['recordings'][0]['clock_resets'] == 1
+    assert 'its clock went back 1 time(s): each part windowed on its own' in lines[0]
+    # each window holds one part's ramp in order: no sample of the other part between
+    assert len(data.X) == 10 and np.all(np.diff(data.X[:, :, 0], axis=1) == 1)
+
+
+def rated_files(root, rates_hz):
+    """One CSV (time in s, pdc a ramp) of 200 rows per rate, in one class folder."""
+    for index, rate in enumerate(rates_hz):
+        write_csv(root / 'wood' / f'{index}.csv', np.arange(200) / rate, np.arange(200))
+
+
+def test_files_of_rates_further_apart_than_the_tolerance_are_refused_with_resample(tmp_path):
+    rated_files(tmp_path, [247.5, 250.0, 252.5, 255.0])
+    with pytest.raises(DatasetError, match=r'files differ in rate by more than 2 %: wood/0.csv '
+                                           r'247.5 Hz, wood/3.csv 255.0 Hz; give --resample HZ'):
+        import_ramps(tmp_path)
+
+
+def test_resample_puts_every_file_onto_one_rate(tmp_path):
+    rated_files(tmp_path, [247.5, 255.0])
+    lines = []
+    data = import_ramps(tmp_path, resample_hz=250.0, progress=lines.append)
+    assert data.info['sampling_rate_hz'] == 250.0
+    rows = data.info['recordings']
+    assert [row['resampled_from_hz'] for row in rows] == pytest.approx([247.5, 255.0])
+    assert {row['rate_hz'] for row in rows} == {250.0} and 'resampled from 247.5 Hz' in lines[0]
+    # 200 rows over 0.80 s and 0.78 s: about 201 and 196 samples at 250 Hz
+    assert [row['kept'] for row in rows] == [pytest.approx(201, abs=1),
+                                             pytest.approx(196, abs=1)]
+
+
 def test_hidden_folders_and_files_are_skipped_and_named(tmp_path):
     write_ramps(tmp_path, ['cork', 'felt'])
     write_ramps(tmp_path / '.ipynb_checkpoints', ['cork'])
@@ -525,8 +563,8 @@ def test_rows_sorted_into_time_order_are_reported_not_dropped(tmp_path):
 def test_files_of_different_rates_are_named_with_their_class(tmp_path):
     write_csv(tmp_path / 'cork' / 'run1.csv', np.arange(100) / 100.0, np.arange(100))
     write_csv(tmp_path / 'felt' / 'run1.csv', np.arange(100) / 50.0, np.arange(100))
-    with pytest.raises(DatasetError, match='differ in rate: felt/run1.csv 50.0 Hz, '
-                                           'cork/run1.csv 100.0 Hz'):
+    with pytest.raises(DatasetError, match='differ in rate by more than 2 %: felt/run1.csv '
+                                           '50.0 Hz, cork/run1.csv 100.0 Hz'):
         import_ramps(tmp_path)
 
 

@@ -46,3 +46,33 @@ def mean_rate_hz(stamps_ns: np.ndarray) -> float:
         return float('nan')
     steady = np.diff(stamps_ns)[~gaps(stamps_ns)]
     return 1e9 / float(np.mean(steady))
+
+
+def after_clock_resets(stamps_ns: np.ndarray) -> tuple[np.ndarray, int]:
+    """One clock's stamps with each part after a reset moved past the parts before it.
+
+    A step back by more than GAP_FACTOR median (forward) periods is the clock restarting,
+    not samples out of order: sorting would interleave the parts. Each later part is
+    moved to begin two gaps after the latest stamp before it, so the parts keep their
+    order and no window spans a reset; steps back within that are left to sorting.
+
+    Returns:
+        The stamps (int64; the input when nothing reset) and the number of resets.
+
+    Raises:
+        OverflowError: moving a part would carry a stamp past int64 nanoseconds.
+    """
+    stamps_ns = np.asarray(stamps_ns, dtype=np.int64)
+    steps = np.diff(stamps_ns)
+    forward = steps[steps > 0]
+    if forward.size == 0:
+        return stamps_ns, 0
+    allowed = GAP_FACTOR * float(np.median(forward))
+    resets = np.flatnonzero(steps < -allowed) + 1
+    moved = stamps_ns.copy()
+    for start in resets.tolist():
+        shift = int(moved[:start].max()) + int(2 * allowed) - int(moved[start])
+        if int(moved[start:].max()) + shift > np.iinfo(np.int64).max:
+            raise OverflowError('stamps past int64 nanoseconds after a clock reset')
+        moved[start:] += shift
+    return moved, int(resets.size)

@@ -42,6 +42,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help='csv: column of timestamps; gives the rate and the gaps')
     parser.add_argument('--time-unit', choices=['s', 'ms', 'us', 'ns'], default='s',
                         help='csv: unit of a numeric --time column (s)')
+    parser.add_argument('--resample', type=number(at_least=SAMPLING_RATE_RANGE_HZ[0],
+                                                  at_most=SAMPLING_RATE_RANGE_HZ[1]),
+                        metavar='HZ',
+                        help='csv: put every file onto this rate, as tactex convert --resample '
+                             'does (default: keep the measured rate; files more than 2 %% '
+                             'apart are refused)')
     parser.add_argument('--columns', type=text, metavar='NAME[=COLUMN],...',
                         help="csv: the dataset's channels in order; NAME alone reads the "
                              'column NAME, NAME=COLUMN renames (e.g. ax=acc_x,ay=acc_y,'
@@ -64,7 +70,7 @@ def run(args: argparse.Namespace) -> int:
         raise CommandError(f'--hop {hop} is longer than --window {args.window}; use a hop '
                            '<= the window')
     if args.kind == 'mun':
-        csv_only = [f'--{n}' for n in ('rate', 'time', 'columns', 'delimiter')
+        csv_only = [f'--{n}' for n in ('rate', 'time', 'columns', 'delimiter', 'resample')
                     if getattr(args, n) is not None]
         if csv_only:
             raise CommandError(f'{", ".join(csv_only)} apply to csv only; leave them out for mun')
@@ -82,7 +88,8 @@ def run(args: argparse.Namespace) -> int:
         columns = parse_channel_specs(args.columns) if args.columns else None
         dataset = import_csv(args.root, window=args.window, hop=hop, columns=columns,
                              rate_hz=args.rate, time_column=args.time,
-                             time_unit=args.time_unit, delimiter=delimiter)
+                             time_unit=args.time_unit, delimiter=delimiter,
+                             resample_hz=args.resample)
     path = dataset.save(out)
     print(f'wrote {path}: {len(dataset.X)} windows of {args.window} samples, '
           f'{len(dataset.classes)} classes, channels {",".join(dataset.channels)}, '

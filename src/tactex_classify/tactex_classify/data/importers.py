@@ -31,13 +31,14 @@ from tactex_classify.data.dataset import (
     WindowCollector,
 )
 from tactex_classify.data.pickles import load_frame, RefusedPickle
+from tactex_classify.data.resampling import resample
 from tactex_classify.data.stream_alignment import align, Stream
 from tactex_classify.errors import DatasetError
 from tactex_classify.models.checkpoint import SAMPLING_RATE_RANGE_HZ
 from tactex_common.channels import CHANNELS
 from tactex_common.errors import TableError
 from tactex_common.naming import natural_sorted
-from tactex_common.stamps import gaps, mean_rate_hz
+from tactex_common.stamps import after_clock_resets, gaps, mean_rate_hz
 from tactex_common.tables import read_table
 
 MUN_IMU_COLUMNS = ('imu_ax', 'imu_ay', 'imu_az', 'imu_gx', 'imu_gy', 'imu_gz', 'imu_mx',
@@ -93,27 +94,48 @@ def parse_channel_specs(text: str) -> list[ChannelSpec]:
 
 def _windows_of(path: Path, label: str, trial: int, stream: Stream, others: Sequence[Stream],
                 collector: WindowCollector, records: list, progress: Progress,
-                dropped: dict[str, int] | None = None) -> float:
+                dropped: dict[str, int] | None = None, clock_resets: int = 0,
+                resample_hz: float | None = None) -> float:
     """Align and window one recording, noting what was dropped and what sorted into time order.
 
+    With `resample_hz`, each gap-free run of the aligned samples is resampled onto that
+    rate (`resampling.resample`) before it is windowed.
+
     Returns:
-        Its sampling rate (mean over the gap-free runs), nan when it gave no window.
+        Its own sampling rate (mean over the gap-free runs), nan when it gave no window.
+
+    Raises:
+        DatasetError: its rate cannot be resampled onto `resample_hz` (the file named).
     """
     streams = [replace(s, values=_beyond_float32_as_inf(s.values)) for s in (stream, *others)]
     aligned = align(streams[0], streams[1:])
     reordered = aligned.reordered
     aligned.dropped.update(dropped or {})
-    count = collector.add(label, trial, aligned.stamps_ns, aligned.values)
     rate = mean_rate_hz(np.unique(stream.stamps_ns))  # of the clock: drops do not bias it
+    runs = [(aligned.stamps_ns, aligned.values)]
+    if resample_hz and np.isfinite(rate) and aligned.stamps_ns.size:
+        try:
+            runs = resample(aligned.stamps_ns, aligned.values, rate, resample_hz)
+        except ValueError as err:
+            raise DatasetError(f'{path}: {err}') from None
+    count = sum(collector.add(label, trial, stamps, values) for stamps, values in runs)
+    kept = sum(int(stamps.size) for stamps, _ in runs)
     records.append({'path': str(path), 'label': label, 'trial': trial,
-                    'samples': int(stream.stamps_ns.size), 'kept': int(aligned.stamps_ns.size),
-                    'longest_run_samples': _longest_run(aligned.stamps_ns), 'windows': count,
-                    'rate_hz': rate, 'dropped': aligned.dropped, 'reordered': reordered})
+                    'samples': int(stream.stamps_ns.size), 'kept': kept,
+                    'longest_run_samples': max((_longest_run(stamps) for stamps, _ in runs
+                                                if stamps.size), default=0),
+                    'windows': count, 'rate_hz': resample_hz or rate,
+                    **({'resampled_from_hz': rate} if resample_hz else {}),
+                    'clock_resets': clock_resets,
+                    'dropped': aligned.dropped, 'reordered': reordered})
     lost = {k: v for k, v in aligned.dropped.items() if v}
     moved = {k: v for k, v in reordered.items() if v}
-    progress(f'[{trial + 1}] {path}: {label}, {aligned.stamps_ns.size} samples, {count} '
-             f'windows' + (f'; dropped {lost}' if lost else '')
-             + (f'; sorted into time order {moved}' if moved else ''))
+    progress(f'[{trial + 1}] {path}: {label}, {kept} samples, {count} windows'
+             + (f', resampled from {rate:.4g} Hz' if resample_hz else '')
+             + (f'; dropped {lost}' if lost else '')
+             + (f'; sorted into time order {moved}' if moved else '')
+             + (f'; its clock went back {clock_resets} time(s): each part windowed on its '
+                'own' if clock_resets else ''))
     return rate if count else float('nan')
 
 
@@ -267,7 +289,7 @@ def _frame_stamps(frame) -> np.ndarray:
 def import_csv(root: Path, *, window: int, hop: int, columns: Sequence[ChannelSpec] | None = None,
                rate_hz: float | None = None, time_column: str | None = None,
                time_unit: str = 's', delimiter: str | None = None,
-               progress: Progress = _stderr) -> Dataset:
+               resample_hz: float | None = None, progress: Progress = _stderr) -> Dataset:
     """A folder of CSV files, one per trial, class from the parent folder's name.
 
     Args:
@@ -281,6 +303,8 @@ def import_csv(root: Path, *, window: int, hop: int, columns: Sequence[ChannelSp
             it gives the rate and the gaps.
         time_unit: unit of a numeric time column: s, ms, us or ns.
         delimiter: one character; sniffed from each header when None.
+        resample_hz: put every file onto this rate (files of different rates are
+            refused without it).
         progress: receives a line per file.
 
     Raises:
@@ -330,16 +354,23 @@ def import_csv(root: Path, *, window: int, hop: int, columns: Sequence[ChannelSp
                 timed = np.ones(len(table), dtype=bool)
         except TableError as err:
             raise DatasetError(str(err)) from None
+        try:  # a logger that restarted its clock mid-file: its parts follow each other
+            stamps, resets = after_clock_resets(stamps[timed])
+        except OverflowError:
+            raise DatasetError(f'{path}: its time column restarts so late that the parts do '
+                               'not fit in int64 nanoseconds; split the file at the restart'
+                               ) from None
         # A row without a time cannot be placed: dropped and counted.
-        stream = Stream('rows', tuple(s.name for s in specs), stamps[timed], values[timed])
+        stream = Stream('rows', tuple(s.name for s in specs), stamps, values[timed])
         rate = _windows_of(path, path.parent.name, trial, stream, [], collector, records,
-                           progress, {'rows_without_time': int(np.sum(~timed))})
+                           progress, {'rows_without_time': int(np.sum(~timed))}, resets,
+                           resample_hz)
         if np.isfinite(rate):
             rates[f'{path.parent.name}/{path.name}'] = rate
     if time_column:
         _check_time_unit(rates, time_unit)
     _check_windows({path.parent.name for path in files}, records, window)
-    info_rate = _common_rate(rates, rate_hz)
+    info_rate = float(resample_hz) if resample_hz else _common_rate(rates, rate_hz)
     return collector.dataset([s.name for s in specs], {
         'sampling_rate_hz': info_rate, 'filter': 'all samples (imported)',
         'source': str(root), 'columns': {s.name: s.column for s in specs},
@@ -445,8 +476,9 @@ def _common_rate(rates: dict[str, float], given: float | None) -> float:
     names = list(rates)
     low, high = min(names, key=rates.get), max(names, key=rates.get)
     if rates[high] > rates[low] * (1 + RATE_TOLERANCE):
-        raise DatasetError(f'files differ in rate: {low} {rates[low]:.1f} Hz, {high} '
-                           f'{rates[high]:.1f} Hz; import them separately')
+        raise DatasetError(f'files differ in rate by more than {100 * RATE_TOLERANCE:g} %: '
+                           f'{low} {rates[low]:.1f} Hz, {high} {rates[high]:.1f} Hz; give '
+                           '--resample HZ to put every file onto one rate')
     rate = float(np.median(list(rates.values())))
     if given and abs(rate - given) > given * RATE_TOLERANCE:
         raise DatasetError(f'--rate {given:g} Hz disagrees with the time column '

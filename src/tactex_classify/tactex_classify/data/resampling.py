@@ -95,7 +95,9 @@ def resample(stamps_ns: np.ndarray, values: np.ndarray, measured_hz: float, targ
     from scipy.signal import firwin  # scipy.signal takes seconds to import: only when used
     ratio = resampling_ratio(measured_hz, target_hz)
     longest = max(ratio.numerator, ratio.denominator)
-    taps = firwin(20 * longest + 1, 1 / longest, window=('kaiser', 5.0))  # resample_poly's
+    # resample_poly's filter; at the measured rate itself only the grid is made uniform
+    taps = firwin(20 * longest + 1, 1 / longest, window=('kaiser', 5.0)) if longest > 1 \
+        else np.ones(1)
     bounds = np.flatnonzero(gaps(stamps_ns)) + 1
     runs = [_resample_run(run_stamps, run_values, 1e9 / measured_hz, ratio, taps)
             for run_stamps, run_values in zip(np.split(stamps_ns, bounds),
