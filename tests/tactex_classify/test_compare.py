@@ -19,6 +19,7 @@ from tactex_classify.data.dataset import Dataset
 from tactex_classify.evaluation.grid_report import (
     cell_unconverged_because,
     cost_front,
+    fold_notes,
     pareto_front,
     summarise,
     table,
@@ -132,6 +133,27 @@ def test_a_cell_scores_its_own_test_fold_and_reports_its_cost(model):
     deep = model != 'extratrees'
     assert (result['epochs_run'] == 2) if deep else result['epochs_run'] is None
     assert (result['train_accuracy'] is not None) == deep
+
+
+def test_a_class_with_one_recording_is_named_where_a_fold_trained_without_it(tmp_path):
+    dataset = toy(recordings=4)
+    alone = dataset.trial == 0  # texture0 keeps only its first recording
+    keep = ~(dataset.y == 0) | alone
+    dataset = Dataset(dataset.X[keep], dataset.y[keep], dataset.trial[keep], dataset.t0[keep],
+                      dataset.classes, dataset.info)
+    results = [run_cell({64: dataset}, Cell(0, fold, 'grouped', 64, 'extratrees'),
+                        GridSettings(folds=2), 1, 'cpu') for fold in (1, 2)]
+    missing = [result['absent_from_training'] for result in results]
+    assert sorted(missing) == [[], ['texture0']]  # the fold that held it out
+    fold = 1 + missing.index(['texture0'])
+    assert fold_notes(results + results) == [f'window 64, grouped fold {fold}, seed 0: '
+                                             'texture0']  # every model shares the folds
+    manifest = {'settings': {'folds': 2, 'epochs': 4, 'early_stopping': 0},
+                'data': {'64': {'classes': dataset.classes, 'windows': len(dataset.y),
+                                'recordings': 9}}}
+    report = write_report(tmp_path, results, manifest).read_text(encoding='utf-8')
+    assert "absent from a fold's training windows" in report
+    assert f'- window 64, grouped fold {fold}, seed 0: texture0' in report
 
 
 def test_early_stopping_reports_the_chosen_epoch():

@@ -174,7 +174,7 @@ def check_mps(args: argparse.Namespace) -> None:
 def run_cells(args: argparse.Namespace, store, cells, datasets, settings, *,
               expected_cells: int, log) -> None:
     """Run the grid's missing cells on Ray, then write its report (also when stopped)."""
-    from tactex_classify.evaluation.grid_report import write_report
+    from tactex_classify.evaluation.grid_report import fold_notes, write_report
     from tactex_classify.evaluation.model_grid import run_grid
     from tactex_common.cluster import ray_session
     with ray_session(address=args.address, cpus=args.cpus) as resources:
@@ -189,8 +189,11 @@ def run_cells(args: argparse.Namespace, store, cells, datasets, settings, *,
             run_grid(store, cells, datasets, settings, threads=args.threads, device=device,
                      gpus_per_cell=1.0 / args.cells_per_gpu, progress=log)
         finally:
-            report = write_report(args.out, store.results(), store.manifest(),
+            results = store.results()
+            report = write_report(args.out, results, store.manifest(),
                                   expected_cells=expected_cells)
+            for note in fold_notes(results):
+                log(f'note: a class absent from training in {note}')
             log(f'report: {report}')
 
 

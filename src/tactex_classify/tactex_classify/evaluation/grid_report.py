@@ -211,6 +211,18 @@ def _model_label(model: str) -> str:
     return f'{model} (baseline)' if model in BASELINES else model
 
 
+def fold_notes(results: list[dict]) -> list[str]:
+    """One line per fold whose training windows lack a class (every model shares the folds)."""
+    absent = {}
+    for result in results:
+        cell = result['cell']
+        if result.get('absent_from_training'):  # cells kept before it was recorded: none
+            absent[(cell['window'], cell['scheme'], cell['seed'], cell['fold'])] = \
+                result['absent_from_training']
+    return [f'window {window}, {scheme} fold {fold}, seed {seed}: {", ".join(names)}'
+            for (window, scheme, seed, fold), names in sorted(absent.items())]
+
+
 def write_report(folder: Path, results: list[dict], manifest: dict, *,
                  expected_cells: int | None = None) -> Path:
     """Write summary.json, report.md, accuracy.png and cost.png into `folder`."""
@@ -238,6 +250,11 @@ def write_report(folder: Path, results: list[dict], manifest: dict, *,
              + '. Figures are mean ± sd over seeds and folds (%); training time is seconds '
              'per fold, latency the time to classify one window.', '',
              table(rows, expected_cells)]
+    notes = fold_notes(results)
+    if notes:
+        lines += ["Classes absent from a fold's training windows (too few recordings of "
+                  'them for the folds), so none of their held-out windows can be right there:',
+                  '', *(f'- {note}' for note in notes), '']
     if any(row['not_converged'] for row in rows):
         lines += ['A row marked (not converged) has a cell whose training loss was still '
                   'falling at its last epoch, or never fell below chance (the loss of '
