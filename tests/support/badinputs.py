@@ -319,6 +319,8 @@ BAD_INPUTS = {
         Case('predict {w}/minirocket {w}/nothing', 'RECORDING_OR_DATASET .*nothing does not '
              'exist'),
         Case('predict {w}/minirocket {w}/folder', 'no recordings or datasets in'),
+        Case('predict {w}/minirocket {w}/good/wood/a.csv', r'RECORDING_OR_DATASET .*a.csv is a '
+             'CSV table: make its folder of CLASS/\\*.csv a dataset with `tactex import csv`'),
         Case('predict {w}/minirocket {w}/data.npz --out {w}/text.txt', '--out .*text.txt is a '
              'file', '{w}/text.txt'),
         Case('predict {w}/minirocket {w}/data.npz --out {w}/full', '--out .*full already holds '

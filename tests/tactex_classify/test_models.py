@@ -66,8 +66,8 @@ def test_the_window_check_names_the_model_the_lengths_and_the_ways_out():
     assert (min_window('cnn_3'), min_window('cnn_1'), min_window('resnet')) == (76, 40, 1)
     check_window('cnn_3', 76)
     with pytest.raises(WindowError, match=r"^--model cnn_3 needs windows of at least 76 "
-                       r"samples, the data's are 64: convert with --window 76 or more, or "
-                       'choose another --model$'):
+                       r"samples, the data's are 64: convert \(or import\) with --window 76 "
+                       'or more, or choose another --model$'):
         check_window('cnn_3', 64)
 
 

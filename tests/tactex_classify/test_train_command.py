@@ -110,6 +110,6 @@ def test_a_model_needing_longer_windows_is_refused_before_any_training(tmp_path,
     captured = capsys.readouterr()
     assert captured.out == ''  # nothing trained, not even a fold begun
     assert captured.err == ("error: --model cnn_1 needs windows of at least 40 samples, the "
-                            "data's are 32: convert with --window 40 or more, or choose another "
-                            '--model\n')
+                            "data's are 32: convert (or import) with --window 40 or more, or "
+                            'choose another --model\n')
     assert not (tmp_path / 'run').exists()

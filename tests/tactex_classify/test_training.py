@@ -21,6 +21,7 @@ from tactex_classify.evaluation.cross_validation import (
     decision_measures,
     metrics,
     sequence_accuracy,
+    splits,
     threshold_decisions,
 )
 from tactex_classify.models.baselines import MiniRocketRidge, StatsExtraTrees
@@ -421,3 +422,16 @@ def test_a_dataset_keeps_its_channel_names_through_save_and_load(tmp_path):
     assert loaded.channels == THREE_AXES and loaded.X.shape[2] == 3
     with pytest.raises(DatasetError, match='3 channel names for 10 channels'):
         Dataset(toy().X, toy().y, toy().trial, toy().t0, CLASSES, {}, THREE_AXES)
+
+
+@pytest.mark.parametrize('scheme', ['grouped', 'stratified'])
+def test_more_folds_than_a_class_has_windows_warn_only_through_the_notes(scheme):
+    data = toy()  # 4 recordings of 6 windows per class
+    keep = (data.y != 0) | (data.trial == data.trial[data.y == 0][0])  # one of class 0
+    data = Dataset(data.X[keep], data.y[keep], data.trial[keep], data.t0[keep], data.classes,
+                   data.info)
+    with warnings.catch_warnings():
+        warnings.simplefilter('error')  # scikit-learn's count of class 0's windows stays out
+        folds = splits(data, scheme, 8, seed=0)
+    assert sorted(np.concatenate([test for _, test in folds]).tolist()) == \
+        list(range(len(data.y)))

@@ -61,6 +61,10 @@ def run(args: argparse.Namespace) -> int:
     for path in args.inputs:
         if not path.exists():
             raise CommandError(f'RECORDING_OR_DATASET {path} does not exist')
+        if path.suffix.lower() == '.csv':
+            raise CommandError(f'RECORDING_OR_DATASET {path} is a CSV table: make its folder '
+                               'of CLASS/*.csv a dataset with `tactex import csv`, which '
+                               'predict then reads')
     remaps = parse_topic_remaps(args.topic)
     predictor = load_predictor(args.checkpoint, args.runtime)
     info = predictor.info

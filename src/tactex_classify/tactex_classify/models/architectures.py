@@ -309,5 +309,5 @@ def check_window(name: str, window: int) -> None:
     needed = min_window(name)
     if window < needed:
         raise WindowError(f'--model {name} needs windows of at least {needed} samples, the '
-                          f"data's are {window}: convert with --window {needed} or more, or "
-                          'choose another --model')
+                          f"data's are {window}: convert (or import) with --window {needed} or "
+                          'more, or choose another --model')
