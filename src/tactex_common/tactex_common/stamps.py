@@ -8,6 +8,8 @@ import numpy as np
 
 # A step longer than this many median periods is a gap: windows never cross one.
 GAP_FACTOR = 2.5
+# A step back stays behind for this many samples when the clock restarted (not late ones).
+RESET_SAMPLES = 3
 
 
 def stamp_ns(stamp) -> int:
@@ -51,10 +53,12 @@ def mean_rate_hz(stamps_ns: np.ndarray) -> float:
 def after_clock_resets(stamps_ns: np.ndarray) -> tuple[np.ndarray, int]:
     """One clock's stamps with each part after a reset moved past the parts before it.
 
-    A step back by more than GAP_FACTOR median (forward) periods is the clock restarting,
-    not samples out of order: sorting would interleave the parts. Each later part is
-    moved to begin two gaps after the latest stamp before it, so the parts keep their
-    order and no window spans a reset; steps back within that are left to sorting.
+    A step back by more than GAP_FACTOR median (forward) periods, after which the next
+    RESET_SAMPLES stamps all stay that far behind the latest before it, is the clock
+    restarting: sorting would interleave the parts. Each later part is moved to begin two
+    gaps after the latest stamp before it, so the parts keep their order and no window
+    spans a reset. A lone late sample (the stamps after it are ahead again) is left to
+    sorting.
 
     Returns:
         The stamps (int64; the input when nothing reset) and the number of resets.
@@ -68,11 +72,15 @@ def after_clock_resets(stamps_ns: np.ndarray) -> tuple[np.ndarray, int]:
     if forward.size == 0:
         return stamps_ns, 0
     allowed = GAP_FACTOR * float(np.median(forward))
-    resets = np.flatnonzero(steps < -allowed) + 1
-    moved = stamps_ns.copy()
-    for start in resets.tolist():
-        shift = int(moved[:start].max()) + int(2 * allowed) - int(moved[start])
+    moved, resets = stamps_ns.copy(), 0
+    for start in (np.flatnonzero(steps < -allowed) + 1).tolist():
+        latest = int(moved[:start].max())
+        following = moved[start:start + RESET_SAMPLES]
+        if following.size < RESET_SAMPLES or np.any(following >= latest - allowed):
+            continue  # late samples, not a restarted clock
+        shift = latest + int(2 * allowed) - int(moved[start])
         if int(moved[start:].max()) + shift > np.iinfo(np.int64).max:
             raise OverflowError('stamps past int64 nanoseconds after a clock reset')
         moved[start:] += shift
-    return moved, int(resets.size)
+        resets += 1
+    return moved, resets
