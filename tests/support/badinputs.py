@@ -418,7 +418,7 @@ BAD_INPUTS = {
              '{w}/run'),
         Case('train {w}/data.npz --out {w}/run --model cnn_3 --epochs 1 --folds 2',
              "--model cnn_3 needs windows of at least 76 samples, the data's are 32: convert "
-             'with --window 76 or more, or choose another --model', '{w}/run'),
+             r'\(or import\) with --window 76 or more, or choose another --model', '{w}/run'),
         Case('train {w}/data.npz --out {w}/run --init {w}/nothing', '--init .*nothing does not '
              'exist', '{w}/run'),
         Case('train {w}/data.npz --out {w}/run --init {w}/trained', '--init: .*trained: missing '

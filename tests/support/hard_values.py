@@ -31,7 +31,7 @@ def parsed_numbers() -> st.SearchStrategy:
 
 def finite_as_float(value) -> bool:
     """Whether `value` (not a bool) converts to a finite float: the oracle of the checks."""
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.number)):
         return False
     try:
         return math.isfinite(float(value))

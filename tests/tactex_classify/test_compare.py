@@ -339,8 +339,9 @@ def test_the_pareto_front_keeps_the_points_no_other_beats_in_cost_and_accuracy()
     ([(math.nan, 50.0), (1.0, 60.0), (2.0, 70.0), (0.5, 40.0)],
      [(0.5, 40.0), (1.0, 60.0), (2.0, 70.0)]),
     ([(math.inf, 99.0), (1.0, 60.0)], [(1.0, 60.0)]),
+    ([(10**400, 99.0), (1.0, 60.0)], [(1.0, 60.0)]),  # a hand-edited summary's number
     ([(1.0, 60.0), (1.0, 60.0), (2.0, 60.0)], [(1.0, 60.0), (1.0, 60.0)]),
-], ids=['nan-accuracy', 'nan-cost', 'inf-cost', 'ties'])
+], ids=['nan-accuracy', 'nan-cost', 'inf-cost', 'huge-cost', 'ties'])
 def test_points_that_cannot_be_compared_stay_off_the_front_and_ties_share_it(points, front):
     assert pareto_front(points) == front
 

@@ -244,9 +244,15 @@ def test_resampling_onto_a_recordings_own_rate_keeps_it(tmp_path, capsys):
 
 def test_at_the_measured_rate_resampling_only_makes_the_grid_uniform():
     stamps, values = sampled(120, 1.0)
-    measured_hz = 1e9 / float(np.diff(stamps)[0])
-    [(kept_stamps, kept_values)] = resample(stamps, values, measured_hz, measured_hz)
-    assert np.array_equal(kept_stamps, stamps) and np.allclose(kept_values, values)
+    period = float(np.diff(stamps)[0])
+    jittered = stamps + np.round(np.random.default_rng(0).uniform(-0.2, 0.2, stamps.size)
+                                 * period).astype(np.int64)
+    jittered[0] = stamps[0]
+    [(grid, on_grid)] = resample(jittered, values, 1e9 / period, 1e9 / period)
+    assert np.all(np.abs(np.diff(grid) - period) <= 1)  # uniform, at the same rate
+    # a ramp interpolated onto the grid: the ramp's value at each grid stamp
+    expected = np.interp(grid, jittered, values[:, 0])
+    assert np.allclose(on_grid[:, 0], expected)
 
 
 @pytest.mark.parametrize('rate', ['0', '-30', 'nan', 'inf', 'fast', '1e6'])

@@ -134,3 +134,13 @@ def test_a_clock_that_restarts_gives_parts_that_follow_each_other_with_a_gap():
         shuffled[20], shuffled[20 - late:20] = part[20 - late], part[20 - late + 1:21]
         kept, resets = after_clock_resets(shuffled)
         assert resets == 0 and np.array_equal(kept, shuffled)  # left to sorting
+    flushed = np.concatenate([part[:10], part[13:30], part[10:13], part[30:]])  # 3 rows late
+    kept, resets = after_clock_resets(flushed)
+    assert resets == 0 and np.array_equal(kept, flushed)
+
+
+def test_a_clock_reset_at_the_end_of_a_file_still_counts():
+    period = 4_000_000
+    stamps = np.concatenate([np.arange(50), np.arange(2)]).astype(np.int64) * period
+    moved, resets = after_clock_resets(stamps)
+    assert resets == 1 and np.all(np.diff(moved) > 0)

@@ -472,9 +472,25 @@ def test_resample_puts_every_file_onto_one_rate(tmp_path):
     rows = data.info['recordings']
     assert [row['resampled_from_hz'] for row in rows] == pytest.approx([247.5, 255.0])
     assert {row['rate_hz'] for row in rows} == {250.0} and 'resampled from 247.5 Hz' in lines[0]
+    assert [row['kept'] for row in rows] == [200, 200]  # rows of the file, as without
     # 200 rows over 0.80 s and 0.78 s: about 201 and 196 samples at 250 Hz
-    assert [row['kept'] for row in rows] == [pytest.approx(201, abs=1),
-                                             pytest.approx(196, abs=1)]
+    assert [row['resampled_samples'] for row in rows] == [pytest.approx(201, abs=1),
+                                                          pytest.approx(196, abs=1)]
+
+
+def test_a_time_unit_mistaken_is_refused_before_any_file_is_resampled(tmp_path):
+    rated_files(tmp_path, [250.0])  # seconds, read as milliseconds: 250 kHz
+    with pytest.raises(DatasetError, match=r'wood/0.csv: its time column in ms gives 2.5e\+05 '
+                                           r'Hz, too fast .*give --time-unit s \(250 Hz\)'):
+        import_ramps(tmp_path, time_unit='ms', resample_hz=250.0)
+
+
+def test_with_resample_a_rate_given_beside_the_time_column_is_still_checked(tmp_path):
+    rated_files(tmp_path, [250.0])
+    with pytest.raises(DatasetError, match='--rate 100 Hz disagrees with the time column'):
+        import_ramps(tmp_path, rate_hz=100.0, resample_hz=250.0)
+    with pytest.raises(DatasetError, match='resampling rate must be a finite number > 0 Hz'):
+        import_ramps(tmp_path, resample_hz=0.0)
 
 
 def test_hidden_folders_and_files_are_skipped_and_named(tmp_path):

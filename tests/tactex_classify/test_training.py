@@ -425,7 +425,7 @@ def test_a_dataset_keeps_its_channel_names_through_save_and_load(tmp_path):
 
 
 @pytest.mark.parametrize('scheme', ['grouped', 'stratified'])
-def test_more_folds_than_a_class_has_windows_warn_only_through_the_notes(scheme):
+def test_more_folds_than_a_class_has_windows_raise_no_scikit_learn_warning(scheme):
     data = toy()  # 4 recordings of 6 windows per class
     keep = (data.y != 0) | (data.trial == data.trial[data.y == 0][0])  # one of class 0
     data = Dataset(data.X[keep], data.y[keep], data.trial[keep], data.t0[keep], data.classes,

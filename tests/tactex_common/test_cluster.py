@@ -109,6 +109,7 @@ def test_a_local_instance_runs_under_a_secret_token_that_nothing_writes_down(no_
     ('10.0.0.1:6379', None, None, False),  # a cluster's token is its own
     (None, ('RAY_AUTH_MODE', 'disabled'), None, False),  # the user's choice
     (None, ('RAY_AUTH_TOKEN_PATH', '/etc/ray/token'), None, False),
+    (None, ('RAY_AUTH_MODE', ''), None, True),  # empty: unset
     (None, None, 'without it', False),  # Ray read its settings when imported
     (None, None, 'under it', True),
 ])

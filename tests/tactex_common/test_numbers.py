@@ -4,6 +4,7 @@
 
 from hypothesis import example, given
 from hypothesis import strategies as st
+import numpy as np
 import pytest
 from support.hard_values import finite_as_float, HUGE_INTEGERS, parsed_numbers
 
@@ -23,6 +24,13 @@ def test_a_whole_number_past_the_float_range_is_refused_like_inf(value):
     assert not is_finite_number(value)
 
 
-@pytest.mark.parametrize('value', [True, False, '1', None, [1.0]])
+@pytest.mark.parametrize('value', [True, False, np.bool_(True), '1', None, [1.0], 1j])
 def test_booleans_and_non_numbers_are_not_numbers(value):
     assert not is_finite_number(value)
+
+
+@pytest.mark.parametrize('value, finite', [(np.float32(1.5), True), (np.int64(-3), True),
+                                           (np.float64('nan'), False), (np.float32('inf'),
+                                                                         False)])
+def test_numpys_numbers_are_numbers(value, finite):
+    assert is_finite_number(value) is finite

@@ -106,7 +106,8 @@ def test_file_names_statuses_in_lower_case(tmp_path):
     (lambda d: d['parameters'].update(step=0.0), 'step must be in'),
     # JSON reads a long whole number as an int past the float range
     (lambda d: d['parameters'].update(step=10**400), 'step must be in'),
-    (lambda d: d['parameters'].update(start=[10**400, 0, 0]), 'start must be 3 numbers'),
+    (lambda d: d['parameters'].update(start=[10**400, 0, 0]),
+     'start must be 3 finite numbers'),
     (lambda d: d['probes'][0].update(confidence=10**400), 'confidence must be a finite number'),
     (lambda d: d.update(probes='none'), 'probes must be a list'),
 ])

@@ -17,9 +17,9 @@ Ray 2.60's servers listen on every network interface and cannot be told otherwis
 local instance gets a token of its own (Ray's token authentication): a secret drawn once
 per process, in the environment the instance's processes inherit, which nothing else
 holds and nothing writes down (Ray's default keeps one in ~/.ray/auth_token, readable
-by every user of the machine). Ray reads these settings once, on import: a process that
-imported Ray before, or a user who set RAY_AUTH_MODE, RAY_AUTH_TOKEN or
-RAY_AUTH_TOKEN_PATH, keeps Ray's own way.
+by every user of the machine). A process whose Ray was imported before without that
+token (measured: its next local instance then fails to start), or a user who set
+RAY_AUTH_MODE, RAY_AUTH_TOKEN or RAY_AUTH_TOKEN_PATH, keeps Ray's own way.
 """
 
 from __future__ import annotations
@@ -57,10 +57,11 @@ class Resources:
 def own_token_applies(address: str | None) -> bool:
     """Whether a session gets this process's token: a local instance, the user's choice unset.
 
-    Ray reads its authentication settings when first imported, so they apply only where
-    Ray was not imported yet or was imported under them (otherwise Ray's default holds).
+    Only where Ray was not imported yet or was imported under the token: a Ray imported
+    without it did not start an instance under a token set later (see the module's text).
+    An empty variable counts as unset.
     """
-    return address is None and not any(name in os.environ for name in AUTH_VARIABLES) \
+    return address is None and not any(os.environ.get(name) for name in AUTH_VARIABLES) \
         and ('ray' not in sys.modules or _own_token_imported_ray)
 
 
@@ -95,13 +96,14 @@ def ray_session(*, address: str | None = None, cpus: int | None = None) -> Itera
     os.environ.setdefault('RAY_USAGE_STATS_ENABLED', '0')  # never phone home
     token = {'RAY_AUTH_MODE': 'token', 'RAY_AUTH_TOKEN': process_token()} \
         if own_token_applies(address) else {}
-    os.environ.update(token)  # before Ray is imported: it reads them once
+    before = {name: os.environ.get(name) for name in token}
+    os.environ.update(token)  # before Ray is imported
     global _own_token_imported_ray
     _own_token_imported_ray = _own_token_imported_ray or bool(token)
-    import ray
     options = {'include_dashboard': False, 'log_to_driver': False,
                'logging_level': 'WARNING', 'configure_logging': True}
     try:
+        import ray
         try:
             if address is None:
                 ray.init(address='local', num_cpus=cpus, **options)
@@ -116,8 +118,11 @@ def ray_session(*, address: str | None = None, cpus: int | None = None) -> Itera
         finally:
             ray.shutdown()
     finally:
-        for name in token:
-            os.environ.pop(name, None)
+        for name, value in before.items():
+            if value is None:
+                os.environ.pop(name, None)
+            else:
+                os.environ[name] = value
 
 
 def check_reachable(address: str, timeout_s: float = CONNECT_TIMEOUT_S) -> None:

@@ -8,8 +8,6 @@ import numpy as np
 
 # A step longer than this many median periods is a gap: windows never cross one.
 GAP_FACTOR = 2.5
-# A step back stays behind for this many samples when the clock restarted (not late ones).
-RESET_SAMPLES = 3
 
 
 def stamp_ns(stamp) -> int:
@@ -53,12 +51,12 @@ def mean_rate_hz(stamps_ns: np.ndarray) -> float:
 def after_clock_resets(stamps_ns: np.ndarray) -> tuple[np.ndarray, int]:
     """One clock's stamps with each part after a reset moved past the parts before it.
 
-    A step back by more than GAP_FACTOR median (forward) periods, after which the next
-    RESET_SAMPLES stamps all stay that far behind the latest before it, is the clock
-    restarting: sorting would interleave the parts. Each later part is moved to begin two
-    gaps after the latest stamp before it, so the parts keep their order and no window
-    spans a reset. A lone late sample (the stamps after it are ahead again) is left to
-    sorting.
+    A step back by more than GAP_FACTOR median (forward) periods is either late samples
+    (a buffer flushed late: the stamps after them jump forward again, back to where the
+    stream was) or the clock restarting (the stamps go on from there, with no such jump
+    back). Late samples are left to sorting. After a restart sorting would interleave the
+    parts, so each later part is moved to begin two gaps after the latest stamp before
+    it: the parts keep their order and no window spans a reset.
 
     Returns:
         The stamps (int64; the input when nothing reset) and the number of resets.
@@ -75,9 +73,9 @@ def after_clock_resets(stamps_ns: np.ndarray) -> tuple[np.ndarray, int]:
     moved, resets = stamps_ns.copy(), 0
     for start in (np.flatnonzero(steps < -allowed) + 1).tolist():
         latest = int(moved[:start].max())
-        following = moved[start:start + RESET_SAMPLES]
-        if following.size < RESET_SAMPLES or np.any(following >= latest - allowed):
-            continue  # late samples, not a restarted clock
+        back = np.flatnonzero(moved[start:] >= latest - allowed)  # where it rejoins
+        if back.size and moved[start + back[0]] - moved[start + back[0] - 1] > allowed:
+            continue  # late samples: the stream jumps back to where it was
         shift = latest + int(2 * allowed) - int(moved[start])
         if int(moved[start:].max()) + shift > np.iinfo(np.int64).max:
             raise OverflowError('stamps past int64 nanoseconds after a clock reset')

@@ -96,8 +96,10 @@ PARAMETER_RANGES: dict[str, ParameterRange] = {
 def _vector(value: Any, name: str) -> Vector3:
     try:
         vector = tuple(float(v) for v in value)
-    except (TypeError, ValueError, OverflowError):  # a whole number past the float range
+    except (TypeError, ValueError):
         raise ParameterError(f'{name} must be 3 numbers, got {value!r}') from None
+    except OverflowError:  # a whole number past the float range
+        raise ParameterError(f'{name} must be 3 finite numbers, got {value!r}') from None
     if len(vector) != 3 or not all(math.isfinite(v) for v in vector):
         raise ParameterError(f'{name} must be 3 finite numbers, got {value!r}')
     return vector

@@ -81,8 +81,7 @@ def run(args: argparse.Namespace) -> int:
     recordings = recording_paths([p for p in args.inputs if p.suffix != '.npz'],
                                  progress=lambda line: print(line, file=sys.stderr))
     if not datasets and not recordings:
-        tables = [p for p in args.inputs if p.suffix.lower() == '.csv' or p.is_dir()
-                  and any(p.rglob('*.csv'))]
+        tables = [p for p in args.inputs if p.is_dir() and any(p.rglob('*.csv'))]
         raise CommandError('no recordings or datasets in '
                            f'{", ".join(map(str, args.inputs))}'
                            + ('; CSV tables become a dataset with `tactex import csv`, '

@@ -119,19 +119,22 @@ def _windows_of(path: Path, label: str, trial: int, stream: Stream, others: Sequ
         except ValueError as err:
             raise DatasetError(f'{path}: {err}') from None
     count = sum(collector.add(label, trial, stamps, values) for stamps, values in runs)
-    kept = sum(int(stamps.size) for stamps, _ in runs)
+    resampled = sum(int(stamps.size) for stamps, _ in runs)
+    kept = int(aligned.stamps_ns.size)
     records.append({'path': str(path), 'label': label, 'trial': trial,
                     'samples': int(stream.stamps_ns.size), 'kept': kept,
                     'longest_run_samples': max((_longest_run(stamps) for stamps, _ in runs
                                                 if stamps.size), default=0),
                     'windows': count, 'rate_hz': resample_hz or rate,
-                    **({'resampled_from_hz': rate} if resample_hz else {}),
+                    **({'resampled_from_hz': rate, 'resampled_samples': resampled}
+                       if resample_hz else {}),
                     'clock_resets': clock_resets,
                     'dropped': aligned.dropped, 'reordered': reordered})
     lost = {k: v for k, v in aligned.dropped.items() if v}
     moved = {k: v for k, v in reordered.items() if v}
     progress(f'[{trial + 1}] {path}: {label}, {kept} samples, {count} windows'
-             + (f', resampled from {rate:.4g} Hz' if resample_hz else '')
+             + (f', resampled from {rate:.4g} Hz to {resampled} samples' if resample_hz
+                else '')
              + (f'; dropped {lost}' if lost else '')
              + (f'; sorted into time order {moved}' if moved else '')
              + (f'; its clock went back {clock_resets} time(s): each part windowed on its '
@@ -314,8 +317,9 @@ def import_csv(root: Path, *, window: int, hop: int, columns: Sequence[ChannelSp
     """
     check_window(window, hop)
     specs = list(columns) if columns else [ChannelSpec(c, c) for c in CHANNELS]
-    if rate_hz is not None and not (np.isfinite(rate_hz) and rate_hz > 0):
-        raise DatasetError(f'the rate must be a finite number > 0 Hz, got {rate_hz!r}')
+    for name, given in (('rate', rate_hz), ('resampling rate', resample_hz)):
+        if given is not None and not (np.isfinite(given) and given > 0):
+            raise DatasetError(f'the {name} must be a finite number > 0 Hz, got {given!r}')
     if rate_hz is None and time_column is None:
         raise DatasetError('give the sampling rate (--rate HZ) or a timestamp column '
                            '(--time COLUMN)')
@@ -360,6 +364,9 @@ def import_csv(root: Path, *, window: int, hop: int, columns: Sequence[ChannelSp
             raise DatasetError(f'{path}: its time column restarts so late that the parts do '
                                'not fit in int64 nanoseconds; split the file at the restart'
                                ) from None
+        own_rate = mean_rate_hz(np.unique(stamps))
+        if time_column and np.isfinite(own_rate):  # before anything is resampled
+            _check_time_unit({f'{path.parent.name}/{path.name}': own_rate}, time_unit)
         # A row without a time cannot be placed: dropped and counted.
         stream = Stream('rows', tuple(s.name for s in specs), stamps, values[timed])
         rate = _windows_of(path, path.parent.name, trial, stream, [], collector, records,
@@ -367,9 +374,9 @@ def import_csv(root: Path, *, window: int, hop: int, columns: Sequence[ChannelSp
                            resample_hz)
         if np.isfinite(rate):
             rates[f'{path.parent.name}/{path.name}'] = rate
-    if time_column:
-        _check_time_unit(rates, time_unit)
     _check_windows({path.parent.name for path in files}, records, window)
+    if resample_hz:
+        _check_given_rate(rates, rate_hz)
     info_rate = float(resample_hz) if resample_hz else _common_rate(rates, rate_hz)
     return collector.dataset([s.name for s in specs], {
         'sampling_rate_hz': info_rate, 'filter': 'all samples (imported)',
@@ -479,8 +486,13 @@ def _common_rate(rates: dict[str, float], given: float | None) -> float:
         raise DatasetError(f'files differ in rate by more than {100 * RATE_TOLERANCE:g} %: '
                            f'{low} {rates[low]:.1f} Hz, {high} {rates[high]:.1f} Hz; give '
                            '--resample HZ to put every file onto one rate')
-    rate = float(np.median(list(rates.values())))
+    _check_given_rate(rates, given)
+    return float(np.median(list(rates.values())))
+
+
+def _check_given_rate(rates: dict[str, float], given: float | None) -> None:
+    """Refuse a --rate that the files' median rate is more than RATE_TOLERANCE from."""
+    rate = float(np.median(list(rates.values()))) if rates else float('nan')
     if given and abs(rate - given) > given * RATE_TOLERANCE:
         raise DatasetError(f'--rate {given:g} Hz disagrees with the time column '
                            f'({rate:.1f} Hz); leave --rate out or fix it')
-    return rate

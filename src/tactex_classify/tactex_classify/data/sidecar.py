@@ -5,6 +5,7 @@
 from __future__ import annotations
 
 from pathlib import Path
+import reprlib
 
 from tactex_classify.errors import DatasetError
 from tactex_classify.models.checkpoint import SAMPLING_RATE_RANGE_HZ
@@ -37,7 +38,8 @@ def check_sidecar_stream(sidecar: dict, window: int | None, path: Path) -> None:
     rate, (low, high) = sidecar.get('sampling_rate_hz'), SAMPLING_RATE_RANGE_HZ
     if rate is not None and not (is_finite_number(rate) and low <= rate <= high):
         raise DatasetError(f'{path}: sampling_rate_hz must be a finite number in {low:g}..'
-                           f'{high:g} Hz, got {rate!r}: convert or import the recordings again')
+                           f'{high:g} Hz, got {reprlib.repr(rate)}: convert or import the '
+                           'recordings again')
     stated = sidecar.get('window')
     if stated is not None and window is not None and stated != window:
         raise DatasetError(f'{path}: window {stated!r} but the dataset holds {window}-sample '

@@ -39,8 +39,8 @@ def splits(dataset: Dataset, scheme: str, folds: int, seed: int):
     """Train/test index pairs of a scheme (grouped keeps recordings whole).
 
     scikit-learn's warning that a class has fewer members (windows) than folds is left
-    out: what it means for a fold, a class absent from its training or test windows, is
-    noted per fold by `cross_validate` and tactex compare.
+    out: what it means for a fold is noted per fold instead, by `cross_validate` (a class
+    absent from its training or test windows) and tactex compare (from its training).
     """
     if scheme not in SCHEMES:
         raise ValueError(f'unknown scheme {scheme!r}; known: {", ".join(SCHEMES)}')

@@ -14,7 +14,6 @@ from __future__ import annotations
 from collections import defaultdict
 from collections.abc import Callable
 import json
-import math
 from pathlib import Path
 
 import numpy as np
@@ -23,6 +22,7 @@ from tactex_classify.evaluation.cross_validation import confusion, metrics
 from tactex_classify.models.registry import ALL_MODELS, BASELINES, SCHEMES
 from tactex_classify.training.convergence import unconverged_because
 from tactex_common import plotting
+from tactex_common.numbers import is_finite_number
 
 SCHEME_LABELS = {'grouped': 'grouped by recording (honest)',
                  'stratified': 'stratified windows (leaky)'}
@@ -299,7 +299,7 @@ def pareto_front(items: list, point: Callable = lambda item: item) -> list:
     Items at the same point are all on the front or all off it. An item whose cost or
     accuracy is not finite (NaN from a corrupt file) cannot be compared, so is left off.
     """
-    comparable = [item for item in items if all(math.isfinite(float(v)) for v in point(item))]
+    comparable = [item for item in items if all(is_finite_number(v) for v in point(item))]
     front: list = []
     for item in sorted(comparable, key=lambda item: (point(item)[0], -point(item)[1])):
         if not front or point(item)[1] > point(front[-1])[1] or point(item) == point(front[-1]):

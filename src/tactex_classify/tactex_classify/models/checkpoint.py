@@ -27,6 +27,7 @@ import importlib
 import json
 import os
 from pathlib import Path
+import reprlib
 import secrets
 
 from tactex_classify.errors import CheckpointError
@@ -98,7 +99,7 @@ class StreamSpec:
         rate, (low, high) = self.sampling_rate_hz, SAMPLING_RATE_RANGE_HZ
         if not (is_finite_number(rate) and low <= rate <= high):
             raise ValueError(f'sampling_rate_hz must be a finite number in {low:g}..{high:g} '
-                             f'Hz, got {rate!r}')
+                             f'Hz, got {reprlib.repr(rate)}')
 
     @property
     def window_s(self) -> float:
