@@ -131,6 +131,7 @@ def test_a_websocket_client_sees_every_channel_with_its_schema_and_the_messages(
         ros_context, tmp_path):
     from geometry_msgs.msg import Point, Vector3
     from sensor_msgs.msg import FluidPressure, Imu, JointState
+    from std_msgs.msg import Bool
 
     from tactex.launching.environment import ros_environment
     from tactex_common.ros import COMMAND, LATCHED
@@ -148,6 +149,7 @@ def test_a_websocket_client_sees_every_channel_with_its_schema_and_the_messages(
     joints = node.create_publisher(JointState, 'joint_states', COMMAND)
     pathway = node.create_publisher(Pathway, 'probe/pathway', LATCHED)
     estimate = node.create_publisher(TextureEstimate, 'texture/estimate', COMMAND)
+    active = node.create_publisher(Bool, 'sweep/active', COMMAND)  # sweep_node's QoS
 
     def publish():
         stamp = node.get_clock().now().to_msg()
@@ -170,6 +172,7 @@ def test_a_websocket_client_sees_every_channel_with_its_schema_and_the_messages(
             raw.publish(sample)
         pathway.publish(Pathway(contacts=[Contact(position=Point(x=0.1, z=0.01),
                                                   normal=Vector3(z=1.0))]))
+        active.publish(Bool(data=True))
 
     try:
         assert wait_for(lambda: f'ws://127.0.0.1:{port}' in log.read_text(), 30), \
@@ -177,7 +180,7 @@ def test_a_websocket_client_sees_every_channel_with_its_schema_and_the_messages(
         # Discovery of the ROS side: the view subscribes to each topic (a fixed wait lost
         # the samples on a loaded machine).
         assert wait_for(lambda: all(publisher.get_subscription_count() for publisher in
-                                    (raw, pressure, joints, estimate)), 30)
+                                    (raw, pressure, joints, estimate, active)), 30)
         channels, payloads = asyncio.run(subscribe_all(
             port, 4.0, channels_expected=len(CHANNELS), ready=publish))
     finally:
@@ -196,6 +199,7 @@ def test_a_websocket_client_sees_every_channel_with_its_schema_and_the_messages(
     assert imu['linear_acceleration'] == pytest.approx({'x': 0.1, 'y': 0.2, 'z': 9.8})
     assert imu['angular_velocity']['x'] is None  # NaN travels as null: valid JSON
     assert received['/tactile/pressure'][0] == {'fluid_pressure': 101325.0}
+    assert received['/sweep/active'] == [{'active': True}]
     assert received['/texture/estimate'][0]['probabilities'] == {'cork': 0.25, 'wood': 0.75}
     transforms = {t.child_frame_id: t for t in received[TF_CHANNEL][0].transforms}
     q = transforms[OPEN_MANIPULATOR_X.joint('joint1').child].rotation  # about z

@@ -97,7 +97,7 @@ class ViewNode(TactexNode):
         self.create_subscription(FluidPressure, topics.PRESSURE, self._on_pressure, SENSOR_DATA)
         self.create_subscription(JointState, topics.JOINT_STATES, self._on_joints, COMMAND)
         self.create_subscription(Pathway, topics.PROBE_PATHWAY, self._on_pathway, LATCHED)
-        self.create_subscription(Bool, topics.SWEEP_ACTIVE, self._on_sweep, LATCHED)
+        self.create_subscription(Bool, topics.SWEEP_ACTIVE, self._on_sweep, COMMAND)
         self.create_subscription(TextureEstimate, topics.TEXTURE_ESTIMATE, self._on_estimate,
                                  COMMAND)
         self._diagnostics_pub = self.create_publisher(DiagnosticArray, topics.DIAGNOSTICS,
