@@ -39,10 +39,16 @@ def test_profile_announces_twenty_times_100_ms_apart():
 
 
 def test_ros_environment_keeps_the_users_own_settings():
-    env = ros_environment({'FASTDDS_DEFAULT_PROFILES_FILE': '/etc/mine.xml'})
+    env = ros_environment({'FASTDDS_DEFAULT_PROFILES_FILE': '/etc/mine.xml',
+                           'ROS_AUTOMATIC_DISCOVERY_RANGE': 'SUBNET'})
     assert env['FASTDDS_DEFAULT_PROFILES_FILE'] == '/etc/mine.xml'
+    assert env['ROS_AUTOMATIC_DISCOVERY_RANGE'] == 'SUBNET'
     assert env['RMW_IMPLEMENTATION'] == 'rmw_fastrtps_cpp'
     assert Path(ros_environment({})['FASTDDS_DEFAULT_PROFILES_FILE']).is_file()
+
+
+def test_a_command_joining_a_system_discovers_on_this_host_only_as_a_launch_does():
+    assert ros_environment({})['ROS_AUTOMATIC_DISCOVERY_RANGE'] == 'LOCALHOST'
 
 
 def test_a_subscriber_hears_a_publisher_in_another_process():

@@ -20,9 +20,13 @@ def fastdds_profile_path() -> str:
 def ros_environment(base: Mapping[str, str] | None = None) -> dict[str, str]:
     """Return `base` (default: os.environ) with the tactex middleware settings added.
 
-    Settings the user already made are kept: a user's own profile or RMW wins.
+    Discovery stays on this host, as a launch's default (`discovery:=localhost`), so the
+    commands that join a running system (view, record, the goal and parameter clients)
+    find nodes here and are found from nowhere else. Settings the user already made are
+    kept: a user's own profile, RMW or discovery range wins.
     """
     env = dict(os.environ if base is None else base)
     env.setdefault('RMW_IMPLEMENTATION', RMW_IMPLEMENTATION)
     env.setdefault('FASTDDS_DEFAULT_PROFILES_FILE', fastdds_profile_path())
+    env.setdefault('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
     return env
