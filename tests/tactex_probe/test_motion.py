@@ -97,6 +97,14 @@ def test_path_through_the_unreachable_is_refused():
         straight_path(start, ToolPose([0.45, 0.0, 0.03], 0.0), 0.05, solve(start, SEED))
 
 
+@pytest.mark.parametrize('far', [[1e150, 0.0, 0.0], [1e300, 0.0, 0.0], [0.0, 0.0, 1e7]])
+def test_a_target_far_beyond_reach_is_refused_before_a_path_to_it_is_sized(far):
+    # a probe goal's start of 1e150 m sized arrays of 1e150 points (MemoryError, ValueError)
+    start = ToolPose([0.15, 0.0, 0.03], 0.0)
+    with pytest.raises(PathUnreachable):
+        transfer(start, ToolPose(far, 0.0), 0.05, solve(start, SEED))
+
+
 def test_a_chain_passes_every_pose_in_turn():
     poses = [ToolPose(p, 0.0) for p in ([0.12, 0.0, 0.04], [0.12, 0.0, 0.06],
                                          [0.16, 0.0, 0.06])]

@@ -223,6 +223,7 @@ def straight_path(start: ToolPose, end: ToolPose, speed_m_s: float, seed: Sequen
     if not (speed_m_s > 0 and tilt_speed_rad_s > 0 and step_s > 0):
         raise ValueError(f'speeds and step must be > 0, got {speed_m_s!r}, '
                          f'{tilt_speed_rad_s!r}, {step_s!r}')
+    solve(end, seed)  # an end out of reach is refused before a path to it is sized
     distance = float(np.linalg.norm(end.point - start.point))
     duration = max(distance / speed_m_s, abs(end.tilt - start.tilt) / tilt_speed_rad_s, step_s)
     count = max(1, math.ceil(duration / step_s - 1e-9))
