@@ -138,3 +138,12 @@ def test_a_block_that_inflates_without_bound_ends_in_one_error_line(tmp_path, ca
                                          topic='/recording/metadata'))
     assert code == 1 and 'Traceback' not in err
     assert re.search(r'^error: .*bomb: cannot read: a zstd-compressed block inflates past', err)
+
+
+@pytest.mark.parametrize('ns, shown', [
+    (1_700_000_003_990_000_000, '2023-11-14 22:13:23.990 UTC (1700000003.990000000)'),
+    (1_700_000_000_009_999_999, '(1700000000.009999999)'),  # a float read .009999990
+    (-1, '(-0.000000001)')])
+def test_a_stamps_seconds_are_shown_to_the_nanosecond(ns, shown):
+    from tactex_classify.data.bag_info import _when
+    assert shown in _when(ns)

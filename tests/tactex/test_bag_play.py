@@ -19,8 +19,9 @@ from support.bagfactory import TS, write_bag
 from support.foreign_bags import converted
 from support.livestream import PERIOD_NS, RATE_HZ, start_node, stop, write_checkpoints
 
-from tactex.bag_playback import Lateness, messages, parse_remap, PlayOptions
+from tactex.bag_playback import Lateness, messages, parse_remap, PlayOptions, topics_of
 from tactex.bag_player import NoSubscriberError, wait_for_subscribers
+from tactex_classify.errors import BagError
 from tactex_classify.online.live import LiveSettings
 from tactex_classify.online.replay import replay_recording
 from tactex_classify.online.runtime import load_predictor
@@ -75,6 +76,14 @@ def test_topics_are_chosen_renamed_and_namespaced(recording):
                                                                 '/left_arm/sweep/active'}
     with pytest.raises(ValueError, match='is not OLD:=NEW'):
         parse_remap('/imu/data')
+
+
+def test_a_topic_that_would_carry_two_types_is_refused_before_anything_plays(recording):
+    options = PlayOptions(remaps=(parse_remap('/sweep/active:=/tactile/pressure'),))
+    with pytest.raises(BagError, match='/tactile/pressure would carry two types, '
+                                       '.*leave one out with --topics, or give it another '
+                                       'name with --remap'):
+        topics_of([recording], options)
 
 
 def test_ros1_messages_play_as_their_ros2_types_header_seq_dropped(recording, tmp_path):

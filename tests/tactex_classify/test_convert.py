@@ -405,6 +405,15 @@ def test_two_namespaces_ask_for_a_remap_which_then_works(tmp_path):
     assert len(data.X) == 4
 
 
+def test_a_topic_named_with_topic_that_a_recording_lacks_is_refused_not_dropped(tmp_path):
+    stamps, values = ramp(40)
+    write_bag(tmp_path / 'a', stamps, values, metadata={'label': 'wood'})
+    with pytest.raises(DatasetError, match=r'--topic pressure=/nonexist: 1 recording\(s\) '
+                                           r'have no such topic \(a\); check its name'):
+        convert([tmp_path / 'a'], window=10, hop=10, all_samples=True, **QUIET,
+                remaps={'pressure': '/nonexist'})
+
+
 def test_ambiguous_namespaces_are_refused_with_the_fix():
     available = {'/left/tactile/imu/data_raw': 'sensor_msgs/msg/Imu',
                  '/right/tactile/imu/data_raw': 'sensor_msgs/msg/Imu'}

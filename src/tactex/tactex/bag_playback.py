@@ -18,6 +18,7 @@ import math
 from pathlib import Path
 
 from tactex_classify.data.sources import bag_parts, open_part, read_messages
+from tactex_classify.errors import BagError
 from tactex_common.interfaces import typestore
 
 LATE_S = 0.005  # a publish this much after its instant is reported as late
@@ -180,13 +181,26 @@ class Lateness:
 
 
 def topics_of(paths: Sequence[Path], options: PlayOptions) -> dict[str, str]:
-    """Output topic -> ROS 2 type of everything the recordings will publish."""
+    """Output topic -> ROS 2 type of everything the recordings will publish.
+
+    Raises:
+        BagError: a part cannot be read, or one output topic would carry two types (a ROS 1
+            topic logged with two, or a remap onto a topic of another type): a ROS 2
+            topic has one.
+    """
     ros2 = typestore()
     found: dict[str, str] = {}
     for path in paths:
         for part in bag_parts(path):
             with open_part(part) as reader:
                 for connection in reader.connections:
-                    if chosen(connection.topic, options) and connection.msgtype in ros2.types:
-                        found[output_topic(connection.topic, options)] = connection.msgtype
+                    if not (chosen(connection.topic, options)
+                            and connection.msgtype in ros2.types):
+                        continue
+                    topic = output_topic(connection.topic, options)
+                    if found.setdefault(topic, connection.msgtype) != connection.msgtype:
+                        raise BagError(f'{part}: {topic} would carry two types, '
+                                       f'{found[topic]} and {connection.msgtype}; a ROS 2 '
+                                       'topic has one: leave one out with --topics, or '
+                                       'give it another name with --remap')
     return found

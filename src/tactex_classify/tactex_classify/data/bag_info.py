@@ -231,8 +231,11 @@ def _size(part: Path) -> int:
 
 
 def _when(ns: int) -> str:
+    """A stamp as UTC date and time (ms), and its exact seconds (a float would round them)."""
     moment = datetime.fromtimestamp(ns / 1e9, tz=timezone.utc)
-    return f'{moment:%Y-%m-%d %H:%M:%S.%f}'[:-3] + f' UTC ({ns / 1e9:.9f})'
+    seconds, nanoseconds = divmod(abs(int(ns)), 10**9)
+    return (f'{moment:%Y-%m-%d %H:%M:%S.%f}'[:-3]
+            + f' UTC ({"-" if ns < 0 else ""}{seconds}.{nanoseconds:09d})')
 
 
 def format_text(info: RecordingInfo, gaps_shown: int = 3) -> str:

@@ -448,7 +448,12 @@ def convert(paths: Sequence[Path], *, window: int, hop: int, label: str | None =
 
 def _common_channels(recordings: Sequence[Path], remaps: Mapping[str, str] | None,
                      notes: list[str]) -> list[str]:
-    """The channels every recording with an IMU topic has; notes say what was left out."""
+    """The channels every recording with an IMU topic has; notes say what was left out.
+
+    Raises:
+        DatasetError: a topic named with --topic that a recording lacks (a typo would
+            otherwise drop its channels with a note only).
+    """
     lacking: dict[str, list[str]] = {role: [] for role in ROLE_CHANNELS}
     for path in recordings:
         try:
@@ -459,6 +464,12 @@ def _common_channels(recordings: Sequence[Path], remaps: Mapping[str, str] | Non
             for role in ROLE_CHANNELS:
                 if role not in roles:
                     lacking[role].append(path.name)
+    for role, names in lacking.items():
+        if names and role in (remaps or {}):
+            raise DatasetError(f'--topic {role}={remaps[role]}: {len(names)} recording(s) have '
+                               f'no such topic ({", ".join(names[:3])}'
+                               f'{", ..." if len(names) > 3 else ""}); check its name with '
+                               '`tactex bag info`')
     channels = list(CHANNELS)
     for role, names in lacking.items():
         if names:
