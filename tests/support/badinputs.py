@@ -763,6 +763,10 @@ BAD_INPUTS = {
         Case('emulate teensy --link {w}/l --fault stall@nan:1', "--fault: bad fault "
              "'stall@nan:1'", '{w}/l'),
         Case('emulate teensy --link {w}/l --fault garbage@-1:5', '--fault: bad fault', '{w}/l'),
+        Case('emulate teensy --link {w}/l --fault stall@0:1e300', "--fault: bad fault "
+             "'stall@0:1e300': the argument of stall is at most 86400", '{w}/l'),
+        Case('emulate teensy --link {w}/l --fault garbage@0:1e300', '--fault: bad fault .*'
+             'garbage is at most 1e\\+06', '{w}/l'),
         Case('emulate teensy --link {w}/text.txt', '--link .*text.txt is an existing file',
              '{w}/text.txt'),
         Case('emulate teensy --link {w}/folder', '--link .*folder is an existing folder',

@@ -77,6 +77,18 @@ def test_replay_interpolates_and_loops(tmp_path):
     assert source.sample(1.25)[0][0] == pytest.approx(0.25)
 
 
+@pytest.mark.parametrize('rows, match', [
+    ('0,0,0,9.8,0,0,0,1e-5,0,-4e-5,101000,1e39\n1,0,0,9.8,0,0,0,1e-5,0,-4e-5,101000,24\n',
+     "column temp holds values beyond the frame's float32"),
+    ('-1e308,0,0,9.8,0,0,0,1e-5,0,-4e-5,101000,24\n1e308,0,0,9.8,0,0,0,1e-5,0,-4e-5,101000,24\n',
+     'a finite span')])
+def test_replay_refuses_what_no_frame_can_carry_before_streaming(tmp_path, rows, match):
+    recording = tmp_path / 'bad.csv'
+    recording.write_text('t,ax,ay,az,gx,gy,gz,mx,my,mz,baro,temp\n' + rows, encoding='utf-8')
+    with pytest.raises(ValueError, match=match):
+        ReplaySource(recording)
+
+
 def test_replay_rejects_a_file_without_the_channels(tmp_path):
     recording = tmp_path / 'bad.csv'
     recording.write_text('t,ax,ay\n0,0,0\n1,0,0\n', encoding='utf-8')

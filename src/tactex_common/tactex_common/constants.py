@@ -12,3 +12,5 @@ SLIDING_SPEED_M_S = 0.015
 SERVO_IDS = (11, 12, 13, 14, 15)
 # The largest random seed numpy, scikit-learn and torch all take.
 MAX_SEED = 2**32 - 1
+# The largest float32 (a protocol frame's and a dataset's number type), as a Python float.
+FLOAT32_MAX = 3.4028234663852886e38

@@ -23,6 +23,7 @@ from tactex_common import chips
 from tactex_common.channels import CHANNELS
 from tactex_common.constants import (
     EARTH_FIELD_T,
+    FLOAT32_MAX,
     SEA_LEVEL_PRESSURE_PA,
     STANDARD_GRAVITY_M_S2,
 )
@@ -43,6 +44,9 @@ class FaultKind(enum.Enum):
 
 _DEFAULT_ARG = {FaultKind.GARBAGE: 64, FaultKind.CRC: 1, FaultKind.DROP: 1,
                 FaultKind.STALL: 0.5, FaultKind.DISCONNECT: 1.0}
+# The largest argument of each kind: a megabyte of garbage, a million frames, a day.
+_MAX_ARG = {FaultKind.GARBAGE: 1_000_000, FaultKind.CRC: 1_000_000, FaultKind.DROP: 1_000_000,
+            FaultKind.STALL: 86_400.0, FaultKind.DISCONNECT: 86_400.0}
 
 
 @dataclass(frozen=True)
@@ -72,6 +76,9 @@ class Fault:
         if not (math.isfinite(fault.at_s) and fault.at_s >= 0 and math.isfinite(fault.arg)
                 and fault.arg >= 0):
             raise ValueError(f'bad fault {spec!r}: time and argument must be finite and >= 0')
+        if fault.arg > _MAX_ARG[kind]:
+            raise ValueError(f'bad fault {spec!r}: the argument of {kind.value} is at most '
+                             f'{_MAX_ARG[kind]:g}')
         return fault
 
 
@@ -153,11 +160,17 @@ class ReplaySource:
             raise ValueError(f'{path}: needs at least 2 rows, has {len(table)}')
         names = list(REPLAY_COLUMNS[1:]) + (['temp'] if 'temp' in table.columns else [])
         t = table.numeric('t')
-        if not np.all(np.isfinite(t)) or np.any(np.diff(t) <= 0):
-            raise ValueError(f'{path}: column t must be finite and strictly increasing')
+        with np.errstate(over='ignore', invalid='ignore'):  # a span past float: refused
+            steps, span = np.diff(t), t[-1] - t[0]
+        if not np.all(np.isfinite(t)) or np.any(steps <= 0) or not np.isfinite(span):
+            raise ValueError(f'{path}: column t must be finite and strictly increasing (a '
+                             'finite span)')
         self._t = t - t[0]
         self._period = self._t[-1]
         self._values = np.stack([table.numeric(name) for name in names], axis=1)
+        if 'temp' in names and np.any(np.abs(self._values[:, -1]) > FLOAT32_MAX):
+            raise ValueError(f"{path}: column temp holds values beyond the frame's float32 "
+                             f'(at most {FLOAT32_MAX:.3g})')
 
     def sample(self, t_s: float) -> tuple[tuple, tuple, tuple, float, float]:
         """Return accel, gyro, mag, pressure, temperature at time `t_s` (looping)."""

@@ -36,6 +36,7 @@ from tactex_classify.data.stream_alignment import align, Stream
 from tactex_classify.errors import DatasetError
 from tactex_classify.models.checkpoint import SAMPLING_RATE_RANGE_HZ
 from tactex_common.channels import CHANNELS
+from tactex_common.constants import FLOAT32_MAX
 from tactex_common.errors import TableError
 from tactex_common.naming import natural_sorted
 from tactex_common.stamps import after_clock_resets, gaps, mean_rate_hz
@@ -55,8 +56,6 @@ MIN_PLAUSIBLE_RATE_HZ = 1.0
 MAX_RATE_HZ = SAMPLING_RATE_RANGE_HZ[1]
 # About the middle of the rates tactile modules stream at (this one: 120-350 Hz).
 TACTILE_RATE_HZ = 200.0
-# The dataset stores float32: a larger value would become inf, so its sample is dropped.
-FLOAT32_MAX = float(np.finfo(np.float32).max)
 Progress = Callable[[str], None]
 
 

@@ -26,12 +26,12 @@ import numpy as np
 from tactex_classify.models.checkpoint import StreamSpec
 from tactex_common import chips
 from tactex_common.channels import ACCEL, BARO, GYRO, MAG
+from tactex_common.constants import FLOAT32_MAX
 from tactex_common.numbers import is_finite_number
 
 CONFIRM_SAMPLES = 3  # consecutive stamps on a new timeline that make it the stream's
 SATURATED_FRACTION = 0.5  # of a window's samples at a rail
 CONTINUES, HELD, RESTARTED = 'continues', 'held', 'restarted'
-FLOAT32_MAX = float(np.finfo(np.float32).max)
 
 
 def _smallest_rail(ranges: dict) -> float:
