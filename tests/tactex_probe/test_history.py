@@ -29,6 +29,16 @@ def test_non_finite_samples_are_counted_not_kept():
     assert history.dropped == 3 and history.window(0, 10) is None
 
 
+@pytest.mark.parametrize('attitude', [(0.0, 0.0, 0.0, 0.0), (2.0, 0.0, 0.0, 0.0),
+                                      (0.5, 0.5, 0.0, 0.0)])
+def test_an_attitude_that_is_no_unit_quaternion_is_counted_not_kept(attitude):
+    # REP-145's all-zero orientation means none: averaged, it gave a 180 degree yaw
+    history = SampleHistory()
+    assert not history.add_imu(0, (0.0, 0.0, 9.8), attitude)
+    assert history.dropped == 1 and history.window(0, 10) is None
+    assert history.add_imu(0, (0.0, 0.0, 9.8), UP_DOWN)
+
+
 def test_old_samples_are_forgotten():
     history = SampleHistory(keep_s=1.0)
     for i in range(300):

@@ -20,6 +20,9 @@ from tactex_probe.normals import mean_quaternion, SensorWindow
 
 KEEP_S = 15.0
 
+# How far from 1 a filter's attitude quaternion's norm may be (its rounding is far less).
+UNIT_QUATERNION_TOLERANCE = 0.01
+
 
 class _Stream:
     """Stamps (ns, increasing) and their values, trimmed to the last `keep_ns`."""
@@ -85,11 +88,16 @@ class SampleHistory:
         return self._add(self._joints, stamp_ns, q)
 
     def add_imu(self, stamp_ns: int, accel, quaternion) -> bool:
-        """Add an accel reading (m/s^2) with the filter's attitude (w, x, y, z)."""
+        """Add an accel reading (m/s^2) with the filter's attitude (w, x, y, z).
+
+        A quaternion that is not a unit one (REP-145's all-zero "no orientation", or
+        garbage) is no attitude: the sample is dropped and counted, as a non-finite one is.
+        """
         a = np.asarray(accel, dtype=float)
         q = np.asarray(quaternion, dtype=float)
         if a.shape != (3,) or q.shape != (4,) or not (np.all(np.isfinite(a))
-                                                     and np.all(np.isfinite(q))):
+                                                     and np.all(np.isfinite(q))) \
+                or abs(float(np.linalg.norm(q)) - 1.0) > UNIT_QUATERNION_TOLERANCE:
             self.dropped += 1
             return False
         return self._add(self._imu, stamp_ns, (a, q))
