@@ -452,3 +452,16 @@ def test_alignment_is_channel_agnostic_and_counts_what_it_drops():
     assert aligned.channels == ('x', 'p', 'q') and len(aligned.values) == 8
     assert aligned.dropped['unaligned_samples'] == 2 and aligned.reordered['a'] == 9
     np.testing.assert_array_equal(aligned.stamps_ns, stamps[:8])
+
+
+def test_a_role_left_out_names_the_topics_of_its_type_another_name_could_be(tmp_path):
+    stamps, values = ramp(40)
+    write_bag(tmp_path / 'a', stamps, values, metadata={'label': 'wood'},
+              names={'mag': '/imu/mag', 'pressure': '/baro'})
+    lines = []
+    data = convert([tmp_path / 'a'], window=10, hop=10, all_samples=True,
+                   progress=lines.append)
+    assert data.channels == ['ax', 'ay', 'az', 'gx', 'gy', 'gz']
+    assert any('no mag topic' in line and 'sensor_msgs/msg/MagneticField on /imu/mag' in line
+               and 'use --topic mag=/imu/mag' in line for line in lines)
+    assert any('use --topic pressure=/baro' in line for line in lines)

@@ -30,7 +30,7 @@ import numpy as np
 from tactex_classify.data.sources import bag_parts, decoded_messages, reason
 from tactex_classify.data.stream_alignment import align, Stream
 from tactex_classify.data.topic_inventory import survey, TopicInventory
-from tactex_classify.errors import BagError
+from tactex_classify.errors import BagError, DatasetError
 from tactex_common import topics
 from tactex_common.channels import ACCEL, BARO, CHANNELS, GYRO, MAG
 from tactex_common.stamps import mean_rate_hz, stamp_ns, stamp_or_log_ns
@@ -269,13 +269,28 @@ def recording_topics(path: Path, remaps: Mapping[str, str] | None = None) -> dic
     Raises:
         BagError: not a recording, or ambiguous topics.
     """
+    return resolve_topics(_inventory(path).types, remaps)
+
+
+def missing_role(path: Path, role: str) -> str:
+    """Why a recording has no topic for `role`, and which topics could be it (with --topic).
+
+    Raises:
+        BagError: not a recording.
+    """
+    relative, msgtype = TOPIC_ROLES[role]
+    return _inventory(path).missing(role, relative, msgtype)
+
+
+def _inventory(path: Path) -> TopicInventory:
+    """The topics of a recording's readable parts (an unreadable one is named when read)."""
     inventory = TopicInventory()
     for part in bag_parts(Path(path)):
         try:
             inventory.merge(survey(part))
         except BagError:
-            continue  # an unreadable part is named by read_recording
-    return resolve_topics(inventory.types, remaps)
+            continue
+    return inventory
 
 
 def readable_parts(path: Path, notes: list[str]) -> tuple[TopicInventory, list[Path]]:
@@ -443,3 +458,40 @@ def segments(transitions: Sequence[tuple[int, bool]]) -> list[tuple[int, int]]:
         spans.append((start, np.iinfo(np.int64).max))
     return spans
 
+
+def common_channels(recordings: Sequence[Path], remaps: Mapping[str, str] | None,
+                     notes: list[str]) -> list[str]:
+    """The channels every recording with an IMU topic has; notes say what was left out.
+
+    Raises:
+        DatasetError: a topic named with --topic that a recording lacks (a typo would
+            otherwise drop its channels with a note only).
+    """
+    lacking: dict[str, list[str]] = {role: [] for role in ROLE_CHANNELS}
+    lacking_paths: dict[str, list[Path]] = {role: [] for role in ROLE_CHANNELS}
+    for path in recordings:
+        try:
+            roles = recording_topics(path, remaps)
+        except BagError:
+            continue  # reported when read
+        if 'imu' in roles:
+            for role in ROLE_CHANNELS:
+                if role not in roles:
+                    lacking[role].append(path.name)
+                    lacking_paths[role].append(path)
+    for role, names in lacking.items():
+        if names and role in (remaps or {}):
+            raise DatasetError(f'--topic {role}={remaps[role]}: {len(names)} recording(s) have '
+                               f'no such topic ({", ".join(names[:3])}'
+                               f'{", ..." if len(names) > 3 else ""}); check its name with '
+                               '`tactex bag info`')
+    channels = list(CHANNELS)
+    for role, names in lacking.items():
+        if names:
+            channels = [c for c in channels if c not in ROLE_CHANNELS[role]]
+            notes.append(f'note: {len(names)} recording(s) have no {role} topic '
+                         f'({", ".join(names[:3])}{", ..." if len(names) > 3 else ""}): '
+                         f'channels {", ".join(ROLE_CHANNELS[role])} left out of the dataset '
+                         f'(choose with --channels); {names[0]}: '
+                         f'{missing_role(lacking_paths[role][0], role)}')
+    return channels

@@ -23,11 +23,10 @@ import sys
 import numpy as np
 
 from tactex_classify.data.bags import (
+    common_channels,
     inside,
     read_recording,
     Recording,
-    recording_topics,
-    ROLE_CHANNELS,
 )
 from tactex_classify.data.resampling import carry_mask, common_rate, resample
 from tactex_classify.data.sidecar import check_sidecar_stream, recorded_sweep
@@ -352,7 +351,7 @@ def convert(paths: Sequence[Path], *, window: int, hop: int, label: str | None =
         raise DatasetError(f'--trial names one recording, but {len(recordings)} were given')
     notes: list[str] = []
     if channels is None:
-        channels = _common_channels(recordings, remaps, notes)
+        channels = common_channels(recordings, remaps, notes)
         for note in notes:
             progress(note)
     else:
@@ -444,41 +443,6 @@ def convert(paths: Sequence[Path], *, window: int, hop: int, label: str | None =
         'filter': 'all samples' if all_samples else {
             'ground truth when present, else segment topic, else': rule.__dict__},
         'recordings': report, 'skipped': skipped, 'notes': notes})
-
-
-def _common_channels(recordings: Sequence[Path], remaps: Mapping[str, str] | None,
-                     notes: list[str]) -> list[str]:
-    """The channels every recording with an IMU topic has; notes say what was left out.
-
-    Raises:
-        DatasetError: a topic named with --topic that a recording lacks (a typo would
-            otherwise drop its channels with a note only).
-    """
-    lacking: dict[str, list[str]] = {role: [] for role in ROLE_CHANNELS}
-    for path in recordings:
-        try:
-            roles = recording_topics(path, remaps)
-        except BagError:
-            continue  # reported when read
-        if 'imu' in roles:
-            for role in ROLE_CHANNELS:
-                if role not in roles:
-                    lacking[role].append(path.name)
-    for role, names in lacking.items():
-        if names and role in (remaps or {}):
-            raise DatasetError(f'--topic {role}={remaps[role]}: {len(names)} recording(s) have '
-                               f'no such topic ({", ".join(names[:3])}'
-                               f'{", ..." if len(names) > 3 else ""}); check its name with '
-                               '`tactex bag info`')
-    channels = list(CHANNELS)
-    for role, names in lacking.items():
-        if names:
-            channels = [c for c in channels if c not in ROLE_CHANNELS[role]]
-            notes.append(f'note: {len(names)} recording(s) have no {role} topic '
-                         f'({", ".join(names[:3])}{", ..." if len(names) > 3 else ""}): '
-                         f'channels {", ".join(ROLE_CHANNELS[role])} left out of the dataset '
-                         '(choose with --channels)')
-    return channels
 
 
 def recording_paths(paths: Iterable[Path], progress: Callable[[str], None] = print
