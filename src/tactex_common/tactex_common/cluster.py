@@ -34,6 +34,7 @@ import socket
 import sys
 from typing import Any
 
+from tactex_common.environment import environment_set
 from tactex_common.errors import ClusterError
 
 CONNECT_TIMEOUT_S = 10.0
@@ -96,13 +97,11 @@ def ray_session(*, address: str | None = None, cpus: int | None = None) -> Itera
     os.environ.setdefault('RAY_USAGE_STATS_ENABLED', '0')  # never phone home
     token = {'RAY_AUTH_MODE': 'token', 'RAY_AUTH_TOKEN': process_token()} \
         if own_token_applies(address) else {}
-    before = {name: os.environ.get(name) for name in token}
-    os.environ.update(token)  # before Ray is imported
     global _own_token_imported_ray
     _own_token_imported_ray = _own_token_imported_ray or bool(token)
     options = {'include_dashboard': False, 'log_to_driver': False,
                'logging_level': 'WARNING', 'configure_logging': True}
-    try:
+    with environment_set(token):  # before Ray is imported
         import ray
         try:
             if address is None:
@@ -117,12 +116,6 @@ def ray_session(*, address: str | None = None, cpus: int | None = None) -> Itera
             yield dict(ray.cluster_resources())
         finally:
             ray.shutdown()
-    finally:
-        for name, value in before.items():
-            if value is None:
-                os.environ.pop(name, None)
-            else:
-                os.environ[name] = value
 
 
 def check_reachable(address: str, timeout_s: float = CONNECT_TIMEOUT_S) -> None:

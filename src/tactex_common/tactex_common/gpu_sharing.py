@@ -25,6 +25,7 @@ import subprocess
 import sys
 import tempfile
 
+from tactex_common.environment import environment_set
 from tactex_common.errors import GpuSharingError
 
 CONTROL = 'nvidia-cuda-mps-control'
@@ -66,20 +67,14 @@ def multi_process_service(python: str = sys.executable) -> Iterator[dict[str, st
     for path in variables.values():
         Path(path).mkdir()
     environment = {**os.environ, **variables}
-    before = {name: os.environ.get(name) for name in variables}
     started = False
     try:
         _start(control, environment)
         started = True
         _check_client(python, environment)
-        os.environ.update(variables)
-        yield variables
+        with environment_set(variables):
+            yield variables
     finally:
-        for name, value in before.items():
-            if value is None:
-                os.environ.pop(name, None)
-            else:
-                os.environ[name] = value
         # A launcher that failed may have forked its daemon: ask it to quit all the same,
         # but a quit nobody answers then means none ran (no warning, no folder kept).
         if _quit(control, environment, warn=started) or not started:

@@ -36,6 +36,7 @@ import time
 import numpy as np
 
 from tactex.errors import CommandError
+from tactex_common.environment import environment_set
 
 SCENE = 'uneven_texture'
 MODEL = 'extratrees'
@@ -103,19 +104,10 @@ PROBE_DESCENT_M_S = 0.02
 @contextmanager
 def demo_environment(folder: Path) -> Iterator[None]:
     """A ROS domain of the demo's own (no robot nearby hears it) and logs under --out."""
-    names = ('ROS_DOMAIN_ID', 'ROS_LOG_DIR', 'ROS_AUTOMATIC_DISCOVERY_RANGE')
-    saved = {name: os.environ.get(name) for name in names}
-    os.environ.update(ROS_DOMAIN_ID=str(random.SystemRandom().randint(150, 232)),
-                      ROS_LOG_DIR=str(folder / 'logs' / 'ros'),
-                      ROS_AUTOMATIC_DISCOVERY_RANGE='LOCALHOST')
-    try:
+    with environment_set({'ROS_DOMAIN_ID': str(random.SystemRandom().randint(150, 232)),
+                          'ROS_LOG_DIR': str(folder / 'logs' / 'ros'),
+                          'ROS_AUTOMATIC_DISCOVERY_RANGE': 'LOCALHOST'}):
         yield
-    finally:
-        for name, value in saved.items():
-            if value is None:
-                os.environ.pop(name, None)
-            else:
-                os.environ[name] = value
 
 
 class Demo:
