@@ -94,23 +94,27 @@ def parse_channel_specs(text: str) -> list[ChannelSpec]:
 def _windows_of(path: Path, label: str, trial: int, stream: Stream, others: Sequence[Stream],
                 collector: WindowCollector, records: list, progress: Progress,
                 dropped: dict[str, int] | None = None, clock_resets: int = 0,
-                resample_hz: float | None = None) -> float:
+                resample_hz: float | None = None, time_unit: str | None = None) -> float:
     """Align and window one recording, noting what was dropped and what sorted into time order.
 
-    With `resample_hz`, each gap-free run of the aligned samples is resampled onto that
-    rate (`resampling.resample`) before it is windowed.
+    With `time_unit` (its stamps come from a time column in that unit), a rate no tactile
+    stream has is refused first. With `resample_hz`, each gap-free run of the aligned
+    samples is then resampled onto that rate (`resampling.resample`) before it is windowed.
 
     Returns:
         Its own sampling rate (mean over the gap-free runs), nan when it gave no window.
 
     Raises:
-        DatasetError: its rate cannot be resampled onto `resample_hz` (the file named).
+        DatasetError: its rate is implausible in `time_unit`, or cannot be resampled onto
+            `resample_hz` (the file named).
     """
     streams = [replace(s, values=_beyond_float32_as_inf(s.values)) for s in (stream, *others)]
     aligned = align(streams[0], streams[1:])
     reordered = aligned.reordered
     aligned.dropped.update(dropped or {})
     rate = mean_rate_hz(np.unique(stream.stamps_ns))  # of the clock: drops do not bias it
+    if time_unit and np.isfinite(rate):  # a unit mistaken, before anything is resampled
+        _check_time_unit({f'{label}/{path.name}': rate}, time_unit)
     runs = [(aligned.stamps_ns, aligned.values)]
     if resample_hz and np.isfinite(rate) and aligned.stamps_ns.size:
         try:
@@ -363,19 +367,16 @@ def import_csv(root: Path, *, window: int, hop: int, columns: Sequence[ChannelSp
             raise DatasetError(f'{path}: its time column restarts so late that the parts do '
                                'not fit in int64 nanoseconds; split the file at the restart'
                                ) from None
-        own_rate = mean_rate_hz(np.unique(stamps))
-        if time_column and np.isfinite(own_rate):  # before anything is resampled
-            _check_time_unit({f'{path.parent.name}/{path.name}': own_rate}, time_unit)
         # A row without a time cannot be placed: dropped and counted.
         stream = Stream('rows', tuple(s.name for s in specs), stamps, values[timed])
         rate = _windows_of(path, path.parent.name, trial, stream, [], collector, records,
                            progress, {'rows_without_time': int(np.sum(~timed))}, resets,
-                           resample_hz)
+                           resample_hz, time_unit if time_column else None)
         if np.isfinite(rate):
             rates[f'{path.parent.name}/{path.name}'] = rate
     _check_windows({path.parent.name for path in files}, records, window)
     if resample_hz:
-        _check_given_rate(rates, rate_hz)
+        _median_rate(rates, rate_hz)  # a --rate beside the time column is still checked
     info_rate = float(resample_hz) if resample_hz else _common_rate(rates, rate_hz)
     return collector.dataset([s.name for s in specs], {
         'sampling_rate_hz': info_rate, 'filter': 'all samples (imported)',
@@ -485,13 +486,13 @@ def _common_rate(rates: dict[str, float], given: float | None) -> float:
         raise DatasetError(f'files differ in rate by more than {100 * RATE_TOLERANCE:g} %: '
                            f'{low} {rates[low]:.1f} Hz, {high} {rates[high]:.1f} Hz; give '
                            '--resample HZ to put every file onto one rate')
-    _check_given_rate(rates, given)
-    return float(np.median(list(rates.values())))
+    return _median_rate(rates, given)
 
 
-def _check_given_rate(rates: dict[str, float], given: float | None) -> None:
-    """Refuse a --rate that the files' median rate is more than RATE_TOLERANCE from."""
+def _median_rate(rates: dict[str, float], given: float | None) -> float:
+    """The files' median rate (nan for none); a --rate more than RATE_TOLERANCE off refused."""
     rate = float(np.median(list(rates.values()))) if rates else float('nan')
     if given and abs(rate - given) > given * RATE_TOLERANCE:
         raise DatasetError(f'--rate {given:g} Hz disagrees with the time column '
                            f'({rate:.1f} Hz); leave --rate out or fix it')
+    return rate
