@@ -467,8 +467,7 @@ def common_channels(recordings: Sequence[Path], remaps: Mapping[str, str] | None
         DatasetError: a topic named with --topic that a recording lacks (a typo would
             otherwise drop its channels with a note only).
     """
-    lacking: dict[str, list[str]] = {role: [] for role in ROLE_CHANNELS}
-    lacking_paths: dict[str, list[Path]] = {role: [] for role in ROLE_CHANNELS}
+    lacking: dict[str, list[Path]] = {role: [] for role in ROLE_CHANNELS}
     for path in recordings:
         try:
             roles = recording_topics(path, remaps)
@@ -477,21 +476,23 @@ def common_channels(recordings: Sequence[Path], remaps: Mapping[str, str] | None
         if 'imu' in roles:
             for role in ROLE_CHANNELS:
                 if role not in roles:
-                    lacking[role].append(path.name)
-                    lacking_paths[role].append(path)
-    for role, names in lacking.items():
-        if names and role in (remaps or {}):
-            raise DatasetError(f'--topic {role}={remaps[role]}: {len(names)} recording(s) have '
-                               f'no such topic ({", ".join(names[:3])}'
-                               f'{", ..." if len(names) > 3 else ""}); check its name with '
+                    lacking[role].append(path)
+    for role, paths in lacking.items():
+        if paths and role in (remaps or {}):
+            raise DatasetError(f'--topic {role}={remaps[role]}: {len(paths)} recording(s) have '
+                               f'no such topic ({_first_names(paths)}); check its name with '
                                '`tactex bag info`')
     channels = list(CHANNELS)
-    for role, names in lacking.items():
-        if names:
+    for role, paths in lacking.items():
+        if paths:
             channels = [c for c in channels if c not in ROLE_CHANNELS[role]]
-            notes.append(f'note: {len(names)} recording(s) have no {role} topic '
-                         f'({", ".join(names[:3])}{", ..." if len(names) > 3 else ""}): '
-                         f'channels {", ".join(ROLE_CHANNELS[role])} left out of the dataset '
-                         f'(choose with --channels); {names[0]}: '
-                         f'{missing_role(lacking_paths[role][0], role)}')
+            notes.append(f'note: {len(paths)} recording(s) have no {role} topic '
+                         f'({_first_names(paths)}): channels {", ".join(ROLE_CHANNELS[role])} '
+                         f'left out of the dataset (choose with --channels); {paths[0].name}: '
+                         f'{missing_role(paths[0], role)}')
     return channels
+
+
+def _first_names(paths: Sequence[Path]) -> str:
+    """The names of the first three paths, and '...' when there are more."""
+    return ', '.join(path.name for path in paths[:3]) + (', ...' if len(paths) > 3 else '')

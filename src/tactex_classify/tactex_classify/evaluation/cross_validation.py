@@ -54,6 +54,12 @@ def splits(dataset: Dataset, scheme: str, folds: int, seed: int):
             dataset.X[:, 0, 0], dataset.y, dataset.trial))
 
 
+def classes_absent(dataset: Dataset, indices: np.ndarray) -> list[str]:
+    """The classes none of the windows at `indices` belong to, in the dataset's order."""
+    present = set(dataset.y[indices].tolist())
+    return [name for label, name in enumerate(dataset.classes) if label not in present]
+
+
 def cross_validate(dataset: Dataset, make: Callable[[], object], scheme: str, *,
                    folds: int = 5, seed: int = 0,
                    progress: Callable[[str], None] = lambda line: None) -> CrossValidation:
@@ -65,14 +71,13 @@ def cross_validate(dataset: Dataset, make: Callable[[], object], scheme: str, *,
     result = CrossValidation(scheme, np.zeros((len(dataset.y), len(dataset.classes))),
                              np.full(len(dataset.y), -1))
     for index, (train, test) in enumerate(splits(dataset, scheme, folds, seed)):
-        absent = sorted(set(range(len(dataset.classes))) - set(dataset.y[train].tolist()))
-        untested = sorted(set(range(len(dataset.classes))) - set(dataset.y[test].tolist()))
+        absent, untested = classes_absent(dataset, train), classes_absent(dataset, test)
         if absent:
-            result.notes.append(f'{scheme} fold {index + 1}: classes '
-                                f'{[dataset.classes[c] for c in absent]} absent from training')
+            result.notes.append(f'{scheme} fold {index + 1}: classes {absent} absent from '
+                                'training')
         if untested:
-            result.notes.append(f'{scheme} fold {index + 1}: classes '
-                                f'{[dataset.classes[c] for c in untested]} absent from test')
+            result.notes.append(f'{scheme} fold {index + 1}: classes {untested} absent from '
+                                'test')
         progress(f'{scheme} fold {index + 1}/{folds}: {len(train)} training windows, '
                  f'{len(test)} test windows')
         estimator = make()

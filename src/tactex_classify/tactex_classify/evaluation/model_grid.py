@@ -215,7 +215,12 @@ def run_cell(datasets: dict[int, Dataset], cell: Cell, settings: GridSettings, t
     30 calls on test windows), as the live classifier would; throughput is the whole
     test set in one call.
     """
-    from tactex_classify.evaluation.cross_validation import confusion, metrics, splits
+    from tactex_classify.evaluation.cross_validation import (
+        classes_absent,
+        confusion,
+        metrics,
+        splits,
+    )
     from tactex_classify.training.deep_classifier import TrainingConfig
     from tactex_classify.training.estimators import build_estimator
     if cell.model not in BASELINES:
@@ -243,7 +248,6 @@ def run_cell(datasets: dict[int, Dataset], cell: Cell, settings: GridSettings, t
                      dataset.classes)
     history = getattr(estimator, 'history_', [])
     chosen = getattr(estimator, 'best_epoch_', len(history)) if history else None
-    trained = set(dataset.y[train].tolist())
     return {'cell': asdict(cell), 'accuracy': scores['accuracy'],
             'macro_precision': scores['macro_precision'], 'macro_recall': scores['macro_recall'],
             'macro_f1': scores['macro_f1'],
@@ -253,8 +257,7 @@ def run_cell(datasets: dict[int, Dataset], cell: Cell, settings: GridSettings, t
             'train_s': train_s, 'latency_ms': 1e3 * float(np.median(latencies)),
             'throughput_ms': 1e3 * batch_s / max(len(test), 1),
             'train_windows': int(train.size), 'test_windows': int(test.size),
-            'absent_from_training': [name for index, name in enumerate(dataset.classes)
-                                     if index not in trained],
+            'absent_from_training': classes_absent(dataset, train),
             'y_true': dataset.y[test].tolist(), 'y_pred': predicted.tolist(),
             'threads': threads, 'device': device, 'node': platform.node(),
             'config': asdict(config) if history else None,
