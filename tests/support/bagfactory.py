@@ -30,7 +30,7 @@ def write_bag(path: Path, stamps_ns, values, *, mag_stamps_ns=None, pressure_sta
               active=None, metadata=None, joint_speed=None, joint_positions=None,
               namespace='/', names=None,
               truth=None, estimates=None, storage=StoragePlugin.MCAP, live_order=False,
-              unreadable_imu_from=None):
+              unreadable_imu_from=None, log_ns=None):
     """Write a recording of `values` (n, 10), channel order, at header `stamps_ns`.
 
     Mag and pressure may use their own stamps (an empty list: no such topic); `active`
@@ -45,7 +45,9 @@ def write_bag(path: Path, stamps_ns, values, *, mag_stamps_ns=None, pressure_sta
     messages for texture/estimate. IMU messages are logged one nanosecond apart after the
     first stamp (arrival order only), or with `live_order` at their stamps, interleaved with
     the other streams as a live recorder logs them. IMU messages from index
-    `unreadable_imu_from` on are cut short: they cannot be decoded.
+    `unreadable_imu_from` on are cut short: they cannot be decoded. `log_ns` (one per
+    sample) logs each sample of every sensor stream at that time instead (streams sharing
+    the IMU's stamps), as a recorder on a clock of its own does.
     """
     values = np.asarray(values, dtype=float)
     mag_stamps_ns = stamps_ns if mag_stamps_ns is None else mag_stamps_ns
@@ -90,6 +92,7 @@ def write_bag(path: Path, stamps_ns, values, *, mag_stamps_ns=None, pressure_sta
                 linear_acceleration_covariance=np.zeros(9))
             # Logged in arrival order; the header carries the sensor's own stamp.
             logged = int(stamp) if live_order else int(stamps_ns[0]) + i
+            logged = logged if log_ns is None else int(log_ns[i])
             data = TS.serialize_cdr(message, 'sensor_msgs/msg/Imu')
             cut = unreadable_imu_from is not None and i >= unreadable_imu_from
             writer.write(imu, logged, data[:20] if cut else data)
@@ -101,12 +104,19 @@ def write_bag(path: Path, stamps_ns, values, *, mag_stamps_ns=None, pressure_sta
                     position=np.asarray(joint_positions[i], float) if arm else np.zeros(1),
                     velocity=np.array([joint_speed[i]]) if joint_speed is not None
                     else np.zeros(0), effort=np.zeros(0)), 'sensor_msgs/msg/JointState'))
+
+        def logged_at(stream_stamps, i, stamp):
+            shared = log_ns is not None and stream_stamps is stamps_ns
+            return int(log_ns[i]) if shared else int(stamp)
+
         for i, stamp in enumerate(mag_stamps_ns):
-            writer.write(mag, int(stamp), TS.serialize_cdr(T['sensor_msgs/msg/MagneticField'](
+            writer.write(mag, logged_at(mag_stamps_ns, i, stamp), TS.serialize_cdr(
+                T['sensor_msgs/msg/MagneticField'](
                 header=header(stamp), magnetic_field=vector(*values[i, 6:9]),
                 magnetic_field_covariance=np.zeros(9)), 'sensor_msgs/msg/MagneticField'))
         for i, stamp in enumerate(pressure_stamps_ns):
-            writer.write(pressure, int(stamp), TS.serialize_cdr(T['sensor_msgs/msg/FluidPressure'](
+            writer.write(pressure, logged_at(pressure_stamps_ns, i, stamp), TS.serialize_cdr(
+                T['sensor_msgs/msg/FluidPressure'](
                 header=header(stamp), fluid_pressure=float(values[i, 9]), variance=0.0),
                 'sensor_msgs/msg/FluidPressure'))
     return path

@@ -46,14 +46,32 @@ def test_out_of_order_and_duplicated_stamps_are_sorted_and_counted(tmp_path):
     stamps, values = ramp(30)
     order = np.arange(30)
     order[[5, 6]] = order[[6, 5]]
-    shuffled = np.concatenate([stamps[order], stamps[10:12]])
-    rows = np.concatenate([values[order], values[10:12]])
+    # Two samples sent again among later ones (the stream goes on where it was).
+    shuffled = np.concatenate([stamps[order[:20]], stamps[10:12], stamps[order[20:]]])
+    rows = np.concatenate([values[order[:20]], values[10:12], values[order[20:]]])
     write_bag(tmp_path / 'a', shuffled, rows)
     recording = read_recording(tmp_path / 'a')
     np.testing.assert_array_equal(recording.values[:, 0], np.arange(30))
     assert recording.dropped['imu_duplicates'] == 2
     assert recording.reordered['imu'] == 3  # 5 after 6, and the repeats: sorted, kept
     assert not any('out_of_order' in name for name in recording.dropped)
+
+
+def test_a_device_clock_that_restarts_keeps_the_samples_in_the_order_they_were_logged(
+        tmp_path):
+    device, values = ramp(80)  # header stamps from the device's clock, which restarts
+    device[40:] -= device[40] - 5_000_000
+    logged = 7 * 10**12 + np.arange(80) * 8_333_333
+    logged[40:] += 2 * 10**9  # it was away 2 s
+    write_bag(tmp_path / 'a', device, values, metadata={'label': 'wood'}, log_ns=logged)
+    recording = read_recording(tmp_path / 'a')
+    np.testing.assert_array_equal(recording.values[:, 0], np.arange(80))  # none interleaved
+    assert recording.clock_resets == 1 and not recording.dropped['unaligned_samples']
+    assert any('device clock restarting' in note and '/tactile/imu/data_raw 1 time(s)' in note
+               for note in recording.notes)
+    data = convert([tmp_path / 'a'], window=20, hop=10, all_samples=True, **QUIET)
+    assert data.info['recordings'][0]['clock_resets'] == 1
+    assert len(data.X) == 6  # three windows each side, none across the 2 s gap
 
 
 def test_nan_samples_are_dropped_and_counted(tmp_path):

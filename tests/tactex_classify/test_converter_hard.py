@@ -123,6 +123,38 @@ def test_after_clock_resets_any_stamps_keep_their_count_and_go_on_from_each_rese
     assert np.array_equal(np.diff(moved)[np.diff(raw) >= 0], np.diff(raw)[np.diff(raw) >= 0])
 
 
+@given(st.lists(st.tuples(stamps, st.integers(0, 2**63 - 1)), min_size=0, max_size=50))
+def test_after_clock_resets_with_any_log_times_keeps_the_count_and_the_steps(pairs):
+    raw = np.array([s for s, _ in pairs], dtype=np.int64)
+    try:
+        moved, resets = after_clock_resets(raw, np.array([t for _, t in pairs], dtype=np.int64))
+    except OverflowError:
+        return
+    assert moved.size == raw.size and resets >= 0
+    if resets:
+        assert np.sum(np.diff(moved) < 0) == np.sum(np.diff(raw) < 0) - resets
+    assert np.array_equal(np.diff(moved)[np.diff(raw) >= 0], np.diff(raw)[np.diff(raw) >= 0])
+
+
+def test_log_times_place_the_part_after_a_reset_where_the_device_was_away():
+    period, away = 4_000_000, 3 * 10**9  # 250 Hz; the device back after 3 s
+    part = np.arange(100, dtype=np.int64) * period
+    header = np.concatenate([part + 10**9, part])  # its clock restarts at 0
+    logged = np.concatenate([part, part + 400_000_000 + away]) + 7 * 10**12
+    logged += np.random.default_rng(0).integers(0, 2_000_000, logged.size)  # transport jitter
+    moved, resets = after_clock_resets(header, logged)
+    assert resets == 1 and np.array_equal(moved[:100], header[:100])
+    assert moved[100] - moved[99] == pytest.approx(period + away, abs=1_000_000)
+    # A second stream of the same clock at another rate moves alike.
+    slow = np.arange(0, 100, 4)
+    other, _ = after_clock_resets(header[np.concatenate([slow, 100 + slow])],
+                                  logged[np.concatenate([slow, 100 + slow])])
+    assert other[25] - moved[100] == pytest.approx(0, abs=1_000_000)
+    # Where the log times went back too, the part follows two gaps after.
+    again, resets = after_clock_resets(header, np.concatenate([part, part]))
+    assert resets == 1 and again[100] - again[99] == 2 * int(2.5 * period)
+
+
 def test_a_clock_that_restarts_gives_parts_that_follow_each_other_with_a_gap():
     period = 4_000_000  # 250 Hz
     part = np.arange(100, dtype=np.int64) * period

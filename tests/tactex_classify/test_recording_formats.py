@@ -97,6 +97,15 @@ def test_header_stamps_of_zero_fall_back_to_the_log_time_with_a_note(tmp_path):
         assert recording.rate_hz == pytest.approx(100.0)
 
 
+def test_an_mcap_message_logged_past_int64_nanoseconds_is_called_damaged(tmp_path):
+    from tactex_classify.data.bag_info import describe  # (MCAP's log time is uint64)
+    path = imu_only(tmp_path / 'a.mcap', [10**12 + i for i in range(3)],
+                    [2**64 - 3 + i for i in range(3)])
+    for read in (read_recording, describe):
+        with pytest.raises(BagError, match='past int64 nanoseconds .* damaged'):
+            read(path)
+
+
 def test_an_imu_under_another_name_is_offered_with_count_and_rate_never_taken(tmp_path):
     log = 10**12 + np.arange(300) * 33_333_333
     path = imu_only(tmp_path / 'other.bag', log, log, topics=('/imu/data',), ros1=True)

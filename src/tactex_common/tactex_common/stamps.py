@@ -8,6 +8,8 @@ import numpy as np
 
 # A step longer than this many median periods is a gap: windows never cross one.
 GAP_FACTOR = 2.5
+# Samples either side of a clock reset whose lead over the log times places the part after.
+RESET_CONTEXT = 50
 
 
 def stamp_ns(stamp) -> int:
@@ -48,15 +50,21 @@ def mean_rate_hz(stamps_ns: np.ndarray) -> float:
     return 1e9 / float(np.mean(steady))
 
 
-def after_clock_resets(stamps_ns: np.ndarray) -> tuple[np.ndarray, int]:
+def after_clock_resets(stamps_ns: np.ndarray, log_ns: np.ndarray | None = None
+                       ) -> tuple[np.ndarray, int]:
     """One clock's stamps with each part after a reset moved past the parts before it.
 
     A step back by more than GAP_FACTOR median (forward) periods is either late samples
     (a buffer flushed late: the stamps after them jump forward again, back to where the
     stream was) or the clock restarting (the stamps go on from there, with no such jump
     back). Late samples are left to sorting. After a restart sorting would interleave the
-    parts, so each later part is moved to begin two gaps after the latest stamp before
-    it: the parts keep their order and no window spans a reset.
+    parts, so each later part is moved past the parts before it: the parts keep their
+    order and no window spans a reset. Without log times a part is moved to begin two
+    gaps after the latest stamp before it. With `log_ns` (when each sample reached a
+    recorder, on a clock that did not restart) it is moved by the change across the reset
+    in how far the stamps lead the log times (medians of RESET_CONTEXT samples either
+    side): streams of one device clock move alike and the time the device was away is
+    kept; where the log times went back too, the move without them.
 
     Returns:
         The stamps (int64; the input when nothing reset) and the number of resets.
@@ -70,15 +78,28 @@ def after_clock_resets(stamps_ns: np.ndarray) -> tuple[np.ndarray, int]:
     if forward.size == 0:
         return stamps_ns, 0
     allowed = GAP_FACTOR * float(np.median(forward))
+    starts = (np.flatnonzero(steps < -allowed) + 1).tolist()
     moved, resets = stamps_ns.copy(), 0
-    for start in (np.flatnonzero(steps < -allowed) + 1).tolist():
+    for number, start in enumerate(starts):
         latest = int(moved[:start].max())
         back = np.flatnonzero(moved[start:] >= latest - allowed)  # where it rejoins
         if back.size and moved[start + back[0]] - moved[start + back[0] - 1] > allowed:
             continue  # late samples: the stream jumps back to where it was
         shift = latest + int(2 * allowed) - int(moved[start])
+        if log_ns is not None:
+            end = starts[number + 1] if number + 1 < len(starts) else moved.size
+            logged = _logged_shift(moved, np.asarray(log_ns, dtype=np.int64), start, end)
+            shift = logged if int(moved[start]) + logged > latest else shift
         if int(moved[start:].max()) + shift > np.iinfo(np.int64).max:
             raise OverflowError('stamps past int64 nanoseconds after a clock reset')
         moved[start:] += shift
         resets += 1
     return moved, resets
+
+
+def _logged_shift(stamps_ns: np.ndarray, log_ns: np.ndarray, start: int, end: int) -> int:
+    """How far stamps[start:end] must move to lead the log times as the stamps before did."""
+    lead = stamps_ns - log_ns  # int64: both are stamps of at least 0
+    before = np.median(lead[max(0, start - RESET_CONTEXT):start])
+    after = np.median(lead[start:min(end, start + RESET_CONTEXT)])
+    return int(round(float(before) - float(after)))

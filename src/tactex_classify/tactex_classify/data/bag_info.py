@@ -20,12 +20,14 @@ from pathlib import Path
 
 import numpy as np
 
-from tactex_classify.data.bags import parse_metadata, TOPIC_ROLES
+from tactex_classify.data.bags import TOPIC_ROLES
 from tactex_classify.data.mcap_index import log_times
+from tactex_classify.data.recording_metadata import parse_metadata
 from tactex_classify.data.sources import (
     bag_parts,
     explain,
     kind,
+    LOGGED_PAST_INT64,
     MAX_METADATA_BYTES,
     open_part,
     read_messages,
@@ -118,6 +120,9 @@ def describe(path: Path, *, timing: bool = True, progress=None) -> RecordingInfo
                     end = last if end is None else max(end, last)
         except BagError as err:
             parts.append(Part(str(unit), kind(unit), _size(unit), reason(err)))
+            continue
+        except OverflowError:  # a log time past int64 (arrays of 'q')
+            parts.append(Part(str(unit), kind(unit), _size(unit), LOGGED_PAST_INT64))
             continue
         metadata.update(part_metadata)
         for topic, stamps in part_times.items():

@@ -22,18 +22,18 @@ from __future__ import annotations
 from array import array
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-import json
 from pathlib import Path
 
 import numpy as np
 
-from tactex_classify.data.sources import bag_parts, decoded_messages, reason
+from tactex_classify.data.recording_metadata import check_metadata, parse_metadata
+from tactex_classify.data.sources import bag_parts, decoded_messages, LOGGED_PAST_INT64, reason
 from tactex_classify.data.stream_alignment import align, Stream
 from tactex_classify.data.topic_inventory import survey, TopicInventory
 from tactex_classify.errors import BagError, DatasetError
 from tactex_common import topics
 from tactex_common.channels import ACCEL, BARO, CHANNELS, GYRO, MAG
-from tactex_common.stamps import mean_rate_hz, stamp_ns, stamp_or_log_ns
+from tactex_common.stamps import after_clock_resets, mean_rate_hz, stamp_ns, stamp_or_log_ns
 from tactex_description.geometry import ARM_JOINT_NAMES
 
 # Role -> (topic relative to the recording's namespace, message type).
@@ -93,6 +93,7 @@ class Recording:
     joint_positions: np.ndarray = field(
         default_factory=lambda: np.zeros((0, len(ARM_JOINT_NAMES))))
     reordered: dict[str, int] = field(default_factory=dict)  # per stream, samples sorted
+    clock_resets: int = 0  # the most times a stream's header stamps restarted
 
     @property
     def rate_hz(self) -> float:
@@ -173,27 +174,6 @@ def resolve_topics(available: Mapping[str, str], remaps: Mapping[str, str] | Non
     return found
 
 
-def check_metadata(metadata: Mapping, path: Path) -> dict:
-    """The recording's metadata with `label` text and `trial` an integer, if present.
-
-    Raises:
-        BagError: naming the bag and the key whose value has the wrong type.
-    """
-    metadata = dict(metadata)
-    label = metadata.get('label')
-    if label is not None and (not isinstance(label, str) or not label.strip()):
-        raise BagError(f'{path}: metadata key "label" must be non-empty text, got {label!r}')
-    trial = metadata.get('trial')
-    if trial is not None:
-        if isinstance(trial, float) and trial.is_integer():
-            trial = int(trial)
-        if isinstance(trial, bool) or not isinstance(trial, int) or trial < 0:
-            raise BagError(f'{path}: metadata key "trial" must be an integer >= 0, got '
-                           f'{metadata["trial"]!r}')
-        metadata['trial'] = trial
-    return metadata
-
-
 class _Collected:
     """Samples of one part, kept in flat arrays (8 bytes a value at any length)."""
 
@@ -201,6 +181,7 @@ class _Collected:
         self.values = {role: array('d') for role in ROLE_CHANNELS}
         self.stamps = {role: array('q') for role in (*ROLE_CHANNELS, 'contact', 'edge',
                                                      'texture')}
+        self.logged = {role: array('q') for role in ROLE_CHANNELS}  # when a sample was logged
         self.edge = array('d')
         self.attitude = array('d')
         self.texture: list[str] = []
@@ -215,6 +196,8 @@ class _Collected:
             self.values[role].extend(other.values[role])
         for role in self.stamps:
             self.stamps[role].extend(other.stamps[role])
+        for role in self.logged:
+            self.logged[role].extend(other.logged[role])
         self.edge.extend(other.edge)
         self.attitude.extend(other.attitude)
         self.texture += other.texture
@@ -233,9 +216,12 @@ class _Collected:
         return stamp
 
     def add(self, role: str, message, log_ns: int, path: Path) -> None:
+        if log_ns > np.iinfo(np.int64).max:
+            raise BagError(f'{path}: {LOGGED_PAST_INT64}')
         self.messages += 1
         if role in ROLE_CHANNELS:
             self.stamps[role].append(self.stamp(message, log_ns))
+            self.logged[role].append(log_ns)
             self.values[role].extend(sample_values(role, message))
         elif role == 'active':
             self.active.append((log_ns, bool(message.data)))
@@ -257,10 +243,16 @@ class _Collected:
             self.stamps[role].append(log_ns)
             self.texture.append(str(message.data))
 
-    def stream(self, role: str) -> Stream:
+    def stream(self, role: str) -> tuple[Stream, int]:
+        """A sensor stream, each part after a device clock reset put back by the log times.
+
+        Returns the stream and the number of resets.
+        """
         channels = ROLE_CHANNELS[role]
-        return Stream(role, channels, np.frombuffer(self.stamps[role], dtype=np.int64),
-                      np.frombuffer(self.values[role]).reshape(-1, len(channels)))
+        stamps, resets = after_clock_resets(np.frombuffer(self.stamps[role], dtype=np.int64),
+                                            np.frombuffer(self.logged[role], dtype=np.int64))
+        return Stream(role, channels, stamps,
+                      np.frombuffer(self.values[role]).reshape(-1, len(channels))), resets
 
 
 def recording_topics(path: Path, remaps: Mapping[str, str] | None = None) -> dict[str, str]:
@@ -358,8 +350,13 @@ def read_recording(path: Path, *, remaps: Mapping[str, str] | None = None,
         if role not in wanted_roles and channels is None:
             notes.append(f'no {TOPIC_ROLES[role][0]} topic: channels '
                          f'{", ".join(ROLE_CHANNELS[role])} absent')
-    aligned = align(collected.stream('imu'), [collected.stream(r) for r in ('mag', 'pressure')
-                                              if r in wanted_roles])
+    streams = {role: collected.stream(role) for role in ROLE_CHANNELS if role in wanted_roles}
+    resets = {roles[role]: count for role, (_, count) in streams.items() if count}
+    if resets:
+        notes.append('header stamps went back (a device clock restarting): '
+                     + ', '.join(f'{topic} {count} time(s)' for topic, count in resets.items())
+                     + '; each part after a reset put after the one before by the log times')
+    aligned = align(streams.pop('imu')[0], [stream for stream, _ in streams.values()])
     dropped.update(aligned.dropped)
     order = [aligned.channels.index(c) for c in CHANNELS if c in aligned.channels]
     if channels is not None:
@@ -373,7 +370,8 @@ def read_recording(path: Path, *, remaps: Mapping[str, str] | None = None,
         segments(sorted(collected.active)) if 'active' in roles else None,
         joint_array[joint_order, 0].astype(np.int64), joint_array[joint_order, 1],
         tuple(aligned.channels[i] for i in order), _truth(collected, roles), dropped, notes,
-        collected.messages, joint_array[joint_order, 2:], aligned.reordered)
+        collected.messages, joint_array[joint_order, 2:], aligned.reordered,
+        max(resets.values(), default=0))
 
 
 def _read_part(part: Path, by_topic: Mapping[str, str], path: Path) -> _Collected:
@@ -429,17 +427,6 @@ def inside(stamps_ns: np.ndarray, spans: Sequence[tuple[int, int]]) -> np.ndarra
     for start, end in spans:
         keep |= (stamps_ns >= start) & (stamps_ns <= end)
     return keep
-
-
-def parse_metadata(text: str, path: Path) -> dict:
-    """The recording/metadata JSON object of a recording at `path`."""
-    try:
-        value = json.loads(text)
-    except json.JSONDecodeError as err:
-        raise BagError(f'{path}: recording/metadata is not JSON: {err}') from None
-    if not isinstance(value, dict):
-        raise BagError(f'{path}: recording/metadata must be a JSON object')
-    return value
 
 
 def segments(transitions: Sequence[tuple[int, bool]]) -> list[tuple[int, int]]:

@@ -418,6 +418,7 @@ def convert(paths: Sequence[Path], *, window: int, hop: int, label: str | None =
                        **({'resampled_from_hz': recording.rate_hz} if resample_hz else {}),
                        'ground_truth': recording.truth is not None,
                        'dropped': recording.dropped, 'reordered': recording.reordered,
+                       'clock_resets': recording.clock_resets,
                        'notes': recording.notes})
         if not count:
             skip(number, path, f'{samples} samples, shorter than one window of {window}'

@@ -30,6 +30,8 @@ from tactex_common.naming import natural_sorted
 
 PART_PREFIX = 'part_'
 MAX_METADATA_BYTES = 16 * 1024**2  # a bag's metadata.yaml
+LOGGED_PAST_INT64 = ('a message was logged past int64 nanoseconds (the year 2262): the file '
+                     'is damaged')
 STORAGE_SUFFIXES = ('.mcap', '.db3')  # rosbag2 storage files
 FILE_KINDS = {'.bag': 'ROS 1 bag', '.mcap': 'MCAP file', '.db3': 'rosbag2 sqlite3 file'}
 UNINDEXED_SUFFIX = '.bag.active'  # a ROS 1 bag whose recorder never closed it
