@@ -5,6 +5,7 @@
 import math
 
 import numpy as np
+import pytest
 
 from tactex_driver import control_table as ct
 
@@ -25,6 +26,16 @@ def test_velocity_and_current_units():
     assert math.isclose(float(ct.velocity_to_rad_s(100)), 100 * 0.229 * 2 * math.pi / 60)
     assert math.isclose(float(ct.current_to_ampere(-1000)), -2.69)
     assert ct.rad_s_to_velocity(0.0) == 1  # 0 would mean "no limit" to the servo
+
+
+@pytest.mark.parametrize('speed', [float('nan'), float('inf'), -float('inf')])
+def test_a_profile_velocity_that_is_not_finite_never_reaches_the_wire(speed):
+    with pytest.raises(ValueError, match='must be finite'):
+        ct.rad_s_to_velocity(speed)  # NaN cast to int and masked to 32 bits read 0: no limit
+
+
+def test_a_profile_velocity_beyond_the_velocity_limit_register_is_capped():
+    assert ct.rad_s_to_velocity(1e8) == 1023 and ct.rad_s_to_velocity(-5.0) == 1
 
 
 def test_state_block_is_current_velocity_position():

@@ -37,9 +37,10 @@ class ArmDriverNode(TactexNode):
         port = self.declare_parameter('port', '/dev/ttyUSB0', describe(
             description='serial device of the U2D2/OpenCR', read_only=True)).value
         baud = self.declare_parameter('baud', DEFAULT_BAUD, describe(
-            description='bus rate (baud)', read_only=True)).value
+            description='bus rate (baud): one the servos offer', read_only=True)).value
         ids = self.declare_parameter('servo_ids', list(SERVO_IDS), describe(
-            description='IDs of joint1..joint4 and the gripper', read_only=True)).value
+            description='IDs of joint1..joint4 and the gripper (distinct, 0 to 252)',
+            read_only=True)).value
         rate = self.declare_parameter('control_rate_hz', 100.0, describe(
             description='control loop and joint_states rate (Hz)', read_only=True,
             floating_point_range=[FloatingPointRange(from_value=1.0, to_value=1000.0)])).value
@@ -48,10 +49,13 @@ class ArmDriverNode(TactexNode):
             read_only=True,
             floating_point_range=[FloatingPointRange(from_value=0.0, to_value=math.pi)])).value
         gripper_ratio = self.declare_parameter('gripper_m_per_rad', 0.015, describe(
-            description='gripper travel per servo radian (m/rad)', read_only=True)).value
+            description='gripper travel per servo radian (m/rad)', read_only=True,
+            floating_point_range=[FloatingPointRange(from_value=1e-4, to_value=0.1)])).value
         self._profile_velocity = self.declare_parameter('profile_velocity', 2.0, describe(
             description='servo profile velocity (rad/s), a second speed limit in the servos',
-            read_only=True)).value
+            read_only=True, floating_point_range=[FloatingPointRange(
+                from_value=ct.PROFILE_VELOCITY_RANGE_RAD_S[0],
+                to_value=ct.PROFILE_VELOCITY_RANGE_RAD_S[1])])).value
         self._operating_modes = self.declare_parameter('operating_modes', [
             ct.MODE_POSITION] * 4 + [ct.MODE_CURRENT_BASED_POSITION], describe(
             description='operating mode per servo (3 position, 5 current-based position), '
@@ -62,10 +66,18 @@ class ArmDriverNode(TactexNode):
             description='on shutdown: hold (torque stays on at the present pose) or release',
             read_only=True)).value
         self._max_backoff = self.declare_parameter('max_backoff_s', 2.0, describe(
-            description='longest wait between reconnection attempts (s)',
-            read_only=True)).value
+            description='longest wait between reconnection attempts (s)', read_only=True,
+            floating_point_range=[FloatingPointRange(from_value=0.05, to_value=60.0)])).value
         if self._torque_on_exit not in TORQUE_POLICIES:
             raise self.refused_parameter('torque_on_exit', ' or '.join(TORQUE_POLICIES))
+        if baud not in ct.BAUD_RATES.values():
+            raise self.refused_parameter('baud', ', '.join(map(str, ct.BAUD_RATES.values())))
+        low, high = ct.SERVO_ID_RANGE
+        if not all(low <= i <= high for i in ids) or len(set(ids)) != len(ids):
+            raise self.refused_parameter('servo_ids', f'distinct IDs from {low} to {high}')
+        if not set(self._operating_modes) <= set(ct.HOLDING_MODES):
+            raise self.refused_parameter('operating_modes', 'modes that hold a position: '
+                                         + ' or '.join(map(str, ct.HOLDING_MODES)))
 
         self._limits = JointLimits.of_robot()
         if len(ids) != len(self._limits.names):

@@ -50,6 +50,10 @@ RECOMMENDED_V = 12.0
 
 MODE_POSITION = 3
 MODE_CURRENT_BASED_POSITION = 5
+# The modes that hold a goal position (an arm in velocity or PWM mode would not hold).
+HOLDING_MODES = (MODE_POSITION, MODE_CURRENT_BASED_POSITION)
+# IDs a servo can have (Protocol 2.0: 253 and 254 are reserved and broadcast).
+SERVO_ID_RANGE = (0, 252)
 
 # Hardware error status bits (address 70).
 ERROR_INPUT_VOLTAGE = 0x01
@@ -65,6 +69,8 @@ COUNTS_PER_REV = 4096
 CENTER_COUNT = 2048
 RAD_PER_COUNT = 2.0 * math.pi / COUNTS_PER_REV
 RAD_S_PER_VELOCITY_UNIT = 0.229 * 2.0 * math.pi / 60.0
+# Velocity Limit (address 44) holds 0..1023 units; a profile velocity above it is capped.
+PROFILE_VELOCITY_RANGE_RAD_S = (RAD_S_PER_VELOCITY_UNIT, 1023 * RAD_S_PER_VELOCITY_UNIT)
 AMPERE_PER_CURRENT_UNIT = 2.69e-3
 POSITION_COUNT_RANGE = (0, COUNTS_PER_REV - 1)
 
@@ -86,9 +92,16 @@ def velocity_to_rad_s(units):
 
 
 def rad_s_to_velocity(rad_s):
-    """rad/s -> raw profile velocity (at least 1: 0 would mean unlimited)."""
-    return np.maximum(1, np.rint(np.asarray(rad_s, dtype=float) / RAD_S_PER_VELOCITY_UNIT)
-                      ).astype(np.int64)
+    """rad/s -> raw profile velocity, within PROFILE_VELOCITY_RANGE_RAD_S (0 means unlimited).
+
+    Raises:
+        ValueError: a speed that is not finite (NaN would become 0 on the wire).
+    """
+    rad_s = np.asarray(rad_s, dtype=float)
+    if not np.all(np.isfinite(rad_s)):
+        raise ValueError(f'profile velocity must be finite, got {rad_s!r}')
+    low, high = (round(v / RAD_S_PER_VELOCITY_UNIT) for v in PROFILE_VELOCITY_RANGE_RAD_S)
+    return np.clip(np.rint(rad_s / RAD_S_PER_VELOCITY_UNIT), low, high).astype(np.int64)
 
 
 def current_to_ampere(units):

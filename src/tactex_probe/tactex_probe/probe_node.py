@@ -99,6 +99,11 @@ class ProbeNode(TactexNode):
                              if allowed else f'probe_on_start goal: {name} (base_link)'),
                 read_only=True, **({'floating_point_range': _float_range(
                     allowed.low, allowed.high)} if allowed else {}))).value
+        try:  # start and direction (points) are checked as a goal is
+            self._own_goal = ProbeParameters(**self._goal_values)
+        except ParameterError as err:
+            field = str(err).split(' ', 1)[0]  # the message opens with the field's name
+            raise self.refused_parameter(f'goal.{field}', str(err)) from None
         self._pathway_file = Path(pathway_file).expanduser()
         self._explorer: Explorer | None = None
         self._goal_handle = None
@@ -334,7 +339,7 @@ class ProbeNode(TactexNode):
         if not self._client.server_is_ready() or not self.arm_listening:
             return
         self._start_timer.cancel()
-        goal = goal_message(ProbeParameters(**self._goal_values))
+        goal = goal_message(self._own_goal)
         self._client.send_goal_async(goal)
         self.get_logger().info('probe_on_start: goal sent')
 

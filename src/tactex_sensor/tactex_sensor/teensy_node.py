@@ -7,7 +7,7 @@ from __future__ import annotations
 import threading
 
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
-from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor
+from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
 from sensor_msgs.msg import FluidPressure, Imu, MagneticField, Temperature
 
 from tactex_common import topics
@@ -19,6 +19,8 @@ from tactex_sensor.reader import TeensyReader
 
 VARIANCE_UNITS = {'accel': '(m/s^2)^2', 'gyro': '(rad/s)^2', 'mag': 'T^2', 'pressure': 'Pa^2',
                   'temperature': 'degC^2'}
+# Line rates a serial port can be opened at (a Teensy's USB serial ignores the rate).
+BAUD_RANGE = IntegerRange(from_value=300, to_value=12_000_000, step=1)
 
 
 class TeensyNode(TactexNode):
@@ -31,7 +33,8 @@ class TeensyNode(TactexNode):
             ParameterDescriptor(description='serial device of the Teensy', read_only=True)).value
         baud = self.declare_parameter(
             'baud', DEFAULT_BAUD,
-            ParameterDescriptor(description='line rate (baud)', read_only=True)).value
+            ParameterDescriptor(description='line rate (baud)', read_only=True,
+                                integer_range=[BAUD_RANGE])).value
         self._frame_id = self.declare_parameter(
             'frame_id', 'sensor_link', ParameterDescriptor(description='frame of the samples',
                                                            read_only=True)).value

@@ -18,7 +18,12 @@ import time
 
 from geometry_msgs.msg import PoseStamped
 import numpy as np
-from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor, SetParametersResult
+from rcl_interfaces.msg import (
+    FloatingPointRange,
+    IntegerRange,
+    ParameterDescriptor,
+    SetParametersResult,
+)
 import rclpy
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import FluidPressure, Imu, JointState, MagneticField, Temperature
@@ -61,13 +66,15 @@ class MujocoBridgeNode(TactexNode):
             description='scene name under config/scenes/ or a .toml path',
             read_only=True)).value
         seed = self.declare_parameter('seed', -1, describe(
-            description="random seed (-1: the scene's)", read_only=True)).value
+            description="random seed (-1: the scene's)", read_only=True,
+            integer_range=[IntegerRange(from_value=-1, to_value=2**63 - 1, step=1)])).value
         self._rate_factor = self.declare_parameter('rate_factor', 1.0, describe(
             description='simulated seconds per wall second (0: as fast as possible)',
             read_only=True, floating_point_range=[FloatingPointRange(
                 from_value=0.0, to_value=MAX_RATE_FACTOR)])).value
         start = self.declare_parameter('initial_joints', [0.0, -0.3, 0.3, 1.2, 0.0], describe(
-            description='joint1..joint4 (rad) and gripper (m) at start', read_only=True)).value
+            description='joint1..joint4 (rad) and gripper (m) at start, within the '
+                        'joint limits', read_only=True)).value
         texture = self.declare_parameter('patch_texture', '', describe(
             description='texture of every patch ("" keeps the scene\'s); settable while '
                         'running (the next sample feels it)')).value
@@ -91,9 +98,16 @@ class MujocoBridgeNode(TactexNode):
             except SimError as err:
                 raise self.refused_parameter('patch_texture',
                                              f"'' or a texture ({_reason(err)})") from None
+        limits = JointLimits.of_robot()
+        if len(start) != len(limits.names) or not np.all(
+                (np.asarray(start) >= limits.lower) & (np.asarray(start) <= limits.upper)):
+            raise self.refused_parameter('initial_joints', ', '.join(
+                f'{name} from {low:g} to {high:g}'
+                for name, low, high in zip(limits.names, limits.lower, limits.upper,
+                                           strict=True)))
         self._world = World(scene, seed=None if seed < 0 else seed,
                             patch_texture=texture or None)
-        self._controller = ArmController(JointLimits.of_robot())
+        self._controller = ArmController(limits)
         self._world.place_arm(np.asarray(start, dtype=float))
         self._controller.update_measured(self._world.joint_positions())
         self._controller.torque_on(0.0)

@@ -7,7 +7,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from rcl_interfaces.msg import ParameterDescriptor
+from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
 
 from tactex_classify.recording.recorder import RECORDED_TOPICS, SplitRecorder
 from tactex_common.ros import message_class, RECORDING, spin, TactexNode
@@ -24,14 +24,15 @@ class RecorderNode(TactexNode):
         label = self.declare_parameter('label', '', describe(
             description='texture class of the recording', read_only=True)).value
         trial = self.declare_parameter('trial', -1, describe(
-            description='recording / trajectory id (-1: none)', read_only=True)).value
+            description='recording / trajectory id (-1: none)', read_only=True,
+            integer_range=[IntegerRange(from_value=-1, to_value=2**31 - 1, step=1)])).value
         surface = self.declare_parameter('surface', '', describe(
             description='surface description (e.g. uneven)', read_only=True)).value
         extra = self.declare_parameter('metadata', '{}', describe(
             description='more metadata as a JSON object', read_only=True)).value
         split_s = self.declare_parameter('split_s', 1.0, describe(
-            description='seconds per part bag (the most a crash can lose)',
-            read_only=True)).value
+            description='seconds per part bag (the most a crash can lose)', read_only=True,
+            floating_point_range=[FloatingPointRange(from_value=0.1, to_value=3600.0)])).value
         compress = self.declare_parameter('compress', False, describe(
             description='zstd-compress messages', read_only=True)).value
         if not out:
