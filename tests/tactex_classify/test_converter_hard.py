@@ -95,12 +95,14 @@ def test_empty_and_single_sample_recordings_have_no_window(count, window):
                          window, 1) == []
 
 
-@given(st.lists(stamps, min_size=0, max_size=50))
-def test_the_mean_rate_of_any_stamps_is_nan_or_positive_and_never_warns(values):
+@given(st.lists(stamps, min_size=0, max_size=50), st.booleans())
+def test_the_mean_rate_of_any_stamps_is_nan_or_positive_and_never_warns(values, repeat):
+    sorted_ns = np.sort(np.array(values * (2 if repeat else 1), dtype=np.int64))
     with warnings.catch_warnings():
         warnings.simplefilter('error')
-        rate = mean_rate_hz(np.unique(np.array(values, dtype=np.int64)))
+        rate = mean_rate_hz(sorted_ns)  # repeated stamps too: [5, 5, 5] has no rate
     assert np.isnan(rate) or rate > 0
+    assert np.isnan(mean_rate_hz(np.array([5, 5, 5])))
 
 
 def test_the_mean_rate_of_whole_millisecond_stamps_is_the_true_rate():

@@ -47,6 +47,17 @@ def test_warnings_name_the_texture_and_channel():
         'wood: gx has 2 sample(s) beyond the configured full scale']
 
 
+def test_samples_whose_true_attitude_is_no_attitude_are_left_out_of_the_tilt_median():
+    # A zero quaternion on the ground-truth topic gives NaN, not the identity's tilt.
+    signals = signal_stats.TextureSignals(120.0, tilt_errors_deg=[np.array([1.0, np.nan, 3.0]),
+                                                                   np.full(4, np.nan)])
+    table = signal_stats.statistics({'wood': signals}, LIMITS)
+    assert table['wood']['madgwick_tilt_deg_median'] == 2.0
+    only_nan = signal_stats.TextureSignals(120.0, tilt_errors_deg=[np.full(3, np.nan)])
+    assert signal_stats.statistics({'x': only_nan}, LIMITS)['x'][
+        'madgwick_tilt_deg_median'] is None
+
+
 @pytest.mark.slow
 def test_sim_stats_writes_the_table_spectra_and_the_madgwick_tilt(tmp_path):
     scene = load_scene(resolve_scene('uneven_texture'))

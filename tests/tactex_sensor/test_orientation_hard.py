@@ -48,3 +48,17 @@ def test_a_non_finite_reading_or_yaw_is_a_reading_error(accel, yaw):
 def test_a_reading_that_is_not_a_3_vector_is_a_reading_error(values):
     with pytest.raises(ReadingError, match='3-vector'):
         orientation_from_gravity(values)
+
+
+@settings(max_examples=200)
+@given(vectors(anything(), 4), vectors(anything(), 4))
+def test_the_angle_between_any_two_quaternions_is_an_angle_or_nan_for_no_attitude(q_a, q_b):
+    from tactex_sensor.orientation import angle_between, tilt_between
+    attitudes = all(np.all(np.isfinite(q)) and any(q) for q in (q_a, q_b))
+    for angle in (angle_between(q_a, q_b), tilt_between(q_a, q_b)):
+        if attitudes:
+            assert 0.0 <= angle <= math.pi + 1e-12
+        else:  # a zero quaternion is no attitude, never the identity
+            assert math.isnan(angle)
+    if attitudes:
+        assert angle_between(q_a, q_a) < 1e-6 and tilt_between(q_b, q_b) < 1e-6

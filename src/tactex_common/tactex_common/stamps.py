@@ -37,9 +37,10 @@ def gaps(stamps_ns: np.ndarray) -> np.ndarray:
 
 
 def mean_rate_hz(stamps_ns: np.ndarray) -> float:
-    """Samples per second of sorted stamps over their gap-free runs (nan for fewer than two).
+    """Samples per second of sorted stamps over their gap-free runs (nan: none to measure).
 
-    The mean step with gaps left out: (samples - 1) / duration within each run. Stamps
+    NaN for fewer than two stamps, or for stamps that never advance. The mean step with
+    gaps left out: (samples - 1) / duration within each run. Stamps
     rounded to a clock's tick average out (350 Hz with whole milliseconds stays 350 Hz),
     where a median step would read the tick (333.3 Hz).
     """
@@ -47,7 +48,8 @@ def mean_rate_hz(stamps_ns: np.ndarray) -> float:
     if stamps_ns.size < 2:
         return float('nan')
     steady = np.diff(stamps_ns)[~gaps(stamps_ns)]
-    return 1e9 / float(np.mean(steady))
+    mean_step = float(np.mean(steady))
+    return 1e9 / mean_step if mean_step > 0 else float('nan')  # repeated stamps: no rate
 
 
 def after_clock_resets(stamps_ns: np.ndarray, log_ns: np.ndarray | None = None

@@ -103,16 +103,31 @@ def rotate(quaternion, vector) -> np.ndarray:
 
 
 def angle_between(q_a, q_b) -> float:
-    """Rotation angle (rad) between two attitudes."""
-    dot = abs(float(np.dot(q_a, q_b))) / (np.linalg.norm(q_a) * np.linalg.norm(q_b))
-    return 2.0 * math.acos(min(1.0, dot))
+    """Rotation angle (rad) between two attitudes, accurate near 0; NaN for no attitude.
+
+    A quaternion of any length stands for its direction; a zero or non-finite one is no
+    attitude at all.
+    """
+    q_a, q_b = _unit(q_a), _unit(q_b)
+    relative = quaternion_multiply(_conjugate(q_a), q_b)
+    return 2.0 * math.atan2(float(np.linalg.norm(relative[1:])), abs(float(relative[0])))
 
 
 def tilt_between(q_a, q_b) -> float:
-    """Angle (rad) between the up axes of two attitudes, ignoring heading."""
-    up_a = rotate(_conjugate(q_a), (0.0, 0.0, 1.0))
-    up_b = rotate(_conjugate(q_b), (0.0, 0.0, 1.0))
+    """Angle (rad) between the up axes of two attitudes, ignoring heading; NaN as above."""
+    up_a = rotate(_conjugate(_unit(q_a)), (0.0, 0.0, 1.0))
+    up_b = rotate(_conjugate(_unit(q_b)), (0.0, 0.0, 1.0))
     return math.atan2(float(np.linalg.norm(np.cross(up_a, up_b))), float(np.dot(up_a, up_b)))
+
+
+def _unit(q) -> np.ndarray:
+    """The quaternion scaled to length 1 (NaN where it has no direction: zero, not finite)."""
+    q = np.asarray(q, dtype=float)
+    scale = np.max(np.abs(q)) if np.all(np.isfinite(q)) else 0.0
+    if not scale > 0:
+        return np.full(4, np.nan)
+    q = q / scale  # no overflow squaring huge components
+    return q / np.linalg.norm(q)
 
 
 def _conjugate(q) -> np.ndarray:

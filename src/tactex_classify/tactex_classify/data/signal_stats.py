@@ -99,7 +99,10 @@ def collect(paths: Sequence[Path], *, rule: FilterRule | None = None,
 
 
 def madgwick_tilt_errors_deg(recording: Recording) -> np.ndarray | None:
-    """Tilt (deg) of the Madgwick attitude from the true one at each sample; None: no truth."""
+    """Tilt (deg) of the Madgwick attitude from the true one at each sample; None: no truth.
+
+    NaN where the true attitude is no attitude (a zero or non-finite quaternion).
+    """
     from tactex_sensor.madgwick import filter_batch, MadgwickConfig
     from tactex_sensor.orientation import tilt_between
 
@@ -165,6 +168,7 @@ def statistics(textures: dict[str, TextureSignals], limits: Limits) -> dict:
                     rows[channel] = channel_row(np.concatenate(entry.samples[channel]),
                                                 entry.rate_hz, group, limits)
         errors = np.concatenate(entry.tilt_errors_deg) if entry.tilt_errors_deg else None
+        errors = None if errors is None else errors[np.isfinite(errors)]  # truth without one
         table[texture] = {'recordings': entry.recordings, 'rate_hz': entry.rate_hz,
                           'channels': rows,
                           'madgwick_tilt_deg_median': None if errors is None or not errors.size
