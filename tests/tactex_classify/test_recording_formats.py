@@ -220,6 +220,22 @@ def test_a_metadata_yaml_that_lies_is_named_with_the_way_out(lie, original, tmp_
         read_recording(folder)
     assert 'delete metadata.yaml' in str(raised.value) and '\n' not in str(raised.value)
 
+def test_bag_info_shows_the_file_s_counts_and_span_where_the_metadata_lies(original,
+                                                                          tmp_path):
+    from tactex_classify.data.bag_info import describe
+    folder = shutil.copytree(original, tmp_path / 'lying_counts')
+    metadata = folder / 'metadata.yaml'
+    truth = describe(original)
+    metadata.write_text(metadata.read_text().replace('message_count: 300', 'message_count: 7')
+                        .replace('nanoseconds: ', 'nanoseconds: 1'))
+    info = describe(folder)
+    assert [t.count for t in info.topics] == [t.count for t in truth.topics]
+    assert (info.start_ns, info.end_ns, info.messages) == (truth.start_ns, truth.end_ns,
+                                                           truth.messages)
+    assert any('the metadata lists 7 message(s), the file holds 300' in note
+               for note in info.notes)
+
+
 @pytest.mark.parametrize('compression', ['bz2', 'lz4', 'zstd'])
 def test_a_block_that_inflates_without_bound_is_refused(compression, tmp_path, monkeypatch):
     monkeypatch.setattr(inflation, 'MIN_LIMIT_BYTES', 1024**2)

@@ -130,8 +130,18 @@ def describe(path: Path, *, timing: bool = True, progress=None) -> RecordingInfo
     if all(part.error for part in parts):
         raise BagError(f'{path}: cannot read: {parts[0].error}' if len(parts) == 1 else
                        f'{path}: cannot read any of its {len(parts)} parts')
-    for topic, stamps in times.items():
-        _timing(topics[topic], np.sort(np.frombuffer(stamps, dtype=np.int64)), start)
+    sorted_times = {topic: np.sort(np.frombuffer(stamps, dtype=np.int64))
+                    for topic, stamps in times.items()}
+    for topic, stamps in sorted_times.items():  # the file's counts and span, not the index's
+        if stamps.size != topics[topic].count:  # a metadata.yaml that lies, or is stale
+            notes.append(f'{topic}: the metadata lists {topics[topic].count} message(s), the '
+                         f"file holds {stamps.size}: the file's count shown")
+            topics[topic].count = int(stamps.size)
+    read = [stamps for stamps in sorted_times.values() if stamps.size]
+    if read:
+        start, end = min(int(s[0]) for s in read), max(int(s[-1]) for s in read)
+    for topic, stamps in sorted_times.items():
+        _timing(topics[topic], stamps, start)
     return RecordingInfo(str(path), parts, start, end, sum(t.count for t in topics.values()),
                          sorted(topics.values(), key=lambda t: t.topic), metadata, notes)
 
