@@ -354,3 +354,17 @@ def test_a_grid_run_grouped_only_has_no_leaky_columns_nor_words(tmp_path):
                 'data': {'64': {'classes': ['a', 'b'], 'windows': 20, 'recordings': 4}}}
     report = write_report(tmp_path, results, manifest).read_text(encoding='utf-8')
     assert 'grouped by recording (honest);' in report and 'leaky' not in report
+
+
+def test_datasets_at_several_windows_must_be_one_set_of_recordings():
+    from tactex.commands.compare import check_one_source
+    from tactex.errors import CommandError
+    short, long = toy(window=32), toy(window=64)
+    fewer = long.select(long.trial != 0)  # a recording too short for the longer window
+    check_one_source([(short, 'w32.npz'), (fewer, 'w64.npz')])
+    others = Dataset(long.X, long.y, long.trial + 100, long.t0, long.classes, long.info)
+    for dataset, differs in ((others, 'recordings'), (toy(window=64, classes=2), 'classes'),
+                             (Dataset(long.X, long.y, long.trial, long.t0, long.classes,
+                                      {**long.info, 'sampling_rate_hz': 120.0}), 'rate')):
+        with pytest.raises(CommandError, match=f'w64.npz and w32.npz differ in {differs}'):
+            check_one_source([(short, 'w32.npz'), (dataset, 'w64.npz')])

@@ -243,6 +243,7 @@ def load_data(args: argparse.Namespace, store, log) -> tuple[dict, dict, list[in
                 raise CommandError(f'DATA gives two datasets of window {window} ({path}); '
                                    'give one per window')
             datasets[window] = (dataset, str(path))
+        check_one_source([datasets[w] for w in sorted(datasets)])
         wanted = args.windows or sorted(datasets)
         missing = [w for w in wanted if w not in datasets]
         if missing:
@@ -265,6 +266,36 @@ def load_data(args: argparse.Namespace, store, log) -> tuple[dict, dict, list[in
             converted.append(window)
         sources[window] = source
     return datasets, sources, converted
+
+
+def check_one_source(datasets: list[tuple]) -> None:
+    """The datasets are one set of recordings at several windows.
+
+    A longer window may lose a recording too short for it, so one dataset's recordings
+    (label, trial) must hold the other's; classes, channels and rate must be the same.
+
+    Raises:
+        CommandError: naming the two datasets and what differs.
+    """
+    def recordings(dataset) -> set:
+        return {(dataset.classes[y], int(t)) for y, t in zip(dataset.y, dataset.trial,
+                                                              strict=True)}
+
+    (first, first_path), *rest = datasets
+    for dataset, path in rest:
+        differs = [what for what, a, b in (
+            ('classes', first.classes, dataset.classes),
+            ('channels', first.channels, dataset.channels),
+            ('rate', first.info.get('sampling_rate_hz'), dataset.info.get('sampling_rate_hz'))
+        ) if a != b]
+        mine, theirs = recordings(first), recordings(dataset)
+        if not (mine <= theirs or theirs <= mine):
+            differs.append('recordings')
+        if differs:
+            raise CommandError(f'DATA {path} and {first_path} differ in {", ".join(differs)}: '
+                               'they are not one set of recordings at two windows; give '
+                               'datasets converted from the same recordings at each --window '
+                               '(or the recordings themselves)')
 
 
 def check_models_fit(models: list[str], window: int) -> None:
