@@ -92,12 +92,31 @@ def test_train_init_fine_tunes_and_keeps_the_checkpoint_it_started_from(pretrain
     assert f'starts from the weights of {pretrained}' in capsys.readouterr().out
     tuned = DeepClassifier.load(tmp_path / 'run' / 'model')
     assert tuned.config.model == 'cnn_3' and tuned.config.pretrained == str(pretrained)
+    assert tuned.config.scaling == 'minmax'  # the checkpoint's, unless --scaling says
+
+
+def test_train_init_with_another_scaling_says_the_weights_saw_other_inputs(tmp_path, capsys):
+    data = toy()
+    window_scaled = DeepClassifier(TrainingConfig(model='cnn_3', epochs=1, scaling='window')
+                                   ).fit(data.X, data.y, CLASSES, channels=data.channels)
+    checkpoint = window_scaled.save(tmp_path / 'pretrained', **STREAM)
+    path = toy(seed=3).save(tmp_path / 'other.npz')
+    common = ['train', str(path), '--init', str(checkpoint), '--epochs', '1', '--folds', '2',
+              '--cv', 'grouped']
+    assert main([*common, '--out', str(tmp_path / 'same')]) == 0
+    assert 'note: --scaling' not in capsys.readouterr().out
+    assert DeepClassifier.load(tmp_path / 'same' / 'model').config.scaling == 'window'
+    assert main([*common, '--no-final', '--scaling', 'minmax', '--out',
+                 str(tmp_path / 'other')]) == 0
+    assert ('note: --scaling minmax: ' + str(checkpoint) + ' was trained on window-scaled '
+            'windows') in capsys.readouterr().out
 
 
 @pytest.mark.parametrize('extra, message', [
     (['--model', 'cnn_1'], 'holds cnn_3, not --model cnn_1'),
     (['--window-of-another'], None),
     (['--channels-of-another'], None),
+    (['--rate-of-another'], None),
 ])
 def test_train_init_refuses_what_cannot_be_fine_tuned(pretrained, tmp_path, capsys, extra,
                                                       message):
@@ -111,6 +130,13 @@ def test_train_init_refuses_what_cannot_be_fine_tuned(pretrained, tmp_path, caps
         other = Dataset(data.X, data.y, data.trial, data.t0, data.classes, data.info,
                         channels=[f'c{i}' for i in range(10)])
         path, extra, message = other.save(tmp_path / 'other.npz'), [], 'DATA has c0, c1'
+    elif extra == ['--rate-of-another']:
+        fast = Dataset(data.X, data.y, data.trial, data.t0, data.classes,
+                       {**data.info, 'sampling_rate_hz': 2 * STREAM['sampling_rate_hz']})
+        path, extra = fast.save(tmp_path / 'fast.npz'), []
+        rate = STREAM['sampling_rate_hz']
+        message = (f'--init {pretrained} was trained at {rate:g} Hz, DATA is at {2 * rate:g} '
+                   f'Hz: convert (or import) DATA with --resample {rate:g}')
     else:
         path = data.save(tmp_path / 'toy.npz')
     assert main(['train', str(path), '--init', str(pretrained), '--epochs', '1', '--folds',

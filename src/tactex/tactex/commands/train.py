@@ -64,9 +64,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              'epochs, counted once the training loss leaves chance '
                              '(validation: recordings held out of the training fold; '
                              "0: off; default: the profile's, off or 30)")
-    parser.add_argument('--scaling', default='minmax', choices=SCALINGS,
-                        help='per-channel Min-Max (default), z-score, or window: each '
-                             "window's mean removed, then z-scaled")
+    parser.add_argument('--scaling', default=None, choices=SCALINGS,
+                        help="per-channel Min-Max (default; with --init, the checkpoint's), "
+                             "z-score, or window: each window's mean removed, then z-scaled")
     parser.add_argument('--seed', type=seed_value, default=0)
     parser.add_argument('--threads', type=integer(1, 256), default=1,
                         help='torch threads (1)')
@@ -106,8 +106,12 @@ def run(args: argparse.Namespace) -> int:
     from tactex_classify.training.deep_classifier import TrainingConfig
     from tactex_classify.training.estimators import build_estimator
 
-    args.model = pretrained_model(args.init, args.model, dataset) if args.init else (
-        args.model or 'cnn_1')
+    args.model, pretrained_scaling = pretrained_model(args.init, args.model, dataset) if (
+        args.init) else (args.model or 'cnn_1', None)
+    if pretrained_scaling and args.scaling not in (None, pretrained_scaling):
+        print(f'note: --scaling {args.scaling}: {args.init} was trained on {pretrained_scaling}'
+              '-scaled windows, so its weights start from inputs of another range')
+    args.scaling = args.scaling or pretrained_scaling or 'minmax'
     check_model_window(args.model, dataset)
     config = TrainingConfig.for_profile(
         args.profile, model=args.model, pretrained=str(args.init or ''), epochs=args.epochs,
@@ -157,14 +161,15 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def pretrained_model(checkpoint: Path, model: str | None, dataset) -> str:
-    """The deep model a fine-tuning starts from: the checkpoint's (`--model` must agree).
+def pretrained_model(checkpoint: Path, model: str | None, dataset) -> tuple[str, str | None]:
+    """The deep model a fine-tuning starts from (`--model` must agree) and its scaling.
 
-    Checked before any training: the checkpoint's window and channels must be the dataset's.
+    Checked before any training: the checkpoint's window, channels and rate (within 5 %)
+    must be the dataset's.
 
     Raises:
         CommandError: the checkpoint is missing or refused, holds a baseline, another model,
-            or another window or channels than the dataset's.
+            or another window, channels or rate than the dataset's.
     """
     from tactex_classify.errors import CheckpointError
     from tactex_classify.models.checkpoint import read_checkpoint
@@ -189,7 +194,14 @@ def pretrained_model(checkpoint: Path, model: str | None, dataset) -> str:
                            f'{", ".join(info.stream.channels)}, DATA has '
                            f'{", ".join(dataset.channels)}: start from a checkpoint of the '
                            "dataset's channels")
-    return info.model
+    rate = dataset.info.get('sampling_rate_hz')
+    if rate is not None and info.stream.mismatches(sampling_rate_hz=rate):
+        raise CommandError(f'--init {checkpoint} was trained at '
+                           f'{info.stream.sampling_rate_hz:g} Hz, DATA is at {rate:.4g} Hz: '
+                           'convert (or import) DATA with --resample '
+                           f'{info.stream.sampling_rate_hz:g}, or start from a checkpoint of '
+                           f'{rate:.4g} Hz')
+    return info.model, info.fields.get('scaler', {}).get('kind')
 
 
 def check_model_window(model: str, dataset) -> None:
@@ -287,7 +299,8 @@ def _train_bundle(args: argparse.Namespace, dataset) -> int:
     model = args.model or 'minirocket'
     check_model_window(model, dataset)
     config = TrainingConfig.for_profile(
-        args.profile, model=model, epochs=args.epochs, scaling=args.scaling, seed=args.seed,
+        args.profile, model=model, epochs=args.epochs, scaling=args.scaling or 'minmax',
+        seed=args.seed,
         threads=args.threads,
         **({} if args.early_stopping is None else {'early_stopping': args.early_stopping}))
     fitted = []
