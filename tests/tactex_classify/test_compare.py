@@ -317,6 +317,16 @@ def test_each_deep_row_gives_its_paired_difference_to_the_best_baseline_with_a_9
     assert '| +11.7 [-7.3, +30.6] vs minirocket |' in table(list(rows.values()))
 
 
+def test_the_interval_of_few_pairs_stays_within_what_two_accuracies_can_differ_by():
+    results = [fake_result('cnn_3', 'grouped', fold, accuracy)
+               for fold, accuracy in ((1, 0.05), (2, 0.0))]
+    results += [fake_result('minirocket', 'grouped', fold, 1.0) for fold in (1, 2)]
+    rows = {row['model']: row for row in summarise(results, {64: ['a', 'b']})}
+    versus = rows['cnn_3']['vs_best_baseline']  # t(0.975, 1 dof) = 12.7 reached -129
+    assert (versus['low'], versus['high']) == pytest.approx((-1.0, -0.6573), abs=1e-4)
+    assert '| -97.5 [-100.0, -65.7] vs minirocket |' in table(list(rows.values()))
+
+
 def test_a_single_pair_gives_a_difference_but_no_interval():
     results = [fake_result('cnn_3', 'grouped', 1, 0.9),
                fake_result('minirocket', 'grouped', 1, 0.6),

@@ -96,8 +96,9 @@ def summarise(results: list[dict], classes: dict[int, list[str]]) -> list[dict]:
 def paired_difference(ours: dict, theirs: dict) -> dict | None:
     """Mean and 95 % interval of ours - theirs over the keys both have (paired cells).
 
-    The interval is Student's t over the paired differences (n - 1 degrees of freedom);
-    one pair has no interval (low and high None), and no pair gives None.
+    The interval is Student's t over the paired differences (n - 1 degrees of freedom),
+    cut to the differences two accuracies can have (-1..1: few pairs give a wide t
+    interval); one pair has no interval (low and high None), and no pair gives None.
     """
     from scipy import stats
     shared = sorted(set(ours) & set(theirs))
@@ -109,7 +110,8 @@ def paired_difference(ours: dict, theirs: dict) -> dict | None:
         return {'mean': mean, 'low': None, 'high': None, 'n': 1}
     half = float(stats.t.ppf(0.975, len(differences) - 1) * differences.std(ddof=1)
                  / np.sqrt(len(differences)))
-    return {'mean': mean, 'low': mean - half, 'high': mean + half, 'n': len(differences)}
+    return {'mean': mean, 'low': max(-1.0, mean - half), 'high': min(1.0, mean + half),
+            'n': len(differences)}
 
 
 def _compare_with_best_baseline(rows: list[dict], groups: dict) -> None:
