@@ -3,6 +3,7 @@
 """`tactex status`: every running node's diagnostics in one table, without the ros2 CLI."""
 
 from pathlib import Path
+import re
 import subprocess
 import sys
 
@@ -37,12 +38,14 @@ def test_status_shows_the_running_nodes_and_says_when_none_answers(tmp_path):
         shown = subprocess.run([BIN / 'tactex', 'status', '--namespace', 'left',
                                 '--duration', '6'], capture_output=True, text=True, env=env,
                                timeout=60)
-        elsewhere = subprocess.run([BIN / 'tactex', 'status', '--duration', '1'],
+        elsewhere = subprocess.run([BIN / 'tactex', 'status', '--namespace', 'right',
+                                    '--duration', '1'],
                                    capture_output=True, text=True, env=env, timeout=60)
     finally:
         stop(nodes)
     assert shown.returncode == 0, shown.stderr
-    assert 'tactex_sensor: teensy    ERROR  disconnected' in shown.stdout
-    assert 'tactex_sensor: madgwick' in shown.stdout and 'rejected_gyro=0' in shown.stdout
+    assert re.search(r'/left/teensy_node: teensy +ERROR  disconnected', shown.stdout)
+    assert '/left/madgwick_node: madgwick' in shown.stdout and 'rejected_gyro=0' in shown.stdout
     assert elsewhere.returncode == 1
-    assert elsewhere.stderr.startswith('error: no diagnostics on /diagnostics within 1 s')
+    assert elsewhere.stderr.startswith('error: no diagnostics on /diagnostics from nodes under '
+                                       '/right within 1 s')

@@ -200,6 +200,17 @@ def test_every_tunable_parameter_and_every_number_has_a_range_or_a_check(ros_con
             node.destroy_node()
 
 
+def test_every_node_publishes_diagnostics_on_the_absolute_topic(ros_context, tmp_path):
+    nodes = _nodes(ros_context, tmp_path)
+    try:
+        for node in nodes:
+            published = {(p.topic_name, p.msg_type.__name__) for p in node.publishers}
+            assert ('/diagnostics', 'DiagnosticArray') in published, node.get_name()
+    finally:
+        for node in nodes:
+            node.destroy_node()
+
+
 def test_set_parameters_at_run_time_refuses_a_bad_value_with_the_reason(ros_context, tmp_path):
     from rclpy.parameter import Parameter
     nodes = _nodes(ros_context, tmp_path)

@@ -55,8 +55,8 @@ def test_nodes_publish_through_faults_and_a_disconnect(tmp_path, ros_context):
         # teensy_node's statuses are checked; madgwick_node's only show that it is up.
         madgwick_up = []
         node.create_subscription(DiagnosticArray, 'diagnostics', lambda m: (
-            diagnostics.extend(s for s in m.status if s.name == 'tactex_sensor: teensy'),
-            madgwick_up.extend(s for s in m.status if s.name == 'tactex_sensor: madgwick')),
+            diagnostics.extend(s for s in m.status if s.name == '/teensy_node: teensy'),
+            madgwick_up.extend(s for s in m.status if s.name == '/madgwick_node: madgwick')),
             10)
         assert spin_until(ros_context, node, lambda: diagnostics and madgwick_up, 120.0)
         emulator = subprocess.Popen(

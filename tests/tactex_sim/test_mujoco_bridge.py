@@ -89,6 +89,7 @@ def test_the_patch_texture_can_be_set_while_running_and_a_wrong_one_is_refused(r
 
 
 def test_a_fault_set_while_running_silences_or_spoils_its_topics_until_cleared(ros_context):
+    from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
     import rclpy
     from rclpy.parameter import Parameter
     from rclpy.qos import qos_profile_sensor_data
@@ -103,6 +104,10 @@ def test_a_fault_set_while_running_silences_or_spoils_its_topics_until_cleared(r
     listener.create_subscription(Imu, 'tactile/imu/data_raw', got['imu'].append,
                                  qos_profile_sensor_data)
     listener.create_subscription(JointState, 'joint_states', got['joints'].append, 10)
+    statuses = []  # the bridge's diagnostics: a fault playing is a warning
+    listener.create_subscription(DiagnosticArray, '/diagnostics', lambda m: statuses.extend(
+        (s.level, s.message, s.hardware_id) for s in m.status if s.name == '/mujoco_bridge: sim'),
+        10)
     executor = rclpy.executors.SingleThreadedExecutor(context=ros_context)
     executor.add_node(bridge)
     executor.add_node(listener)
@@ -125,11 +130,14 @@ def test_a_fault_set_while_running_silences_or_spoils_its_topics_until_cleared(r
         spin(2.0)  # discovery
         counts = heard('sensor_unplug')
         assert counts['imu'] == 0 and counts['joints'] > 0
+        assert statuses[-1] == (DiagnosticStatus.WARN, "fault 'sensor_unplug' playing",
+                                'mujoco:probe')
         counts = heard('servo_silence')
         assert counts['joints'] == 0 and counts['imu'] > 0
         assert heard('crc_burst')['imu'] > 0
         assert all(math.isnan(m.linear_acceleration.z) for m in got['imu'])
         assert min(heard('').values()) > 0
+        assert 'fault' not in statuses[-1][1]  # (simulating, or behind on a busy machine)
         assert math.isfinite(got['imu'][-1].linear_acceleration.z)
         refused, = bridge.set_parameters([Parameter('fault', value='meteor')])
         assert not refused.successful and "'crc_burst'" in refused.reason

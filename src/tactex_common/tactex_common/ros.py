@@ -37,6 +37,7 @@ from rclpy.signals import SignalHandlerOptions
 from tactex_common.errors import NodeParameterError
 from tactex_common.naming import closest_name
 from tactex_common.stopping import on_stop_signals
+from tactex_common.topics import diagnostic_name
 
 # Sensor streams: best effort, keep last 5 (a late sample is worth less than a new one).
 SENSOR_DATA = qos_profile_sensor_data
@@ -94,11 +95,16 @@ class TactexNode(Node):
                        if isinstance(err, InvalidParameterTypeException) else 'is out of range')
             raise self._refusal(name, given.value, problem, allowed(descriptor)) from None
 
-    def publish_diagnostics(self, publisher, level: bytes, name: str, message: str,
+    def publish_diagnostics(self, publisher, level: bytes, task: str, message: str,
                             values: Mapping[str, object], hardware_id: str = '') -> None:
-        """Publish the node's one DiagnosticStatus, its values as text, stamped now."""
+        """Publish the node's one DiagnosticStatus, its values as text, stamped now.
+
+        The status is named `diagnostic_name(node, task)`: two systems in two namespaces
+        publish on the one /diagnostics without taking each other's place.
+        """
         status = DiagnosticStatus(
-            level=level, name=name, message=message, hardware_id=hardware_id,
+            level=level, name=diagnostic_name(self.get_fully_qualified_name(), task),
+            message=message, hardware_id=hardware_id,
             values=[KeyValue(key=key, value=str(value)) for key, value in values.items()])
         array = DiagnosticArray(status=[status])
         array.header.stamp = self.get_clock().now().to_msg()

@@ -20,7 +20,9 @@ SWEEP_MARKERS = 'sweep/markers'  # visualization_msgs/MarkerArray: the planned s
 RECORDING_METADATA = 'recording/metadata'  # std_msgs/String, JSON: label, trial, surface, ...
 TEXTURE_ESTIMATE = 'texture/estimate'  # tactex_msgs/TextureEstimate
 TEXTURE_MARKERS = 'texture/markers'  # visualization_msgs/MarkerArray
-DIAGNOSTICS = 'diagnostics'  # diagnostic_msgs/DiagnosticArray, from every node
+# diagnostic_msgs/DiagnosticArray from every node, on the one absolute topic that
+# diagnostic_aggregator and rqt_robot_monitor read, whatever a node's namespace.
+DIAGNOSTICS = '/diagnostics'
 # Actions.
 PROBE_ACTION = 'probe'  # tactex_msgs/action/Probe
 SWEEP_ACTION = 'sweep'  # tactex_msgs/action/Sweep
@@ -30,3 +32,8 @@ GROUND_TRUTH_CONTACT = 'sim/ground_truth/contact'  # geometry_msgs/PoseStamped, 
 # PoseStamped: position of the sensor edge, attitude of sensor_link.
 GROUND_TRUTH_SENSOR = 'sim/ground_truth/sensor_pose'
 GROUND_TRUTH_TEXTURE = 'sim/ground_truth/texture'  # std_msgs/String
+
+
+def diagnostic_name(node: str, task: str) -> str:
+    """A DiagnosticStatus name, as diagnostic_updater forms it: `/ns/node_name: task`."""
+    return f'{node}: {task}'

@@ -311,7 +311,7 @@ class ArmDriverNode(TactexNode):
                   'last_error': self._last_error,
                   'hardware_errors': str(self._hardware_errors),
                   'loop_jitter_median_ms': f'{median:.3f}', 'loop_jitter_p99_ms': f'{p99:.3f}'}
-        self.publish_diagnostics(self._diagnostics_pub, level, 'tactex_driver: arm', message,
+        self.publish_diagnostics(self._diagnostics_pub, level, 'arm', message,
                                  values, hardware_id=self._bus.port_name)
 
     def destroy_node(self) -> None:

@@ -366,7 +366,7 @@ class ProbeNode(TactexNode):
                   'samples_dropped': str(dropped), 'rejected_goals': str(self._rejected_goals),
                   'pathway_file': str(self._pathway_file),
                   **{f'{name}_age_s': age for name, age in ages.items()}}
-        self.publish_diagnostics(self._diagnostics_pub, level, 'tactex_probe: probe', message,
+        self.publish_diagnostics(self._diagnostics_pub, level, 'probe', message,
                                  values)
 
 

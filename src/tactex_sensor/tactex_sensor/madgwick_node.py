@@ -125,7 +125,7 @@ class MadgwickNode(TactexNode):
         values = {'received': self._received, 'published': self._published,
                   'gain': self._filter.config.gain, 'restarts': self._filter.restarts,
                   **{f'rejected_{kind}': count for kind, count in rejected.items()}}
-        self.publish_diagnostics(self._diagnostics_pub, level, 'tactex_sensor: madgwick', message,
+        self.publish_diagnostics(self._diagnostics_pub, level, 'madgwick', message,
                                  values)
 
 

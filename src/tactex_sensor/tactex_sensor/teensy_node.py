@@ -81,7 +81,7 @@ class TeensyNode(TactexNode):
         ok, summary, values = self._reader.health()
         level = DiagnosticStatus.OK if ok else (
             DiagnosticStatus.ERROR if values['link'] != 'connected' else DiagnosticStatus.WARN)
-        self.publish_diagnostics(self._diagnostics_pub, level, 'tactex_sensor: teensy', summary,
+        self.publish_diagnostics(self._diagnostics_pub, level, 'teensy', summary,
                                  values, hardware_id=values['port'])
         if values['link'] != 'connected':
             self.get_logger().warning(

@@ -5,7 +5,8 @@
 Same topics and commands as the hardware: joint_states, the raw tactile topics,
 arm/joint_trajectory (validated and played exactly as the driver does), arm/stop and
 arm/torque; plus /clock (simulated time: run other nodes with use_sim_time) and the
-ground truth on sim/ground_truth/*. `patch_texture` may be set while running (one texture
+ground truth on sim/ground_truth/*, and diagnostics (the scene, how far it lags, a fault
+playing). `patch_texture` may be set while running (one texture
 per sweep without a restart), and `fault` plays a fault (`tactex_sim.faults`) until
 cleared. `rate_factor` 1 runs in real time, 5 five times faster, 0 as fast as the machine
 allows.
@@ -16,6 +17,7 @@ from __future__ import annotations
 import math
 import time
 
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from geometry_msgs.msg import PoseStamped
 import numpy as np
 from rcl_interfaces.msg import (
@@ -49,6 +51,8 @@ MESSAGE_CLASSES = {'sensor_msgs/msg/Imu': Imu, 'sensor_msgs/msg/MagneticField': 
                    'sensor_msgs/msg/Temperature': Temperature,
                    'sensor_msgs/msg/JointState': JointState,
                    'geometry_msgs/msg/PoseStamped': PoseStamped, 'std_msgs/msg/String': String}
+# Simulated time further behind its rate factor's target than this is reported (WARN).
+LAG_WARN_S = 1.0
 
 
 def _reason(error: SimError) -> str:
@@ -125,11 +129,15 @@ class MujocoBridgeNode(TactexNode):
                                  10)
         self.create_service(Trigger, 'arm/stop', self._on_stop)
         self.create_service(SetBool, 'arm/torque', self._on_torque)
+        self._diagnostics_pub = self.create_publisher(DiagnosticArray, topics.DIAGNOSTICS,
+                                                      COMMAND)
+        self._scene_name, self._samples = scene.name, 0
         self._wall_start = time.monotonic()
         # Twice the sample rate, one sample a tick: a simulator that fell behind catches up
         # at up to twice the rate, and an arm command waits at most one sample.
         period = self._world.period_s / self._rate_factor if self._rate_factor else 0.0
         self.create_timer(period / 2, self._tick)
+        self.create_timer(1.0, self._publish_diagnostics)
         self.get_logger().info(f'scene {scene.name!r}, effects {list(scene.effects)}, '
                                f'{scene.sensor_rate_hz:g} Hz, rate factor {self._rate_factor}')
 
@@ -170,7 +178,24 @@ class MujocoBridgeNode(TactexNode):
             self._controller.update_measured(self._world.joint_positions())
             self._publish(sample)
 
+    def _publish_diagnostics(self) -> None:
+        """The scene, how far simulated time lags its target, and the fault playing (WARN)."""
+        lag_s = ((time.monotonic() - self._wall_start) * self._rate_factor - self._world.time_s
+                 if self._rate_factor else 0.0)
+        behind = lag_s > LAG_WARN_S
+        fault = self._faults.fault
+        level = DiagnosticStatus.WARN if fault or behind else DiagnosticStatus.OK
+        message = (f'fault {fault!r} playing' if fault else
+                   f'{lag_s:.1f} s behind its rate factor' if behind else 'simulating')
+        self.publish_diagnostics(self._diagnostics_pub, level, 'sim', message, {
+            'scene': self._scene_name, 'sim_time_s': f'{self._world.time_s:.3f}',
+            'rate_factor': self._rate_factor, 'lag_s': f'{lag_s:.3f}',
+            'samples': self._samples, 'fault': fault or 'none',
+            'patch_texture': self.get_parameter('patch_texture').value or 'of the scene'},
+            hardware_id=f'mujoco:{self._scene_name}')
+
     def _publish(self, sample: Sample) -> None:
+        self._samples += 1
         time_ns = int(round(sample.time_s * 1e9))
         self._clock_pub.publish(Clock(clock=rclpy.time.Time(nanoseconds=time_ns).to_msg()))
         muted = self._faults.muted

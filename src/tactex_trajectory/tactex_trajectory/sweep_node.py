@@ -506,7 +506,7 @@ class SweepNode(TactexNode):
             level = DiagnosticStatus.WARN
         values = {'state': self._state, 'last_outcome': self._last_outcome or 'none',
                   'last_planning_ms': f'{self._last_planning_s * 1e3:.1f}'}
-        self.publish_diagnostics(self._diagnostics_pub, level, 'tactex_trajectory: sweep',
+        self.publish_diagnostics(self._diagnostics_pub, level, 'sweep',
                                  f'{self._state}; last: {self._last_outcome or "none"}', values)
 
     def destroy_node(self) -> None:

@@ -33,8 +33,8 @@ from tactex_msgs.msg import Pathway, TextureEstimate
 
 # The bridge's parameter service (the simulator stands in for the robot under this name).
 BRIDGE_PARAMETERS = 'mujoco_bridge/set_parameters'
-CLASSIFIER_STATUS = 'tactex_classify: classifier_node'  # its diagnostics status name
-MADGWICK_STATUS = 'tactex_sensor: madgwick'
+CLASSIFIER_STATUS = topics.diagnostic_name('/classifier_node', 'classifier')  # diagnostics status
+MADGWICK_STATUS = topics.diagnostic_name('/madgwick_node', 'madgwick')
 
 
 class ProbeAborted(CommandError):

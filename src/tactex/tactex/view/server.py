@@ -182,7 +182,7 @@ class ViewNode(TactexNode):
     def _publish_diagnostics(self) -> None:
         values = {'url': self.url, **{f'forwarded{name.replace("/", "_")}': str(count)
                                       for name, count in self.forwarded.items()}}
-        self.publish_diagnostics(self._diagnostics_pub, DiagnosticStatus.OK, 'tactex: view',
+        self.publish_diagnostics(self._diagnostics_pub, DiagnosticStatus.OK, 'view',
                                  f'serving {self.url}', values)
 
 

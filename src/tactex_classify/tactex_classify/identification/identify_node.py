@@ -376,7 +376,7 @@ class IdentifyNode(TactexNode):
                   'samples': str(counts['samples']), 'windows_cut': str(counts['windows']),
                   **{f'goals_{name}': str(count) for name, count in self._goals.items()}}
         self.publish_diagnostics(self._diagnostics_pub, level,
-                                 f'tactex_classify: {self.get_name()}',
+                                 'identify',
                                  f'{self._state}; last: {self._last_outcome or "none"}', values)
 
 def main(args: list[str] | None = None) -> None:

@@ -358,7 +358,7 @@ class ClassifierNode(TactexNode):
                   'queued': str(len(self._queue)),
                   **{f'faults_{name}': str(count) for name, count in faults.items()}}
         self.publish_diagnostics(self._diagnostics_pub, level,
-                                 f'tactex_classify: {self.get_name()}', summary, values,
+                                 'classifier', summary, values,
                                  hardware_id=self._info.model_id)
 
     def _fault_totals(self) -> dict[str, int]:

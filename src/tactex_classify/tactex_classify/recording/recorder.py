@@ -91,6 +91,11 @@ class SplitRecorder:
         self._writer.write(self._connections[topic], int(time_ns), data)
         self.messages += 1
 
+    @property
+    def parts(self) -> int:
+        """Part bags begun so far."""
+        return self._part + 1
+
     def close(self) -> None:
         """Close the current part; safe to call twice."""
         if self._writer is not None:

@@ -6,11 +6,18 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
+import time
 
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
 
 from tactex_classify.recording.recorder import RECORDED_TOPICS, SplitRecorder
-from tactex_common.ros import message_class, RECORDING, spin, TactexNode
+from tactex_common import topics
+from tactex_common.ros import COMMAND, message_class, RECORDING, spin, TactexNode
+
+# Seconds without a message after which the recorder reports WARN (sensors stream at
+# 120-350 Hz, so a quiet second means nothing is being recorded).
+QUIET_WARN_S = 2.0
 
 
 class RecorderNode(TactexNode):
@@ -52,12 +59,27 @@ class RecorderNode(TactexNode):
             self._recorder.add_topic(topic, type_name)
             self.create_subscription(message_class(type_name), topic, self._writer_for(topic),
                                      RECORDING[qos], raw=True)
+        self._out, self._last_message = out, time.monotonic()
+        self._diagnostics_pub = self.create_publisher(DiagnosticArray, topics.DIAGNOSTICS,
+                                                      COMMAND)
+        self.create_timer(1.0, self._publish_diagnostics)
         self.get_logger().info(f'recording to {out} ({metadata})')
 
     def _writer_for(self, topic: str):
         def write(data: bytes) -> None:
             self._recorder.write(topic, self.get_clock().now().nanoseconds, data)
+            self._last_message = time.monotonic()
         return write
+
+    def _publish_diagnostics(self) -> None:
+        """Messages and part bags written; WARN while nothing arrives."""
+        quiet_s = time.monotonic() - self._last_message
+        level = DiagnosticStatus.WARN if quiet_s > QUIET_WARN_S else DiagnosticStatus.OK
+        message = (f'nothing received for {quiet_s:.0f} s' if level == DiagnosticStatus.WARN
+                   else f'recording to {self._out}')
+        self.publish_diagnostics(self._diagnostics_pub, level, 'recorder', message, {
+            'output': self._out, 'messages': self._recorder.messages,
+            'parts': self._recorder.parts, 'quiet_s': f'{quiet_s:.1f}'})
 
     def destroy_node(self) -> None:
         """Close the last part bag."""
