@@ -58,6 +58,10 @@ def test_marg_output_never_waits_for_the_magnetometer(ros_context):
     estimated = math.atan2(2 * (q.w * q.x + q.y * q.z), 1 - 2 * (q.x * q.x + q.y * q.y))
     assert abs(math.degrees(estimated) - 25.0) < 1.0
     assert fused[-1].header.frame_id == 'sensor_link'
+    # REP-145: a covariance, never all zeros ('unknown'); yaw observed with the magnetometer.
+    assert list(fused[-1].orientation_covariance) == pytest.approx(
+        [math.radians(2.0) ** 2, 0, 0, 0, math.radians(2.0) ** 2, 0, 0, 0,
+         math.radians(2.0) ** 2])
     node.destroy_node()
     probe.destroy_node()
 
@@ -74,3 +78,36 @@ def test_node_library_and_parameter_file_share_one_default_gain(ros_context):
     assert node.get_parameter('max_rate_rad_s').value == defaults.max_rate_rad_s
     assert in_file['max_rate_rad_s'] == pytest.approx(defaults.max_rate_rad_s, abs=1e-6)
     node.destroy_node()
+
+
+def test_a_rejected_sample_warns_for_a_while_then_the_status_is_ok_again(ros_context,
+                                                                         monkeypatch):
+    from diagnostic_msgs.msg import DiagnosticStatus
+    from sensor_msgs.msg import Imu
+
+    from tactex_sensor import madgwick_node
+    node = madgwick_node.MadgwickNode(context=ros_context)
+    shown = []
+    monkeypatch.setattr(node, 'publish_diagnostics',
+                        lambda publisher, level, task, message, values: shown.append(
+                            (level, message, values['rejected_dt'])))
+    try:
+        for i, stamp_ns in enumerate([10**9 + i * 8_333_333 for i in range(20)]):
+            imu = Imu()
+            stamp_ns += 10**9 if i >= 10 else 0  # one step of a second: not integrated
+            imu.header.stamp.sec, imu.header.stamp.nanosec = divmod(stamp_ns, 10**9)
+            imu.linear_acceleration.z = 9.81
+            node._on_imu(imu)
+        node._publish_diagnostics()
+        monkeypatch.setattr(madgwick_node, 'RECENT_REJECTION_S', 0.0)  # as if long ago
+        node._publish_diagnostics()
+    finally:
+        node.destroy_node()
+    assert shown == [(DiagnosticStatus.WARN, 'samples rejected: 1 dt', 1),
+                     (DiagnosticStatus.OK, 'fusing', 1)]  # (the count stays)
+
+
+def test_without_the_magnetometer_yaw_is_reported_unobserved():
+    from tactex_sensor.madgwick_node import orientation_covariance
+    assert orientation_covariance(0.1, use_mag=False)[8] == pytest.approx(math.pi ** 2 / 3)
+    assert orientation_covariance(0.1, use_mag=True)[8] == pytest.approx(0.01)

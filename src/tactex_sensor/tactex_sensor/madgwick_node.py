@@ -8,6 +8,8 @@ Diagnostics count the samples fused and those the filter rejected, by kind.
 from __future__ import annotations
 
 import dataclasses
+import math
+import time
 
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor, SetParametersResult
@@ -15,7 +17,24 @@ from sensor_msgs.msg import Imu, MagneticField
 
 from tactex_common import topics
 from tactex_common.ros import COMMAND, DIAGNOSTICS_PERIOD_RANGE, SENSOR_DATA, spin, TactexNode
-from tactex_sensor.madgwick import MadgwickConfig, MadgwickFilter, REJECTED_GYRO
+from tactex_sensor.madgwick import MadgwickConfig, MadgwickFilter, REJECTED_DT, REJECTED_GYRO
+
+# Diagnostics warn while samples were rejected within this many seconds (wall clock); a
+# rejection long ago stays in the counts only.
+RECENT_REJECTION_S = 10.0
+# Roll and pitch error of the filter: the tilt error `tactex sim stats` measures against
+# the simulator's true attitude is below 2 degrees in median.
+ORIENTATION_STDDEV_RAD = math.radians(2.0)
+
+
+def orientation_covariance(stddev_rad: float, use_mag: bool) -> list[float]:
+    """Row-major 3x3 covariance of roll, pitch, yaw (REP-145: never all zeros, 'unknown').
+
+    Without the magnetometer nothing observes yaw: its variance is that of an angle
+    uniform over +-pi, pi^2 / 3.
+    """
+    yaw = stddev_rad ** 2 if use_mag else math.pi ** 2 / 3
+    return [stddev_rad ** 2, 0.0, 0.0, 0.0, stddev_rad ** 2, 0.0, 0.0, 0.0, yaw]
 
 
 def _stamp_s(msg) -> float:
@@ -31,7 +50,7 @@ class MadgwickNode(TactexNode):
 
     def __init__(self, **kwargs) -> None:
         super().__init__('madgwick_node', **kwargs)
-        defaults = MadgwickConfig()
+        defaults, describe = MadgwickConfig(), ParameterDescriptor
         gain_range = FloatingPointRange(from_value=0.0, to_value=10.0, step=0.0)
         gain = self.declare_parameter('gain', defaults.gain, ParameterDescriptor(
             description='filter gain beta (rad/s)', floating_point_range=[gain_range])).value
@@ -47,6 +66,12 @@ class MadgwickNode(TactexNode):
         self._mag_timeout = self.declare_parameter('mag_timeout_s', 0.1, ParameterDescriptor(
             description='oldest magnetometer sample still fused (s)',
             floating_point_range=[FloatingPointRange(from_value=0.0, to_value=10.0)])).value
+        stddev = self.declare_parameter('orientation_stddev', ORIENTATION_STDDEV_RAD, describe(
+            description='standard deviation of roll and pitch (rad) in orientation_covariance; '
+                        'yaw without the magnetometer is unobserved (variance pi^2/3)',
+            read_only=True, floating_point_range=[FloatingPointRange(
+                from_value=0.0, to_value=math.pi)])).value
+        self._orientation_covariance = orientation_covariance(stddev, use_mag)
         diagnostics_period = self.declare_parameter(
             'diagnostics_period_s', 1.0, ParameterDescriptor(
                 description='diagnostics period (s)', read_only=True,
@@ -59,6 +84,8 @@ class MadgwickNode(TactexNode):
         self._received = 0
         self._published = 0
         self._mag: tuple[float, tuple[float, float, float]] | None = None
+        # Rejections counted so far, and when the count last grew (wall clock).
+        self._rejections_seen, self._last_rejection = 0, -math.inf
         self._publisher = self.create_publisher(Imu, topics.IMU_FILTERED, SENSOR_DATA)
         self.create_subscription(Imu, topics.IMU_RAW, self._on_imu,
                                  SENSOR_DATA)
@@ -98,6 +125,11 @@ class MadgwickNode(TactexNode):
             self.get_logger().warning(f'gyro samples rejected (an axis beyond max_rate_rad_s or '
                                       f'not finite): {self._filter.rejected["gyro"]} so far',
                                       throttle_duration_sec=5.0)
+        if self._filter.last_flags & REJECTED_DT:
+            self.get_logger().warning(f'a step of {dt:.6g} s between IMU stamps (not in 0 .. '
+                                      f'{self._filter.config.max_dt_s:g} s): no gyro '
+                                      f'integration over it; {self._filter.rejected["dt"]} so far',
+                                      throttle_duration_sec=5.0)
         if not self._filter.initialised:
             return
         out = Imu()
@@ -106,6 +138,7 @@ class MadgwickNode(TactexNode):
         out.angular_velocity_covariance = msg.angular_velocity_covariance
         out.linear_acceleration = msg.linear_acceleration
         out.linear_acceleration_covariance = msg.linear_acceleration_covariance
+        out.orientation_covariance = self._orientation_covariance
         q = self._filter.quaternion
         out.orientation.w, out.orientation.x, out.orientation.y, out.orientation.z = (
             float(v) for v in q)
@@ -113,10 +146,13 @@ class MadgwickNode(TactexNode):
         self._published += 1
 
     def _publish_diagnostics(self) -> None:
+        """WARN before the first sample, and while samples were rejected lately (counts kept)."""
         rejected = self._filter.rejected
+        if sum(rejected.values()) != self._rejections_seen:
+            self._rejections_seen, self._last_rejection = sum(rejected.values()), time.monotonic()
         if not self._received:
             level, message = DiagnosticStatus.WARN, f'no {topics.IMU_RAW} yet'
-        elif any(rejected.values()):
+        elif time.monotonic() - self._last_rejection < RECENT_REJECTION_S:
             level = DiagnosticStatus.WARN
             message = 'samples rejected: ' + ', '.join(
                 f'{count} {kind}' for kind, count in rejected.items() if count)
