@@ -28,7 +28,8 @@ LAUNCH = LaunchFile(
                      'patch_texture': Arg('patch_texture')}, SIMULATED),
      Include('sensor', {'port': Arg('sensor_port')}, HARDWARE),
      Include('arm', {'port': Arg('arm_port')}, HARDWARE),
-     NodeSpec('tactex', 'view_node', 'view_node', condition=If(Arg('view')))))
+     NodeSpec('tactex', 'view_node', 'view_node', parameters=({'use_sim_time': Arg('sim')},),
+              condition=If(Arg('view')))))
 
 
 def generate_launch_description():

@@ -154,6 +154,19 @@ def test_identify_launch_passes_the_bundle_the_movements_and_the_clock():
     assert given['movements'].endswith('config/movements.yaml')
 
 
+@pytest.mark.parametrize('sim', ['true', 'false'])
+def test_the_viewers_run_on_the_clock_their_messages_are_stamped_with(sim):
+    arguments = {'sim': sim, 'view': 'true', 'rviz': 'true'}
+    for spec in load_launch_file('robot').node_specs(arguments):
+        if spec.name in ('view_node', 'robot_state_publisher', 'rviz2'):
+            given = {k: v for layer in spec.parameters if isinstance(layer, dict)
+                     for k, v in layer.items()}
+            assert given['use_sim_time'] is (sim == 'true'), spec.name
+    sensor = load_launch_file('sensor').node_specs({'rviz': 'true'})  # no sim argument
+    assert all({'use_sim_time': False} in spec.parameters or spec.package != 'rviz2'
+               for spec in sensor)
+
+
 def test_system_launch_passes_its_arguments_to_the_launch_files_it_includes():
     arguments = {'sim': 'true', 'checkpoint': '/run/model', 'recording_root': '/data/bags',
                  'pathway_file': '/data/pathway.json', 'patch_texture': 'wood',

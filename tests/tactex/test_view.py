@@ -90,6 +90,24 @@ def test_the_pathway_is_a_sphere_per_contact_and_an_arrow_along_each_normal():
         np.testing.assert_allclose(quat2mat([q.w, q.x, q.y, q.z])[:, 0], normal, atol=1e-12)
 
 
+def test_forwarding_keeps_one_message_a_period_and_starts_anew_when_stamps_go_back():
+    from types import SimpleNamespace
+
+    from builtin_interfaces.msg import Time
+
+    from tactex.view.server import ViewNode
+    view = SimpleNamespace(_sample_period_ns=10, _last_sample_ns={})
+
+    def due(stamp, period=None):
+        return ViewNode._due(view, 'joint_states', SimpleNamespace(stamp=Time(
+            sec=0, nanosec=stamp)), period)
+    # The arm's transforms at their own period; a simulator restart or a looped bag sends
+    # stamps back, which are forwarded at once (they waited for the old high mark).
+    assert [due(s, 100) for s in (1000, 1050, 1100, 0, 50, 100)] == [
+        True, False, True, True, False, True]
+    assert [due(s) for s in (200, 205, 210)] == [True, False, True]
+
+
 def test_only_the_packages_own_files_are_served():
     urdf = asset('package://tactex_description/urdf/open_manipulator_x_tactile.urdf')
     assert urdf.startswith(b'<?xml') and b'sensor_edge' in urdf

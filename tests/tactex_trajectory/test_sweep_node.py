@@ -214,3 +214,11 @@ def test_a_sweep_without_pressure_is_aborted_and_lifted(ros_context, tmp_path):
     assert outcome.status == GoalStatus.STATUS_ABORTED
     assert outcome.result.message.startswith('aborted: no finite tactile/pressure')
     assert outcome.result.message.endswith('the edge was lifted off')
+
+
+@pytest.mark.parametrize('seconds, stamp', [(5.9999999996, (6, 0)), (1.25, (1, 250_000_000)),
+                                            (0.0, (0, 0)), (2.0000000004, (2, 0))])
+def test_a_contact_time_becomes_the_stamp_nearest_it(seconds, stamp):
+    from tactex_trajectory.sweep_node import _time
+    time_msg = _time(seconds)
+    assert (time_msg.sec, time_msg.nanosec) == stamp  # 5.9999999996 s was 5 s flat

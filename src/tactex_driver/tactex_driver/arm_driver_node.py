@@ -153,7 +153,7 @@ class ArmDriverNode(TactexNode):
         positions = self._joints.to_joint(state.positions)
         self._controller.update_measured(positions)
         self._publish_state(positions, self._joints.to_joint(state.velocities),
-                            state.currents * NEWTON_METRE_PER_AMPERE)
+                            self._joints.to_joint_effort(state.currents * NEWTON_METRE_PER_AMPERE))
         if state.alerts and self._controller.mode is not Mode.FAULT:
             self._on_alert(state.alerts)
         goal = self._controller.goal(now)

@@ -37,3 +37,12 @@ class JointMap:
         """Servo rad or rad/s -> joint positions or velocities."""
         values = np.asarray(servo_values, dtype=float)
         return values * self._scale(values.size)
+
+    def to_joint_effort(self, servo_torques) -> np.ndarray:
+        """Servo torques (N m) -> joint efforts: N m, and N for the prismatic gripper.
+
+        The gripper turns torque into force at its travel per radian (power balance:
+        torque x rate = force x speed).
+        """
+        values = np.asarray(servo_torques, dtype=float)
+        return values / self._scale(values.size)

@@ -516,8 +516,9 @@ class SweepNode(TactexNode):
 
 
 def _time(seconds: float) -> Time:
-    whole = int(math.floor(seconds))
-    return Time(sec=whole, nanosec=int(round((seconds - whole) * 1e9)) % 1_000_000_000)
+    """A stamp of `seconds`, to the nearest nanosecond (5.9999999996 s is 6 s)."""
+    sec, nanosec = divmod(int(round(seconds * 1e9)), 1_000_000_000)
+    return Time(sec=sec, nanosec=nanosec)
 
 
 def main(args: list[str] | None = None) -> None:

@@ -242,7 +242,8 @@ class LaunchFile:
 
     def every_entity(self) -> tuple[Entity, ...]:
         """Its entities, then the viewer group that `rviz:=true` starts."""
-        return (*self.entities, Group(tuple(visualisation_nodes()), If(Arg('rviz'))))
+        simulated = Arg('sim') if any(a.name == 'sim' for a in self.all_arguments) else False
+        return (*self.entities, Group(tuple(visualisation_nodes(simulated)), If(Arg('rviz'))))
 
     def node_specs(self, overrides: Mapping[str, str]) -> list[NodeSpec]:
         """The nodes to start for these argument values, with their parameter values."""
@@ -306,15 +307,20 @@ def config_path(name: str) -> str:
     return str(share_directory('tactex') / 'config' / name)
 
 
-def visualisation_nodes() -> list[NodeSpec]:
+def visualisation_nodes(simulated: Value = False) -> list[NodeSpec]:
     """robot_state_publisher on the generated URDF and RViz with config/tactex.rviz.
 
     For full ROS 2 installs (neither is on PyPI); launch files start them with rviz:=true.
+    `simulated` (a launch file's `sim` argument) puts both on the simulator's clock, as
+    the messages they show are stamped.
     """
     urdf = share_directory('tactex_description') / 'urdf' / 'open_manipulator_x_tactile.urdf'
+    clock = {'use_sim_time': simulated}
     return [NodeSpec('robot_state_publisher', 'robot_state_publisher', 'robot_state_publisher',
-                     parameters=({'robot_description': urdf.read_text(encoding='utf-8')},)),
-            NodeSpec('rviz2', 'rviz2', 'rviz2', arguments=('-d', config_path('tactex.rviz')))]
+                     parameters=({'robot_description': urdf.read_text(encoding='utf-8'),
+                                  **clock},)),
+            NodeSpec('rviz2', 'rviz2', 'rviz2', arguments=('-d', config_path('tactex.rviz')),
+                     parameters=(clock,))]
 
 
 def is_true(value: str) -> bool:

@@ -73,7 +73,6 @@ class ViewNode(TactexNode):
         self._sample_period_ns = int(1e9 / sample_rate) if sample_rate > 0 else 0
         self._last_sample_ns: dict[str, int] = {}
         self._tf_period_ns = int(1e9 / tf_rate)
-        self._last_tf_ns = 0
         self._server = None
         try:
             self._server = foxglove.start_server(name='tactex', host=host, port=port,
@@ -118,11 +117,15 @@ class ViewNode(TactexNode):
         self._json[topic].log(message, log_time=stamp_ns(header.stamp) or None)
         self.forwarded[channel_name(topic)] += 1
 
-    def _due(self, topic: str, header) -> bool:
-        """Whether a tactile sample on `topic` is forwarded (at most max_rate_hz of them)."""
+    def _due(self, topic: str, header, period_ns: int | None = None) -> bool:
+        """Whether a message on `topic` is forwarded: one a period (default max_rate_hz's).
+
+        The arm's transforms pass tf_rate_hz's period.
+        """
+        period_ns = self._sample_period_ns if period_ns is None else period_ns
         stamp, last = stamp_ns(header.stamp), self._last_sample_ns.get(topic)
-        if last is not None and last <= stamp < last + self._sample_period_ns:
-            return False  # a stamp going back (a restart) is forwarded and starts anew
+        if last is not None and last <= stamp < last + period_ns:
+            return False  # a stamp going back (a restart, a looped bag) starts anew
         self._last_sample_ns[topic] = stamp
         return True
 
@@ -152,10 +155,9 @@ class ViewNode(TactexNode):
         self._log(topics.PRESSURE, {'fluid_pressure': _number(msg.fluid_pressure)}, msg.header)
 
     def _on_joints(self, msg: JointState) -> None:
-        stamp = stamp_ns(msg.header.stamp)
-        if stamp - self._last_tf_ns < self._tf_period_ns:
+        if not self._due(topics.JOINT_STATES, msg.header, self._tf_period_ns):
             return
-        self._last_tf_ns = stamp
+        stamp = stamp_ns(msg.header.stamp)
         positions = dict(zip(msg.name, msg.position, strict=False))
         self._tf.log(frame_transforms(positions, stamp), log_time=stamp or None)
         self.forwarded[TF_CHANNEL] += 1
