@@ -186,3 +186,40 @@ def test_servo_dropout_aborts_the_goal_with_the_reason(ros_context, tmp_path):
         executor.shutdown()
         probe.destroy_node()
         robot.destroy_node()
+
+
+def test_a_goal_of_bad_values_is_aborted_with_the_reason_a_client_can_read(ros_context,
+                                                                           tmp_path):
+    import rclpy
+    from rclpy.parameter import Parameter
+    from trajectory_msgs.msg import JointTrajectory
+
+    from tactex_common.goals import GoalSender
+    from tactex_msgs.action import Probe
+    from tactex_probe.probe_node import ProbeNode
+
+    node = ProbeNode(context=ros_context, parameter_overrides=[
+        Parameter('pathway_file', value=str(tmp_path / 'pathway.json'))])
+    arm = rclpy.create_node('arm_stand_in', context=ros_context)  # listens for commands
+    arm.create_subscription(JointTrajectory, 'arm/joint_trajectory', lambda m: None, 10)
+    client = rclpy.create_node('probe_client', context=ros_context)
+    sender = GoalSender(client, Probe, 'probe')
+    executor, thread = spin_in_background(ros_context, [node, arm, client])
+    try:
+        assert sender.client.wait_for_server(timeout_sec=30.0)
+        assert wait_for(lambda: node.arm_listening, 30)
+        bad = goal(0.185, 0.01)
+        bad.step = 0.0
+        handle = sender.answer(bad, answer_s=10.0, timeout_s=30.0)
+        assert handle is not None and handle.accepted  # a refusal would carry no reason
+        result = handle.get_result_async()
+        assert wait_for(result.done, 30)
+        assert result.result().status == 6  # ABORTED
+        assert result.result().result.message.startswith('not probed: step must be in')
+        again = sender.answer(goal(0.185, 0.01), answer_s=10.0, timeout_s=30.0)
+        assert again.accepted  # the aborted goal left the node free
+        again.cancel_goal_async()
+    finally:
+        executor.shutdown()
+        for each in (node, arm, client):
+            each.destroy_node()

@@ -235,14 +235,8 @@ class ProbeNode(TactexNode):
                                     'simulator)')
             self._rejected_goals += 1
             return GoalResponse.REJECT
-        try:
-            parameters_from_goal(goal)
-        except ParameterError as err:
-            self.get_logger().error(f'probe goal refused: {err}')
-            self._rejected_goals += 1
-            return GoalResponse.REJECT
         self._finished = Future()  # busy from acceptance on: a second goal is refused
-        return GoalResponse.ACCEPT
+        return GoalResponse.ACCEPT  # (a goal of bad values is aborted with the reason)
 
     def _on_cancel(self, goal_handle) -> CancelResponse:
         if self._explorer is not None:
@@ -250,8 +244,17 @@ class ProbeNode(TactexNode):
         return CancelResponse.ACCEPT
 
     async def _execute(self, goal_handle) -> Probe.Result:
-        parameters = parameters_from_goal(goal_handle.request)
+        try:
+            parameters = parameters_from_goal(goal_handle.request)
+        except ParameterError as err:  # aborted, not refused: a client sees only a result
+            self._finished, self._last_outcome = None, f'aborted: {err}'
+            self._rejected_goals += 1
+            self.get_logger().error(f'probe goal aborted: {err}')
+            goal_handle.abort()
+            return Probe.Result(message=f'not probed: {err}')
         self._explorer = Explorer(parameters, self._config)
+        if goal_handle.is_cancel_requested:  # canceled before the explorer existed
+            self._explorer.cancel()
         self._goal_handle = goal_handle
         self._started_ns = self.get_clock().now().nanoseconds
         self.get_logger().info(f'probing {parameters.probe_count} points from '
