@@ -366,6 +366,17 @@ def test_a_grid_run_grouped_only_has_no_leaky_columns_nor_words(tmp_path):
     assert 'grouped by recording (honest);' in report and 'leaky' not in report
 
 
+def test_a_grid_run_stratified_only_draws_no_cost_plot_and_claims_nothing_honest(tmp_path):
+    results = [fake_result('cnn_1', 'stratified', fold, 0.9) for fold in (1, 2)]
+    results += [fake_result('extratrees', 'stratified', fold, 0.8) for fold in (1, 2)]
+    manifest = {'settings': {'folds': 2, 'epochs': 4, 'early_stopping': 0},
+                'data': {'64': {'classes': ['a', 'b'], 'windows': 20, 'recordings': 4}}}
+    report = write_report(tmp_path, results, manifest).read_text(encoding='utf-8')
+    assert 'honest' not in report and 'No cost plot' in report
+    assert not (tmp_path / 'cost.png').exists() and (tmp_path / 'accuracy.png').is_file()
+    assert '| 10 | ' in report  # training seconds from the scheme that ran
+
+
 def test_datasets_at_several_windows_must_be_one_set_of_recordings():
     from tactex.commands.compare import check_one_source
     from tactex.errors import CommandError

@@ -6,7 +6,8 @@ The table has the layout of the original's comparison (window, model, training
 accuracy, accuracy, precision, recall), with the grouped (honest) and stratified
 (leaky) schemes side by side, each figure the mean +- sd over the seeds and folds that
 finished, plus the epochs, the training time per fold and the latency of one window.
-`summary.json`, `report.md`, `accuracy.png` and `cost.png` are written together.
+`summary.json`, `report.md`, `accuracy.png` and `cost.png` are written together (the cost
+plot, against grouped accuracy, only where the grid ran grouped).
 """
 
 from __future__ import annotations
@@ -168,26 +169,26 @@ def table(rows: list[dict], expected_cells: int | None = None) -> str:
     for scheme in schemes:
         tag = 'honest' if scheme == 'grouped' else 'leaky'
         head += [f'accuracy ({tag})', f'precision ({tag})', f'recall ({tag})']
-    head += ['training s per fold', 'latency ms', 'cells',
-             'vs best baseline (honest, paired, 95 % CI)']
+    honest = 'grouped' in schemes  # the paired difference is of grouped accuracy only
+    head += ['training s per fold', 'latency ms', 'cells'] + (
+        ['vs best baseline (honest, paired, 95 % CI)'] if honest else [])
     lines = ['| ' + ' | '.join(head) + ' |', '|' + '---|' * len(head)]
     for row in rows:
-        grouped = row['schemes'].get('grouped', {})
+        costs = row['schemes'].get('grouped' if honest else schemes[0], {})
         label = _model_label(row['model']) + (' (not converged)' if row.get('not_converged')
                                               else '')
         cells = [str(row['window']), label, _epochs(row),
-                 _percent(grouped.get('train_accuracy'))]
+                 _percent(costs.get('train_accuracy'))]
         for scheme in schemes:
             values = row['schemes'].get(scheme, {})
             cells += [_percent(values.get(key)) for key in
                       ('accuracy', 'macro_precision', 'macro_recall')]
-        train_s = grouped.get('train_s')
-        latency = grouped.get('latency_ms')
+        train_s, latency = costs.get('train_s'), costs.get('latency_ms')
         done = sum(values['cells'] for values in row['schemes'].values())
         cells += ['-' if train_s is None else f'{train_s["mean"]:.0f}',
                   '-' if latency is None else f'{latency["mean"]:.2f}',
-                  f'{done}' + (f' of {expected_cells}' if expected_cells else ''),
-                  _versus(row.get('vs_best_baseline'))]
+                  f'{done}' + (f' of {expected_cells}' if expected_cells else '')] + (
+            [_versus(row.get('vs_best_baseline'))] if honest else [])
         lines.append('| ' + ' | '.join(cells) + ' |')
     return '\n'.join(lines) + '\n'
 
@@ -227,7 +228,7 @@ def fold_notes(results: list[dict]) -> list[str]:
 
 def write_report(folder: Path, results: list[dict], manifest: dict, *,
                  expected_cells: int | None = None) -> Path:
-    """Write summary.json, report.md, accuracy.png and cost.png into `folder`."""
+    """Write summary.json, report.md, accuracy.png and cost.png (grouped runs) into `folder`."""
     classes = {int(window): data['classes'] for window, data in manifest['data'].items()}
     rows = summarise(results, classes)
     (folder / 'summary.json').write_text(json.dumps(
@@ -262,7 +263,10 @@ def write_report(folder: Path, results: list[dict], manifest: dict, *,
                   'falling at its last epoch, or never fell below chance (the loss of '
                   'predicting every class alike): it is ranked after the converged rows and '
                   'left off the Pareto front.', '']
-    lines += ['![accuracy](accuracy.png)', '', '![cost](cost.png)', '']
+    lines += ['![accuracy](accuracy.png)', '']
+    lines += (['![cost](cost.png)', ''] if 'grouped' in _schemes_run(rows) else [
+        'No cost plot: it sets cost against accuracy grouped by recording, which this grid '
+        'did not run (`--cv grouped` or `both`).', ''])
     path = folder / 'report.md'
     path.write_text('\n'.join(lines), encoding='utf-8')
     return path
@@ -271,7 +275,8 @@ def write_report(folder: Path, results: list[dict], manifest: dict, *,
 def plot_grid(folder: Path, rows: list[dict]) -> None:
     """accuracy.png and cost.png of a comparison's rows (as summary.json keeps them)."""
     _plot_accuracy(folder / 'accuracy.png', rows)
-    _plot_cost(folder / 'cost.png', rows)
+    if 'grouped' in _schemes_run(rows):  # cost against grouped accuracy, or nothing to plot
+        _plot_cost(folder / 'cost.png', rows)
 
 
 def _plot_accuracy(path: Path, rows: list[dict]) -> None:
