@@ -45,6 +45,24 @@ def test_the_three_configurations_follow_their_rules():
     assert configurations.choose([point('slow', 3.0, 0.9)], [])['budget'] is None
 
 
+def test_a_model_that_did_not_converge_is_marked_never_on_the_front_nor_chosen():
+    from tactex.accuracy_time.section_text import contact_time
+    stalled = {**point('cnn_3', 0.5, 0.95), 'not_converged': True}  # fast and lucky
+    points = [stalled, point('extratrees', 1.0, 0.9), point('minirocket', 2.0, 0.92)]
+    mark_pareto(points)
+    assert [p['model'] for p in points if p['pareto']] == ['extratrees', 'minirocket']
+    chosen = configurations.choose(points, [])
+    assert {chosen[key]['model'] for key in ('fastest', 'accurate', 'budget')} == {
+        'extratrees', 'minirocket'}
+    text = contact_time({'size': {'textures': 4, 'sweeps': 3, 'folds': 3},
+                         'data': {'recordings': 12, 'rate_hz': 120.0},
+                         '1': {'points': points, 'skipped': []}})
+    rendered = '\n'.join(text.tables[0])
+    assert '| cnn_3 (not converged) |' in rendered and 'left off the Pareto front' in text.notes
+    # Where every model failed to converge, one is still chosen (and marked above).
+    assert configurations.choose([stalled], [])['accurate']['model'] == 'cnn_3'
+
+
 def test_a_configuration_is_a_command_line_that_exports_onnx_only_when_it_runs_it():
     native = markdown.command({**point('extratrees', 1.0, 0.9), 'runtime': 'native'},
                             epochs=7, folds=4)

@@ -80,6 +80,7 @@ def contact_time(data: Data, size: Size, log: Callable[[str], None], *, seed: in
         sequence_accuracy,
         threshold_decisions,
     )
+    from tactex_classify.evaluation.training_report import convergence_notes
     points, runs, skipped = [], {}, []
     for window, dataset in data.datasets.items():
         hop = window // 2
@@ -93,18 +94,21 @@ def contact_time(data: Data, size: Size, log: Callable[[str], None], *, seed: in
                 m, size, seed=seed, threads=threads), SCHEME, folds=size.folds, seed=seed)
             cv_s = time.monotonic() - began
             accuracy = float(np.mean(result.proba.argmax(axis=1) == dataset.y))
-            runs[run_key(model, window)] = {'accuracy': accuracy, 'cv_s': cv_s}
+            # A deep model whose training loss was still falling, or never left chance.
+            unconverged = bool(convergence_notes(result, len(dataset.classes), size.epochs))
+            runs[run_key(model, window)] = {'accuracy': accuracy, 'cv_s': cv_s,
+                                            'not_converged': unconverged}
             log(f'  {model}, window {window}: window accuracy {100 * accuracy:.1f} % '
-                f'({cv_s:.0f} s)')
+                f'({cv_s:.0f} s)' + (', not converged' if unconverged else ''))
             for k, value in sequence_accuracy(dataset, result.proba).items():
-                points.append({'model': model, 'window': window,
+                points.append({'model': model, 'window': window, 'not_converged': unconverged,
                                'rule': f'{k} window{"s" * (k > 1)}',
                                'windows': k, 'threshold': None,
                                'contact_s': (window + (k - 1) * hop) / data.rate_hz,
                                'accuracy': value, 'earliness': None, 'harmonic_mean': None})
             for threshold in THRESHOLDS:
                 measures = threshold_decisions(dataset, result.proba, threshold, data.rate_hz)
-                points.append({'model': model, 'window': window,
+                points.append({'model': model, 'window': window, 'not_converged': unconverged,
                                'rule': f'posterior > {threshold:.10g}' if threshold < 1
                                else 'whole contact (threshold 1)', 'windows': None,
                                'threshold': threshold,
@@ -134,10 +138,14 @@ def run_key(model: str, window: int) -> str:
 
 
 def mark_pareto(points: list[dict]) -> None:
-    """Set `pareto` on every point: no other point is as fast and more accurate (or both)."""
+    """Set `pareto` on every point: no other point is as fast and more accurate (or both).
+
+    A point of a model that did not converge is never ranked, so never on the front.
+    """
     from tactex_classify.evaluation.grid_report import pareto_front
+    ranked = [point for point in points if not point.get('not_converged')]
     front = {id(point) for point in pareto_front(
-        points, lambda point: (point['contact_s'], point['accuracy']))}
+        ranked, lambda point: (point['contact_s'], point['accuracy']))}
     for point in points:
         point['pareto'] = id(point) in front
 
@@ -166,9 +174,10 @@ def compute_time(data: Data, section1: dict, size: Size, scratch: Path,
         for runtime in runtimes:
             predictor = load_predictor(folder, runtime, threads=1)
             latency[predictor.runtime] = time_predictor(predictor, dataset.X, size.latency_calls)
+        run = section1['runs'][run_key(model, window)]
         rows.append({'model': model, 'window': window, 'deep': model not in BASELINES,
-                     'accuracy': section1['runs'][run_key(model, window)]['accuracy'],
-                     'cv_s': section1['runs'][run_key(model, window)]['cv_s'],
+                     'accuracy': run['accuracy'], 'cv_s': run['cv_s'],
+                     'not_converged': run.get('not_converged', False),
                      'train_s': train_s, 'windows': len(dataset.y), 'latency': latency})
         log(f'  {model}: trained in {train_s:.1f} s; per window ' + ', '.join(
             f'{name} {1e3 * value["single_s"]:.2f} ms' for name, value in latency.items()))

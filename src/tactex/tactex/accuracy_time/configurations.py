@@ -14,9 +14,12 @@ def choose(points: list[dict], compute: list[dict]) -> dict:
     fastest: least contact time within `NEAR_BEST` accuracy of the most accurate;
     accurate: the most accurate (ties: less contact time); budget: the most accurate
     deciding within `BUDGET_S` of contact (None if none does). Each carries the runtime
-    that answered a single window fastest in section 2 (`compute`).
+    that answered a single window fastest in section 2 (`compute`). Models that did not
+    converge are left out while any other is there.
     """
     live = [p for p in points if p['threshold'] is not None and p['threshold'] < 1.0]
+    converged = [p for p in live if not p.get('not_converged')]
+    live = converged or live  # a model that did not converge is chosen only if all did not
     accurate = max(live, key=lambda p: (p['accuracy'], -p['contact_s']))
     near = [p for p in live if p['accuracy'] >= accurate['accuracy'] - NEAR_BEST]
     fastest = min(near, key=lambda p: (p['contact_s'], -p['accuracy']))

@@ -27,6 +27,16 @@ def table(columns: list[str], rows: list[list[str]]) -> list[str]:
             *(f'| {" | ".join(row)} |' for row in rows)]
 
 
+def labelled(row: dict) -> str:
+    """A row's model, marked when it did not converge (a kept run before the mark: none)."""
+    return row['model'] + (' (not converged)' if row.get('not_converged') else '')
+
+
+UNCONVERGED = (' A model marked (not converged) had a fold whose training loss was still '
+               'falling at its last epoch, or never fell below chance: its rows are not '
+               'results to rank, are left off the Pareto front and are not chosen below.')
+
+
 def data_line(results: dict) -> str:
     """What the classification sections ran on."""
     size, data = results['size'], results['data']
@@ -37,7 +47,7 @@ def data_line(results: dict) -> str:
 
 def contact_time(results: dict) -> SectionText:
     """Section 1: per model and window, every decision rule; the Pareto front marked."""
-    rows = [[p['model'], str(p['window']), p['rule'], f'{p["contact_s"]:.2f}',
+    rows = [[labelled(p), str(p['window']), p['rule'], f'{p["contact_s"]:.2f}',
              percent(p['accuracy']),
              '—' if p['earliness'] is None else f'{p["earliness"]:.3f}',
              '—' if p['harmonic_mean'] is None else f'{p["harmonic_mean"]:.3f}',
@@ -49,7 +59,8 @@ def contact_time(results: dict) -> SectionText:
         '`Evidence` replayed on out-of-fold probabilities; a sweep that never meets the '
         "threshold is decided at its end). Earliness: the share of the sweep's windowed "
         'contact used; HM: harmonic mean of accuracy and 1 - earliness (TEASER). '
-        '**P**: on the Pareto front over every row.' + (
+        '**P**: on the Pareto front over every row.' + UNCONVERGED * any(
+            p.get('not_converged') for p in results['1']['points']) + (
             f' Not run: {", ".join(results["1"]["skipped"])}.' if results['1']['skipped']
             else ''),
         [table(['model', 'window', 'rule', 'contact s', 'accuracy', 'earliness', 'HM', ''],
@@ -59,7 +70,7 @@ def contact_time(results: dict) -> SectionText:
 def compute_time(results: dict) -> SectionText:
     """Section 2: accuracy, training time and latency per model and runtime."""
     second = results['2']
-    rows = [[row['model'], percent(row['accuracy']), f'{row["train_s"]:.1f}',
+    rows = [[labelled(row), percent(row['accuracy']), f'{row["train_s"]:.1f}',
              f'{row["cv_s"]:.0f}', runtime, f'{1e3 * value["single_s"]:.3f}',
              f'{1e3 * value["batched_s"]:.3f}']
             for row in second['rows'] for runtime, value in row['latency'].items()]
@@ -68,7 +79,7 @@ def compute_time(results: dict) -> SectionText:
         'Training: one fit on every window (the CV column is the whole grouped CV of '
         'section 1). Latency: median of single-window calls after a warm-up, one thread; '
         f'batched: per window in a batch of 64. Deep models train {results["size"]["epochs"]} '
-        'epochs here.',
+        'epochs here.' + UNCONVERGED * any(row.get('not_converged') for row in second['rows']),
         [table(['model', 'accuracy', 'training s', 'CV s', 'runtime', 'ms per window',
                 'ms per window (batch 64)'], rows)])
 
