@@ -38,7 +38,6 @@ from tactex_classify.data.dataset import Dataset  # noqa: E402
 from tactex_classify.evaluation.grid_report import cell_unconverged_because  # noqa: E402
 from tactex_classify.evaluation.model_grid import (  # noqa: E402
     Cell,
-    dataset_digest,
     GridError,
     GridSettings,
     GridStore,
@@ -87,7 +86,7 @@ def check_data(path: Path, kept: dict) -> None:
     Raises:
         CommandError: naming --data: missing, not a dataset, or other data.
     """
-    if dataset_digest(load_dataset(path, '--data')) != kept['sha256']:
+    if load_dataset(path, '--data').digest() != kept['sha256']:
         raise CommandError(f'--data {path} is not the dataset the grid was run on (its source '
                            f'was {kept["source"]}); give that one')
 

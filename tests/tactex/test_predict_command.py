@@ -97,6 +97,32 @@ def test_a_dataset_goes_through_the_evidence_recording_by_recording(lab, capsys)
     assert 'accuracy by recording: 100.0 % of 6' in out
 
 
+def test_the_dataset_a_model_was_trained_on_is_called_in_sample(lab, tmp_path, capsys):
+    dataset = Dataset.load(lab / 'data.npz')
+    model = MiniRocketRidge(dilations=4).fit(dataset.X, dataset.y, dataset.classes).save(
+        tmp_path / 'model', hop=32, sampling_rate_hz=RATE_HZ, trained_on=dataset.digest())
+    code, _, err = run(capsys, model, lab / 'data.npz', '--out', tmp_path / 'report')
+    assert code == 0 and 'data.npz is the dataset' in err and 'in-sample' in err
+    summary = json.loads((tmp_path / 'report' / 'summary.json').read_text())
+    assert summary['trained_on_these'] == [str(lab / 'data.npz')]
+    code, _, err = run(capsys, lab / 'model', lab / 'data.npz')  # trained_on not kept
+    assert code == 0 and 'in-sample' not in err
+
+
+def test_labels_the_model_does_not_know_are_named_and_their_recall_is_zero(lab, tmp_path,
+                                                                          capsys):
+    dataset = Dataset.load(lab / 'data.npz')
+    renamed = Dataset(dataset.X, dataset.y, dataset.trial, dataset.t0,  # fine labelled cork
+                      [{'fine': 'cork'}.get(c, c) for c in dataset.classes], dataset.info,
+                      dataset.channels)
+    code, out, err = run(capsys, lab / 'model', renamed.save(tmp_path / 'cork.npz'), '--out',
+                         tmp_path / 'report')
+    assert code == 0 and 'label(s) cork are not classes of' in err
+    scores = json.loads((tmp_path / 'report' / 'summary.json').read_text())['scores']
+    assert scores['recall']['cork'] == 0.0 and scores['labels_not_in_model'] == ['cork']
+    assert 'accuracy by recording: 50.0 % of 6' in out
+
+
 def test_a_recording_at_another_rate_is_refused_naming_both_rates(lab, tmp_path, capsys):
     stamps = 10**12 + np.arange(300, dtype=np.int64) * 33_333_333
     write_bag(tmp_path / 'slow', stamps, texture('fine', 300, 9), metadata={'label': 'fine'},

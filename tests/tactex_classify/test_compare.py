@@ -27,7 +27,6 @@ from tactex_classify.evaluation.grid_report import (
 )
 from tactex_classify.evaluation.model_grid import (
     Cell,
-    dataset_digest,
     grid_cells,
     GridError,
     GridSettings,
@@ -89,7 +88,7 @@ def test_a_grid_resumes_only_with_its_settings_and_its_data(tmp_path):
         store.open(GridSettings(folds=2, epochs=5), {64: toy()}, {64: 'toy'})
     changed = toy()
     changed.X[0, 0, 0] += 1.0
-    assert dataset_digest(changed) != dataset_digest(toy())
+    assert changed.digest() != toy().digest()
     with pytest.raises(GridError, match='other data for window 64'):
         store.open(GridSettings(folds=2, epochs=3), {64: changed}, {64: 'toy'})
     (tmp_path / 'other').mkdir()

@@ -47,6 +47,8 @@ def test_train_keeps_a_deployable_checkpoint(tmp_path, capsys):
                  '--cv', 'grouped', '--out', str(tmp_path / 'run')]) == 0
     model = DeepClassifier.load(tmp_path / 'run' / 'model')
     assert model.classes_ == data.classes
+    from tactex_classify.models.checkpoint import read_checkpoint
+    assert read_checkpoint(tmp_path / 'run' / 'model').trained_on == data.digest()
     assert model.predict_proba(data.X[:2]).shape == (2, 3)
     curves = json.loads((tmp_path / 'run' / 'metrics.json').read_text())
     assert len(curves['schemes']['grouped']['histories'][0]) == 2

@@ -95,7 +95,7 @@ def run(args: argparse.Namespace) -> int:
     if args.hop and datasets:
         print("warning: --hop applies to recordings; a dataset's windows are cut already",
               file=sys.stderr)
-    results, failed = [], []
+    results, failed, in_sample = [], [], []
     for path in datasets:
         dataset = Dataset.load(path)
         if dataset.X.shape[1] != info.stream.window:
@@ -104,6 +104,11 @@ def run(args: argparse.Namespace) -> int:
                                f'{info.stream.window}: convert the recordings with --window '
                                f'{info.stream.window}, or give a checkpoint trained on '
                                f'{dataset.X.shape[1]}-sample windows')
+        if info.trained_on and dataset.digest() == info.trained_on:
+            in_sample.append(str(path))
+            print(f'warning: {path} is the dataset {args.checkpoint} was trained on: its '
+                  'accuracy here is in-sample, not what the model does on new recordings '
+                  '(tactex train cross-validated it grouped by recording)', file=sys.stderr)
         results += replay_dataset(predictor, dataset, str(path), evidence)
     for path in recordings:
         with tqdm(desc=path.name, unit=' IMU samples', unit_scale=True, leave=False,
@@ -125,7 +130,7 @@ def run(args: argparse.Namespace) -> int:
                     'runtime': predictor.runtime, 'threshold': args.threshold,
                     'min_windows': args.min_windows, 'change_nats': args.change_nats,
                     'contact': args.contact, 'hop': args.hop or info.stream.hop,
-                    'skipped': failed}
+                    'skipped': failed, 'trained_on_these': in_sample}
         with staged_folder(args.out) as folder:
             write_report(folder, results, list(info.classes), settings)
         print(f'wrote {args.out}/ (recordings.csv, windows.csv, summary.json'
@@ -147,6 +152,11 @@ def _print(results, info) -> None:
              'no sample in contact')) + ')'
         print(f'{r.name}: {decided}, {len(r.windows)} windows{why}{label}')
     summary = scores(results, list(info.classes))
+    if summary is not None and summary['labels_not_in_model']:
+        unknown = summary['labels_not_in_model']
+        print(f'warning: label(s) {", ".join(unknown)} are not classes of {info.model_id} '
+              f'({", ".join(info.classes)}): their recordings can never be right and count as '
+              'wrong below', file=sys.stderr)
     if summary is not None:
         print(f'accuracy by recording: {100 * summary["accuracy"]:.1f} % of '
               f'{summary["recordings"]} ({summary["undecided"]} without a decision), '

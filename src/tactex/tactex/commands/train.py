@@ -154,7 +154,8 @@ def run(args: argparse.Namespace) -> int:
             if stream is not None:
                 log('training the deployable model on every window')
                 make().fit(dataset.X, dataset.y, dataset.classes, groups=dataset.trial,
-                           channels=dataset.channels).save(folder / 'model', **stream)
+                           channels=dataset.channels).save(folder / 'model', **stream,
+                                                           trained_on=dataset.digest())
     except ValueError as err:
         raise ClassifyError(str(err)) from None
     log(f'report: {args.out / "report.md"}')

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
+import hashlib
 import json
 import os
 from pathlib import Path
@@ -122,6 +123,14 @@ class Dataset:
         """The windows `keep` (a mask or indices) selects, every class and the sidecar kept."""
         return Dataset(self.X[keep], self.y[keep], self.trial[keep], self.t0[keep],
                        self.classes, self.info, self.channels)
+
+    def digest(self) -> str:
+        """SHA-256 of the arrays, classes and channels (what training reads)."""
+        digest = hashlib.sha256()
+        for array in (self.X, self.y, self.trial):
+            digest.update(np.ascontiguousarray(array).tobytes())
+        digest.update(json.dumps([self.classes, self.channels]).encode())
+        return digest.hexdigest()
 
     def save(self, path: Path) -> Path:
         """Write path (.npz) and its JSON sidecar, each replaced whole; return the .npz path."""

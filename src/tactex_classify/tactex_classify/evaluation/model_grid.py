@@ -16,7 +16,6 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass
-import hashlib
 import itertools
 import json
 import os
@@ -78,15 +77,6 @@ def grid_cells(models: Sequence[str], windows: Sequence[int], seeds: int, folds:
                                        models))
 
 
-def dataset_digest(dataset: Dataset) -> str:
-    """SHA-256 of a dataset's arrays, classes and channels (what training reads)."""
-    digest = hashlib.sha256()
-    for array in (dataset.X, dataset.y, dataset.trial):
-        digest.update(np.ascontiguousarray(array).tobytes())
-    digest.update(json.dumps([dataset.classes, dataset.channels]).encode())
-    return digest.hexdigest()
-
-
 class GridStore:
     """A grid's folder: `grid.json` (settings, datasets) and one JSON file per cell."""
 
@@ -138,13 +128,13 @@ class GridStore:
         manifest = self.check(settings)
         for window, dataset in datasets.items():
             kept = manifest['data'].get(str(window))
-            if kept and kept['sha256'] != dataset_digest(dataset):
+            if kept and kept['sha256'] != dataset.digest():
                 raise GridError(f'{self.folder} was started with other data for window '
                                 f'{window} ({kept["source"]}); give the same data to resume '
                                 'it, or a new --out')
         for window, dataset in datasets.items():
             manifest['data'].setdefault(str(window), {
-                'sha256': dataset_digest(dataset), 'source': sources[window],
+                'sha256': dataset.digest(), 'source': sources[window],
                 'windows': len(dataset.y), 'recordings': int(np.unique(dataset.trial).size),
                 'classes': dataset.classes, 'channels': dataset.channels,
                 'sampling_rate_hz': dataset.info.get('sampling_rate_hz')})

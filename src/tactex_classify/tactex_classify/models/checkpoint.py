@@ -49,7 +49,7 @@ KINDS = {'deep': ('tactex_classify.training.deep_classifier', 'DeepClassifier'),
          'multirocket_hydra': ('tactex_classify.models.hydra', 'MultiRocketHydraRidge')}
 CHECKSUM_FIELD = 'metadata_sha256'
 COMMON_FIELDS = ('format_version', 'kind', 'model', 'classes', 'channels', 'window', 'hop',
-                 'sampling_rate_hz', 'files', CHECKSUM_FIELD)
+                 'sampling_rate_hz', 'files', 'trained_on', CHECKSUM_FIELD)
 MAX_JSON_BYTES = 1024 * 1024
 MAX_MODEL_BYTES = 512 * 1024 * 1024  # a model file, or its model.onnx
 MAX_JSON_DEPTH = 16
@@ -141,6 +141,7 @@ class CheckpointInfo:
         stream: what the model expects of its input.
         files: model file name -> SHA-256 (hex).
         fields: the kind's own fields of checkpoint.json (scaler, configuration).
+        trained_on: `Dataset.digest()` of the dataset it was trained on ('' unknown).
     """
 
     folder: Path
@@ -150,6 +151,7 @@ class CheckpointInfo:
     stream: StreamSpec
     files: dict[str, str]
     fields: dict
+    trained_on: str = ''
 
     @property
     def model_file(self) -> Path:
@@ -177,7 +179,8 @@ def estimator_class(kind: str):
     return getattr(importlib.import_module(module), name)
 
 
-def save_checkpoint(folder: Path, estimator, *, hop: int, sampling_rate_hz: float) -> Path:
+def save_checkpoint(folder: Path, estimator, *, hop: int, sampling_rate_hz: float,
+                    trained_on: str = '') -> Path:
     """Write a fitted estimator's checkpoint into `folder` (created; files replaced whole).
 
     Args:
@@ -185,6 +188,8 @@ def save_checkpoint(folder: Path, estimator, *, hop: int, sampling_rate_hz: floa
         estimator: a fitted DeepClassifier, MiniRocketRidge or StatsExtraTrees.
         hop: the training data's hop (samples).
         sampling_rate_hz: the training data's sampling rate.
+        trained_on: the training dataset's `Dataset.digest()`, so that a prediction on
+            that same dataset can say its accuracy is in-sample ('' leaves it out).
 
     Raises:
         NotFittedError: the estimator is not fitted.
@@ -207,7 +212,8 @@ def save_checkpoint(folder: Path, estimator, *, hop: int, sampling_rate_hz: floa
     meta = {'format_version': FORMAT_VERSION, 'kind': estimator.CHECKPOINT_KIND,
             'model': estimator.model_name, 'classes': list(estimator.classes_),
             'channels': list(stream.channels), 'window': stream.window, 'hop': stream.hop,
-            'sampling_rate_hz': stream.sampling_rate_hz, 'files': {name: digest}, **fields}
+            'sampling_rate_hz': stream.sampling_rate_hz, 'files': {name: digest}, **fields,
+            **({'trained_on': trained_on} if trained_on else {})}
     meta = json.loads(json.dumps(meta))  # as it will be read back
     meta[CHECKSUM_FIELD] = metadata_sha256(meta)
     write_text_atomically(folder / METADATA_FILE, json.dumps(meta, indent=2))
@@ -303,7 +309,12 @@ def _info(folder: Path, meta: dict) -> CheckpointInfo:
     if not isinstance(model, str) or not model:
         raise ValueError(f'model must be a name, got {model!r}')
     fields = {k: v for k, v in meta.items() if k not in COMMON_FIELDS}
-    return CheckpointInfo(folder, kind, model, tuple(classes), stream, dict(files), fields)
+    trained_on = meta.get('trained_on', '')
+    if not (isinstance(trained_on, str) and len(trained_on) in (0, 64)):
+        raise ValueError('trained_on must be a SHA-256 hex digest, got '
+                         f'{reprlib.repr(trained_on)}')
+    return CheckpointInfo(folder, kind, model, tuple(classes), stream, dict(files), fields,
+                          trained_on)
 
 
 def _names(value, field: str) -> list[str]:
@@ -349,9 +360,11 @@ class Deployable:
     CHECKPOINT_KIND = ''
     MODEL_FILE = ''
 
-    def save(self, folder: Path, *, hop: int, sampling_rate_hz: float) -> Path:
+    def save(self, folder: Path, *, hop: int, sampling_rate_hz: float,
+             trained_on: str = '') -> Path:
         """Write the checkpoint into `folder` (see `save_checkpoint`); return the folder."""
-        return save_checkpoint(folder, self, hop=hop, sampling_rate_hz=sampling_rate_hz)
+        return save_checkpoint(folder, self, hop=hop, sampling_rate_hz=sampling_rate_hz,
+                               trained_on=trained_on)
 
     @classmethod
     def load(cls, folder: Path):
