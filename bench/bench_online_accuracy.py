@@ -100,7 +100,7 @@ def offline_reference(checkpoint: Path, test_bags: Path) -> dict:
                  == data.y[data.trial == t][0]) for t in np.unique(data.trial)]
     return {'window_accuracy': float(np.mean(proba.argmax(axis=1) == data.y)),
             'whole_sweep_accuracy': float(np.mean(whole)),
-            'sequence': {str(k): v for k, v in sequence_accuracy(data, proba).items()}}
+            'sequence': {str(k): v['accuracy'] for k, v in sequence_accuracy(data, proba).items()}}
 
 
 def bag_messages(path: Path) -> tuple[str, list[tuple[int, str, bytes]]]:

@@ -205,7 +205,19 @@ def test_sequence_accuracy_grows_with_accumulated_windows():
     proba[wrong] = np.roll(proba[wrong], 1, axis=1)
     curve = sequence_accuracy(data, proba)
     assert list(curve) == [1, 2, 4]
-    assert curve[1] < curve[4] == 1.0
+    assert curve[1]['accuracy'] < curve[4]['accuracy'] == 1.0
+
+
+def test_a_sequence_row_says_which_recordings_and_classes_it_still_holds():
+    data = toy()  # 6 windows per recording; the last class's recordings cut to 3
+    short = ~((data.y == 2) & (data.t0 >= 0.3))
+    cut = data.select(short)
+    proba = np.full((len(cut.X), 3), 0.1)
+    proba[np.arange(len(cut.X)), cut.y] = 0.8
+    curve = sequence_accuracy(cut, proba)
+    recordings = len(np.unique(cut.trial))
+    assert curve[2] == {'accuracy': 1.0, 'recordings': recordings, 'classes': 3}
+    assert curve[4]['classes'] == 2 and curve[4]['recordings'] < recordings
 
 
 def test_threshold_decisions_replay_the_live_rule_on_each_recording():

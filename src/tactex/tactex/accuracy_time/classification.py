@@ -100,7 +100,10 @@ def contact_time(data: Data, size: Size, log: Callable[[str], None], *, seed: in
                                             'not_converged': unconverged}
             log(f'  {model}, window {window}: window accuracy {100 * accuracy:.1f} % '
                 f'({cv_s:.0f} s)' + (', not converged' if unconverged else ''))
-            for k, value in sequence_accuracy(dataset, result.proba).items():
+            for k, sequence in sequence_accuracy(dataset, result.proba).items():
+                if sequence['classes'] < len(dataset.classes):
+                    break  # fewer classes than the rows before: not comparable with them
+                value = sequence['accuracy']
                 points.append({'model': model, 'window': window, 'not_converged': unconverged,
                                'rule': f'{k} window{"s" * (k > 1)}',
                                'windows': k, 'threshold': None,

@@ -120,11 +120,13 @@ def metrics(matrix: np.ndarray, names: list[str]) -> dict:
                                                    strict=True)}}
 
 
-def sequence_accuracy(dataset: Dataset, proba: np.ndarray) -> dict[int, float]:
+def sequence_accuracy(dataset: Dataset, proba: np.ndarray) -> dict[int, dict]:
     """Accuracy of deciding a recording from k consecutive windows (summed log-probs).
 
     For k = 1, 2, 4, ... up to the longest recording, every run of k consecutive
-    windows of every recording is one decision.
+    windows of every recording is one decision. Only recordings of at least k windows
+    count, so each k also gives how many (`recordings`) and of how many classes
+    (`classes`): a row that lost a class is not comparable with the rows before it.
     """
     log_proba = log_probabilities(proba)
     per_recording = []
@@ -137,14 +139,14 @@ def sequence_accuracy(dataset: Dataset, proba: np.ndarray) -> dict[int, float]:
     k = 1
     while k <= longest:
         correct = total = 0
-        for lp, label in per_recording:
-            if len(lp) < k:
-                continue
+        long_enough = [(lp, label) for lp, label in per_recording if len(lp) >= k]
+        for lp, label in long_enough:
             cumulative = np.cumsum(np.vstack([np.zeros(lp.shape[1]), lp]), axis=0)
             sums = cumulative[k:] - cumulative[:-k]
             correct += int(np.sum(sums.argmax(axis=1) == label))
             total += len(sums)
-        result[k] = correct / total
+        result[k] = {'accuracy': correct / total, 'recordings': len(long_enough),
+                     'classes': len({label for _, label in long_enough})}
         k *= 2
     return result
 

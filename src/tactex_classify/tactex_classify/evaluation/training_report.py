@@ -61,8 +61,8 @@ def summarise(dataset: Dataset, results: list[CrossValidation]) -> dict:
         sequence = sequence_accuracy(dataset, result.proba)
         summary[result.scheme] = {
             **metrics(matrix, dataset.classes), 'confusion': matrix.tolist(),
-            'sequence': [{'windows': k, 'touch_s': window_s + (k - 1) * hop_s,
-                          'accuracy': accuracy} for k, accuracy in sequence.items()],
+            'sequence': [{'windows': k, 'touch_s': window_s + (k - 1) * hop_s, **point}
+                         for k, point in sequence.items()],
             'notes': result.notes, 'histories': result.histories}
     return summary
 
@@ -124,11 +124,17 @@ def write_report(folder: Path, dataset: Dataset, results: list[CrossValidation],
             f'{100 * summary[s]["per_class"][name]["recall"]:.1f}' for s in schemes) + ' |')
     lines += ['', '## Accuracy against touch time (summed log-probabilities of consecutive '
               'windows of a test recording)', '',
-              '| windows | touch time s | ' + ' | '.join(schemes) + ' |',
-              '|---|---|' + '---|' * len(schemes)]
+              'A row counts the recordings of at least that many windows; one marked * has '
+              'lost a class (none of its recordings is that long), so it does not compare '
+              'with the rows above.', '',
+              '| windows | touch time s | recordings (classes) | ' + ' | '.join(schemes) + ' |',
+              '|---|---|---|' + '---|' * len(schemes)]
     first = summary[schemes[0]]['sequence']
     for row_index, row in enumerate(first):
-        lines.append(f'| {row["windows"]} | {row["touch_s"]:.2f} | ' + ' | '.join(
+        counts = (f'{row["recordings"]} ({row["classes"]} of {len(dataset.classes)})'
+                  + (' *' if row['classes'] < len(dataset.classes) else '')
+                  if 'recordings' in row else '-')
+        lines.append(f'| {row["windows"]} | {row["touch_s"]:.2f} | {counts} | ' + ' | '.join(
             f'{100 * summary[s]["sequence"][row_index]["accuracy"]:.1f} %' for s in schemes)
             + ' |')
     notes = [n for s in schemes for n in summary[s]['notes']]
