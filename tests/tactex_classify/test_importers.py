@@ -330,7 +330,7 @@ def test_cli_import(tmp_path, capsys):
     assert main(['import', 'csv', str(tmp_path / 'csv'), '--out', str(tmp_path / 'c.npz'),
                  '--columns', 'ax=acc_x,ay=acc_y,az=acc_z', '--time', 'Zeit [s]',
                  '--window', '100']) == 0
-    assert 'channels ax,ay,az, 100.0 Hz' in capsys.readouterr().out
+    assert '1 class, 1 recording, channels ax,ay,az, 100 Hz' in capsys.readouterr().out
 
 
 def test_mun_plain_frames_never_stitch_across_nan_rows_and_keep_t0(tmp_path):

@@ -258,3 +258,15 @@ def test_a_log_axis_under_a_decade_is_labelled_in_plain_numbers():
     minor = [label.get_text() for label in axes.get_xticklabels(minor=True)]
     plt.close(figure)
     assert shown == ['2', '5', '10', '20'] and not any(minor)
+
+
+def test_a_label_no_installed_font_can_draw_writes_the_figure_without_a_warning(tmp_path):
+    import warnings
+
+    from tactex_common import plotting
+    plt, made, axes = plotting.figure()
+    axes.set_title('ü 木 x')  # a class name of the user's, in a script DejaVu lacks
+    with warnings.catch_warnings():
+        warnings.simplefilter('error')
+        plotting.save(plt, made, tmp_path / 'f.png')
+    assert (tmp_path / 'f.png').read_bytes()[:4] == b'\x89PNG'

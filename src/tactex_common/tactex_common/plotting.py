@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+import warnings
 
 PANEL_IN = (5.5, 4.0)  # width, height of one panel (inches), legend outside included
 DPI = 110
@@ -114,6 +115,8 @@ def save(plt, figure, path: Path, footnote: str | None = None) -> None:
         figure.text(0.5, 0.005, footnote, ha='center', va='bottom', fontsize=LEGEND_FONTSIZE,
                     color='dimgray', wrap=True)
         bottom = FOOTNOTE_IN / figure.get_size_inches()[1]
-    figure.tight_layout(rect=(0, bottom, 1, 1))
-    figure.savefig(path, dpi=DPI)
+    with warnings.catch_warnings():  # a class named in a script no installed font has
+        warnings.filterwarnings('ignore', 'Glyph .* missing from', UserWarning)
+        figure.tight_layout(rect=(0, bottom, 1, 1))
+        figure.savefig(path, dpi=DPI)
     plt.close(figure)

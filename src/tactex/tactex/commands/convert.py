@@ -88,9 +88,6 @@ def run(args: argparse.Namespace) -> int:
                       resample_hz=args.resample)
     path = dataset.save(out)
     skipped = len(dataset.info['skipped'])
-    print(f'wrote {path}: {len(dataset.X)} windows of {args.window} samples, '
-          f'{len(dataset.classes)} classes, {len(set(dataset.trial.tolist()))} recordings, '
-          f'channels {",".join(dataset.channels)}, '
-          f'{dataset.info["sampling_rate_hz"]:.4g} Hz'
+    print(f'wrote {path}: {dataset.describe()}'
           + (f'; {skipped} skipped (see the sidecar)' if skipped else ''))
     return 0

@@ -91,7 +91,5 @@ def run(args: argparse.Namespace) -> int:
                              time_unit=args.time_unit, delimiter=delimiter,
                              resample_hz=args.resample)
     path = dataset.save(out)
-    print(f'wrote {path}: {len(dataset.X)} windows of {args.window} samples, '
-          f'{len(dataset.classes)} classes, channels {",".join(dataset.channels)}, '
-          f'{dataset.info["sampling_rate_hz"]:.1f} Hz')
+    print(f'wrote {path}: {dataset.describe()}')
     return 0

@@ -17,6 +17,7 @@ from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 import hashlib
 import json
+import math
 import os
 from pathlib import Path
 import sys
@@ -123,6 +124,15 @@ class Dataset:
         """The windows `keep` (a mask or indices) selects, every class and the sidecar kept."""
         return Dataset(self.X[keep], self.y[keep], self.trial[keep], self.t0[keep],
                        self.classes, self.info, self.channels)
+
+    def describe(self) -> str:
+        """One line: windows, classes, recordings, channels and rate."""
+        def counted(count: int, noun: str, plural: str) -> str:
+            return f'{count} {noun if count == 1 else plural}'
+        return (f'{counted(len(self.X), "window", "windows")} of {self.X.shape[1]} samples, '
+                f'{counted(len(self.classes), "class", "classes")}, '
+                f'{counted(len(np.unique(self.trial)), "recording", "recordings")}, channels '
+                f'{",".join(self.channels)}, {self.info.get("sampling_rate_hz", math.nan):.4g} Hz')
 
     def digest(self) -> str:
         """SHA-256 of the arrays, classes and channels (what training reads)."""
