@@ -6,6 +6,7 @@ With the simulator and Madgwick a Probe goal yields contacts, feedback and a pat
 (latched, and in its file); a servo that falls silent aborts the goal with the reason.
 """
 
+import itertools
 import math
 from pathlib import Path
 import re
@@ -106,6 +107,10 @@ def test_probe_goal_in_simulation_broadcasts_the_pathway(ros_context, tmp_path):
             assert abs(contact.position.z - surface.height(contact.position.x)) < 0.002
         assert {f.feedback.phase for f in feedback} >= {0, 1, 2, 3}
         assert feedback[-1].feedback.contacts_found == 2
+        # Within a long phase (a descent takes seconds) the latest feedback is sent again.
+        changes = sum(a.feedback.phase != b.feedback.phase
+                      for a, b in itertools.pairwise(feedback))
+        assert len(feedback) > 2 * (changes + 1)
         assert wait_for(lambda: poses and len(poses[-1].poses) == 2, 5)
         orientation = poses[-1].poses[0].orientation
         z_axis = quat2mat([orientation.w, orientation.x, orientation.y, orientation.z])[:, 2]

@@ -68,6 +68,8 @@ from tactex_probe.pathway import (
 
 # Samples each sensor subscription may queue while the node is busy.
 INPUT_QUEUE = 100
+# The latest feedback is sent again at least this often (s): a descent takes seconds.
+FEEDBACK_PERIOD_S = 0.5
 
 
 def _float_range(low: float, high: float) -> list[FloatingPointRange]:
@@ -112,6 +114,7 @@ class ProbeNode(TactexNode):
         self._last_outcome = 'idle'
         self._last_input_ns = {'joint_states': None, 'imu': None, 'pressure': None}
         self._rejected_goals = 0
+        self._feedback, self._feedback_ns = None, 0  # the latest feedback, when it was sent
 
         # Sensor-data QoS with a deeper queue: a busy moment must not cost samples.
         queued = QoSProfile(depth=INPUT_QUEUE, reliability=SENSOR_DATA.reliability,
@@ -247,12 +250,13 @@ class ProbeNode(TactexNode):
         try:
             parameters = parameters_from_goal(goal_handle.request)
         except ParameterError as err:  # aborted, not refused: a client sees only a result
-            self._finished, self._last_outcome = None, f'aborted: {err}'
+            self._finished, self._last_outcome = None, f'not probed: {err}'
             self._rejected_goals += 1
-            self.get_logger().error(f'probe goal aborted: {err}')
+            self.get_logger().warning(f'probe goal aborted: {err}')
             goal_handle.abort()
             return Probe.Result(message=f'not probed: {err}')
         self._explorer = Explorer(parameters, self._config)
+        self._feedback = None
         if goal_handle.is_cancel_requested:  # canceled before the explorer existed
             self._explorer.cancel()
         self._goal_handle = goal_handle
@@ -286,7 +290,12 @@ class ProbeNode(TactexNode):
     def _step(self) -> None:
         if self._explorer is None:
             return
-        events = self._explorer.step(self.get_clock().now().nanoseconds)
+        now = self.get_clock().now().nanoseconds
+        if (self._feedback is not None and not self._finished.done()
+                and now - self._feedback_ns >= FEEDBACK_PERIOD_S * 1e9):
+            self._goal_handle.publish_feedback(self._feedback)  # alive within a long phase
+            self._feedback_ns = now
+        events = self._explorer.step(now)
         records = self._explorer.records
         for event in events:
             if isinstance(event, Command):
@@ -294,7 +303,9 @@ class ProbeNode(TactexNode):
             elif isinstance(event, Stop):
                 self._trajectory_pub.publish(stop_message())
             elif isinstance(event, Feedback):
-                self._goal_handle.publish_feedback(feedback_message(event))
+                self._feedback = feedback_message(event)
+                self._goal_handle.publish_feedback(self._feedback)
+                self._feedback_ns = self.get_clock().now().nanoseconds
             elif isinstance(event, Recorded):
                 self._broadcast(records, event.record.stamp_ns)
                 self._log_probe(event.record)
@@ -359,8 +370,10 @@ class ProbeNode(TactexNode):
         silent = [name for name, stamp in self._last_input_ns.items() if stamp is None]
         if self._last_outcome.startswith('aborted'):
             level, message = DiagnosticStatus.ERROR, self._last_outcome
-        elif silent:
-            level, message = DiagnosticStatus.WARN, f'no {", ".join(silent)} yet'
+        elif silent or self._last_outcome.startswith('not probed') and not running:
+            # a client's goal of bad values: the node itself is fine
+            level = DiagnosticStatus.WARN
+            message = f'no {", ".join(silent)} yet' if silent else self._last_outcome
         else:
             level = DiagnosticStatus.OK
             message = f'probing: {phase}' if running else self._last_outcome
