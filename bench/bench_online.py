@@ -115,7 +115,7 @@ class Listener:
 
         def on_diagnostics(message) -> None:
             for status in message.status:
-                if status.name.startswith('tactex_classify: '):
+                if status.name.endswith(': classifier'):  # classifier_node's status
                     self.diagnostics = {kv.key: kv.value for kv in status.values}
 
         self.node.create_subscription(Imu, 'tactile/imu/data_raw', on_imu,

@@ -196,8 +196,8 @@ def make_workspace(w: Path) -> Path:
     Dataset(data.X[:, :16], data.y, data.trial, data.t0, data.classes, data.info).save(
         w / 'window16.npz')
     other = toy_dataset(2)  # other recordings, at another window
-    Dataset(other.X[:, :16], other.y, other.trial, other.t0, other.classes, other.info).save(
-        w / 'other16.npz')
+    Dataset(other.X[:, :16], other.y, other.trial, other.t0, ['cork', 'felt'], other.info
+            ).save(w / 'other16.npz')
     (w / 'corrupt_checkpoint').mkdir()
     (w / 'corrupt_checkpoint' / 'checkpoint.json').write_bytes(b'\xff\xfe\x00garbage')
     make_lying_files(w)
@@ -463,7 +463,8 @@ BAD_INPUTS = {
         Case('compare {w}/data.npz {w}/data.npz --out {w}/g', 'two datasets of window 32',
              '{w}/g'),
         Case('compare {w}/data.npz {w}/other16.npz --out {w}/g', r'DATA .*data.npz and .*'
-             r'other16.npz differ in classes: they are not one set of recordings', '{w}/g'),
+             r'other16.npz differ in classes, recordings: they are not one set of '
+             r'recordings', '{w}/g'),
         Case('compare {w}/folder --out {w}/g --windows 16', 'no recordings found', '{w}/g'),
         Case('compare {w}/data.npz --out {w}/g --models nope', r"argument --models: unknown "
              r"model\(s\) \['nope'\]", '{w}/g'),

@@ -374,6 +374,15 @@ def test_a_grid_run_stratified_only_draws_no_cost_plot_and_claims_nothing_honest
     assert 'honest' not in report and 'No cost plot' in report
     assert not (tmp_path / 'cost.png').exists() and (tmp_path / 'accuracy.png').is_file()
     assert '| 10 | ' in report  # training seconds from the scheme that ran
+    from tactex_classify.evaluation.grid_report import plot_grid  # (what `tactex plot` lists)
+    rows = json.loads((tmp_path / 'summary.json').read_text())['rows']
+    assert plot_grid(tmp_path, rows) == [tmp_path / 'accuracy.png']
+
+
+def test_a_difference_that_is_not_a_number_gets_no_interval_either():
+    from tactex_classify.evaluation.grid_report import paired_difference
+    difference = paired_difference({1: float('nan'), 2: 0.5}, {1: 0.4, 2: 0.4})
+    assert all(math.isnan(difference[key]) for key in ('mean', 'low', 'high'))
 
 
 def test_datasets_at_several_windows_must_be_one_set_of_recordings():
@@ -382,9 +391,14 @@ def test_datasets_at_several_windows_must_be_one_set_of_recordings():
     short, long = toy(window=32), toy(window=64)
     fewer = long.select(long.trial != 0)  # a recording too short for the longer window
     check_one_source([(short, 'w32.npz'), (fewer, 'w64.npz')])
+    check_one_source([(short, 'w32.npz'), (toy(window=64, classes=2), 'w64.npz')])  # lost one
+    rate = short.info['sampling_rate_hz']
+    check_one_source([(short, 'w32.npz'), (Dataset(long.X, long.y, long.trial, long.t0,
+                      long.classes, {**long.info, 'sampling_rate_hz': rate * 1.01}), 'w64')])
     others = Dataset(long.X, long.y, long.trial + 100, long.t0, long.classes, long.info)
-    for dataset, differs in ((others, 'recordings'), (toy(window=64, classes=2), 'classes'),
+    renamed = Dataset(long.X, long.y, long.trial, long.t0, ['a', 'b', 'c'], long.info)
+    for dataset, differs in ((others, 'recordings'), (renamed, 'classes, recordings'),
                              (Dataset(long.X, long.y, long.trial, long.t0, long.classes,
-                                      {**long.info, 'sampling_rate_hz': 120.0}), 'rate')):
+                                      {**long.info, 'sampling_rate_hz': 1.2 * rate}), 'rate')):
         with pytest.raises(CommandError, match=f'w64.npz and w32.npz differ in {differs}'):
             check_one_source([(short, 'w32.npz'), (dataset, 'w64.npz')])

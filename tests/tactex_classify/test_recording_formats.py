@@ -226,14 +226,21 @@ def test_bag_info_shows_the_file_s_counts_and_span_where_the_metadata_lies(origi
     folder = shutil.copytree(original, tmp_path / 'lying_counts')
     metadata = folder / 'metadata.yaml'
     truth = describe(original)
-    metadata.write_text(metadata.read_text().replace('message_count: 300', 'message_count: 7')
-                        .replace('nanoseconds: ', 'nanoseconds: 1'))
+    text = metadata.read_text().replace('message_count: 300', 'message_count: 7').replace(
+        'nanoseconds: ', 'nanoseconds: 1')
+    ghost = ('  - message_count: 50\n    topic_metadata:\n      name: /tactile/temperature\n'
+             '      offered_qos_profiles: []\n      serialization_format: cdr\n'
+             '      type: sensor_msgs/msg/Temperature\n')  # listed, never in the file
+    at = text.index('  topics_with_message_count:\n') + len('  topics_with_message_count:\n')
+    metadata.write_text(text[:at] + ghost + text[at:])
     info = describe(folder)
-    assert [t.count for t in info.topics] == [t.count for t in truth.topics]
+    assert [t.count for t in info.topics if t.count] == [t.count for t in truth.topics]
     assert (info.start_ns, info.end_ns, info.messages) == (truth.start_ns, truth.end_ns,
                                                            truth.messages)
     assert any('the metadata lists 7 message(s), the file holds 300' in note
                for note in info.notes)
+    assert any(note.startswith('/tactile/temperature: the metadata lists 50 message(s), the '
+                               'file holds 0') for note in info.notes)
 
 
 @pytest.mark.parametrize('compression', ['bz2', 'lz4', 'zstd'])

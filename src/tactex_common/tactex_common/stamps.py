@@ -66,7 +66,10 @@ def after_clock_resets(stamps_ns: np.ndarray, log_ns: np.ndarray | None = None
     recorder, on a clock that did not restart) it is moved by the change across the reset
     in how far the stamps lead the log times (medians of RESET_CONTEXT samples either
     side): streams of one device clock move alike and the time the device was away is
-    kept; where the log times went back too, the move without them.
+    kept, at least a gap. With log times a step back that stays within the stream's span
+    so far is late or re-sent samples even at the end (a restarted clock goes back below
+    where the recording began; a CSV's time column, without log times, may restart at the
+    0 it began with).
 
     Returns:
         The stamps (int64; the input when nothing reset) and the number of resets.
@@ -90,8 +93,12 @@ def after_clock_resets(stamps_ns: np.ndarray, log_ns: np.ndarray | None = None
         shift = latest + int(2 * allowed) - int(moved[start])
         if log_ns is not None:
             end = starts[number + 1] if number + 1 < len(starts) else moved.size
+            if moved[start:end].min() >= moved[:start].min():
+                continue  # within the stream's span: samples sent again or late, at its end
             logged = _logged_shift(moved, np.asarray(log_ns, dtype=np.int64), start, end)
-            shift = logged if int(moved[start]) + logged > latest else shift
+            # where the log times went back too, or the device was away too briefly for a
+            # gap, the part begins past a gap all the same: no window spans the restart
+            shift = max(logged, latest + int(allowed) + 1 - int(moved[start]))
         if int(moved[start:].max()) + shift > np.iinfo(np.int64).max:
             raise OverflowError('stamps past int64 nanoseconds after a clock reset')
         moved[start:] += shift

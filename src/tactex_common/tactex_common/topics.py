@@ -35,5 +35,9 @@ GROUND_TRUTH_TEXTURE = 'sim/ground_truth/texture'  # std_msgs/String
 
 
 def diagnostic_name(node: str, task: str) -> str:
-    """A DiagnosticStatus name, as diagnostic_updater forms it: `/ns/node_name: task`."""
+    """A DiagnosticStatus name, `/ns/node_name: task`.
+
+    As diagnostic_updater forms it with its `use_fqn` (its default leaves the namespace
+    out, which would let two namespaced systems take each other's place).
+    """
     return f'{node}: {task}'

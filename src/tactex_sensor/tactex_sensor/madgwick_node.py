@@ -69,8 +69,8 @@ class MadgwickNode(TactexNode):
         stddev = self.declare_parameter('orientation_stddev', ORIENTATION_STDDEV_RAD, describe(
             description='standard deviation of roll and pitch (rad) in orientation_covariance; '
                         'yaw without the magnetometer is unobserved (variance pi^2/3)',
-            read_only=True, floating_point_range=[FloatingPointRange(
-                from_value=0.0, to_value=math.pi)])).value
+            read_only=True, floating_point_range=[FloatingPointRange(  # 0: all zeros, unknown
+                from_value=1e-4, to_value=math.pi)])).value
         self._orientation_covariance = orientation_covariance(stddev, use_mag)
         diagnostics_period = self.declare_parameter(
             'diagnostics_period_s', 1.0, ParameterDescriptor(
@@ -126,8 +126,8 @@ class MadgwickNode(TactexNode):
                                       f'not finite): {self._filter.rejected["gyro"]} so far',
                                       throttle_duration_sec=5.0)
         if self._filter.last_flags & REJECTED_DT:
-            self.get_logger().warning(f'a step of {dt:.6g} s between IMU stamps (not in 0 .. '
-                                      f'{self._filter.config.max_dt_s:g} s): no gyro '
+            self.get_logger().warning(f'a step of {dt:.6g} s between IMU stamps (not in (0, '
+                                      f'{self._filter.config.max_dt_s:g}] s): no gyro '
                                       f'integration over it; {self._filter.rejected["dt"]} so far',
                                       throttle_duration_sec=5.0)
         if not self._filter.initialised:

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import argparse
 from contextlib import ExitStack
+import math
 from pathlib import Path
 import time
 
@@ -271,26 +272,31 @@ def load_data(args: argparse.Namespace, store, log) -> tuple[dict, dict, list[in
 def check_one_source(datasets: list[tuple]) -> None:
     """The datasets are one set of recordings at several windows.
 
-    A longer window may lose a recording too short for it, so one dataset's recordings
-    (label, trial) must hold the other's; classes, channels and rate must be the same.
+    A longer window may lose a recording too short for it (and with it a class), so one
+    dataset's recordings (label, trial) and classes must hold the other's; the channels
+    must be the same and the rates within the converter's RATE_TOLERANCE (each dataset's
+    rate is the median of the recordings that gave it windows).
 
     Raises:
         CommandError: naming the two datasets and what differs.
     """
+    from tactex_classify.data.resampling import RATE_TOLERANCE
+
     def recordings(dataset) -> set:
         return {(dataset.classes[y], int(t)) for y, t in zip(dataset.y, dataset.trial,
                                                               strict=True)}
 
+    def held(a: set, b: set) -> bool:
+        return a <= b or b <= a
+
     (first, first_path), *rest = datasets
     for dataset, path in rest:
-        differs = [what for what, a, b in (
-            ('classes', first.classes, dataset.classes),
-            ('channels', first.channels, dataset.channels),
-            ('rate', first.info.get('sampling_rate_hz'), dataset.info.get('sampling_rate_hz'))
-        ) if a != b]
-        mine, theirs = recordings(first), recordings(dataset)
-        if not (mine <= theirs or theirs <= mine):
-            differs.append('recordings')
+        rates = first.info.get('sampling_rate_hz'), dataset.info.get('sampling_rate_hz')
+        differs = [what for what, same in (
+            ('classes', held(set(first.classes), set(dataset.classes))),
+            ('channels', first.channels == dataset.channels),
+            ('rate', None in rates or math.isclose(*rates, rel_tol=RATE_TOLERANCE)),
+            ('recordings', held(recordings(first), recordings(dataset)))) if not same]
         if differs:
             raise CommandError(f'DATA {path} and {first_path} differ in {", ".join(differs)}: '
                                'they are not one set of recordings at two windows; give '

@@ -89,8 +89,7 @@ def _replot_run(folder: Path) -> list[Path]:
             return _replot_training(folder, kept)
         if name == 'summary.json':
             from tactex_classify.evaluation.grid_report import plot_grid
-            plot_grid(folder, kept['rows'])
-            return [folder / 'accuracy.png', folder / 'cost.png']
+            return plot_grid(folder, kept['rows'])
         from tactex.accuracy_time.runner import write_files
         from tactex.accuracy_time.sections import SECTIONS
         write_files(folder, kept)

@@ -130,8 +130,9 @@ def describe(path: Path, *, timing: bool = True, progress=None) -> RecordingInfo
     if all(part.error for part in parts):
         raise BagError(f'{path}: cannot read: {parts[0].error}' if len(parts) == 1 else
                        f'{path}: cannot read any of its {len(parts)} parts')
-    sorted_times = {topic: np.sort(np.frombuffer(stamps, dtype=np.int64))
-                    for topic, stamps in times.items()}
+    # With timing every message's log time was read: a topic without any holds none.
+    sorted_times = {topic: np.sort(np.frombuffer(times.get(topic, b''), dtype=np.int64))
+                    for topic in topics} if timing else {}
     for topic, stamps in sorted_times.items():  # the file's counts and span, not the index's
         if stamps.size != topics[topic].count:  # a metadata.yaml that lies, or is stale
             notes.append(f'{topic}: the metadata lists {topics[topic].count} message(s), the '

@@ -111,8 +111,8 @@ def paired_difference(ours: dict, theirs: dict) -> dict | None:
         return {'mean': mean, 'low': None, 'high': None, 'n': 1}
     half = float(stats.t.ppf(0.975, len(differences) - 1) * differences.std(ddof=1)
                  / np.sqrt(len(differences)))
-    return {'mean': mean, 'low': max(-1.0, mean - half), 'high': min(1.0, mean + half),
-            'n': len(differences)}
+    low, high = np.clip([mean - half, mean + half], -1.0, 1.0)  # (NaN stays NaN)
+    return {'mean': mean, 'low': float(low), 'high': float(high), 'n': len(differences)}
 
 
 def _compare_with_best_baseline(rows: list[dict], groups: dict) -> None:
@@ -272,11 +272,18 @@ def write_report(folder: Path, results: list[dict], manifest: dict, *,
     return path
 
 
-def plot_grid(folder: Path, rows: list[dict]) -> None:
-    """accuracy.png and cost.png of a comparison's rows (as summary.json keeps them)."""
-    _plot_accuracy(folder / 'accuracy.png', rows)
-    if 'grouped' in _schemes_run(rows):  # cost against grouped accuracy, or nothing to plot
-        _plot_cost(folder / 'cost.png', rows)
+def plot_grid(folder: Path, rows: list[dict]) -> list[Path]:
+    """accuracy.png and cost.png of a comparison's rows (as summary.json keeps them).
+
+    Returns the files drawn: cost.png only where the grid ran grouped (it plots cost
+    against grouped accuracy).
+    """
+    drawn = [folder / 'accuracy.png']
+    _plot_accuracy(drawn[0], rows)
+    if 'grouped' in _schemes_run(rows):
+        drawn.append(folder / 'cost.png')
+        _plot_cost(drawn[-1], rows)
+    return drawn
 
 
 def _plot_accuracy(path: Path, rows: list[dict]) -> None:

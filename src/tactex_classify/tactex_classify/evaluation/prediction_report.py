@@ -36,10 +36,11 @@ def scores(results: list[Replayed], classes: list[str]) -> dict | None:
     for result in labelled:
         matrix[true_names.index(result.label), columns.index(result.decision or NO_DECISION)] += 1
     correct = sum(r.decision == r.label for r in labelled)
-    # A label the model does not know is never decided: its recall is 0, not unknown.
-    recall = {name: float(matrix[i, columns.index(name)] / matrix[i].sum()
-                          if name in columns else 0.0)
-              for i, name in enumerate(true_names) if matrix[i].sum()}
+    # A label the model does not know is never decided: its recall is 0, not unknown; a
+    # class of the model's without a labelled recording has no recall (None).
+    recall = {name: (float(matrix[i, columns.index(name)] / matrix[i].sum())
+                     if name in columns else 0.0) if matrix[i].sum() else None
+              for i, name in enumerate(true_names)}
     decided = [r for r in labelled if r.decision is not None]
     return {'recordings': len(labelled), 'accuracy': correct / len(labelled),
             'labels_not_in_model': true_names[len(classes):],
