@@ -254,6 +254,7 @@ BAD_INPUTS = {
         Case('nope', "argument COMMAND: invalid choice: 'nope'"),
     ],
     'convert': [
+        Case('convert {w}/bags --out=', 'argument --out: must not be empty: give the path'),
         Case('convert {w}/bags', 'the following arguments are required: --out'),
         Case('convert {w}/nothing --out {w}/o.npz', 'BAG_OR_DIR .*nothing does not exist',
              OUT_NPZ),
@@ -378,6 +379,7 @@ BAD_INPUTS = {
           for name, why in FOREIGN.items() if name not in ('lab.bag', 'other_imu.bag')],
     ],
     'train': [
+        Case('train {w}/data.npz --out=', 'argument --out: must not be empty'),
         Case('train {w}/data.npz --out {w}/run --movements {w}/nothing.yaml',
              '--movements .*nothing.yaml does not exist', '{w}/run'),
         Case('train {w}/data.npz --out {w}/run --movements {w}/movements/typo.yaml',
@@ -446,6 +448,7 @@ BAD_INPUTS = {
              '{w}/run'),
     ],
     'compare': [
+        Case('compare {w}/data.npz --out=', 'argument --out: must not be empty'),
         Case('compare --out {w}/g', 'the following arguments are required: DATA'),
         Case('compare {w}/data.npz', 'the following arguments are required: --out'),
         Case('compare {w}/data.npz --out {w}/g --profile fancy',

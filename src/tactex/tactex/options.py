@@ -97,6 +97,13 @@ def ray_address(value: str) -> str:
     return value
 
 
+def output_path(value: str) -> Path:
+    """An argparse type: a path to write to, never empty ('' would be the current folder)."""
+    if not value.strip():
+        raise argparse.ArgumentTypeError('must not be empty: give the path to write to')
+    return Path(value)
+
+
 def text(value: str) -> str:
     """An argparse type: non-blank text."""
     if not value.strip():

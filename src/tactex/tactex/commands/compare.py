@@ -16,6 +16,7 @@ from tactex.options import (
     epoch_count,
     fold_count,
     integer,
+    output_path,
     patience_epochs,
     ray_address,
     window_samples,
@@ -93,7 +94,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="run the cells sharing a GPU at once through NVIDIA's "
                              'Multi-Process Service, started for the grid (a local GPU; '
                              'not with --address)')
-    parser.add_argument('--out', type=Path, required=True,
+    parser.add_argument('--out', type=output_path, required=True,
                         help='grid folder: new, or one to resume (finished cells are kept)')
 
 

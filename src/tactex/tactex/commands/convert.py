@@ -12,6 +12,7 @@ from tactex.options import (
     check_output_file,
     hop_samples,
     number,
+    output_path,
     refuse_to_replace,
     text,
     trial_id,
@@ -26,7 +27,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('paths', nargs='+', type=Path, metavar='BAG_OR_DIR',
                         help='recordings (rosbag2 folders, ROS 1 .bag, .mcap or .db3 '
                         'files), or folders holding recordings')
-    parser.add_argument('--out', type=Path, required=True, help='dataset path (.npz)')
+    parser.add_argument('--out', type=output_path, required=True, help='dataset path (.npz)')
     parser.add_argument('--force', action='store_true',
                         help='replace an existing dataset at --out (refused without it)')
     parser.add_argument('--renumber', action='store_true',

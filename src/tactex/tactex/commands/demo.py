@@ -30,12 +30,12 @@ import time
 
 from tactex.demo.pipeline import DEFAULT, Demo, demo_environment, MARKER, QUICK
 from tactex.errors import CommandError
-from tactex.options import check_output_folder, integer, number, staged_folder
+from tactex.options import check_output_folder, integer, number, output_path, staged_folder
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Register the options of this subcommand."""
-    parser.add_argument('--out', type=Path, default=Path('out/demo'),
+    parser.add_argument('--out', type=output_path, default=Path('out/demo'),
                         help='folder for summary.json, plots, recordings, model and logs '
                              '(default out/demo; a previous demo there is replaced)')
     parser.add_argument('--quick', action='store_true',

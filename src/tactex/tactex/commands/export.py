@@ -8,7 +8,7 @@ import argparse
 from pathlib import Path
 
 from tactex.errors import CommandError
-from tactex.options import check_input_folder, check_output_file, refuse_to_replace
+from tactex.options import check_input_folder, check_output_file, output_path, refuse_to_replace
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -18,7 +18,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('--onnx', action='store_true',
                         help='write the model as ONNX, checked against the native model, for '
                              'classifier_node runtime:=onnxruntime (deep models, ExtraTrees)')
-    parser.add_argument('--out', type=Path,
+    parser.add_argument('--out', type=output_path,
                         help='ONNX file to write (default CHECKPOINT/model.onnx, where the '
                              'node looks for it)')
     parser.add_argument('--force', action='store_true',

@@ -13,6 +13,7 @@ from tactex.options import (
     check_output_file,
     hop_samples,
     number,
+    output_path,
     refuse_to_replace,
     text,
     window_samples,
@@ -27,7 +28,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('kind', choices=['mun', 'csv'],
                         help='mun: the public MUN tactile texture pickles; csv: CLASS/*.csv')
     parser.add_argument('root', type=Path, help='folder holding the data')
-    parser.add_argument('--out', type=Path, required=True, help='dataset path (.npz)')
+    parser.add_argument('--out', type=output_path, required=True, help='dataset path (.npz)')
     parser.add_argument('--force', action='store_true',
                         help='replace an existing dataset at --out (refused without it)')
     parser.add_argument('--window', type=window_samples, default=1050,

@@ -8,7 +8,7 @@ import argparse
 from pathlib import Path
 
 from tactex.errors import CommandError
-from tactex.options import check_output_file, refuse_to_replace
+from tactex.options import check_output_file, output_path, refuse_to_replace
 
 MAX_JSON_BYTES = 256 * 1024**2  # a comparison's summary.json holds every confusion matrix
 MAX_JSON_DEPTH = 32
@@ -20,7 +20,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help='a recording (bag folder), or the folder of a `tactex train` '
                              'run, a `tactex compare` grid or a `tactex report accuracy-time` '
                              'report, whose PNGs are drawn again from its kept numbers')
-    parser.add_argument('--out', type=Path,
+    parser.add_argument('--out', type=output_path,
                         help="PNG to write for a recording (required then); a run's plots "
                              'are written into the run')
     parser.add_argument('--force', action='store_true', help='replace an existing --out PNG')

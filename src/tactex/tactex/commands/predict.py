@@ -9,7 +9,14 @@ from pathlib import Path
 import sys
 
 from tactex.errors import CommandError
-from tactex.options import check_input_folder, check_output_folder, integer, number, staged_folder
+from tactex.options import (
+    check_input_folder,
+    check_output_folder,
+    integer,
+    number,
+    output_path,
+    staged_folder,
+)
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -24,7 +31,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('inputs', nargs='+', type=Path, metavar='RECORDING_OR_DATASET',
                         help='recordings (any format `tactex bag info` reads; a folder: each '
                              'recording in it) or datasets (.npz with its sidecar)')
-    parser.add_argument('--out', type=Path, help='folder for recordings.csv, windows.csv, '
+    parser.add_argument('--out', type=output_path, help='folder for recordings.csv, windows.csv, '
                         'summary.json and confusion.png (new; without it only printed)')
     parser.add_argument('--runtime', choices=RUNTIMES, default='native',
                         help='what runs the model (native: torch, numpy or scikit-learn)')

@@ -18,7 +18,7 @@ import math
 from pathlib import Path
 
 from tactex.errors import CommandError
-from tactex.options import add_goal_options, check_output_file, text
+from tactex.options import add_goal_options, check_output_file, output_path, text
 from tactex_probe.pathway import ContactStatus, DEFAULT_GOAL, PARAMETER_RANGES
 
 PHASES = ('moving', 'descending', 'measuring', 'retracting')  # Probe feedback PHASE_* codes
@@ -39,7 +39,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('--score', action='store_true',
                         help="measure the contacts against the simulator's true surface and "
                              'plot them (needs the launch with sim:=true)')
-    parser.add_argument('--out', type=Path, default=Path('probe_score.png'), metavar='PNG',
+    parser.add_argument('--out', type=output_path, default=Path('probe_score.png'), metavar='PNG',
                         help='with --score: the plot (default probe_score.png)')
     parser.add_argument('--simulator', type=text, default='mujoco_bridge', metavar='NODE',
                         help='with --score: the simulator node asked for its scene')

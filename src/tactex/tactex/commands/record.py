@@ -23,7 +23,7 @@ import sys
 import tempfile
 
 from tactex.errors import CommandError
-from tactex.options import check_output_folder, number, trial_id
+from tactex.options import check_output_folder, number, output_path, trial_id
 from tactex_common.stopping import on_stop_signals
 
 PR_SET_PDEATHSIG = 1  # linux/prctl.h
@@ -32,7 +32,7 @@ RESERVED_KEYS = ('label', 'trial', 'surface')
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Register the options of this subcommand."""
-    parser.add_argument('--out', type=Path, required=True, help='recording directory (new)')
+    parser.add_argument('--out', type=output_path, required=True, help='recording directory (new)')
     parser.add_argument('--label', help='texture class (any text)')
     parser.add_argument('--trial', type=trial_id, help='recording / trajectory id')
     parser.add_argument('--surface', help='surface, e.g. uneven')

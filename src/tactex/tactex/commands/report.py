@@ -23,6 +23,7 @@ from tactex.options import (
     integer,
     movement_file,
     number,
+    output_path,
     seed_value,
     staged_folder,
 )
@@ -35,7 +36,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     accuracy = sub.add_parser(
         'accuracy-time', help='contact, compute, probing, sweep, simulation and filter time '
         'against accuracy, and the whole job, measured in one run (report.md + PNGs)')
-    accuracy.add_argument('--out', type=Path, required=True, help='report folder (new)')
+    accuracy.add_argument('--out', type=output_path, required=True, help='report folder (new)')
     accuracy.add_argument('--quick', action='store_true',
                           help='the small size (a few minutes; a test), not the default')
     accuracy.add_argument('--epochs', type=epoch_count,
@@ -50,7 +51,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     identification.add_argument('data', type=Path,
                                 help='dataset converted from `tactex sim collect --movements` '
                                      '(.npz with its sidecar)')
-    identification.add_argument('--out', type=Path, required=True, help='report folder (new)')
+    identification.add_argument('--out', type=output_path, required=True,
+                                help='report folder (new)')
     identification.add_argument('--movements', type=Path, metavar='YAML',
                                 help='the movement file the recordings were made with '
                                      '(default config/movements.yaml)')

@@ -14,6 +14,7 @@ from tactex.options import (
     check_output_folder,
     integer,
     movement_file,
+    output_path,
     ray_address,
     seed_value,
     staged_folder,
@@ -29,7 +30,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                               '(default uneven_texture)')
     collect.add_argument('--sweeps', type=integer(1, 1000), default=25,
                          help='sweeps per texture (25)')
-    collect.add_argument('--out', type=Path, required=True, help='folder for the bags (new)')
+    collect.add_argument('--out', type=output_path, required=True,
+                         help='folder for the bags (new)')
     collect.add_argument('--seed', type=seed_value,
                          help="replace the scene's seed (e.g. a seed no test uses, for a "
                               'held-out evaluation)')
@@ -52,7 +54,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                                          '(simulated or real recordings)')
     stats.add_argument('paths', nargs='+', type=Path, metavar='BAG_OR_DIR',
                        help='recordings, or folders holding recordings')
-    stats.add_argument('--out', type=Path, required=True,
+    stats.add_argument('--out', type=output_path, required=True,
                        help='folder for stats.md, stats.json and the spectra (new)')
 
 

@@ -24,6 +24,7 @@ from tactex.options import (
     fold_count,
     integer,
     movement_file,
+    output_path,
     patience_epochs,
     seed_value,
     staged_folder,
@@ -70,7 +71,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('--seed', type=seed_value, default=0)
     parser.add_argument('--threads', type=integer(1, 256), default=1,
                         help='torch threads (1)')
-    parser.add_argument('--out', type=Path, required=True, help='run folder')
+    parser.add_argument('--out', type=output_path, required=True, help='run folder')
     parser.add_argument('--no-final', action='store_true',
                         help='skip training the deployable model (RUN/model/) on all windows')
     parser.add_argument('--movements', type=Path, metavar='YAML',
