@@ -13,6 +13,7 @@ import sys
 import threading
 from typing import Any
 
+from builtin_interfaces.msg import Time
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor, ParameterType
 import rclpy
@@ -239,3 +240,9 @@ def message_class(type_name: str) -> type:
     if len(parts) != 3 or parts[1] != 'msg':
         raise ValueError(f'expected a message type like sensor_msgs/msg/Imu, got {type_name!r}')
     return getattr(importlib.import_module(f'{parts[0]}.msg'), parts[2])
+
+
+def time_message(stamp_ns: int) -> Time:
+    """A builtin_interfaces/Time of `stamp_ns` nanoseconds."""
+    sec, nanosec = divmod(int(stamp_ns), 1_000_000_000)
+    return Time(sec=sec, nanosec=nanosec)

@@ -50,6 +50,7 @@ from tactex_common.ros import (
     SENSOR_DATA,
     spin,
     TactexNode,
+    time_message,
 )
 from tactex_common.serving import goal_pathway, OneGoal
 from tactex_common.stamps import stamp_ns
@@ -517,8 +518,7 @@ class SweepNode(TactexNode):
 
 def _time(seconds: float) -> Time:
     """A stamp of `seconds`, to the nearest nanosecond (5.9999999996 s is 6 s)."""
-    sec, nanosec = divmod(int(round(seconds * 1e9)), 1_000_000_000)
-    return Time(sec=sec, nanosec=nanosec)
+    return time_message(round(seconds * 1e9))
 
 
 def main(args: list[str] | None = None) -> None:

@@ -22,7 +22,6 @@ import sys
 import threading
 import time
 
-from builtin_interfaces.msg import Time
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 import numpy as np
 from rcl_interfaces.msg import (
@@ -42,7 +41,7 @@ from tactex_classify.online.runtime import load_predictor, RUNTIMES
 from tactex_classify.online.stream_health import stated_metadata
 from tactex_classify.online.tactile_topics import ROLE_TOPICS, SENSOR_QUEUE
 from tactex_common import topics
-from tactex_common.ros import COMMAND, spin, TactexNode
+from tactex_common.ros import COMMAND, spin, TactexNode, time_message
 from tactex_common.stamps import stamp_ns
 from tactex_msgs.msg import TextureEstimate
 
@@ -59,11 +58,6 @@ GIL_SWITCH_INTERVAL_S = 0.0005
 
 class StartError(Exception):
     """The node cannot start: a refused checkpoint or a stream it does not fit."""
-
-
-def _time(ns: int) -> Time:
-    sec, nanosec = divmod(int(ns), 1_000_000_000)
-    return Time(sec=sec, nanosec=nanosec)
 
 
 class ClassifierNode(TactexNode):
@@ -269,7 +263,7 @@ class ClassifierNode(TactexNode):
     def _publish(self, result) -> None:
         estimate, info = result.estimate, self._info
         message = TextureEstimate()
-        message.header.stamp = _time(estimate.stamp_ns)
+        message.header.stamp = time_message(estimate.stamp_ns)
         message.header.frame_id = self._frame_id
         message.class_id = estimate.class_id
         message.label = info.classes[estimate.class_id]
@@ -279,8 +273,8 @@ class ClassifierNode(TactexNode):
         message.decided = estimate.decided
         message.contact_seconds = estimate.contact_seconds
         message.windows_used = len(estimate.spans_ns)
-        message.window_starts = [_time(start) for start, _ in estimate.spans_ns]
-        message.window_ends = [_time(end) for _, end in estimate.spans_ns]
+        message.window_starts = [time_message(start) for start, _ in estimate.spans_ns]
+        message.window_ends = [time_message(end) for _, end in estimate.spans_ns]
         message.model_id = info.model_id
         self._estimate_pub.publish(message)
         marker = Marker(ns='texture', id=0, type=Marker.TEXT_VIEW_FACING, action=Marker.ADD)
