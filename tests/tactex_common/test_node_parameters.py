@@ -137,6 +137,15 @@ def test_a_parameter_no_node_declares_is_one_warning_naming_the_closest(tmp_path
     assert warnings[0].endswith("unknown parameter 'gian' ignored; did you mean 'gain'?")
 
 
+@pytest.fixture
+def nodes(ros_context, tmp_path):
+    """Every node that runs without a model, destroyed after the test."""
+    made = _nodes(ros_context, tmp_path)
+    yield made
+    for node in made:
+        node.destroy_node()
+
+
 def _nodes(context, tmp_path):
     from rclpy.parameter import Parameter
 
@@ -177,60 +186,44 @@ def _bad_values(node, name: str) -> list:
     return [wrong_type, *beyond, *callback]
 
 
-def test_every_tunable_parameter_and_every_number_has_a_range_or_a_check(ros_context,
-                                                                        tmp_path):
+def test_every_tunable_parameter_and_every_number_has_a_range_or_a_check(nodes):
     from rcl_interfaces.msg import ParameterType as Type
     untyped = {Type.PARAMETER_BOOL}  # a bool has no range
     numbers = {Type.PARAMETER_DOUBLE, Type.PARAMETER_INTEGER, Type.PARAMETER_DOUBLE_ARRAY,
                Type.PARAMETER_INTEGER_ARRAY}
-    nodes = _nodes(ros_context, tmp_path)
-    try:
-        for node in nodes:
-            for name in node.list_parameters([], 0).names:
-                descriptor = node.describe_parameter(name)
-                if descriptor.type in untyped or (descriptor.read_only
-                                                  and descriptor.type not in numbers):
-                    continue
-                checked = (descriptor.floating_point_range or descriptor.integer_range
-                           or (node.get_name(), name) in CHECKED_BY_CALLBACK.keys()
-                           | CHECKED_AT_START)
-                assert checked, f'{node.get_name()}: {name} is unchecked'
-    finally:
-        for node in nodes:
-            node.destroy_node()
+    for node in nodes:
+        for name in node.list_parameters([], 0).names:
+            descriptor = node.describe_parameter(name)
+            if descriptor.type in untyped or (descriptor.read_only
+                                              and descriptor.type not in numbers):
+                continue
+            checked = (descriptor.floating_point_range or descriptor.integer_range
+                       or (node.get_name(), name) in CHECKED_BY_CALLBACK.keys()
+                       | CHECKED_AT_START)
+            assert checked, f'{node.get_name()}: {name} is unchecked'
 
 
-def test_every_node_publishes_diagnostics_on_the_absolute_topic(ros_context, tmp_path):
-    nodes = _nodes(ros_context, tmp_path)
-    try:
-        for node in nodes:
-            published = {(p.topic_name, p.msg_type.__name__) for p in node.publishers}
-            assert ('/diagnostics', 'DiagnosticArray') in published, node.get_name()
-    finally:
-        for node in nodes:
-            node.destroy_node()
+def test_every_node_publishes_diagnostics_on_the_absolute_topic(nodes):
+    for node in nodes:
+        published = {(p.topic_name, p.msg_type.__name__) for p in node.publishers}
+        assert ('/diagnostics', 'DiagnosticArray') in published, node.get_name()
 
 
-def test_set_parameters_at_run_time_refuses_a_bad_value_with_the_reason(ros_context, tmp_path):
+def test_set_parameters_at_run_time_refuses_a_bad_value_with_the_reason(nodes):
     from rclpy.parameter import Parameter
-    nodes = _nodes(ros_context, tmp_path)
-    try:
-        refused = 0
-        for node in nodes:
-            for name in node.list_parameters([], 0).names:
-                if node.describe_parameter(name).read_only:
-                    continue
-                before = node.get_parameter(name).value
-                for value in _bad_values(node, name):
-                    result, = node.set_parameters([Parameter(name, value=value)])
-                    assert not result.successful, (node.get_name(), name, value)
-                    assert result.reason, (node.get_name(), name, value)
-                    assert node.get_parameter(name).value == before
-                    refused += 1
-        assert refused >= 9  # gain, mag_timeout_s, patch_texture, fault, use_sim_time...
-    finally:
-        for node in nodes:
-            node.destroy_node()
+    refused = 0
+    for node in nodes:
+        for name in node.list_parameters([], 0).names:
+            if node.describe_parameter(name).read_only:
+                continue
+            before = node.get_parameter(name).value
+            for value in _bad_values(node, name):
+                result, = node.set_parameters([Parameter(name, value=value)])
+                assert not result.successful, (node.get_name(), name, value)
+                assert result.reason, (node.get_name(), name, value)
+                assert node.get_parameter(name).value == before
+                refused += 1
+    assert refused >= 9  # gain, mag_timeout_s, patch_texture, fault, use_sim_time...
 
 
 def test_the_madgwick_gain_out_of_range_at_run_time_names_the_range(ros_context):

@@ -84,6 +84,7 @@ def after_clock_resets(stamps_ns: np.ndarray, log_ns: np.ndarray | None = None
         return stamps_ns, 0
     allowed = GAP_FACTOR * float(np.median(forward))
     starts = (np.flatnonzero(steps < -allowed) + 1).tolist()
+    log_ns = None if log_ns is None else np.asarray(log_ns, dtype=np.int64)
     moved, resets = stamps_ns.copy(), 0
     for number, start in enumerate(starts):
         latest = int(moved[:start].max())
@@ -95,7 +96,7 @@ def after_clock_resets(stamps_ns: np.ndarray, log_ns: np.ndarray | None = None
             end = starts[number + 1] if number + 1 < len(starts) else moved.size
             if moved[start:end].min() >= moved[:start].min():
                 continue  # within the stream's span: samples sent again or late, at its end
-            logged = _logged_shift(moved, np.asarray(log_ns, dtype=np.int64), start, end)
+            logged = _logged_shift(moved, log_ns, start, end)
             # where the log times went back too, or the device was away too briefly for a
             # gap, the part begins past a gap all the same: no window spans the restart
             shift = max(logged, latest + int(allowed) + 1 - int(moved[start]))

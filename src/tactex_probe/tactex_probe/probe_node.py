@@ -305,7 +305,7 @@ class ProbeNode(TactexNode):
             elif isinstance(event, Feedback):
                 self._feedback = feedback_message(event)
                 self._goal_handle.publish_feedback(self._feedback)
-                self._feedback_ns = self.get_clock().now().nanoseconds
+                self._feedback_ns = now
             elif isinstance(event, Recorded):
                 self._broadcast(records, event.record.stamp_ns)
                 self._log_probe(event.record)

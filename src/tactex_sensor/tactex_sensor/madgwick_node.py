@@ -148,8 +148,9 @@ class MadgwickNode(TactexNode):
     def _publish_diagnostics(self) -> None:
         """WARN before the first sample, and while samples were rejected lately (counts kept)."""
         rejected = self._filter.rejected
-        if sum(rejected.values()) != self._rejections_seen:
-            self._rejections_seen, self._last_rejection = sum(rejected.values()), time.monotonic()
+        total = sum(rejected.values())
+        if total != self._rejections_seen:
+            self._rejections_seen, self._last_rejection = total, time.monotonic()
         if not self._received:
             level, message = DiagnosticStatus.WARN, f'no {topics.IMU_RAW} yet'
         elif time.monotonic() - self._last_rejection < RECENT_REJECTION_S:

@@ -142,8 +142,7 @@ def write_report(folder: Path, dataset: Dataset, results: list[CrossValidation],
     first = summary[schemes[0]]['sequence']
     for row_index, row in enumerate(first):
         counts = (f'{row["recordings"]} ({row["classes"]} of {len(dataset.classes)})'
-                  + (' *' if row['classes'] < len(dataset.classes) else '')
-                  if 'recordings' in row else '-')
+                  + (' *' if row['classes'] < len(dataset.classes) else ''))
         lines.append(f'| {row["windows"]} | {row["touch_s"]:.2f} | {counts} | ' + ' | '.join(
             f'{100 * summary[s]["sequence"][row_index]["accuracy"]:.1f} %' for s in schemes)
             + ' |')
