@@ -34,7 +34,8 @@ def labelled(row: dict) -> str:
 
 UNCONVERGED = (' A model marked (not converged) had a fold whose training loss was still '
                'falling at its last epoch, or never fell below chance: its rows are not '
-               'results to rank, are left off the Pareto front and are not chosen below.')
+               'results to rank, are left off the Pareto front and never chosen as a '
+               'configuration.')
 
 
 def data_line(results: dict) -> str:
