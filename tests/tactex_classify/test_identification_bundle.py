@@ -160,3 +160,20 @@ def test_launching_with_a_movement_file_the_bundle_was_not_trained_for_is_refuse
     with pytest.raises(LaunchError, match=r'^bundle:=.* with movements:=.*: .*its checkpoints '
                                           f'read windows of {WINDOW} samples'):
         check_arguments(launch, launch.resolve({'bundle': bundle, 'movements': str(other)}))
+
+
+def test_a_deep_bundle_trains_with_the_options_the_report_takes_and_names_what_fell_short(
+        tmp_path, capsys):
+    movement_dataset(tmp_path)
+    assert main(['train', str(tmp_path / 'data.npz'), '--movements',
+                 str(movement_file(tmp_path)), '--model', 'cnn_2', '--profile', 'modern',
+                 '--epochs', '2', '--scaling', 'window', '--early-stopping', '0', '--folds',
+                 '2', '--out', str(tmp_path / 'run')]) == 0
+    printed = capsys.readouterr().out
+    for movement in MOVEMENTS:  # two folds and the final model, each cut short at 2 epochs
+        assert printed.count(f'note: {movement}: not converged: ') == 3
+    assert re.search(r'note: tells_all: not converged: final model: (still falling|stalled at '
+                     r'chance); raise --epochs', printed)
+    config = json.loads((tmp_path / 'run' / 'bundle' / 'movements' / 'tells_all' /
+                         'checkpoint.json').read_text())['config']
+    assert (config['profile'], config['epochs'], config['scaling']) == ('modern', 2, 'window')

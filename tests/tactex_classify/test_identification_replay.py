@@ -35,9 +35,11 @@ from tactex_classify.identification.offline import (
 )
 from tactex_classify.identification.report import PLOTS, write_report
 from tactex_classify.identification.selection import Budget, POLICIES
+from tactex_classify.training.deep_classifier import TrainingConfig
 from tactex_description.movements import load_movements
 
-SETTINGS = ReplaySettings(folds=2, inner_folds=2, seeds=3, model='extratrees',
+SETTINGS = ReplaySettings(folds=2, inner_folds=2, seeds=3,
+                          training=TrainingConfig(model='extratrees'),
                           budget=Budget(threshold=0.99, movements=6))
 
 
@@ -228,3 +230,29 @@ def test_the_command_refuses_a_movement_file_of_another_window_as_train_does(tmp
     assert error.startswith(f'error: --movements {path} gives window {2 * WINDOW}, DATA ')
     assert f'holds {WINDOW}-sample windows' in error and '\n' not in error
     assert not (tmp_path / 'out').exists()
+
+
+def test_a_deep_model_trains_as_train_would_and_a_training_cut_short_is_marked(tmp_path, capsys):
+    movement_dataset(tmp_path)
+    assert main(['report', 'identification', str(tmp_path / 'data.npz'), '--out',
+                 str(tmp_path / 'out'), '--movements', str(movement_file(tmp_path)),
+                 '--folds', '2', '--inner-folds', '2', '--seeds', '1', '--model', 'cnn_2',
+                 '--profile', 'modern', '--epochs', '2', '--scaling', 'window',
+                 '--early-stopping', '0', '--policies', 'active']) == 0
+    printed = capsys.readouterr().out
+    assert 'fold 1/2: tells_all fitted (1/3, ' in printed
+    assert 'not converged: inner fold 1: still falling' in printed
+    kept = json.loads((tmp_path / 'out' / 'identification.json').read_text())
+    assert {key: kept['settings'][key] for key in ('model', 'profile', 'epochs', 'scaling',
+                                                   'early_stopping')} == {
+        'model': 'cnn_2', 'profile': 'modern', 'epochs': 2, 'scaling': 'window',
+        'early_stopping': 0}
+    # two outer folds x (two inner folds + the final model), every one cut short at 2 epochs
+    assert all(len(row['unconverged']) == 6 for row in kept['movements'].values())
+    text = (tmp_path / 'out' / 'identification.md').read_text()
+    assert 'cnn_2 (modern profile, at most 2 epochs, window scaling)' in text
+    assert '| tells_all (not converged) |' in text and 'raise --epochs' in text
+
+
+def test_a_baseline_has_nothing_to_converge(replayed):
+    assert all(not movement['unconverged'] for movement in replayed['held_out'].values())

@@ -35,6 +35,7 @@ def identification(scratch: Path, size: Size, log: Callable[[str], None], *,
     from tactex_classify.identification.offline import replay, ReplaySettings, summary
     from tactex_classify.identification.report import accuracy_curves
     from tactex_classify.identification.selection import Budget, POLICIES
+    from tactex_classify.training.deep_classifier import TrainingConfig
     from tactex_description.movements import load_movements
     from tactex_sim.collect import collect
     from tactex_sim.scene import load_scene, resolve_scene
@@ -51,8 +52,8 @@ def identification(scratch: Path, size: Size, log: Callable[[str], None], *,
                    progress=lambda line: None)
     # The default budget's threshold is the live node's and identify_node's (0.99).
     settings = ReplaySettings(policies=POLICIES, budget=Budget(), folds=FOLDS,
-                              inner_folds=FOLDS, seeds=size.identify_seeds, model=MODEL,
-                              seed=seed)
+                              inner_folds=FOLDS, seeds=size.identify_seeds,
+                              training=TrainingConfig(model=MODEL, seed=seed), seed=seed)
     began = time.monotonic()
     result = replay(data, movements, settings, progress=lambda line: log(f'  {line}'))
     table = summary(result, settings)

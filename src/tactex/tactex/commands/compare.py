@@ -13,16 +13,14 @@ import time
 from tactex.commands.train import check_folds
 from tactex.errors import CommandError
 from tactex.options import (
-    epoch_count,
     fold_count,
     integer,
     output_path,
-    patience_epochs,
     ray_address,
     window_samples,
 )
-from tactex_classify.models.registry import ALL_MODELS, BASELINES, PROFILE_NAMES, SCHEMES
-from tactex_classify.models.windows import SCALINGS
+from tactex.training_options import add_training_options
+from tactex_classify.models.registry import ALL_MODELS, BASELINES, SCHEMES
 
 DEFAULT_WINDOWS = (128, 256, 512)
 
@@ -66,20 +64,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('--cv', default='both', choices=[*SCHEMES, 'both'],
                         help='grouped by recording (honest), stratified windows (leaky), or '
                              'both side by side (default)')
-    parser.add_argument('--epochs', type=epoch_count, default=250, help='epochs at most (250)')
-    parser.add_argument('--profile', default='original', choices=PROFILE_NAMES,
-                        help="deep models' training: the original's (default) or modern")
-    parser.add_argument('--scaling', default='minmax', choices=SCALINGS,
-                        help="deep models' input scaling: per-channel Min-Max (default), "
-                             "z-score, or window (each window's mean removed, then z-scaled)")
-    parser.add_argument('--early-stopping', type=patience_epochs, default=None,
-                        metavar='PATIENCE',
-                        help='stop a cell when the loss on recordings held out of its '
-                             "training fold has not improved for PATIENCE epochs, counted "
-                             "once its training loss leaves chance (0: off; default: the "
-                             "profile's, off or 30)")
-    parser.add_argument('--threads', type=integer(1, 256), default=1,
-                        help='torch threads (and CPUs asked) per deep-model cell (1)')
+    add_training_options(parser, threads_help='torch threads (and CPUs asked) per deep-model '
+                                              'cell (1)')
     parser.add_argument('--cpus', type=integer(1, 4096),
                         help='most cores the local Ray instance may use (default: all it '
                              'detects); not with --address')
@@ -121,7 +107,7 @@ def run(args: argparse.Namespace) -> int:
     patience = (TrainingConfig.for_profile(args.profile).early_stopping
                 if args.early_stopping is None else args.early_stopping)
     settings = GridSettings(folds=args.folds, epochs=args.epochs, early_stopping=patience,
-                            profile=args.profile, scaling=args.scaling)
+                            profile=args.profile, scaling=args.scaling or 'minmax')
     store.check(settings)
     started = time.monotonic()
 

@@ -27,6 +27,7 @@ from tactex.options import (
     seed_value,
     staged_folder,
 )
+from tactex.training_options import add_training_options, training_config
 from tactex_classify.identification.selection import POLICIES as POLICY_NAMES  # numpy only
 
 
@@ -76,6 +77,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                                      'and its calibration (3)')
     identification.add_argument('--model', default='minirocket',
                                 help='the per-movement model (default minirocket)')
+    add_training_options(identification)  # a deep --model trains as `tactex train` would
     identification.add_argument('--seed', type=seed_value, default=0)
     identification.add_argument('--repeat-discount', action='store_true',
                                 help="fit a discount of a movement's repeats with the "
@@ -147,7 +149,7 @@ def _identification(args: argparse.Namespace) -> int:
     check_movement_window(movements, dataset, path, args.data)
     settings = ReplaySettings(
         policies=args.policies, folds=args.folds, inner_folds=args.inner_folds,
-        seeds=args.seeds, model=args.model, seed=args.seed,
+        seeds=args.seeds, training=training_config(args, args.model), seed=args.seed,
         repeat_discount=args.repeat_discount,
         budget=Budget(args.threshold, args.budget_movements, args.budget_seconds))
     started = time.monotonic()

@@ -20,23 +20,19 @@ from tactex.options import (
     check_finite_windows,
     check_input_folder,
     check_output_folder,
-    epoch_count,
     fold_count,
-    integer,
     movement_file,
     output_path,
-    patience_epochs,
     seed_value,
     staged_folder,
 )
+from tactex.training_options import add_training_options, training_config
 from tactex_classify.models.registry import (
     ALL_MODELS,
     BASELINES,
     DEEP_MODELS,
-    PROFILE_NAMES,
     SCHEMES,
 )
-from tactex_classify.models.windows import SCALINGS
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -53,24 +49,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help='grouped by recording (honest), stratified windows (the '
                              "original's, leaky), or both side by side (default)")
     parser.add_argument('--folds', type=fold_count, default=5, help='folds per scheme (5)')
-    parser.add_argument('--epochs', type=epoch_count, default=250, help='epochs (250)')
-    parser.add_argument('--profile', default='original', choices=PROFILE_NAMES,
-                        help="deep models: the original's training (default), or modern: "
-                             'AdamW, warm-up + cosine, label smoothing, weight EMA, '
-                             'augmentation with mixup, early stopping (docs/guides/training.md, '
-                             'Training profiles)')
-    parser.add_argument('--early-stopping', type=patience_epochs, default=None,
-                        metavar='PATIENCE',
-                        help='stop when the validation loss has not improved for PATIENCE '
-                             'epochs, counted once the training loss leaves chance '
-                             '(validation: recordings held out of the training fold; '
-                             "0: off; default: the profile's, off or 30)")
-    parser.add_argument('--scaling', default=None, choices=SCALINGS,
-                        help="per-channel Min-Max (default; with --init, the checkpoint's), "
-                             "z-score, or window: each window's mean removed, then z-scaled")
+    add_training_options(parser, scaling_help=(
+        "per-channel Min-Max (default; with --init, the checkpoint's), z-score, or window: "
+        "each window's mean removed, then z-scaled"))
     parser.add_argument('--seed', type=seed_value, default=0)
-    parser.add_argument('--threads', type=integer(1, 256), default=1,
-                        help='torch threads (1)')
     parser.add_argument('--out', type=output_path, required=True, help='run folder')
     parser.add_argument('--no-final', action='store_true',
                         help='skip training the deployable model (RUN/model/) on all windows')
@@ -104,7 +86,6 @@ def run(args: argparse.Namespace) -> int:
         convergence_notes,
         write_report,
     )
-    from tactex_classify.training.deep_classifier import TrainingConfig
     from tactex_classify.training.estimators import build_estimator
 
     args.model, pretrained_scaling = pretrained_model(args.init, args.model, dataset) if (
@@ -114,10 +95,7 @@ def run(args: argparse.Namespace) -> int:
               '-scaled windows, so its weights start from inputs of another range')
     args.scaling = args.scaling or pretrained_scaling or 'minmax'
     check_model_window(args.model, dataset)
-    config = TrainingConfig.for_profile(
-        args.profile, model=args.model, pretrained=str(args.init or ''), epochs=args.epochs,
-        scaling=args.scaling, seed=args.seed, threads=args.threads,
-        **({} if args.early_stopping is None else {'early_stopping': args.early_stopping}))
+    config = training_config(args, args.model, pretrained=str(args.init or ''))
     started = time.monotonic()
 
     def log(line: str) -> None:
@@ -284,7 +262,6 @@ def _train_bundle(args: argparse.Namespace, dataset) -> int:
         trial_labels,
     )
     from tactex_classify.identification.tempering import DISCOUNTS, fit_tempering
-    from tactex_classify.training.deep_classifier import TrainingConfig
     from tactex_classify.training.estimators import build_estimator
 
     if args.init:
@@ -300,11 +277,7 @@ def _train_bundle(args: argparse.Namespace, dataset) -> int:
     movements = movement_file(args.movements, dataset.info.get('sampling_rate_hz'))
     model = args.model or 'minirocket'
     check_model_window(model, dataset)
-    config = TrainingConfig.for_profile(
-        args.profile, model=model, epochs=args.epochs, scaling=args.scaling or 'minmax',
-        seed=args.seed,
-        threads=args.threads,
-        **({} if args.early_stopping is None else {'early_stopping': args.early_stopping}))
+    config = training_config(args, model)
     fitted = []
     try:
         movement_of = checked_movements(dataset, movements)
@@ -322,6 +295,9 @@ def _train_bundle(args: argparse.Namespace, dataset) -> int:
                   f'of {len(fit.labels)} sweeps right out of fold, temperature '
                   f'{fit.temperature:.2f}, calibration error '
                   f'{reliability(fit.vectors, fit.labels).error:.3f}', flush=True)
+            for why in fit.unconverged:
+                print(f'note: {movement.name}: not converged: {why}; raise --epochs, give '
+                      '--early-stopping more patience, or try another --model', flush=True)
             fitted.append(fit)
         tempering = fit_tempering(dataset.classes, [movement_evidence(
             fit, movements.by_name(fit.name).contact_s) for fit in fitted], seed=args.seed,

@@ -26,8 +26,7 @@ from tactex_classify.identification.calibration import calibrated, fit_temperatu
 from tactex_classify.identification.evidence_table import MovementEvidence
 from tactex_classify.identification.posterior import normalised
 from tactex_classify.online.evidence import log_probabilities
-from tactex_classify.training.deep_classifier import TrainingConfig
-from tactex_classify.training.estimators import build_estimator
+from tactex_classify.training.convergence import unconverged_because
 from tactex_description.movements import MovementSet
 
 DEFAULT_MODEL = 'minirocket'
@@ -185,6 +184,7 @@ class FittedMovement:
     labels: np.ndarray
     raw: np.ndarray  # out-of-fold sweep vectors before calibration
     estimator: object  # fitted on every window of the movement
+    unconverged: tuple[str, ...] = ()  # 'inner fold 2: still falling', 'final model: ...'
 
     @property
     def vectors(self) -> np.ndarray:
@@ -197,13 +197,6 @@ class FittedMovement:
         return trials, labels, calibrated(raw, self.temperature)
 
 
-def make_estimator(model: str, seed: int) -> Callable[[], object]:
-    """A constructor of fresh estimators of `model` (deep: modern, window scaling, 60 epochs)."""
-    config = TrainingConfig.for_profile('modern', model=model, seed=seed, scaling='window',
-                                        epochs=60)
-    return lambda: build_estimator(config)
-
-
 def fit_movement(name: str, dataset: Dataset, make: Callable[[], object], *, folds: int = 3,
                  seed: int = 0) -> FittedMovement:
     """One movement's out-of-fold sweep vectors (grouped `folds`-fold), temperature and model.
@@ -211,7 +204,7 @@ def fit_movement(name: str, dataset: Dataset, make: Callable[[], object], *, fol
     Args:
         name: the movement.
         dataset: its recordings' windows.
-        make: a constructor of fresh, unfitted estimators (`make_estimator`).
+        make: a constructor of fresh, unfitted estimators (`build_estimator` of a config).
         folds: grouped folds for the out-of-fold vectors.
         seed: the folds' shuffle.
 
@@ -230,7 +223,26 @@ def fit_movement(name: str, dataset: Dataset, make: Callable[[], object], *, fol
     final = make()
     final.fit(dataset.X, dataset.y, dataset.classes, groups=dataset.trial,
               channels=dataset.channels)
-    return FittedMovement(name, fit_temperature(raw, labels), trials, labels, raw, final)
+    return FittedMovement(name, fit_temperature(raw, labels), trials, labels, raw, final,
+                          unconverged(out_of_fold.histories, final, len(dataset.classes)))
+
+
+def unconverged(histories: list[list[dict]], final: object, classes: int) -> tuple[str, ...]:
+    """Which of a movement's deep trainings did not converge, and why (none: a baseline).
+
+    The out-of-fold ones from their `histories`, the final one from itself; each judged
+    by `unconverged_because` against the epochs it was given.
+    """
+    config = getattr(final, 'config', None)
+    if config is None:  # a baseline: no epochs, nothing to converge
+        return ()
+    trainings = [(f'inner fold {fold}', history)
+                 for fold, history in enumerate(histories, start=1)]
+    trainings.append(('final model', getattr(final, 'history_', [])))
+    reasons = [(where, unconverged_because([record['train_loss'] for record in history],
+                                           classes, config.epochs))
+               for where, history in trainings]
+    return tuple(f'{where}: {why}' for where, why in reasons if why)
 
 
 def movement_evidence(fitted: FittedMovement, contact_seconds: float) -> MovementEvidence:

@@ -40,7 +40,6 @@ from tactex_classify.identification.movement_evidence import (
     checked_movements,
     DEFAULT_MODEL,
     fit_movement,
-    make_estimator,
     movement_evidence,
     MovementDataError,
     subset,
@@ -48,6 +47,9 @@ from tactex_classify.identification.movement_evidence import (
 )
 from tactex_classify.identification.selection import Budget, Identification, POLICIES
 from tactex_classify.identification.tempering import DISCOUNTS, fit_tempering
+from tactex_classify.models.registry import BASELINES
+from tactex_classify.training.deep_classifier import TrainingConfig
+from tactex_classify.training.estimators import build_estimator
 from tactex_description.movements import MovementSet
 
 PLAN_MOVEMENTS = 6  # the longest plan best_plans scores by default
@@ -63,9 +65,14 @@ class ReplaySettings:
     folds: int = 3
     inner_folds: int = 3
     seeds: int = 10
-    model: str = DEFAULT_MODEL
+    training: TrainingConfig = field(default_factory=lambda: TrainingConfig(model=DEFAULT_MODEL))
     seed: int = 0
     repeat_discount: bool = False  # True: fit the discount of a movement's repeats
+
+    @property
+    def model(self) -> str:
+        """The per-movement model's name."""
+        return self.training.model
 
 
 @dataclass
@@ -155,16 +162,20 @@ def replay(dataset: Dataset, movements: MovementSet, settings: ReplaySettings = 
     arm_s = _arm_seconds(dataset, movement_of, names)
     classes = len(dataset.classes)
     episodes: list[Episode] = []
-    held_out = {name: {'labels': [], 'vectors': []} for name in names}
+    held_out = {name: {'labels': [], 'vectors': [], 'unconverged': []} for name in names}
     tempering, plan_terms = [], []
     for fold in range(settings.folds):
         started = time.monotonic()
         fitted, test, predict_s = [], [], []
-        for name in names:
+        for index, name in enumerate(names, start=1):
             own = [t for t, m in movement_of.items() if m == name]
+            fitting = time.monotonic()
             fit = fit_movement(name, subset(dataset, [t for t in own if fold_of[t] != fold]),
-                               make_estimator(settings.model, settings.seed),
+                               lambda: build_estimator(settings.training),
                                folds=settings.inner_folds, seed=settings.seed)
+            progress(f'fold {fold + 1}/{settings.folds}: {name} fitted ({index}/{len(names)}, '
+                     f'{time.monotonic() - fitting:.0f} s)'
+                     + ''.join(f'; not converged: {why}' for why in fit.unconverged))
             began = time.perf_counter()
             trials, labels, vectors = fit.predict_sweeps(
                 subset(dataset, [t for t in own if fold_of[t] == fold]))
@@ -173,6 +184,7 @@ def replay(dataset: Dataset, movements: MovementSet, settings: ReplaySettings = 
             test.append((labels, vectors))
             held_out[name]['labels'] += labels.tolist()
             held_out[name]['vectors'] += vectors.tolist()
+            held_out[name]['unconverged'] += [f'fold {fold + 1} {why}' for why in fit.unconverged]
         evidence = [movement_evidence(fit, movements.by_name(fit.name).contact_s)
                     for fit in fitted]
         fitted_update = fit_tempering(dataset.classes, evidence, seed=settings.seed,
@@ -303,6 +315,14 @@ def _arm_seconds(dataset: Dataset, movement_of: dict[int, str], names: list[str]
     return seconds
 
 
+def training_settings(config: TrainingConfig) -> dict:
+    """How a deep per-movement model trained (profile, epochs, scaling, patience); baseline: {}."""
+    if config.model in BASELINES:
+        return {}
+    return {'profile': config.profile, 'epochs': config.epochs, 'scaling': config.scaling,
+            'early_stopping': config.early_stopping}
+
+
 def summary(result: dict, settings: ReplaySettings) -> dict:
     """identification.json: per policy accuracy, contact seconds, movements, by step."""
     episodes: list[Episode] = result['episodes']
@@ -337,6 +357,7 @@ def summary(result: dict, settings: ReplaySettings) -> dict:
         per_movement[name] = {
             'sweep_accuracy': float(np.mean(vectors.argmax(axis=1) == labels)),
             'calibration_error': calibration.error, 'sweeps': int(len(labels)),
+            'unconverged': held['unconverged'],
             'confusion': confusion(labels, vectors.argmax(axis=1),
                                    len(result['classes'])).tolist()}
     return {'policies': policies, 'episodes': len(episodes) // max(len(settings.policies), 1),
@@ -348,6 +369,7 @@ def summary(result: dict, settings: ReplaySettings) -> dict:
             'best_plans': best_plans(result),
             'settings': {'folds': settings.folds, 'inner_folds': settings.inner_folds,
                          'seeds': settings.seeds, 'model': settings.model,
+                         **training_settings(settings.training),
                          'threshold': settings.budget.threshold,
                          'budget_movements': settings.budget.movements,
                          'budget_seconds': settings.budget.seconds,

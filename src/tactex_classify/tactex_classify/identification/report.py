@@ -69,7 +69,7 @@ def markdown(table: dict) -> str:
              f'{table["episodes"]} episodes per policy ({settings["folds"]} folds grouped by '
              f'recording x {settings["seeds"]} seeds x {classes} textures; one episode moves '
              f'accuracy by {100 / max(table["episodes"], 1):.2f} points). Per movement: '
-             f'{settings["model"]}, calibrated by temperature on out-of-fold sweeps '
+             f'{model_text(settings)}, calibrated by temperature on out-of-fold sweeps '
              f'({settings["inner_folds"]} inner folds); tempering exponent '
              f'{", ".join(f"{t:.2f}" for t in table["tempering"])} and repeat discount '
              f'{", ".join(f"{c:g}" for c in table["repeat_discount"])} (per fold). '
@@ -89,10 +89,29 @@ def markdown(table: dict) -> str:
     for name, contact, arm in zip(table['movement_names'], table['contact_s'], table['arm_s'],
                                   strict=True):
         row = table['movements'][name]
-        lines.append(f'| {name} | {contact:.1f} | {arm:.1f} | {row["sweeps"]} | '
+        mark = ' (not converged)' if row.get('unconverged') else ''
+        lines.append(f'| {name}{mark} | {contact:.1f} | {arm:.1f} | {row["sweeps"]} | '
                      f'{100 * row["sweep_accuracy"]:.1f} % | {row["calibration_error"]:.3f} |')
+    unconverged = {name: row['unconverged'] for name, row in table['movements'].items()
+                   if row.get('unconverged')}
+    if unconverged:
+        lines += ['', "Not converged, so these movements' evidence is weaker than their model "
+                  'can give (raise --epochs, give --early-stopping more patience, or try '
+                  'another --model): ' + '; '.join(f'{name}: {", ".join(reasons)}'
+                                                   for name, reasons in unconverged.items())
+                  + '.']
     lines += ['', *[f'![{name}]({name})' for name in plots_of(table)], '']
     return '\n'.join(lines)
+
+
+def model_text(settings: dict) -> str:
+    """The per-movement model, with how it trained if it is a deep one."""
+    if 'profile' not in settings:  # a baseline, or a report kept before the recipe was
+        return settings['model']
+    patience = (f', early stopping after {settings["early_stopping"]} epochs without gain'
+                if settings['early_stopping'] else '')
+    return (f'{settings["model"]} ({settings["profile"]} profile, at most {settings["epochs"]} '
+            f'epochs, {settings["scaling"]} scaling{patience})')
 
 
 def plots_of(table: dict) -> tuple[str, ...]:
