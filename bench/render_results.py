@@ -24,6 +24,7 @@ import textwrap
 sys.path.insert(0, str(Path(__file__).resolve().parent))  # the result modules beside it
 from results_identification import (  # noqa: E402
     identification,
+    identification_init,
     identify_live,
     identify_live_sweeps,
 )
@@ -81,7 +82,8 @@ SECTIONS: dict[str, Callable[[], str]] = {
     'architectures': architectures, 'window_voting': window_voting,
     'sim_to_real': sim_to_real, 'learning_curves': learning_curves,
     'recordings': recordings, 'predict_play': predict_play, 'identification': identification,
-    'identify_live': identify_live, 'identify_live_sweeps': identify_live_sweeps}
+    'identify_live': identify_live, 'identify_live_sweeps': identify_live_sweeps,
+    'identification_init': identification_init}
 
 
 def _wrapped(text: str) -> str:

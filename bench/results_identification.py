@@ -108,7 +108,7 @@ def _against_goals(report: dict) -> str:
         + (f'after {reached} movements ({reached * seconds:g} s, '
            f'{100 * reached * seconds / fixed["median_contact_s"]:.0f} % of fixed\'s)'
            if reached else 'never') + '. '
-        f'Within 60 % ({goal:g} s, {within} movements) active has '
+        f'Within 60 % ({goal:g} s, {within} movement{"" if within == 1 else "s"}) active has '
         f'{100 * active[within - 1]:.1f} %{bound}. Against `random` (goal: fewer contact '
         'seconds at equal accuracy): of the accuracies random reaches after 1 to '
         f'{len(random)} movements, active reaches '
@@ -252,3 +252,57 @@ def _offline_ranking(kept: dict) -> str:
             + f' (of {sum(first.values())}); a single held-out sweep was right for '
             + ', '.join(f'{name} {100 * share:.1f} %' for name, share in
                         sorted(right.items(), key=lambda kv: -kv[1])) + '.')
+
+
+def identification_init() -> str:
+    """Per-movement models fine-tuned from a pretrained one, beside scratch and MiniRocket."""
+    kept = kept_json('identification_init.json')
+    reports = kept['reports']
+    first = next(iter(reports.values()))
+    seconds = first['contact_s'][0]
+    steps = [k for k in (1, 2, 3, 5) if all(
+        len(r['policies'][p]['accuracy_after_k']) >= k for r in reports.values()
+        for p in ('active', 'random', 'fixed'))]
+    rows = ['| per-movement model | policy | accuracy | decided | median contact (s) | p90 '
+            'contact (s) | median movements | ' + ' | '.join(
+                f'after {k} ({k * seconds:g} s)' for k in steps) + ' |',
+            '|---|---|---|---|---|---|---|' + '---|' * len(steps)]
+    for name, report in reports.items():
+        for policy in ('active', 'random', 'fixed'):
+            row = report['policies'][policy]
+            rows.append(f'| {name} | {policy} | {100 * row["accuracy"]:.1f} % | '
+                        f'{100 * row["decided"]:.0f} % | {row["median_contact_s"]:.1f} | '
+                        f'{row["p90_contact_s"]:.1f} | {row["median_movements"]:.0f} | '
+                        + ' | '.join(f'{100 * row["accuracy_after_k"][k - 1]:.1f} %'
+                                     for k in steps) + ' |')
+    sweeps = ['| movement | ' + ' | '.join(reports) + ' |', '|---|' + '---|' * len(reports)]
+    for movement in first['movement_names']:
+        cells = []
+        for report in reports.values():
+            row = report['movements'][movement]
+            short = len(row.get('unconverged', []))
+            cells.append(f'{100 * row["sweep_accuracy"]:.1f} %'
+                         + (f' ({short} not converged)' if short else ''))
+        sweeps.append(f'| {movement} | ' + ' | '.join(cells) + ' |')
+    timed = [step['seconds'] for step in kept['steps'] if step['seconds'] is not None]
+    tuned = reports['cnn_3 fine-tuned']
+    trainings = 2 * (tuned['settings']['inner_folds'] + 1) * len(first['movement_names'])
+    unconverged = [why for row in tuned['movements'].values() for why in row['unconverged']]
+    reasons = sorted({why.rsplit(': ', 1)[-1] for why in unconverged})
+    return (
+        f'Measured (`python bench/bench_identification_init.py`, {sum(timed) / 60:.0f} min '
+        'for the three reports; the source set, the pretrained checkpoint and the movement '
+        'sweeps made earlier by the same steps, with `--source`, `--pretrained` and `--data`): '
+        'the 12 textures x 8 movements x 20 sweeps above, on the same folds, seeds and held-out '
+        f'sweeps ({first["episodes"]} episodes per policy); per movement minirocket, cnn_3 '
+        'from scratch (`--profile modern --scaling window --epochs 250`), and cnn_3 '
+        f'fine-tuned (`--init`, `--profile modern`, at most {kept["fine_tuning_epochs"]} '
+        "epochs) from a cnn_3 pretrained on the learning curves' set (12 textures x 85 "
+        "sweeps of 10 s at the scene's drawn speed, press and tilt, on the scene's own "
+        'seed: none of these sweeps), `modern` profile, window scaling:\n\n'
+        + '\n'.join(rows) + '\n\nEach movement on its own, one held-out sweep (in brackets, '
+        'how many of its trainings, of 2 folds x (3 inner folds + the final model), did not '
+        'converge):\n\n' + '\n'.join(sweeps)
+        + f"\n\n{len(unconverged)} of the fine-tuned setting's {trainings} trainings did not "
+        'converge' + (f' ({", ".join(reasons)})' if reasons else '') + '.'
+        + _against_goals(tuned) + '\n')

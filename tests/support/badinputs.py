@@ -387,7 +387,8 @@ BAD_INPUTS = {
         Case('train {w}/data.npz --out {w}/run --movements {w}/movements/long.yaml',
              'DATA .*data.npz: 6 recording.* name no movement', '{w}/run'),
         Case('train {w}/data.npz --out {w}/run --movements {w}/movements/long.yaml --init '
-             '{w}/minirocket', '--init and --movements', '{w}/run'),
+             '{w}/minirocket', '--init: .*minirocket holds the baseline minirocket; only a deep '
+             'model can be fine-tuned', '{w}/run'),
         Case('train {w}/nothing.npz --out {w}/run', 'need .*nothing.npz and its sidecar',
              '{w}/run'),
         Case('train {w}/garbage.npz --out {w}/run', 'garbage.npz is not a tactex dataset',

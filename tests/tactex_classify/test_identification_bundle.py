@@ -177,3 +177,53 @@ def test_a_deep_bundle_trains_with_the_options_the_report_takes_and_names_what_f
     config = json.loads((tmp_path / 'run' / 'bundle' / 'movements' / 'tells_all' /
                          'checkpoint.json').read_text())['config']
     assert (config['profile'], config['epochs'], config['scaling']) == ('modern', 2, 'window')
+
+
+@pytest.fixture(scope='module')
+def pretrained(tmp_path_factory):
+    """A window-scaled cnn_2 checkpoint of the movement dataset's stream (one epoch)."""
+    from tactex_classify.training.deep_classifier import DeepClassifier, TrainingConfig
+    folder = tmp_path_factory.mktemp('pretrained')
+    data = movement_dataset(folder)
+    model = DeepClassifier(TrainingConfig(model='cnn_2', epochs=1, scaling='window')).fit(
+        data.X, data.y, data.classes, channels=data.channels)
+    return model.save(folder / 'model', hop=data.info['hop'],
+                      sampling_rate_hz=data.info['sampling_rate_hz'])
+
+
+def test_every_movements_model_can_start_from_a_pretrained_checkpoint(pretrained, tmp_path,
+                                                                      capsys):
+    movement_dataset(tmp_path)
+    assert main(['train', str(tmp_path / 'data.npz'), '--movements',
+                 str(movement_file(tmp_path)), '--init', str(pretrained), '--epochs', '1',
+                 '--folds', '2', '--out', str(tmp_path / 'run')]) == 0
+    assert 'bundle: ' in capsys.readouterr().out
+    for movement in MOVEMENTS:  # the checkpoint's model and scaling, unless told otherwise
+        config = json.loads((tmp_path / 'run' / 'bundle' / 'movements' / movement /
+                             'checkpoint.json').read_text())['config']
+        assert (config['model'], config['scaling'], config['pretrained']) == (
+            'cnn_2', 'window', str(pretrained))
+    assert main(['report', 'identification', str(tmp_path / 'data.npz'), '--movements',
+                 str(movement_file(tmp_path)), '--init', str(pretrained), '--epochs', '1',
+                 '--folds', '2', '--inner-folds', '2', '--seeds', '1', '--policies', 'active',
+                 '--out', str(tmp_path / 'report')]) == 0
+    settings = json.loads((tmp_path / 'report' / 'identification.json').read_text())['settings']
+    assert (settings['model'], settings['scaling'], settings['init']) == (
+        'cnn_2', 'window', str(pretrained))
+    assert f'fine-tuned from {pretrained}' in (tmp_path / 'report' /
+                                               'identification.md').read_text()
+
+
+@pytest.mark.parametrize('command', ['train', 'report'])
+def test_a_checkpoint_of_another_model_is_refused_before_any_training(pretrained, tmp_path,
+                                                                      capsys, command):
+    movement_dataset(tmp_path)
+    argv = (['train', str(tmp_path / 'data.npz')] if command == 'train' else
+            ['report', 'identification', str(tmp_path / 'data.npz')])
+    assert main([*argv, '--movements', str(movement_file(tmp_path)), '--init', str(pretrained),
+                 '--model', 'resnet', '--out', str(tmp_path / 'run')]) == 1
+    captured = capsys.readouterr()
+    assert captured.out == ''
+    assert captured.err == (f'error: --init: {pretrained} holds cnn_2, not --model resnet; '
+                            "leave --model out to fine-tune the checkpoint's model\n")
+    assert not (tmp_path / 'run').exists()

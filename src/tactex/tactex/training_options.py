@@ -9,18 +9,26 @@ model `tactex train --movements` bundles when given the same flags.
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 
-from tactex.options import epoch_count, integer, patience_epochs
+from tactex.errors import CommandError
+from tactex.options import check_input_folder, epoch_count, integer, patience_epochs
 from tactex_classify.models.registry import PROFILE_NAMES
 from tactex_classify.models.windows import SCALINGS
 
+INIT_HELP = ('fine-tune: start a deep model from the weights of a checkpoint (e.g. trained on '
+             'simulated sweeps) with the same model, window and channels; new classes get a '
+             'fresh output layer')
 SCALING_HELP = ("per-channel Min-Max (default), z-score, or window: each window's mean "
                 'removed, then z-scaled')
 
 
-def add_training_options(parser: argparse.ArgumentParser, *, scaling_help: str = SCALING_HELP,
+def add_training_options(parser: argparse.ArgumentParser, *, init: bool = False,
+                         scaling_help: str = SCALING_HELP,
                          threads_help: str = 'torch threads (1)') -> None:
-    """Register --epochs, --profile, --early-stopping, --scaling and --threads."""
+    """Register --epochs, --profile, --early-stopping, --scaling, --threads (and --init)."""
+    if init:
+        parser.add_argument('--init', type=Path, metavar='CHECKPOINT', help=INIT_HELP)
     parser.add_argument('--epochs', type=epoch_count, default=250,
                         help='epochs at most (250)')
     parser.add_argument('--profile', default='original', choices=PROFILE_NAMES,
@@ -38,11 +46,75 @@ def add_training_options(parser: argparse.ArgumentParser, *, scaling_help: str =
     parser.add_argument('--threads', type=integer(1, 256), default=1, help=threads_help)
 
 
+def starting_model(args: argparse.Namespace, dataset, default: str) -> str:
+    """--model, else the --init checkpoint's, else `default`; --scaling from the checkpoint.
+
+    A checkpoint is checked against the dataset first (`pretrained_model`); its scaling
+    becomes --scaling's default, and another --scaling is noted.
+
+    Raises:
+        CommandError: the checkpoint refused (see `pretrained_model`).
+    """
+    init = getattr(args, 'init', None)
+    if not init:
+        return args.model or default
+    model, scaling = pretrained_model(init, args.model, dataset)
+    if scaling and args.scaling not in (None, scaling):
+        print(f'note: --scaling {args.scaling}: {init} was trained on {scaling}-scaled '
+              'windows, so its weights start from inputs of another range')
+    args.scaling = args.scaling or scaling
+    return model
+
+
 def training_config(args: argparse.Namespace, model: str, **settings):
     """The `TrainingConfig` of these options for `model` (a baseline takes only the seed)."""
     from tactex_classify.training.deep_classifier import TrainingConfig
+    settings.setdefault('pretrained', str(getattr(args, 'init', None) or ''))
     if args.early_stopping is not None:
         settings['early_stopping'] = args.early_stopping
     return TrainingConfig.for_profile(
         args.profile, model=model, epochs=args.epochs, scaling=args.scaling or 'minmax',
         seed=args.seed, threads=args.threads, **settings)
+
+
+def pretrained_model(checkpoint: Path, model: str | None, dataset) -> tuple[str, str | None]:
+    """The deep model a fine-tuning starts from (`--model` must agree) and its scaling.
+
+    Checked before any training: the checkpoint's window, channels and rate (within 5 %)
+    must be the dataset's.
+
+    Raises:
+        CommandError: the checkpoint is missing or refused, holds a baseline, another model,
+            or another window, channels or rate than the dataset's.
+    """
+    from tactex_classify.errors import CheckpointError
+    from tactex_classify.models.checkpoint import read_checkpoint
+    check_input_folder(checkpoint, '--init')
+    try:
+        info = read_checkpoint(checkpoint)
+    except CheckpointError as err:
+        raise CommandError(f'--init: {err}') from None
+    if info.kind != 'deep':
+        raise CommandError(f'--init: {checkpoint} holds the baseline {info.model}; only a deep '
+                           'model can be fine-tuned (train the baseline on the new data alone)')
+    if model is not None and model != info.model:
+        raise CommandError(f'--init: {checkpoint} holds {info.model}, not --model {model}; '
+                           "leave --model out to fine-tune the checkpoint's model")
+    window = dataset.X.shape[1]
+    if info.stream.window != window:
+        raise CommandError(f'--init {checkpoint} was trained on {info.stream.window}-sample '
+                           f"windows, DATA's are {window}: convert with --window "
+                           f'{info.stream.window}, or start from a checkpoint of window {window}')
+    if info.stream.channels != tuple(dataset.channels):
+        raise CommandError(f'--init {checkpoint} was trained on channels '
+                           f'{", ".join(info.stream.channels)}, DATA has '
+                           f'{", ".join(dataset.channels)}: start from a checkpoint of the '
+                           "dataset's channels")
+    rate = dataset.info.get('sampling_rate_hz')
+    if rate is not None and info.stream.mismatches(sampling_rate_hz=rate):
+        raise CommandError(f'--init {checkpoint} was trained at '
+                           f'{info.stream.sampling_rate_hz:g} Hz, DATA is at {rate:.4g} Hz: '
+                           'convert (or import) DATA with --resample '
+                           f'{info.stream.sampling_rate_hz:g}, or start from a checkpoint of '
+                           f'{rate:.4g} Hz')
+    return info.model, info.fields.get('scaler', {}).get('kind')

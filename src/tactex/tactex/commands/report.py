@@ -27,7 +27,7 @@ from tactex.options import (
     seed_value,
     staged_folder,
 )
-from tactex.training_options import add_training_options, training_config
+from tactex.training_options import add_training_options, starting_model, training_config
 from tactex_classify.identification.selection import POLICIES as POLICY_NAMES  # numpy only
 
 
@@ -75,9 +75,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     identification.add_argument('--inner-folds', type=fold_count, default=3,
                                 help='folds within the training recordings for the evidence '
                                      'and its calibration (3)')
-    identification.add_argument('--model', default='minirocket',
-                                help='the per-movement model (default minirocket)')
-    add_training_options(identification)  # a deep --model trains as `tactex train` would
+    identification.add_argument('--model', help="the per-movement model (default minirocket; "
+                                                 "with --init, the checkpoint's)")
+    add_training_options(identification, init=True)  # a deep model trains as in tactex train
     identification.add_argument('--seed', type=seed_value, default=0)
     identification.add_argument('--repeat-discount', action='store_true',
                                 help="fit a discount of a movement's repeats with the "
@@ -113,10 +113,11 @@ def run(args: argparse.Namespace) -> int:
 
 def _identification(args: argparse.Namespace) -> int:
     """Replay identification on held-out recordings and write the report."""
-    from tactex.commands.train import check_movement_window
+    from tactex.commands.train import check_model_window, check_movement_window
     from tactex_classify.data.dataset import Dataset
     from tactex_classify.identification.movement_evidence import (
         checked_movements,
+        DEFAULT_MODEL,
         MovementDataError,
     )
     from tactex_classify.identification.offline import replay, ReplaySettings
@@ -125,7 +126,7 @@ def _identification(args: argparse.Namespace) -> int:
     from tactex_classify.models.registry import ALL_MODELS
     from tactex_common.share import share_directory
 
-    if args.model not in ALL_MODELS:
+    if args.model is not None and args.model not in ALL_MODELS:
         raise CommandError(f'--model: unknown model {args.model!r}; known: '
                            f'{", ".join(ALL_MODELS)}')
     path = args.movements or share_directory('tactex') / 'config' / 'movements.yaml'
@@ -147,9 +148,11 @@ def _identification(args: argparse.Namespace) -> int:
     except MovementDataError as err:
         raise CommandError(f'DATA {args.data}: {err}') from None
     check_movement_window(movements, dataset, path, args.data)
+    model = starting_model(args, dataset, default=DEFAULT_MODEL)
+    check_model_window(model, dataset)
     settings = ReplaySettings(
         policies=args.policies, folds=args.folds, inner_folds=args.inner_folds,
-        seeds=args.seeds, training=training_config(args, args.model), seed=args.seed,
+        seeds=args.seeds, training=training_config(args, model), seed=args.seed,
         repeat_discount=args.repeat_discount,
         budget=Budget(args.threshold, args.budget_movements, args.budget_seconds))
     started = time.monotonic()

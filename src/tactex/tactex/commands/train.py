@@ -18,7 +18,6 @@ import time
 from tactex.errors import CommandError
 from tactex.options import (
     check_finite_windows,
-    check_input_folder,
     check_output_folder,
     fold_count,
     movement_file,
@@ -26,7 +25,7 @@ from tactex.options import (
     seed_value,
     staged_folder,
 )
-from tactex.training_options import add_training_options, training_config
+from tactex.training_options import add_training_options, starting_model, training_config
 from tactex_classify.models.registry import (
     ALL_MODELS,
     BASELINES,
@@ -41,15 +40,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('--model', choices=ALL_MODELS,
                         help="a deep model (the original's eight or a modern one) or a "
                              "baseline (default cnn_1; with --init, the checkpoint's)")
-    parser.add_argument('--init', type=Path, metavar='CHECKPOINT',
-                        help='fine-tune: start a deep model from the weights of a checkpoint '
-                             '(e.g. trained on simulated sweeps) with the same model, window '
-                             'and channels; new classes get a fresh output layer')
     parser.add_argument('--cv', default='both', choices=[*SCHEMES, 'both'],
                         help='grouped by recording (honest), stratified windows (the '
                              "original's, leaky), or both side by side (default)")
     parser.add_argument('--folds', type=fold_count, default=5, help='folds per scheme (5)')
-    add_training_options(parser, scaling_help=(
+    add_training_options(parser, init=True, scaling_help=(
         "per-channel Min-Max (default; with --init, the checkpoint's), z-score, or window: "
         "each window's mean removed, then z-scaled"))
     parser.add_argument('--seed', type=seed_value, default=0)
@@ -88,14 +83,9 @@ def run(args: argparse.Namespace) -> int:
     )
     from tactex_classify.training.estimators import build_estimator
 
-    args.model, pretrained_scaling = pretrained_model(args.init, args.model, dataset) if (
-        args.init) else (args.model or 'cnn_1', None)
-    if pretrained_scaling and args.scaling not in (None, pretrained_scaling):
-        print(f'note: --scaling {args.scaling}: {args.init} was trained on {pretrained_scaling}'
-              '-scaled windows, so its weights start from inputs of another range')
-    args.scaling = args.scaling or pretrained_scaling or 'minmax'
+    args.model = starting_model(args, dataset, default='cnn_1')
     check_model_window(args.model, dataset)
-    config = training_config(args, args.model, pretrained=str(args.init or ''))
+    config = training_config(args, args.model)
     started = time.monotonic()
 
     def log(line: str) -> None:
@@ -139,49 +129,6 @@ def run(args: argparse.Namespace) -> int:
         raise ClassifyError(str(err)) from None
     log(f'report: {args.out / "report.md"}')
     return 0
-
-
-def pretrained_model(checkpoint: Path, model: str | None, dataset) -> tuple[str, str | None]:
-    """The deep model a fine-tuning starts from (`--model` must agree) and its scaling.
-
-    Checked before any training: the checkpoint's window, channels and rate (within 5 %)
-    must be the dataset's.
-
-    Raises:
-        CommandError: the checkpoint is missing or refused, holds a baseline, another model,
-            or another window, channels or rate than the dataset's.
-    """
-    from tactex_classify.errors import CheckpointError
-    from tactex_classify.models.checkpoint import read_checkpoint
-    check_input_folder(checkpoint, '--init')
-    try:
-        info = read_checkpoint(checkpoint)
-    except CheckpointError as err:
-        raise CommandError(f'--init: {err}') from None
-    if info.kind != 'deep':
-        raise CommandError(f'--init: {checkpoint} holds the baseline {info.model}; only a deep '
-                           'model can be fine-tuned (train the baseline on the new data alone)')
-    if model is not None and model != info.model:
-        raise CommandError(f'--init: {checkpoint} holds {info.model}, not --model {model}; '
-                           "leave --model out to fine-tune the checkpoint's model")
-    window = dataset.X.shape[1]
-    if info.stream.window != window:
-        raise CommandError(f'--init {checkpoint} was trained on {info.stream.window}-sample '
-                           f"windows, DATA's are {window}: convert with --window "
-                           f'{info.stream.window}, or start from a checkpoint of window {window}')
-    if info.stream.channels != tuple(dataset.channels):
-        raise CommandError(f'--init {checkpoint} was trained on channels '
-                           f'{", ".join(info.stream.channels)}, DATA has '
-                           f'{", ".join(dataset.channels)}: start from a checkpoint of the '
-                           "dataset's channels")
-    rate = dataset.info.get('sampling_rate_hz')
-    if rate is not None and info.stream.mismatches(sampling_rate_hz=rate):
-        raise CommandError(f'--init {checkpoint} was trained at '
-                           f'{info.stream.sampling_rate_hz:g} Hz, DATA is at {rate:.4g} Hz: '
-                           'convert (or import) DATA with --resample '
-                           f'{info.stream.sampling_rate_hz:g}, or start from a checkpoint of '
-                           f'{rate:.4g} Hz')
-    return info.model, info.fields.get('scaler', {}).get('kind')
 
 
 def check_model_window(model: str, dataset) -> None:
@@ -264,9 +211,6 @@ def _train_bundle(args: argparse.Namespace, dataset) -> int:
     from tactex_classify.identification.tempering import DISCOUNTS, fit_tempering
     from tactex_classify.training.estimators import build_estimator
 
-    if args.init:
-        raise CommandError('--init and --movements: fine-tune a single model, or train a '
-                           'bundle from scratch')
     ignored = [option for option, given in (('--no-final', args.no_final),
                                             ('--cv', args.cv != 'both')) if given]
     if ignored:
@@ -275,7 +219,7 @@ def _train_bundle(args: argparse.Namespace, dataset) -> int:
                            'by recording; leave them out')
     stream = deployable_stream(dataset, without='')
     movements = movement_file(args.movements, dataset.info.get('sampling_rate_hz'))
-    model = args.model or 'minirocket'
+    model = starting_model(args, dataset, default='minirocket')
     check_model_window(model, dataset)
     config = training_config(args, model)
     fitted = []

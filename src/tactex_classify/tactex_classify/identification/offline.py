@@ -175,7 +175,8 @@ def replay(dataset: Dataset, movements: MovementSet, settings: ReplaySettings = 
                                folds=settings.inner_folds, seed=settings.seed)
             progress(f'fold {fold + 1}/{settings.folds}: {name} fitted ({index}/{len(names)}, '
                      f'{time.monotonic() - fitting:.0f} s)'
-                     + ''.join(f'; not converged: {why}' for why in fit.unconverged))
+                     + (f'; not converged: {", ".join(fit.unconverged)}' if fit.unconverged
+                        else ''))
             began = time.perf_counter()
             trials, labels, vectors = fit.predict_sweeps(
                 subset(dataset, [t for t in own if fold_of[t] == fold]))
@@ -316,11 +317,14 @@ def _arm_seconds(dataset: Dataset, movement_of: dict[int, str], names: list[str]
 
 
 def training_settings(config: TrainingConfig) -> dict:
-    """How a deep per-movement model trained (profile, epochs, scaling, patience); baseline: {}."""
+    """How a deep per-movement model trained (profile, epochs, scaling, patience, start).
+
+    A baseline: {}.
+    """
     if config.model in BASELINES:
         return {}
     return {'profile': config.profile, 'epochs': config.epochs, 'scaling': config.scaling,
-            'early_stopping': config.early_stopping}
+            'early_stopping': config.early_stopping, 'init': config.pretrained}
 
 
 def summary(result: dict, settings: ReplaySettings) -> dict:

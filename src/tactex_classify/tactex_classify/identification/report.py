@@ -110,8 +110,9 @@ def model_text(settings: dict) -> str:
         return settings['model']
     patience = (f', early stopping after {settings["early_stopping"]} epochs without gain'
                 if settings['early_stopping'] else '')
+    start = (f', fine-tuned from {settings["init"]}' if settings.get('init') else '')
     return (f'{settings["model"]} ({settings["profile"]} profile, at most {settings["epochs"]} '
-            f'epochs, {settings["scaling"]} scaling{patience})')
+            f'epochs, {settings["scaling"]} scaling{patience}{start})')
 
 
 def plots_of(table: dict) -> tuple[str, ...]:
