@@ -19,8 +19,9 @@ fewer. This bench measures it on the same folds and held-out sweeps:
   epochs), and cnn_3 fine-tuned per movement from the pretrained checkpoint (`--init`,
   `modern`, `--epochs`).
 
-Keeps bench/results/identification_init.json: each report's identification.json and the
-commands with their seconds.
+Keeps bench/results/identification_init.json (each report's identification.json and the
+commands with their seconds) and identification_init.png (accuracy against contact
+seconds, per model: active solid, random dashed); `--plot` redraws the PNG from the JSON.
 """
 
 import argparse
@@ -33,6 +34,7 @@ import time
 from bench_textures import build_dataset, TACTEX, timed  # the benches' shared steps
 
 RESULTS = Path(__file__).parent / 'results' / 'identification_init.json'
+PLOT = RESULTS.with_suffix('.png')
 MOVEMENTS = Path(__file__).parents[1] / 'config' / 'movements.yaml'
 REPORT = ['--folds', '2', '--inner-folds', '3', '--seeds', '10', '--movements', str(MOVEMENTS)]
 SETTINGS = {  # name: the report's per-movement model options
@@ -59,13 +61,39 @@ def pretrain(source: Path, out: Path) -> float:
     return time.monotonic() - began
 
 
+def plot(kept: dict, path: Path) -> None:
+    """Accuracy after each movement's contact seconds: active solid, random dashed."""
+    import matplotlib
+    matplotlib.use('Agg')
+    from bench_profiles import finish_plot
+    import matplotlib.pyplot as plt
+    figure, axes = plt.subplots(figsize=(8, 4.5))
+    for index, (name, report) in enumerate(kept['reports'].items()):
+        seconds = report['contact_s'][0]  # every movement of the file lasts as long
+        for policy, style in (('active', '-'), ('random', '--')):
+            curve = report['policies'][policy]['accuracy_after_k'][:24]
+            axes.plot([seconds * k for k in range(1, len(curve) + 1)],
+                      [100 * right for right in curve], style, color=f'C{index}',
+                      marker='o' if policy == 'active' else None, markersize=3,
+                      label=f'{name}, {policy}')
+    axes.set_xlabel('contact seconds (movements x 2.5 s)')
+    axes.set_ylabel('identified right (%)')
+    finish_plot(figure, axes, 1 / len(next(iter(kept['reports'].values()))['classes']),
+                'identification: per-movement models, pretrained or not', path)
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument('--source', type=Path, help='the pretraining set (.npz), made if absent')
     parser.add_argument('--pretrained', type=Path, help='a cnn_3 checkpoint of the source set')
     parser.add_argument('--data', type=Path, help='the movement sweeps (.npz), made if absent')
     parser.add_argument('--epochs', type=int, default=60, help='fine-tuning epochs (60)')
+    parser.add_argument('--plot', action='store_true', help='redraw the PNG from the JSON kept')
     args = parser.parse_args()
+    if args.plot:
+        plot(json.loads(RESULTS.read_text()), PLOT)
+        print(f'wrote {PLOT}')
+        return 0
     steps: list[dict] = []
     with tempfile.TemporaryDirectory() as scratch_name:
         scratch = Path(scratch_name)
@@ -103,7 +131,8 @@ def main() -> int:
         'pretrained_on': {'dataset': pretrained_info.get('trained_on'),
                           'classes': pretrained_info.get('classes')},
         'reports': reports, 'steps': steps}, indent=1) + '\n', encoding='utf-8')
-    print(f'wrote {RESULTS}')
+    plot(json.loads(RESULTS.read_text()), PLOT)
+    print(f'wrote {RESULTS} and {PLOT}')
     return 0
 
 
