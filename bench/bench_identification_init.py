@@ -25,6 +25,7 @@ seconds, per model: active solid, random dashed); `--plot` redraws the PNG from 
 """
 
 import argparse
+import hashlib
 import json
 from pathlib import Path
 import sys
@@ -59,6 +60,24 @@ def pretrain(source: Path, out: Path) -> float:
     print(f'pretrained cnn_3: {len(model.history_)} epochs, '
           f'{model.unconverged_reason() or "converged"}', flush=True)
     return time.monotonic() - began
+
+
+def described(source: Path, pretrained: Path, data: Path) -> dict:
+    """What the source set, the pretraining and the movement sweeps were (for the text)."""
+    from tactex_classify.data.dataset import Dataset
+    checkpoint = json.loads((pretrained / 'checkpoint.json').read_text())
+    sets = {}
+    for name, path in (('source', source), ('movement_sweeps', data)):
+        dataset = Dataset.load(path)
+        sets[name] = {'digest': dataset.digest(), 'recordings': len(set(dataset.trial.tolist())),
+                      'windows': int(dataset.y.size), 'classes': len(dataset.classes),
+                      # the key bench_learning_curves.py keeps its set under
+                      'windows_sha256': hashlib.sha256(dataset.X.tobytes()).hexdigest()[:16]}
+    if checkpoint.get('trained_on') != sets['source']['digest']:
+        raise SystemExit(f'error: --pretrained {pretrained} was not trained on --source {source}')
+    sets['pretraining'] = {key: checkpoint['config'][key] for key in (
+        'model', 'profile', 'scaling', 'epochs', 'early_stopping', 'seed')}
+    return sets
 
 
 def plot(kept: dict, path: Path) -> None:
@@ -105,7 +124,7 @@ def main() -> int:
             if given is not None:
                 steps.append({'command': f'{option} {given}', 'seconds': None,
                               'note': 'made earlier by the same step'})
-        pretrained = args.pretrained
+        pretrained = args.pretrained  # trained on --source (checked when the result is kept)
         if pretrained is None:
             pretrained = scratch / 'pretrained'
             steps.append({'command': f'pretrain cnn_3 on {source.name} (bench pretrain())',
@@ -124,12 +143,11 @@ def main() -> int:
             timed([TACTEX, 'report', 'identification', str(data), *REPORT, *options, '--out',
                    str(out)], steps)
             reports[name] = json.loads((out / 'identification.json').read_text())
-    pretrained_info = json.loads((pretrained / 'checkpoint.json').read_text())
+        description = described(source, pretrained, data)  # before the scratch folder goes
     RESULTS.write_text(json.dumps({
         'settings': {name: options for name, options in settings.items()},
         'fine_tuning_epochs': args.epochs,
-        'pretrained_on': {'dataset': pretrained_info.get('trained_on'),
-                          'classes': pretrained_info.get('classes')},
+        **description,
         'reports': reports, 'steps': steps}, indent=1) + '\n', encoding='utf-8')
     plot(json.loads(RESULTS.read_text()), PLOT)
     print(f'wrote {RESULTS} and {PLOT}')

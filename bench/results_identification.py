@@ -285,24 +285,35 @@ def identification_init() -> str:
                          + (f' ({short} not converged)' if short else ''))
         sweeps.append(f'| {movement} | ' + ' | '.join(cells) + ' |')
     timed = [step['seconds'] for step in kept['steps'] if step['seconds'] is not None]
+    earlier = [step['command'].split()[0] for step in kept['steps'] if step['seconds'] is None]
     tuned = reports['cnn_3 fine-tuned']
-    trainings = 2 * (tuned['settings']['inner_folds'] + 1) * len(first['movement_names'])
+    folds, inner = tuned['settings']['folds'], tuned['settings']['inner_folds']
+    trainings = folds * (inner + 1) * len(first['movement_names'])
     unconverged = [why for row in tuned['movements'].values() for why in row['unconverged']]
     reasons = sorted({why.rsplit(': ', 1)[-1] for why in unconverged})
+    sweeps_set, source, pre = kept['movement_sweeps'], kept['source'], kept['pretraining']
+    per_cell = sweeps_set['recordings'] // (sweeps_set['classes'] * len(first['movement_names']))
+    curves_set = kept_json('learning_curves/learning_curves.json')['dataset']
+    scratch = ' '.join(kept['settings']['cnn_3 from scratch'][2:])
     return (
         f'Measured (`python bench/bench_identification_init.py`, {sum(timed) / 60:.0f} min '
-        'for the three reports; the source set, the pretrained checkpoint and the movement '
-        'sweeps made earlier by the same steps, with `--source`, `--pretrained` and `--data`): '
-        'the 12 textures x 8 movements x 20 sweeps above, on the same folds, seeds and held-out '
-        f'sweeps ({first["episodes"]} episodes per policy); per movement minirocket, cnn_3 '
-        'from scratch (`--profile modern --scaling window --epochs 250`), and cnn_3 '
-        f'fine-tuned (`--init`, `--profile modern`, at most {kept["fine_tuning_epochs"]} '
-        "epochs) from a cnn_3 pretrained on the learning curves' set (12 textures x 85 "
-        "sweeps of 10 s at the scene's drawn speed, press and tilt, on the scene's own "
-        'seed: none of these sweeps), `modern` profile, window scaling:\n\n'
+        'for the three reports'
+        + (f'; made earlier by the same steps and given with {", ".join(earlier)}'
+           if earlier else '') + f'): the {sweeps_set["classes"]} textures x '
+        f'{len(first["movement_names"])} movements x {per_cell} sweeps above, on the same '
+        f'folds, seeds and held-out sweeps ({first["episodes"]} episodes per policy); per '
+        f'movement minirocket, cnn_3 from scratch (`{scratch}`), and cnn_3 fine-tuned '
+        f'(`--init`, `--profile modern`, at most {kept["fine_tuning_epochs"]} epochs) from a '
+        f'{pre["model"]} pretrained on {source["recordings"]} recordings of '
+        f'{source["classes"]} textures ({source["windows"]} windows'
+        + ("; the learning curves' set, `tactex sim collect --scene uneven_texture --sweeps "
+           "85` on the scene's own seed, none of these sweeps"
+           if source['windows_sha256'] == curves_set else '')
+        + f'), `{pre["profile"]}` profile, {pre["scaling"]} scaling, at most {pre["epochs"]} '
+        f'epochs, stopping after {pre["early_stopping"]} without gain:\n\n'
         + '\n'.join(rows) + '\n\nEach movement on its own, one held-out sweep (in brackets, '
-        'how many of its trainings, of 2 folds x (3 inner folds + the final model), did not '
-        'converge):\n\n' + '\n'.join(sweeps)
+        f'how many of its trainings, of {folds} folds x ({inner} inner folds + the final '
+        'model), did not converge):\n\n' + '\n'.join(sweeps)
         + f"\n\n{len(unconverged)} of the fine-tuned setting's {trainings} trainings did not "
         'converge' + (f' ({", ".join(reasons)})' if reasons else '') + '.'
         + _against_goals(tuned) + '\n')

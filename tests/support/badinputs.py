@@ -386,9 +386,6 @@ BAD_INPUTS = {
              '--movements .*unknown keys sped', '{w}/run'),
         Case('train {w}/data.npz --out {w}/run --movements {w}/movements/long.yaml',
              'DATA .*data.npz: 6 recording.* name no movement', '{w}/run'),
-        Case('train {w}/data.npz --out {w}/run --movements {w}/movements/long.yaml --init '
-             '{w}/minirocket', '--init: .*minirocket holds the baseline minirocket; only a deep '
-             'model can be fine-tuned', '{w}/run'),
         Case('train {w}/nothing.npz --out {w}/run', 'need .*nothing.npz and its sidecar',
              '{w}/run'),
         Case('train {w}/garbage.npz --out {w}/run', 'garbage.npz is not a tactex dataset',

@@ -171,9 +171,10 @@ def test_a_deep_bundle_trains_with_the_options_the_report_takes_and_names_what_f
                  '2', '--out', str(tmp_path / 'run')]) == 0
     printed = capsys.readouterr().out
     for movement in MOVEMENTS:  # two folds and the final model, each cut short at 2 epochs
-        assert printed.count(f'note: {movement}: not converged: ') == 3
-    assert re.search(r'note: tells_all: not converged: final model: (still falling|stalled at '
-                     r'chance); raise --epochs', printed)
+        assert len(re.findall(rf'note: {movement}: .* not converged \(', printed)) == 3
+    assert re.search(r'note: tells_all: final model not converged \(still falling\): raise '
+                     r'--epochs\n|note: tells_all: final model not converged \(stalled at '
+                     r'chance\): raise --epochs, or try another --model\n', printed)
     config = json.loads((tmp_path / 'run' / 'bundle' / 'movements' / 'tells_all' /
                          'checkpoint.json').read_text())['config']
     assert (config['profile'], config['epochs'], config['scaling']) == ('modern', 2, 'window')
@@ -208,17 +209,33 @@ def test_every_movements_model_can_start_from_a_pretrained_checkpoint(pretrained
                  '--folds', '2', '--inner-folds', '2', '--seeds', '1', '--policies', 'active',
                  '--out', str(tmp_path / 'report')]) == 0
     settings = json.loads((tmp_path / 'report' / 'identification.json').read_text())['settings']
-    assert (settings['model'], settings['scaling'], settings['init']) == (
+    assert (settings['model'], settings['scaling'], settings['pretrained']) == (
         'cnn_2', 'window', str(pretrained))
     assert f'fine-tuned from {pretrained}' in (tmp_path / 'report' /
                                                'identification.md').read_text()
 
 
 @pytest.mark.parametrize('command', ['train', 'report'])
+def test_a_baseline_checkpoint_cannot_be_fine_tuned(trained, tmp_path, capsys, command):
+    movement_dataset(tmp_path)
+    baseline = trained / 'run' / 'bundle' / 'movements' / 'tells_all'  # extratrees
+    argv = (['train', str(tmp_path / 'data.npz'), '--folds', '2'] if command == 'train' else
+            ['report', 'identification', str(tmp_path / 'data.npz')])
+    assert main([*argv, '--movements', str(movement_file(tmp_path)), '--init', str(baseline),
+                 '--out', str(tmp_path / 'run')]) == 1
+    captured = capsys.readouterr()
+    assert captured.out == ''
+    assert captured.err == (f'error: --init: {baseline} holds the baseline extratrees; only a '
+                            'deep model can be fine-tuned (train the baseline on the new data '
+                            'alone)\n')
+    assert not (tmp_path / 'run').exists()
+
+
+@pytest.mark.parametrize('command', ['train', 'report'])
 def test_a_checkpoint_of_another_model_is_refused_before_any_training(pretrained, tmp_path,
                                                                       capsys, command):
     movement_dataset(tmp_path)
-    argv = (['train', str(tmp_path / 'data.npz')] if command == 'train' else
+    argv = (['train', str(tmp_path / 'data.npz'), '--folds', '2'] if command == 'train' else
             ['report', 'identification', str(tmp_path / 'data.npz')])
     assert main([*argv, '--movements', str(movement_file(tmp_path)), '--init', str(pretrained),
                  '--model', 'resnet', '--out', str(tmp_path / 'run')]) == 1

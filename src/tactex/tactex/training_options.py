@@ -24,11 +24,12 @@ SCALING_HELP = ("per-channel Min-Max (default), z-score, or window: each window'
 
 
 def add_training_options(parser: argparse.ArgumentParser, *, init: bool = False,
-                         scaling_help: str = SCALING_HELP,
                          threads_help: str = 'torch threads (1)') -> None:
     """Register --epochs, --profile, --early-stopping, --scaling, --threads (and --init)."""
     if init:
         parser.add_argument('--init', type=Path, metavar='CHECKPOINT', help=INIT_HELP)
+    scaling_help = SCALING_HELP.replace('(default)', "(default; with --init, the checkpoint's)"
+                                        ) if init else SCALING_HELP
     parser.add_argument('--epochs', type=epoch_count, default=250,
                         help='epochs at most (250)')
     parser.add_argument('--profile', default='original', choices=PROFILE_NAMES,
@@ -46,11 +47,11 @@ def add_training_options(parser: argparse.ArgumentParser, *, init: bool = False,
     parser.add_argument('--threads', type=integer(1, 256), default=1, help=threads_help)
 
 
-def starting_model(args: argparse.Namespace, dataset, default: str) -> str:
-    """--model, else the --init checkpoint's, else `default`; --scaling from the checkpoint.
+def resolve_model(args: argparse.Namespace, dataset, default: str) -> str:
+    """--model, else the --init checkpoint's, else `default`; sets args.scaling's default.
 
     A checkpoint is checked against the dataset first (`pretrained_model`); its scaling
-    becomes --scaling's default, and another --scaling is noted.
+    becomes --scaling's default (args.scaling is set), and another --scaling is noted.
 
     Raises:
         CommandError: the checkpoint refused (see `pretrained_model`).
@@ -66,15 +67,14 @@ def starting_model(args: argparse.Namespace, dataset, default: str) -> str:
     return model
 
 
-def training_config(args: argparse.Namespace, model: str, **settings):
+def training_config(args: argparse.Namespace, model: str):
     """The `TrainingConfig` of these options for `model` (a baseline takes only the seed)."""
     from tactex_classify.training.deep_classifier import TrainingConfig
-    settings.setdefault('pretrained', str(getattr(args, 'init', None) or ''))
-    if args.early_stopping is not None:
-        settings['early_stopping'] = args.early_stopping
+    patience = {} if args.early_stopping is None else {'early_stopping': args.early_stopping}
     return TrainingConfig.for_profile(
         args.profile, model=model, epochs=args.epochs, scaling=args.scaling or 'minmax',
-        seed=args.seed, threads=args.threads, **settings)
+        seed=args.seed, threads=args.threads,
+        pretrained=str(getattr(args, 'init', None) or ''), **patience)
 
 
 def pretrained_model(checkpoint: Path, model: str | None, dataset) -> tuple[str, str | None]:

@@ -27,7 +27,7 @@ from tactex.options import (
     seed_value,
     staged_folder,
 )
-from tactex.training_options import add_training_options, starting_model, training_config
+from tactex.training_options import add_training_options, resolve_model, training_config
 from tactex_classify.identification.selection import POLICIES as POLICY_NAMES  # numpy only
 
 
@@ -148,7 +148,7 @@ def _identification(args: argparse.Namespace) -> int:
     except MovementDataError as err:
         raise CommandError(f'DATA {args.data}: {err}') from None
     check_movement_window(movements, dataset, path, args.data)
-    model = starting_model(args, dataset, default=DEFAULT_MODEL)
+    model = resolve_model(args, dataset, default=DEFAULT_MODEL)
     check_model_window(model, dataset)
     settings = ReplaySettings(
         policies=args.policies, folds=args.folds, inner_folds=args.inner_folds,

@@ -25,7 +25,7 @@ from tactex.options import (
     seed_value,
     staged_folder,
 )
-from tactex.training_options import add_training_options, starting_model, training_config
+from tactex.training_options import add_training_options, resolve_model, training_config
 from tactex_classify.models.registry import (
     ALL_MODELS,
     BASELINES,
@@ -44,9 +44,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help='grouped by recording (honest), stratified windows (the '
                              "original's, leaky), or both side by side (default)")
     parser.add_argument('--folds', type=fold_count, default=5, help='folds per scheme (5)')
-    add_training_options(parser, init=True, scaling_help=(
-        "per-channel Min-Max (default; with --init, the checkpoint's), z-score, or window: "
-        "each window's mean removed, then z-scaled"))
+    add_training_options(parser, init=True)
     parser.add_argument('--seed', type=seed_value, default=0)
     parser.add_argument('--out', type=output_path, required=True, help='run folder')
     parser.add_argument('--no-final', action='store_true',
@@ -83,7 +81,7 @@ def run(args: argparse.Namespace) -> int:
     )
     from tactex_classify.training.estimators import build_estimator
 
-    args.model = starting_model(args, dataset, default='cnn_1')
+    args.model = resolve_model(args, dataset, default='cnn_1')
     check_model_window(args.model, dataset)
     config = training_config(args, args.model)
     started = time.monotonic()
@@ -202,6 +200,7 @@ def _train_bundle(args: argparse.Namespace, dataset) -> int:
         cell_counts,
         check_cells,
         checked_movements,
+        DEFAULT_MODEL,
         fit_movement,
         movement_evidence,
         MovementDataError,
@@ -209,6 +208,7 @@ def _train_bundle(args: argparse.Namespace, dataset) -> int:
         trial_labels,
     )
     from tactex_classify.identification.tempering import DISCOUNTS, fit_tempering
+    from tactex_classify.training.convergence import WHAT_TO_CHANGE
     from tactex_classify.training.estimators import build_estimator
 
     ignored = [option for option, given in (('--no-final', args.no_final),
@@ -219,11 +219,8 @@ def _train_bundle(args: argparse.Namespace, dataset) -> int:
                            'by recording; leave them out')
     stream = deployable_stream(dataset, without='')
     movements = movement_file(args.movements, dataset.info.get('sampling_rate_hz'))
-    model = starting_model(args, dataset, default='minirocket')
-    check_model_window(model, dataset)
-    config = training_config(args, model)
     fitted = []
-    try:
+    try:  # the data first, as tactex report identification checks it; then the model
         movement_of = checked_movements(dataset, movements)
         check_movement_window(movements, dataset, args.movements, args.data)
         counts = cell_counts(dataset.classes, trial_labels(dataset), movement_of, movements)
@@ -231,6 +228,9 @@ def _train_bundle(args: argparse.Namespace, dataset) -> int:
         check_cells(counts, args.folds, f'--folds {args.folds}',
                     f'give --folds {fewest}, or record more sweeps' if fewest >= 2 else
                     'record at least 2 sweeps of each (with --folds 2)')
+        model = resolve_model(args, dataset, default=DEFAULT_MODEL)
+        check_model_window(model, dataset)
+        config = training_config(args, model)
         for movement in movements.movements:
             fit = fit_movement(movement.name, subset(dataset, [
                 trial for trial, name in movement_of.items() if name == movement.name]),
@@ -239,9 +239,9 @@ def _train_bundle(args: argparse.Namespace, dataset) -> int:
                   f'of {len(fit.labels)} sweeps right out of fold, temperature '
                   f'{fit.temperature:.2f}, calibration error '
                   f'{reliability(fit.vectors, fit.labels).error:.3f}', flush=True)
-            for why in fit.unconverged:
-                print(f'note: {movement.name}: not converged: {why}; raise --epochs, give '
-                      '--early-stopping more patience, or try another --model', flush=True)
+            for where, why in fit.unconverged:
+                print(f'note: {movement.name}: {where} not converged ({why}): '
+                      f'{WHAT_TO_CHANGE[why]}', flush=True)
             fitted.append(fit)
         tempering = fit_tempering(dataset.classes, [movement_evidence(
             fit, movements.by_name(fit.name).contact_s) for fit in fitted], seed=args.seed,

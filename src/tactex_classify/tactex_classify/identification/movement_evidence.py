@@ -184,7 +184,7 @@ class FittedMovement:
     labels: np.ndarray
     raw: np.ndarray  # out-of-fold sweep vectors before calibration
     estimator: object  # fitted on every window of the movement
-    unconverged: tuple[str, ...] = ()  # 'inner fold 2: still falling', 'final model: ...'
+    unconverged: tuple[tuple[str, str], ...] = ()  # ('inner fold 2', 'still falling'), ...
 
     @property
     def vectors(self) -> np.ndarray:
@@ -227,22 +227,20 @@ def fit_movement(name: str, dataset: Dataset, make: Callable[[], object], *, fol
                           unconverged(out_of_fold.histories, final, len(dataset.classes)))
 
 
-def unconverged(histories: list[list[dict]], final: object, classes: int) -> tuple[str, ...]:
-    """Which of a movement's deep trainings did not converge, and why (none: a baseline).
+def unconverged(histories: list[list[dict]], final: object, classes: int
+                ) -> tuple[tuple[str, str], ...]:
+    """(training, reason) of each of a movement's deep trainings that did not converge.
 
-    The out-of-fold ones from their `histories`, the final one from itself; each judged
-    by `unconverged_because` against the epochs it was given.
+    The out-of-fold ones judged from their `histories` against the final model's epochs
+    (`unconverged_because`), the final one by itself; a baseline has none.
     """
-    config = getattr(final, 'config', None)
-    if config is None:  # a baseline: no epochs, nothing to converge
+    if not hasattr(final, 'unconverged_reason'):  # a baseline: nothing to converge
         return ()
-    trainings = [(f'inner fold {fold}', history)
-                 for fold, history in enumerate(histories, start=1)]
-    trainings.append(('final model', getattr(final, 'history_', [])))
-    reasons = [(where, unconverged_because([record['train_loss'] for record in history],
-                                           classes, config.epochs))
-               for where, history in trainings]
-    return tuple(f'{where}: {why}' for where, why in reasons if why)
+    reasons = [(f'inner fold {fold}', unconverged_because(
+        [record['train_loss'] for record in history], classes, final.config.epochs))
+        for fold, history in enumerate(histories, start=1)]
+    reasons.append(('final model', final.unconverged_reason()))
+    return tuple((where, why) for where, why in reasons if why)
 
 
 def movement_evidence(fitted: FittedMovement, contact_seconds: float) -> MovementEvidence:

@@ -66,7 +66,7 @@ class ReplaySettings:
     inner_folds: int = 3
     seeds: int = 10
     training: TrainingConfig = field(default_factory=lambda: TrainingConfig(model=DEFAULT_MODEL))
-    seed: int = 0
+    seed: int = 0  # the folds and episodes; the models' own seed is training.seed
     repeat_discount: bool = False  # True: fit the discount of a movement's repeats
 
     @property
@@ -175,8 +175,9 @@ def replay(dataset: Dataset, movements: MovementSet, settings: ReplaySettings = 
                                folds=settings.inner_folds, seed=settings.seed)
             progress(f'fold {fold + 1}/{settings.folds}: {name} fitted ({index}/{len(names)}, '
                      f'{time.monotonic() - fitting:.0f} s)'
-                     + (f'; not converged: {", ".join(fit.unconverged)}' if fit.unconverged
-                        else ''))
+                     + ('; not converged: ' + ', '.join(f'{where} ({why})' for where, why in
+                                                        fit.unconverged)
+                        if fit.unconverged else ''))
             began = time.perf_counter()
             trials, labels, vectors = fit.predict_sweeps(
                 subset(dataset, [t for t in own if fold_of[t] == fold]))
@@ -185,7 +186,8 @@ def replay(dataset: Dataset, movements: MovementSet, settings: ReplaySettings = 
             test.append((labels, vectors))
             held_out[name]['labels'] += labels.tolist()
             held_out[name]['vectors'] += vectors.tolist()
-            held_out[name]['unconverged'] += [f'fold {fold + 1} {why}' for why in fit.unconverged]
+            held_out[name]['unconverged'] += [f'fold {fold + 1}, {where}: {why}'
+                                              for where, why in fit.unconverged]
         evidence = [movement_evidence(fit, movements.by_name(fit.name).contact_s)
                     for fit in fitted]
         fitted_update = fit_tempering(dataset.classes, evidence, seed=settings.seed,
@@ -324,7 +326,7 @@ def training_settings(config: TrainingConfig) -> dict:
     if config.model in BASELINES:
         return {}
     return {'profile': config.profile, 'epochs': config.epochs, 'scaling': config.scaling,
-            'early_stopping': config.early_stopping, 'init': config.pretrained}
+            'early_stopping': config.early_stopping, 'pretrained': config.pretrained}
 
 
 def summary(result: dict, settings: ReplaySettings) -> dict:

@@ -95,11 +95,11 @@ def markdown(table: dict) -> str:
     unconverged = {name: row['unconverged'] for name, row in table['movements'].items()
                    if row.get('unconverged')}
     if unconverged:
-        lines += ['', "Not converged, so these movements' evidence is weaker than their model "
-                  'can give (raise --epochs, give --early-stopping more patience, or try '
-                  'another --model): ' + '; '.join(f'{name}: {", ".join(reasons)}'
-                                                   for name, reasons in unconverged.items())
-                  + '.']
+        lines += ['', 'Not converged (still falling at the last epoch: raise --epochs; stalled '
+                  'at chance, the loss never below that of guessing: raise --epochs or try '
+                  'another --model, unless the movement tells the textures apart nowhere): '
+                  + '; '.join(f'{name}: {", ".join(reasons)}'
+                              for name, reasons in unconverged.items()) + '.']
     lines += ['', *[f'![{name}]({name})' for name in plots_of(table)], '']
     return '\n'.join(lines)
 
@@ -110,7 +110,8 @@ def model_text(settings: dict) -> str:
         return settings['model']
     patience = (f', early stopping after {settings["early_stopping"]} epochs without gain'
                 if settings['early_stopping'] else '')
-    start = (f', fine-tuned from {settings["init"]}' if settings.get('init') else '')
+    start = (f', fine-tuned from {settings["pretrained"]}' if settings.get('pretrained')
+             else '')
     return (f'{settings["model"]} ({settings["profile"]} profile, at most {settings["epochs"]} '
             f'epochs, {settings["scaling"]} scaling{patience}{start})')
 

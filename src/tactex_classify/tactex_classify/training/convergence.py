@@ -13,6 +13,9 @@ import numpy as np
 
 # A training loss never this fraction below ln(classes) stayed at chance (stalled_at_chance).
 CHANCE_MARGIN = 0.05
+# What to change for each `unconverged_because` reason (early stopping ends neither).
+WHAT_TO_CHANGE = {'still falling': 'raise --epochs',
+                  'stalled at chance': 'raise --epochs, or try another --model'}
 
 
 def still_falling(losses: Sequence[float], span: int = 5, drop: float = 0.02) -> bool:
