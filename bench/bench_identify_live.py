@@ -15,7 +15,11 @@ one `--model` per movement, calibrated), the offline `tactex report identificati
 same dataset, model and policy, and live: the system launched with `bundle:=...`, then for
 every texture `--episodes` Identify goals (active, threshold 0.99) on the probed pathway.
 
-Keeps bench/results/identify_live.json (or identify_live_sweeps.json): every live episode
+With `--init CHECKPOINT` (and `--profile`, `--epochs`, `--scaling`) every movement's deep
+model, in the bundle and in the offline report alike, is fine-tuned from the checkpoint.
+
+Keeps bench/results/identify_live.json (or identify_live_sweeps.json; with `--init`, the
+same names ending in _init): every live episode
 (truth, answer, movements, contact and wall seconds), the live summary beside the offline
 report's active row, and the commands with their seconds. `--work DIR` keeps (and
 reuses) the bags, dataset, bundle, offline report and live episodes (live/episodes.json).
@@ -83,7 +87,7 @@ def prepared(work: Path, args, steps: list[dict]) -> tuple[Path, Path, Path, Pat
         folds = ['--folds', str(max(2, min(3, args.sweeps)))] if args.training == 'sweeps' \
             else []
         timed([TACTEX, 'train', str(data), '--movements', str(movements), '--model',
-               args.model, *folds, '--out', str(work / 'run')], steps)
+               args.model, *folds, *training_options(args), '--out', str(work / 'run')], steps)
     offline = work / 'offline'
     if not (offline / 'identification.json').is_file():
         # Nested folds need two training sweeps per cell inside each outer fold: with
@@ -92,8 +96,19 @@ def prepared(work: Path, args, steps: list[dict]) -> tuple[Path, Path, Path, Pat
         timed([TACTEX, 'report', 'identification', str(data), '--out', str(offline),
                '--movements', str(movements), '--policies', 'active', '--folds', outer,
                '--inner-folds', '2',
-               '--seeds', str(args.offline_seeds), '--model', args.model], steps)
+               '--seeds', str(args.offline_seeds), '--model', args.model,
+               *training_options(args)], steps)
     return data, bundle, offline, movements
+
+
+def training_options(args) -> list[str]:
+    """How a deep per-movement model trains, the same for the bundle and the offline report."""
+    options = ['--init', str(args.init)] if args.init else []
+    for option, value in (('--profile', args.profile), ('--epochs', args.epochs),
+                          ('--scaling', args.scaling)):
+        if value is not None:
+            options += [option, str(value)]
+    return options
 
 
 def live_episodes(work: Path, bundle: Path, movements: Path, args) -> tuple[list[dict], dict]:
@@ -120,6 +135,11 @@ def main() -> int:
     parser.add_argument('--sweeps', type=int, default=5, help='per texture and movement')
     parser.add_argument('--seed', type=int, default=2029, help='scene seed (no test uses it)')
     parser.add_argument('--model', default='minirocket')
+    parser.add_argument('--init', type=Path, metavar='CHECKPOINT',
+                        help="start every movement's deep model from this checkpoint")
+    parser.add_argument('--profile', help="deep models: original or modern (train's default)")
+    parser.add_argument('--epochs', type=int, help="deep models' epochs (train's default)")
+    parser.add_argument('--scaling', help="deep models' scaling (train's default)")
     parser.add_argument('--span', type=float, default=0.16,
                         help='probed pathway, m (the fastest movement needs 150 mm)')
     parser.add_argument('--episodes', type=int, default=1, help='Identify goals per texture')
@@ -143,7 +163,8 @@ def main() -> int:
     offline_report = json.loads((offline / 'identification.json').read_text())
     active = offline_report['policies']['active']
     kept = {'scene_seed': args.seed, 'sweeps_per_texture_and_movement': args.sweeps,
-            'model': args.model, 'span_m': args.span, 'probe': probe,
+            'model': args.model, 'training_options': training_options(args),
+            'span_m': args.span, 'probe': probe,
             'budget_movements': args.budget_movements,
             'live': identification_figures(episodes), 'live_seconds': kept_live['seconds'],
             'offline_active': {key: active[key] for key in (
@@ -164,6 +185,8 @@ def main() -> int:
                          yaml.safe_load(Path(movements).read_text())['movements']]
     results = RESULTS if args.training == 'collect' else RESULTS.with_name(
         'identify_live_sweeps.json')
+    if args.init:  # fine-tuned bundles are kept beside the others, never over them
+        results = results.with_name(f'{results.stem}_init.json')
     results.write_text(json.dumps(kept, indent=1) + '\n', encoding='utf-8')
     print(json.dumps({k: kept[k] for k in ('live', 'offline_active', 'probe')}, indent=1))
     return 0
