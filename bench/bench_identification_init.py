@@ -144,12 +144,10 @@ def main() -> int:
                    str(out)], steps)
             reports[name] = json.loads((out / 'identification.json').read_text())
         description = described(source, pretrained, data)  # before the scratch folder goes
-    RESULTS.write_text(json.dumps({
-        'settings': {name: options for name, options in settings.items()},
-        'fine_tuning_epochs': args.epochs,
-        **description,
-        'reports': reports, 'steps': steps}, indent=1) + '\n', encoding='utf-8')
-    plot(json.loads(RESULTS.read_text()), PLOT)
+    kept = {'settings': settings, 'fine_tuning_epochs': args.epochs, **description,
+            'reports': reports, 'steps': steps}
+    RESULTS.write_text(json.dumps(kept, indent=1) + '\n', encoding='utf-8')
+    plot(kept, PLOT)
     print(f'wrote {RESULTS} and {PLOT}')
     return 0
 

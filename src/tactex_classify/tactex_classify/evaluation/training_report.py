@@ -21,7 +21,7 @@ from tactex_classify.evaluation.cross_validation import (
     metrics,
     sequence_accuracy,
 )
-from tactex_classify.training.convergence import unconverged_because
+from tactex_classify.training.convergence import unconverged_because, WHAT_TO_CHANGE
 from tactex_common import plotting
 from tactex_common.naming import natural_key, natural_sorted
 
@@ -42,11 +42,11 @@ def convergence_notes(result: CrossValidation, classes: int, epochs: int) -> lis
             notes.append(f'{result.scheme} fold {fold}: not converged: its training loss never '
                          f'fell below chance ({math.log(classes):.2f}, the loss of predicting '
                          f'every class alike) in {len(losses)} epochs, so the model learned '
-                         'nothing (early stopping waits while it is at chance); raise '
-                         '--epochs, or try another --model')
+                         'nothing (early stopping waits while it is at chance); '
+                         f'{WHAT_TO_CHANGE[reason]}')
         elif reason:
             notes.append(f'{result.scheme} fold {fold}: not converged: its training loss was '
-                         f'still falling at the last of {epochs} epochs; raise --epochs')
+                         f'still falling at the last of {epochs} epochs; {WHAT_TO_CHANGE[reason]}')
     return notes
 
 

@@ -19,6 +19,7 @@ import numpy as np
 from tactex_classify.evaluation.training_report import draw_confusion
 from tactex_classify.identification.calibration import reliability
 from tactex_classify.identification.offline import Episode, ReplaySettings, summary
+from tactex_classify.training.convergence import WHAT_TO_CHANGE
 from tactex_common import plotting
 
 PLOTS = ('accuracy_vs_contact.png', 'movements_to_decision.png', 'active_choices.png',
@@ -95,9 +96,9 @@ def markdown(table: dict) -> str:
     unconverged = {name: row['unconverged'] for name, row in table['movements'].items()
                    if row.get('unconverged')}
     if unconverged:
-        lines += ['', 'Not converged (still falling at the last epoch: raise --epochs; stalled '
-                  'at chance, the loss never below that of guessing: raise --epochs or try '
-                  'another --model, unless the movement tells the textures apart nowhere): '
+        advice = '; '.join(f'{why}: {what}' for why, what in WHAT_TO_CHANGE.items())
+        lines += ['', f'Not converged ({advice}; a movement that tells the textures apart '
+                  'nowhere stalls at chance whatever the epochs): '
                   + '; '.join(f'{name}: {", ".join(reasons)}'
                               for name, reasons in unconverged.items()) + '.']
     lines += ['', *[f'![{name}]({name})' for name in plots_of(table)], '']
