@@ -72,6 +72,19 @@ def test_a_fold_whose_training_never_left_chance_is_named_with_what_to_change():
     assert notes[1].startswith('grouped fold 3: not converged') and 'raise --epochs' in notes[1]
 
 
+def test_a_baseline_given_deep_model_options_is_told_it_trains_without_them(tmp_path,
+                                                                              capsys):
+    data_path = toy().save(tmp_path / 'toy.npz')
+    common = ['train', str(data_path), '--model', 'extratrees', '--folds', '2', '--cv',
+              'grouped', '--no-final']
+    assert main([*common, '--epochs', '60', '--profile', 'modern', '--out',
+                 str(tmp_path / 'given')]) == 0
+    assert ('note: --epochs 60, --profile modern: extratrees is a baseline, which trains '
+            'without them') in capsys.readouterr().out
+    assert main([*common, '--out', str(tmp_path / 'plain')]) == 0
+    assert 'is a baseline' not in capsys.readouterr().out
+
+
 def test_train_reports_a_missing_dataset(tmp_path, capsys):
     assert main(['train', str(tmp_path / 'none.npz'), '--out', str(tmp_path / 'r')]) == 1
     assert 'error:' in capsys.readouterr().err

@@ -13,12 +13,13 @@ from pathlib import Path
 
 from tactex.errors import CommandError
 from tactex.options import check_input_folder, epoch_count, integer, patience_epochs
-from tactex_classify.models.registry import PROFILE_NAMES
+from tactex_classify.models.registry import BASELINES, PROFILE_NAMES
 from tactex_classify.models.windows import SCALINGS
 
 INIT_HELP = ('fine-tune: start a deep model from the weights of a checkpoint (e.g. trained on '
              'simulated sweeps) with the same model, window and channels; new classes get a '
              'fresh output layer')
+DEFAULT_EPOCHS, DEFAULT_PROFILE = 250, 'original'
 SCALING_HELP = ("per-channel Min-Max (default), z-score, or window: each window's mean "
                 'removed, then z-scaled')
 
@@ -30,9 +31,9 @@ def add_training_options(parser: argparse.ArgumentParser, *, init: bool = False,
         parser.add_argument('--init', type=Path, metavar='CHECKPOINT', help=INIT_HELP)
     scaling_help = SCALING_HELP.replace('(default)', "(default; with --init, the checkpoint's)"
                                         ) if init else SCALING_HELP
-    parser.add_argument('--epochs', type=epoch_count, default=250,
-                        help='epochs at most (250)')
-    parser.add_argument('--profile', default='original', choices=PROFILE_NAMES,
+    parser.add_argument('--epochs', type=epoch_count, default=DEFAULT_EPOCHS,
+                        help=f'epochs at most ({DEFAULT_EPOCHS})')
+    parser.add_argument('--profile', default=DEFAULT_PROFILE, choices=PROFILE_NAMES,
                         help="deep models: the original's training (default), or modern: "
                              'AdamW, warm-up + cosine, label smoothing, weight EMA, '
                              'augmentation with mixup, early stopping (docs/guides/training.md, '
@@ -51,20 +52,34 @@ def resolve_model(args: argparse.Namespace, dataset, default: str) -> str:
     """--model, else the --init checkpoint's, else `default`; sets args.scaling's default.
 
     A checkpoint is checked against the dataset first (`pretrained_model`); its scaling
-    becomes --scaling's default (args.scaling is set), and another --scaling is noted.
+    becomes --scaling's default (args.scaling is set), and another --scaling is noted. A
+    baseline given deep-model options is told that it trains without them.
 
     Raises:
         CommandError: the checkpoint refused (see `pretrained_model`).
     """
     init = getattr(args, 'init', None)
     if not init:
-        return args.model or default
+        model = args.model or default
+        ignored = deep_only_options(args)
+        if model in BASELINES and ignored:
+            print(f'note: {", ".join(ignored)}: {model} is a baseline, which trains without '
+                  'them (they apply to deep models); leave them out')
+        return model
     model, scaling = pretrained_model(init, args.model, dataset)
     if scaling and args.scaling not in (None, scaling):
         print(f'note: --scaling {args.scaling}: {init} was trained on {scaling}-scaled '
               'windows, so its weights start from inputs of another range')
     args.scaling = args.scaling or scaling
     return model
+
+
+def deep_only_options(args: argparse.Namespace) -> list[str]:
+    """The deep-model options given other than their defaults, as on the command line."""
+    given = [('--epochs', args.epochs, DEFAULT_EPOCHS), ('--profile', args.profile,
+                                                          DEFAULT_PROFILE),
+             ('--early-stopping', args.early_stopping, None), ('--scaling', args.scaling, None)]
+    return [f'{option} {value}' for option, value, default in given if value != default]
 
 
 def training_config(args: argparse.Namespace, model: str):
