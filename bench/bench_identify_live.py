@@ -180,6 +180,11 @@ def main() -> int:
             'bundle': {key: json.loads((bundle / 'bundle.json').read_text()).get(key, 0.0)
                        for key in ('tempering', 'repeat_discount')},
             'episodes': episodes, 'steps': steps}
+    if args.init:  # what the fine-tuning started from, told by the set it was trained on
+        from tactex_classify.models.checkpoint import read_checkpoint
+        checkpoint = read_checkpoint(args.init)
+        kept['pretrained'] = {'model': checkpoint.model, 'trained_on': checkpoint.trained_on,
+                              'scaling': checkpoint.fields.get('scaler', {}).get('kind')}
     kept['training'] = args.training
     kept['movements'] = [row['name'] for row in
                          yaml.safe_load(Path(movements).read_text())['movements']]

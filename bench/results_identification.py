@@ -168,12 +168,45 @@ def identify_live_sweeps() -> str:
     return _live_section('identify_live_sweeps.json')
 
 
+def identify_live_sweeps_init() -> str:
+    return _live_section('identify_live_sweeps_init.json')
+
+
 def _bench_options(kept: dict, goals_per_texture: float) -> str:
-    """The bench's options that reproduce a kept live run: its training, and goals if not one."""
+    """The bench's options that reproduce a kept live run (the checkpoint as PRETRAINED).
+
+    Its training, its goals per texture if not one, and its model with the model's training
+    options if not the default MiniRocket.
+    """
     training = (f'--training sweeps --sweeps {kept["sweeps_per_texture_and_movement"]} '
                 if kept.get('training') == 'sweeps' else '')
     episodes = f'--episodes {goals_per_texture:g} ' if goals_per_texture != 1 else ''
-    return f'{training}{episodes}--work DIR'
+    options = kept.get('training_options', [])
+    if '--init' in options:
+        options = [*options]
+        options[options.index('--init') + 1] = 'PRETRAINED'
+    model = (' '.join(['--model', kept['model'], *options]) + ' '
+             if kept['model'] != 'minirocket' or options else '')
+    return f'{training}{episodes}{model}--work DIR'
+
+
+def _fine_tuned_from(kept: dict) -> str:
+    """' fine-tuned (its options) from a checkpoint pretrained on ... and', or '' if not."""
+    pretrained = kept.get('pretrained')
+    if not pretrained:
+        return ''
+    options = kept['training_options']
+    named = dict(zip(options[::2], options[1::2], strict=True))
+    recipe = ', '.join(f'{option.lstrip("-")} {named[option]}' for option in
+                       ('--profile', '--epochs', '--scaling') if option in named)
+    source = kept_json('identification_init.json')
+    origin = (f"the learning curves' set ({source['source']['recordings']} recordings of "
+              f"{source['source']['classes']} textures; the checkpoint of "
+              'bench_identification_init.py)'
+              if pretrained['trained_on'] == source['source']['digest'] else
+              f'the set of digest {pretrained["trained_on"][:16]}')
+    how = f' ({recipe})' if recipe else ''
+    return f' fine-tuned{how} from a {pretrained["model"]} pretrained on {origin} and'
 
 
 def _live_interval(episodes: list[dict], offline: float) -> str:
@@ -220,7 +253,8 @@ def _live_section(name: str) -> str:
     return (
         'Measured live (`python bench/bench_identify_live.py '
         f'{_bench_options(kept, goals_per_texture)}`, {minutes:.0f} min '
-        f'of live identification): a bundle of {kept["model"]} per movement{fitted} trained '
+        f'of live identification): a bundle of {kept["model"]} per movement{fitted}'
+        f'{_fine_tuned_from(kept)} trained '
         f'on {trained_on}; the system launched in simulation, {probe["points"]} probes asked '
         f'along {1e3 * kept["span_m"]:.0f} mm of which {probe["contacts"]} gave a contact '
         f'(the pathway), then {live["episodes"]} Identify goals (active, threshold 0.99, at '
