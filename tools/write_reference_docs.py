@@ -7,8 +7,8 @@ docs/reference/cli.md is every `tactex` command's and subcommand's `--help`, wal
 docs/reference/parameters.md is every node's parameters as the node declares them (type,
 default, range, read-only, description), read by constructing each node (every TactexNode
 of a src/*/*/**/*_node.py module) once with rclpy, imported only inside `parameters()`;
-docs/reference/interfaces.md is the topic and action names of tactex_common/topics.py and
-the tactex_msgs message and action files.
+docs/reference/interfaces.md is the topic and action names of tactex_common/topics.py, the
+frame names of tactex_common/frames.py and the tactex_msgs message and action files.
 `python tools/write_reference_docs.py` rewrites the pages; `--out DIR` writes them
 elsewhere (tests/test_docs.py compares such a copy with the committed pages).
 """
@@ -150,9 +150,9 @@ def parameters_page() -> str:
     return ''.join(parts)
 
 
-def topics() -> list[tuple[str, str, str, str]]:
-    """(section, constant, name, note) of every name in tactex_common/topics.py, in order."""
-    path = ROOT / 'src' / 'tactex_common' / 'tactex_common' / 'topics.py'
+def named_constants(module: str) -> list[tuple[str, str, str, str]]:
+    """(section, constant, name, note) of every name in tactex_common/`module`.py, in order."""
+    path = ROOT / 'src' / 'tactex_common' / 'tactex_common' / f'{module}.py'
     rows, section, comment = [], '', ''
     for line in path.read_text(encoding='utf-8').splitlines():
         if line.startswith('# ') and not line.startswith(('# Copyright', '# SPDX')):
@@ -169,13 +169,18 @@ def topics() -> list[tuple[str, str, str, str]]:
 
 
 def interfaces_page() -> str:
-    """Topics and actions (names from topics.py) and the tactex_msgs interface files."""
+    """Topics and actions (names from topics.py), frames and the tactex_msgs interface files."""
     parts = ['# Topics, actions and messages\n\n', HEADER,
              'Names are relative, as the nodes use them (`tactex_common/topics.py`, the one '
              'source of them).\n\n| group | constant | name | type and notes |\n'
              '|---|---|---|---|\n']
     parts += [f'| {section} | `{constant}` | `{name}` | {_cell(note, quoted=False)} |\n'
-              for section, constant, name, note in topics()]
+              for section, constant, name, note in named_constants('topics')]
+    parts.append('\n## Frames\n\nREP-105 frame names (`tactex_common/frames.py`, the one '
+                 'source of them; the robot description builds its links from them).\n\n'
+                 '| constant | frame | what it is |\n|---|---|---|\n')
+    parts += [f'| `{constant}` | `{name}` | {_cell(note, quoted=False)} |\n'
+              for _, constant, name, note in named_constants('frames')]
     package = ROOT / 'src' / 'tactex_msgs'
     for kind in ('msg', 'action', 'srv'):
         for path in sorted((package / kind).glob(f'*.{kind}')):

@@ -7,7 +7,7 @@ from __future__ import annotations
 from rclpy.action import GoalResponse
 from rclpy.node import Node
 
-from tactex_common import topics
+from tactex_common import frames, topics
 
 
 class OneGoal:
@@ -45,7 +45,7 @@ def goal_pathway(given, latest):
     if pathway is None or not pathway.contacts:
         raise ValueError('the goal has no contacts and nothing was published on '
                          f'{topics.PROBE_PATHWAY}; probe the surface first')
-    if pathway.header.frame_id not in ('', 'base_link'):
-        raise ValueError(f'the pathway must be in base_link, got frame '
+    if pathway.header.frame_id not in ('', frames.BASE):
+        raise ValueError(f'the pathway must be in {frames.BASE}, got frame '
                          f'{pathway.header.frame_id!r}')
     return pathway

@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import math
 
+from tactex_common import frames
 from tactex_description.geometry import OPEN_MANIPULATOR_X
 from tactex_description.mjcf import EDGE_TIP_RADIUS_M
 
@@ -74,7 +75,7 @@ def body_mass_kg() -> float:
 
 def _body() -> tuple[float, float]:
     """Mass (kg) of the sensor body and its pitch inertia about the pivot (kg m^2)."""
-    inertial = OPEN_MANIPULATOR_X.inertials['sensor_link']
+    inertial = OPEN_MANIPULATOR_X.inertials[frames.SENSOR]
     offset = OPEN_MANIPULATOR_X.joint('sensor_press').origin_xyz[2] + inertial.com_xyz[2]
     return inertial.mass_kg, inertial.inertia_diag[1] + inertial.mass_kg * offset ** 2
 

@@ -26,6 +26,8 @@ from dataclasses import dataclass, field
 import enum
 import math
 
+from tactex_common import frames
+
 
 class JointKind(enum.Enum):
     """How a joint moves."""
@@ -147,11 +149,11 @@ def _arm_joint(name: str, parent: str, child: str, origin_xyz: Vector3, axis: Ve
 
 OPEN_MANIPULATOR_X = RobotGeometry(
     name='open_manipulator_x_tactile',
-    root='world',
+    root=frames.WORLD,
     joints=(
-        Joint('world_fixed', 'world', 'base_link', JointKind.FIXED, JointRole.STRUCTURE,
+        Joint('world_fixed', frames.WORLD, frames.BASE, JointKind.FIXED, JointRole.STRUCTURE,
               (0.0, 0.0, 0.0)),
-        Joint('base_fixed', 'base_link', 'link1', JointKind.FIXED, JointRole.STRUCTURE,
+        Joint('base_fixed', frames.BASE, 'link1', JointKind.FIXED, JointRole.STRUCTURE,
               (0.0, 0.0, 0.0)),
         _arm_joint('joint1', 'link1', 'link2', (0.012, 0.0, 0.017), (0.0, 0.0, 1.0), -0.9, 0.9),
         _arm_joint('joint2', 'link2', 'link3', (0.0, 0.0, 0.0595), (0.0, 1.0, 0.0), -0.57, 0.5),
@@ -182,12 +184,12 @@ OPEN_MANIPULATOR_X = RobotGeometry(
               lower=-0.20, upper=0.20, velocity=10.0, effort=1.0,
               stiffness=0.20, damping=0.003),
         # Negative travel compresses the body towards the mount.
-        Joint('sensor_press', 'sensor_yaw_link', 'sensor_link', JointKind.PRISMATIC,
+        Joint('sensor_press', 'sensor_yaw_link', frames.SENSOR, JointKind.PRISMATIC,
               JointRole.COMPLIANT, (0.0, 0.0, 0.012), axis=(0.0, 0.0, 1.0),
               lower=-0.006, upper=0.0, velocity=0.5, effort=20.0,
               stiffness=600.0, damping=3.0),
         # Face 10 mm beyond the MARG chip, rim radius 15 mm, in the arm's plane.
-        Joint('sensor_edge_fixed', 'sensor_link', 'sensor_edge', JointKind.FIXED,
+        Joint('sensor_edge_fixed', frames.SENSOR, frames.EDGE, JointKind.FIXED,
               JointRole.STRUCTURE, (0.015, 0.0, 0.010)),
     ),
     inertials={
@@ -202,7 +204,7 @@ OPEN_MANIPULATOR_X = RobotGeometry(
         'sensor_roll_link': Inertial(0.0010, (0.0, 0.0, 0.0), (1.0e-8, 1.0e-8, 1.0e-8)),
         'sensor_pitch_link': Inertial(0.0010, (0.0, 0.0, 0.0), (1.0e-8, 1.0e-8, 1.0e-8)),
         'sensor_yaw_link': Inertial(0.0010, (0.0, 0.0, 0.0), (1.0e-8, 1.0e-8, 1.0e-8)),
-        'sensor_link': Inertial(0.0150, (0.0, 0.0, 0.004), (1.2e-6, 1.2e-6, 1.7e-6)),
+        frames.SENSOR: Inertial(0.0150, (0.0, 0.0, 0.004), (1.2e-6, 1.2e-6, 1.7e-6)),
     },
 )
 

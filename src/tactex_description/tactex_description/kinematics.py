@@ -20,6 +20,7 @@ import numpy as np
 from transforms3d.axangles import axangle2mat
 from transforms3d.euler import euler2mat
 
+from tactex_common import frames
 from tactex_description.geometry import (
     ARM_JOINT_NAMES,
     Joint,
@@ -50,7 +51,7 @@ def joint_transform(joint: Joint, position: float) -> np.ndarray:
 
 def forward_kinematics(
     positions: Mapping[str, float] | Sequence[float],
-    frame: str = 'sensor_edge',
+    frame: str = frames.EDGE,
     *,
     robot: RobotGeometry = OPEN_MANIPULATOR_X,
 ) -> np.ndarray:
@@ -125,7 +126,7 @@ class PlanarArm:
 
     @classmethod
     def from_geometry(cls, robot: RobotGeometry = OPEN_MANIPULATOR_X,
-                      tool_frame: str = 'sensor_edge') -> PlanarArm:
+                      tool_frame: str = frames.EDGE) -> PlanarArm:
         """Derive the planar constants, checking that the arm really is planar."""
         j1, j2, j3, j4 = (robot.joint(name) for name in ARM_JOINT_NAMES)
         if j1.axis != (0.0, 0.0, 1.0) or any(j.axis != (0.0, 1.0, 0.0) for j in (j2, j3, j4)):
@@ -291,7 +292,7 @@ def _limit_detail(candidates: list[np.ndarray], lower: np.ndarray, upper: np.nda
 
 
 def inverse_kinematics(position: Sequence[float], pitch: float, *,
-                       tool_frame: str = 'sensor_edge',
+                       tool_frame: str = frames.EDGE,
                        seed: Sequence[float] | None = None) -> IKResult:
     """Solve the arm for a tool point of `OPEN_MANIPULATOR_X` (see `PlanarArm.inverse`)."""
     return _planar_arm(tool_frame).inverse(position, pitch, seed=seed)
@@ -306,7 +307,7 @@ def _planar_arm(tool_frame: str) -> PlanarArm:
     return _PLANAR_ARMS[tool_frame]
 
 
-def tool_pose(joints: Sequence[float], *, tool_frame: str = 'sensor_edge'
+def tool_pose(joints: Sequence[float], *, tool_frame: str = frames.EDGE
               ) -> tuple[np.ndarray, float]:
     """Return the tool point (m) and pitch (rad) of `OPEN_MANIPULATOR_X` at `joints`."""
     return _planar_arm(tool_frame).tool_pose(joints)

@@ -15,6 +15,7 @@ from xml.etree import ElementTree as ET
 
 from transforms3d.euler import euler2quat
 
+from tactex_common import frames
 from tactex_description.geometry import (
     Joint,
     JointKind,
@@ -66,7 +67,7 @@ def _link_geom(body: ET.Element, link: str, robot: RobotGeometry) -> None:
         ET.SubElement(body, 'geom', type='box', size='0.012 0.012 0.010',
                       pos='0 0 -0.008', rgba='0.2 0.4 0.8 1', contype='0', conaffinity='0',
                       group='1')
-    elif link == 'sensor_link':
+    elif link == frames.SENSOR:
         # Polyurethane body with the MARG inside: the face and its rim are where the
         # geometry puts sensor_edge (rim radius, face distance past the chip).
         rim_radius, _, face = _origin(robot, 'sensor_edge_fixed')
@@ -74,7 +75,7 @@ def _link_geom(body: ET.Element, link: str, robot: RobotGeometry) -> None:
         ET.SubElement(body, 'geom', name=SENSOR_GEOM, type='cylinder',
                       size=_fmt((rim_radius, face / 2)), pos=_fmt((0.0, 0.0, face / 2)),
                       rgba='0.95 0.8 0.2 1', friction='0.6 0.005 0.0001', condim='3')
-    elif link == 'sensor_edge':
+    elif link == frames.EDGE:
         ET.SubElement(body, 'geom', name=SENSOR_EDGE_GEOM, type='sphere',
                       size=repr(EDGE_TIP_RADIUS_M),
                       rgba='1 0.3 0.1 1', friction='0.6 0.005 0.0001', condim='3')

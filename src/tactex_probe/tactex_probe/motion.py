@@ -25,6 +25,7 @@ import math
 
 import numpy as np
 
+from tactex_common import frames
 from tactex_description.geometry import ARM_VELOCITY_LIMIT, OPEN_MANIPULATOR_X
 from tactex_description.kinematics import (
     forward_kinematics,
@@ -33,7 +34,7 @@ from tactex_description.kinematics import (
 )
 from tactex_description.mjcf import EDGE_TIP_RADIUS_M
 
-TOOL_FRAME = 'sensor_link'
+TOOL_FRAME = frames.SENSOR
 RIM_RADIUS_M, _, FACE_DISTANCE_M = OPEN_MANIPULATOR_X.joint('sensor_edge_fixed').origin_xyz
 FACE_TILT_RAD = math.asin(EDGE_TIP_RADIUS_M / (2.0 * RIM_RADIUS_M))
 FACE_AXIS = np.array([-math.sin(FACE_TILT_RAD), 0.0, math.cos(FACE_TILT_RAD)])

@@ -37,13 +37,14 @@ from typing import Any
 
 import numpy as np
 
+from tactex_common import frames
 from tactex_common.files import load_json
 from tactex_common.numbers import is_finite_number
 from tactex_probe.errors import ParameterError, PathwayError
 
 FORMAT = 'tactex-pathway'
 VERSION = 1
-FRAME_ID = 'base_link'
+FRAME_ID = frames.BASE
 # A unit vector may be off by this much in length (JSON round trips keep 17 digits).
 UNIT_TOLERANCE = 1e-6
 MAX_PATHWAY_BYTES = 16 * 1024**2

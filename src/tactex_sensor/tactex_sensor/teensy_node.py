@@ -10,7 +10,7 @@ from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
 from sensor_msgs.msg import FluidPressure, Imu, MagneticField, Temperature
 
-from tactex_common import topics
+from tactex_common import frames, topics
 from tactex_common.ros import COMMAND, DIAGNOSTICS_PERIOD_RANGE, SENSOR_DATA, spin, TactexNode
 from tactex_sensor.link import SerialLink
 from tactex_sensor.messages import NoiseVariances, tactile_cdr, TACTILE_TOPICS
@@ -36,7 +36,7 @@ class TeensyNode(TactexNode):
             ParameterDescriptor(description='line rate (baud)', read_only=True,
                                 integer_range=[BAUD_RANGE])).value
         self._frame_id = self.declare_parameter(
-            'frame_id', 'sensor_link', ParameterDescriptor(description='frame of the samples',
+            'frame_id', frames.SENSOR, ParameterDescriptor(description='frame of the samples',
                                                            read_only=True)).value
         diagnostics_period = self.declare_parameter(
             'diagnostics_period_s', 1.0,

@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 from rosbags.rosbag2 import StoragePlugin, Writer
 
-from tactex_common import topics
+from tactex_common import frames, topics
 from tactex_description.geometry import JOINT_STATE_NAMES
 from tactex_sensor.messages import (
     header,
@@ -31,7 +31,7 @@ from tactex_sensor.orientation import gravity_alignment
 from tactex_sim.world import Sample
 
 _T = TYPESTORE.types
-FRAME = 'sensor_link'
+FRAME = frames.SENSOR
 NOISE = NoiseVariances()
 JOINT_STATE_TYPE = 'sensor_msgs/msg/JointState'
 POSE_TYPE = 'geometry_msgs/msg/PoseStamped'
@@ -48,7 +48,7 @@ SAMPLE_TOPICS = TACTILE_TOPICS + (
 def _pose_stamped(time_ns: int, position, quaternion_wxyz):
     w, x, y, z = (float(v) for v in quaternion_wxyz)
     px, py, pz = (float(v) for v in position)
-    return _T[POSE_TYPE](header=header(time_ns, 'world'), pose=_T['geometry_msgs/msg/Pose'](
+    return _T[POSE_TYPE](header=header(time_ns, frames.WORLD), pose=_T['geometry_msgs/msg/Pose'](
         position=_T['geometry_msgs/msg/Point'](x=px, y=py, z=pz),
         orientation=_T['geometry_msgs/msg/Quaternion'](x=x, y=y, z=z, w=w)))
 

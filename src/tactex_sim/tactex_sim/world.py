@@ -23,6 +23,7 @@ from typing import Any
 import mujoco
 import numpy as np
 
+from tactex_common import frames
 from tactex_description.geometry import JOINT_STATE_NAMES, OPEN_MANIPULATOR_X, PRESS_TRAVEL_M
 from tactex_description.mjcf import build_mjcf, IMU_SITE, SENSOR_EDGE_GEOM, SENSOR_GEOM
 from tactex_sim.effects import Effect, effect_class, EFFECTS, Reading
@@ -115,8 +116,8 @@ class World:
         self._sensor_geoms = {self.model.geom(SENSOR_GEOM).id,
                               self.model.geom(SENSOR_EDGE_GEOM).id}
         self._surface_geom = self.model.geom(SURFACE_GEOM).id
-        self._edge_body = self.model.body('sensor_edge').id
-        self._sensor_body = self.model.body('sensor_link').id
+        self._edge_body = self.model.body(frames.EDGE).id
+        self._sensor_body = self.model.body(frames.SENSOR).id
         self._site = self.model.site(IMU_SITE).id
         self._samples_taken = 0
         self._sample_time_s = 0.0

@@ -26,6 +26,7 @@ import math
 
 import numpy as np
 
+from tactex_common import frames
 from tactex_common.numbers import is_finite_number
 from tactex_description.geometry import OPEN_MANIPULATOR_X, PRESS_TRAVEL_M
 from tactex_description.kinematics import PlanarArm
@@ -33,7 +34,7 @@ from tactex_description.mjcf import EDGE_TIP_RADIUS_M
 from tactex_trajectory.errors import SweepRefused
 from tactex_trajectory.path import SweepPath
 
-TOOL_FRAME = 'sensor_edge'
+TOOL_FRAME = frames.EDGE
 # Pitch steps tried around the best pitch when it breaks a joint limit (rad).
 PITCH_SEARCH_STEP_RAD = 0.005
 # Neighbouring solutions further apart than this (rad, any joint) are checked for a

@@ -41,7 +41,7 @@ from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 from visualization_msgs.msg import Marker, MarkerArray
 
 from tactex_classify.recording.recorder import RECORDED_TOPICS, SplitRecorder
-from tactex_common import topics
+from tactex_common import frames, topics
 from tactex_common.ros import (
     COMMAND,
     LATCHED,
@@ -485,14 +485,14 @@ class SweepNode(TactexNode):
         stamp = self.get_clock().now().to_msg()
         path = Marker(type=Marker.LINE_STRIP, ns='sweep_path', id=0, action=Marker.ADD,
                       color=ColorRGBA(r=0.1, g=0.8, b=0.2, a=1.0))
-        path.header.frame_id, path.header.stamp = 'base_link', stamp
+        path.header.frame_id, path.header.stamp = frames.BASE, stamp
         path.scale.x = 0.001
         path.pose.orientation.w = 1.0
         path.points = [Point(x=float(p[0]), y=float(p[1]), z=float(p[2]))
                        for p in plan.path.points]
         normals = Marker(type=Marker.LINE_LIST, ns='sweep_normals', id=1, action=Marker.ADD,
                          color=ColorRGBA(r=0.6, g=0.2, b=0.9, a=1.0))
-        normals.header.frame_id, normals.header.stamp = 'base_link', stamp
+        normals.header.frame_id, normals.header.stamp = frames.BASE, stamp
         normals.scale.x = 0.0005
         normals.pose.orientation.w = 1.0
         for point, normal in zip(plan.path.points[::5], plan.path.normals[::5], strict=True):

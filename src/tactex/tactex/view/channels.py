@@ -22,7 +22,7 @@ from foxglove import messages as fm
 import numpy as np
 from transforms3d.quaternions import mat2quat
 
-from tactex_common import topics
+from tactex_common import frames, topics
 from tactex_common.share import share_directory
 from tactex_description.geometry import OPEN_MANIPULATOR_X
 from tactex_description.kinematics import joint_transform
@@ -98,7 +98,7 @@ def pathway_scene(points: np.ndarray, normals: np.ndarray, frame_id: str,
                                         shaft_length=0.015, shaft_diameter=0.001,
                                         head_length=0.005, head_diameter=0.003,
                                         color=fm.Color(r=0.1, g=0.3, b=0.9, a=1.0)))
-    entity = fm.SceneEntity(timestamp=timestamp(stamp_ns), frame_id=frame_id or 'base_link',
+    entity = fm.SceneEntity(timestamp=timestamp(stamp_ns), frame_id=frame_id or frames.BASE,
                             id='pathway', spheres=spheres, arrows=arrows)
     return fm.SceneUpdate(deletions=[fm.SceneEntityDeletion(
         timestamp=timestamp(stamp_ns), type=fm.SceneEntityDeletionType.MatchingId,

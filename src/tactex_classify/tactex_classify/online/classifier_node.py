@@ -40,7 +40,7 @@ from tactex_classify.online.live import CONTACT_SOURCES, LiveSettings, OnlineCla
 from tactex_classify.online.runtime import load_predictor, RUNTIMES
 from tactex_classify.online.stream_health import stated_metadata
 from tactex_classify.online.tactile_topics import ROLE_TOPICS, SENSOR_QUEUE
-from tactex_common import topics
+from tactex_common import frames, topics
 from tactex_common.ros import COMMAND, spin, TactexNode, time_message
 from tactex_common.stamps import stamp_ns
 from tactex_msgs.msg import TextureEstimate
@@ -176,7 +176,7 @@ class ClassifierNode(TactexNode):
                               "checkpoint's)", low=0, high=1_000_000),
             'channels': declare('channels', [''], "the stream's channels, checked at start "
                                 "(['']: the checkpoint's)"),
-            'frame_id': declare('frame_id', 'sensor_edge', 'frame of the estimates'),
+            'frame_id': declare('frame_id', frames.EDGE, 'frame of the estimates'),
             'diagnostics_period_s': declare('diagnostics_period_s', 1.0, 'diagnostics period '
                                             '(s)', low=0.01, high=3600.0),
             'wait_warn_period_s': declare('wait_warn_period_s', 5.0, 'warn this often while a '
