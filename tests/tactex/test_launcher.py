@@ -29,6 +29,7 @@ from tactex.launching.spec import (
     LaunchError,
     load_launch_file,
     NodeSpec,
+    TF_IN_NAMESPACE,
     visualisation_nodes,
 )
 from tactex.launching.supervisor import Launcher, node_command, run_launch
@@ -411,3 +412,23 @@ def test_a_urdf_parameter_reaches_the_node_as_the_same_text():
     finally:
         rclpy.shutdown(context=context)
     assert viewer.arguments[0] == '-d' and viewer.arguments[1].endswith('tactex.rviz')
+
+
+@pytest.mark.ros
+@pytest.mark.parametrize('namespace, resolved', [('left_arm', '/left_arm/tf'), ('', '/tf')])
+def test_the_visualisation_nodes_use_the_namespace_tf(namespace, resolved):
+    import rclpy
+    from std_msgs.msg import Empty
+    publisher, viewer = visualisation_nodes()
+    assert publisher.remappings == viewer.remappings == TF_IN_NAMESPACE
+    spec = NodeSpec('tactex_sensor', 'madgwick_node', 'x', remappings=publisher.remappings)
+    command = node_command(spec, namespace)
+    context = rclpy.context.Context()
+    rclpy.init(args=command[command.index('--ros-args'):], context=context)
+    try:
+        node = rclpy.create_node('x', context=context)
+        assert node.create_publisher(Empty, '/tf', 1).topic_name == resolved
+        assert node.create_publisher(Empty, '/tf_static', 1).topic_name == resolved + '_static'
+        node.destroy_node()
+    finally:
+        rclpy.shutdown(context=context)

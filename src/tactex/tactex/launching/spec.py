@@ -307,20 +307,25 @@ def config_path(name: str) -> str:
     return str(share_directory('tactex') / 'config' / name)
 
 
+# /tf and /tf_static are absolute in robot_state_publisher and RViz; relative, each
+# namespace (namespace:=left_arm) has its own transforms, and the root namespace keeps /tf.
+TF_IN_NAMESPACE = (('/tf', 'tf'), ('/tf_static', 'tf_static'))
+
+
 def visualisation_nodes(simulated: Value = False) -> list[NodeSpec]:
     """robot_state_publisher on the generated URDF and RViz with config/tactex.rviz.
 
     For full ROS 2 installs (neither is on PyPI); launch files start them with rviz:=true.
     `simulated` (a launch file's `sim` argument) puts both on the simulator's clock, as
-    the messages they show are stamped.
+    the messages they show are stamped. Both use the namespace's tf (`TF_IN_NAMESPACE`).
     """
     urdf = share_directory('tactex_description') / 'urdf' / 'open_manipulator_x_tactile.urdf'
     clock = {'use_sim_time': simulated}
     return [NodeSpec('robot_state_publisher', 'robot_state_publisher', 'robot_state_publisher',
                      parameters=({'robot_description': urdf.read_text(encoding='utf-8'),
-                                  **clock},)),
+                                  **clock},), remappings=TF_IN_NAMESPACE),
             NodeSpec('rviz2', 'rviz2', 'rviz2', arguments=('-d', config_path('tactex.rviz')),
-                     parameters=(clock,))]
+                     parameters=(clock,), remappings=TF_IN_NAMESPACE)]
 
 
 def is_true(value: str) -> bool:
