@@ -191,22 +191,24 @@ def _bench_options(kept: dict, goals_per_texture: float) -> str:
 
 
 def _fine_tuned_from(kept: dict) -> str:
-    """' fine-tuned (its options) from a checkpoint pretrained on ... and', or '' if not."""
+    """', by fine-tuning (its options) a checkpoint pretrained on ...', or '' if not."""
     pretrained = kept.get('pretrained')
     if not pretrained:
         return ''
     options = kept['training_options']
     named = dict(zip(options[::2], options[1::2], strict=True))
-    recipe = ', '.join(f'{option.lstrip("-")} {named[option]}' for option in
-                       ('--profile', '--epochs', '--scaling') if option in named)
-    source = kept_json('identification_init.json')
-    origin = (f"the learning curves' set ({source['source']['recordings']} recordings of "
-              f"{source['source']['classes']} textures; the checkpoint of "
-              'bench_identification_init.py)'
-              if pretrained['trained_on'] == source['source']['digest'] else
-              f'the set of digest {pretrained["trained_on"][:16]}')
-    how = f' ({recipe})' if recipe else ''
-    return f' fine-tuned{how} from a {pretrained["model"]} pretrained on {origin} and'
+    recipe = [f'{option.lstrip("-")} {named[option]}' for option in ('--profile', '--epochs')
+              if option in named]
+    recipe.append(f'scaling {named["--scaling"]}' if '--scaling' in named else
+                  f"the checkpoint's {pretrained['scaling']} scaling")
+    source = kept_json('identification_init.json')['source']
+    origin = (f"the learning curves' set ({source['recordings']} recordings of "
+              f"{source['classes']} textures, the set bench_identification_init.py pretrains "
+              'on)' if pretrained['trained_on'] == source['digest'] else
+              f'the set of digest {pretrained["trained_on"][:16]}' if pretrained['trained_on']
+              else 'a set the checkpoint does not name')
+    return (f', by fine-tuning ({", ".join(recipe)}) a {pretrained["model"]} pretrained on '
+            f'{origin}')
 
 
 def _live_interval(episodes: list[dict], offline: float) -> str:
@@ -234,6 +236,7 @@ def _live_section(name: str) -> str:
                   'holds)' if kept.get('training') == 'sweeps' else
                   f'{len(textures)} textures x {len(movements)} movements x {sweeps} '
                   f'`sim collect` sweeps (scene seed {kept["scene_seed"]}, which no test uses)')
+    trained_on += _fine_tuned_from(kept)
     rows = ['| | accuracy | decided | median movements | median contact (s) | p90 contact (s) |',
             '|---|---|---|---|---|---|',
             f'| live, identify_node | {100 * live["accuracy"]:.1f} % '
@@ -253,8 +256,7 @@ def _live_section(name: str) -> str:
     return (
         'Measured live (`python bench/bench_identify_live.py '
         f'{_bench_options(kept, goals_per_texture)}`, {minutes:.0f} min '
-        f'of live identification): a bundle of {kept["model"]} per movement{fitted}'
-        f'{_fine_tuned_from(kept)} trained '
+        f'of live identification): a bundle of {kept["model"]} per movement{fitted} trained '
         f'on {trained_on}; the system launched in simulation, {probe["points"]} probes asked '
         f'along {1e3 * kept["span_m"]:.0f} mm of which {probe["contacts"]} gave a contact '
         f'(the pathway), then {live["episodes"]} Identify goals (active, threshold 0.99, at '

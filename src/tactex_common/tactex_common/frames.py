@@ -1,6 +1,10 @@
 # Copyright 2026 The tactex authors
 # SPDX-License-Identifier: Apache-2.0
-"""Frame names of the design contract (REP-105): one source for nodes, models and files."""
+"""Frame names of the design contract (base_link as REP-105 names it), one source for code.
+
+The parameter files and viewer layouts under config/ spell them too; a test holds them to
+these.
+"""
 
 WORLD = 'world'  # the simulator's fixed frame, parent of base_link
 BASE = 'base_link'  # the arm's base: pathways, contacts, sweep plans

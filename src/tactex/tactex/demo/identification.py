@@ -6,7 +6,7 @@ Identification learns from sweeps made the way identify_node makes them: each mo
 config/movements.yaml that the probed pathway holds is sent to the sweep action on the
 movement's part of the pathway, recorded with the movement's name (models trained on
 sweeps of the sensor driven directly do not transfer to sweeps through the planner and the
-arm's servo loop; docs/guides/identification.md). The demo and
+arm's servo loop; docs/topics/identification-measured.md). The demo and
 bench/bench_identify_live.py both record and identify through these functions, over a
 launched system's client (`tactex.demo.session`).
 """

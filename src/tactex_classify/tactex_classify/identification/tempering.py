@@ -16,7 +16,7 @@ are made once from `seed` and shared by every candidate: tau on a logarithmic gr
 among the discounts asked for (ties: the smaller c, then the smaller tau). By default c is
 0 (every sweep counts fully): on held-out simulated sweeps the fitted discount raised the
 final accuracy but slowed `active` over its first ten movements
-(docs/guides/identification.md), so it is fitted only on request (DISCOUNTS).
+(docs/topics/identification-measured.md), so it is fitted only on request (DISCOUNTS).
 """
 
 from __future__ import annotations
