@@ -19,7 +19,8 @@ With `--init CHECKPOINT` (and `--profile`, `--epochs`, `--scaling`) every moveme
 model, in the bundle and in the offline report alike, is fine-tuned from the checkpoint.
 
 Keeps bench/results/identify_live.json (or identify_live_sweeps.json; with `--init`, the
-same names ending in _init): every live episode
+same names ending in _init), and draws every live run kept in identify_live.png (`--plot`
+redraws it alone): every live episode
 (truth, answer, movements, contact and wall seconds), the live summary beside the offline
 report's active row, and the commands with their seconds. `--work DIR` keeps (and
 reuses) the bags, dataset, bundle, offline report and live episodes (live/episodes.json).
@@ -40,6 +41,10 @@ from tactex.demo.identification import identification_figures
 
 RESULTS = Path(__file__).parent / 'results' / 'identify_live.json'
 MOVEMENTS = Path(__file__).parents[1] / 'config' / 'movements.yaml'
+# The live runs kept (beside RESULTS), drawn side by side in PLOT.
+LIVE_RUNS = ('identify_live.json', 'identify_live_sweeps.json', 'identify_live_init.json',
+             'identify_live_sweeps_init.json')
+PLOT = RESULTS.with_name('identify_live.png')
 
 
 def recorded_through_sweeps(work: Path, args) -> tuple[Path, Path]:
@@ -130,6 +135,43 @@ def live_episodes(work: Path, bundle: Path, movements: Path, args) -> tuple[list
                       'position_error_mm': float(np.mean(probe['position_mm']))}
 
 
+def plot(path: Path) -> None:
+    """The true texture's belief over each live goal's contact seconds, one panel per run.
+
+    Every run kept with its goals' beliefs is drawn. A goal's line is green when it decided
+    right, red when it decided wrong, grey when it ran out of movements; the dashed line is
+    the decision threshold.
+    """
+    import matplotlib
+    matplotlib.use('Agg')
+    import matplotlib.pyplot as plt
+    runs = [json.loads((path.parent / name).read_text()) for name in LIVE_RUNS
+            if (path.parent / name).is_file()]
+    runs = [kept for kept in runs  # a run kept before the goals kept their beliefs is left out
+            if all('belief' in episode for episode in kept['episodes'])]
+    figure, panels = plt.subplots(1, len(runs), figsize=(max(6.0, 4.2 * len(runs)), 3.8),
+                                  sharey=True, squeeze=False)
+    for axes, kept in zip(panels[0], runs, strict=True):
+        textures = len({episode['truth'] for episode in kept['episodes']})
+        for episode in kept['episodes']:
+            color = ('grey' if not episode['answer'] else
+                     'tab:green' if episode['answer'] == episode['truth'] else 'tab:red')
+            seconds, belief = zip(*([(0.0, 1 / textures)] + episode['belief']), strict=True)
+            axes.plot(seconds, belief, color=color, alpha=0.7, linewidth=1, marker='.')
+        axes.axhline(0.99, color='k', linestyle='--', linewidth=0.8)
+        right = sum(episode['answer'] == episode['truth'] for episode in kept['episodes'])
+        tuned = ' fine-tuned' if kept.get('pretrained') else ''
+        axes.set_title(f'{kept["model"]}{tuned}, trained on {kept.get("training", "collect")}'
+                       f'\n{right} of {len(kept["episodes"])} decided right', fontsize=9)
+        axes.set_xlabel('contact seconds')
+    panels[0][0].set_ylabel("true texture's belief")
+    figure.suptitle('live Identify goals: green right, red wrong, grey undecided',
+                    fontsize=10)
+    figure.tight_layout()
+    figure.savefig(path, dpi=120)
+    plt.close(figure)
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument('--sweeps', type=int, default=5, help='per texture and movement')
@@ -148,8 +190,15 @@ def main() -> int:
     parser.add_argument('--training', choices=('collect', 'sweeps'), default='collect',
                         help='training sweeps from sim collect, or through the sweep action')
     parser.add_argument('--textures', type=int, default=12, help='the first N textures')
-    parser.add_argument('--work', type=Path, required=True, help='bags, data, bundle, logs')
+    parser.add_argument('--work', type=Path, help='bags, data, bundle, logs (required)')
+    parser.add_argument('--plot', action='store_true',
+                        help=f'only redraw {PLOT.name} from the runs kept')
     args = parser.parse_args()
+    if args.plot:
+        plot(PLOT)
+        return 0
+    if args.work is None:
+        parser.error('--work DIR is required (or --plot)')
     steps: list[dict] = []
     data, bundle, offline, movements = prepared(args.work, args, steps)
     live = args.work / 'live' / 'episodes.json'
@@ -193,6 +242,7 @@ def main() -> int:
     if args.init:  # fine-tuned bundles are kept beside the others, never over them
         results = results.with_name(f'{results.stem}_init.json')
     results.write_text(json.dumps(kept, indent=1) + '\n', encoding='utf-8')
+    plot(PLOT)
     print(json.dumps({k: kept[k] for k in ('live', 'offline_active', 'probe')}, indent=1))
     return 0
 
