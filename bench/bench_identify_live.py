@@ -116,6 +116,28 @@ def training_options(args) -> list[str]:
     return options
 
 
+def checkpoint_alone(checkpoint: Path, data: Path) -> dict[str, float]:
+    """Per movement, the share of sweeps the checkpoint alone names right (not fine-tuned).
+
+    A sweep's answer is the largest of its windows' normalised geometric mean, as a
+    movement's model answers before calibration: how far the pretraining carries to these
+    sweeps on its own.
+    """
+    from tactex_classify.data.dataset import Dataset
+    from tactex_classify.identification.movement_evidence import sweep_vectors, trial_movements
+    from tactex_classify.models.checkpoint import load_checkpoint
+    dataset = Dataset.load(data)
+    info, model = load_checkpoint(checkpoint)
+    if list(info.classes) != list(dataset.classes):
+        raise SystemExit(f'error: --init {checkpoint} holds other textures than {data}')
+    trials, labels, vectors = sweep_vectors(dataset, model.predict_proba(dataset.X))
+    movement_of = trial_movements(dataset)
+    right: dict[str, list[bool]] = {}
+    for trial, label, vector in zip(trials, labels, vectors, strict=True):
+        right.setdefault(movement_of[int(trial)], []).append(bool(vector.argmax() == label))
+    return {name: float(np.mean(answers)) for name, answers in right.items()}
+
+
 def live_episodes(work: Path, bundle: Path, movements: Path, args) -> tuple[list[dict], dict]:
     """Every texture identified `--episodes` times through identify_node; (episodes, probe)."""
     from tactex.demo.identification import identify_each
@@ -233,7 +255,8 @@ def main() -> int:
         from tactex_classify.models.checkpoint import read_checkpoint
         checkpoint = read_checkpoint(args.init)
         kept['pretrained'] = {'model': checkpoint.model, 'trained_on': checkpoint.trained_on,
-                              'scaling': checkpoint.fields.get('scaler', {}).get('kind')}
+                              'scaling': checkpoint.fields.get('scaler', {}).get('kind'),
+                              'alone_sweep_accuracy': checkpoint_alone(args.init, data)}
     kept['training'] = args.training
     kept['movements'] = [row['name'] for row in
                          yaml.safe_load(Path(movements).read_text())['movements']]

@@ -274,7 +274,18 @@ def _live_section(name: str) -> str:
         'travels between sweeps). Movements the live goals ran: '
         + ', '.join(f'{movement} {count}' for movement, count in
                     sorted(chosen.items(), key=lambda kv: -kv[1])) + '.'
-        + _offline_ranking(kept) + '\n')
+        + _offline_ranking(kept) + _checkpoint_alone(kept) + '\n')
+
+
+def _checkpoint_alone(kept: dict) -> str:
+    """How right the pretrained checkpoint alone, not fine-tuned, was on these sweeps."""
+    alone = kept.get('pretrained', {}).get('alone_sweep_accuracy')
+    if not alone:
+        return ''
+    return (f' The pretrained {kept["pretrained"]["model"]} alone, not fine-tuned, named a '
+            'sweep right for ' + ', '.join(
+                f'{name} {100 * share:.1f} %' for name, share in
+                sorted(alone.items(), key=lambda kv: -kv[1])) + '.')
 
 
 def _offline_ranking(kept: dict) -> str:
