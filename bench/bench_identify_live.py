@@ -23,7 +23,8 @@ same names ending in _init), and draws every live run kept in identify_live.png 
 redraws it alone): every live episode
 (truth, answer, movements, contact and wall seconds), the live summary beside the offline
 report's active row, and the commands with their seconds. `--work DIR` keeps (and
-reuses) the bags, dataset, bundle, offline report and live episodes (live/episodes.json).
+reuses) the bags, dataset, bundle, offline report, live episodes (live/episodes.json) and
+the commands that made them with their seconds (steps.json).
 """
 
 import argparse
@@ -221,8 +222,15 @@ def main() -> int:
         return 0
     if args.work is None:
         parser.error('--work DIR is required (or --plot)')
-    steps: list[dict] = []
-    data, bundle, offline, movements = prepared(args.work, args, steps)
+    # The steps that made the work folder's contents, kept with it: a later call that
+    # reuses them keeps their commands and seconds.
+    made = args.work / 'steps.json'
+    steps: list[dict] = json.loads(made.read_text()) if made.is_file() else []
+    try:
+        data, bundle, offline, movements = prepared(args.work, args, steps)
+    finally:
+        args.work.mkdir(parents=True, exist_ok=True)
+        made.write_text(json.dumps(steps, indent=1) + '\n', encoding='utf-8')
     live = args.work / 'live' / 'episodes.json'
     if not live.is_file():
         began = time.monotonic()

@@ -27,6 +27,7 @@ from results_identification import (  # noqa: E402
     identification_init,
     identify_live,
     identify_live_sweeps,
+    identify_live_sweeps_init,
 )
 from results_learning import (  # noqa: E402
     architectures,
@@ -83,6 +84,7 @@ SECTIONS: dict[str, Callable[[], str]] = {
     'sim_to_real': sim_to_real, 'learning_curves': learning_curves,
     'recordings': recordings, 'predict_play': predict_play, 'identification': identification,
     'identify_live': identify_live, 'identify_live_sweeps': identify_live_sweeps,
+    'identify_live_sweeps_init': identify_live_sweeps_init,
     'identification_init': identification_init}
 
 
