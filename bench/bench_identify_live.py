@@ -117,12 +117,13 @@ def training_options(args) -> list[str]:
     return options
 
 
-def checkpoint_alone(checkpoint: Path, data: Path) -> dict[str, float]:
-    """Per movement, the share of sweeps the checkpoint alone names right (not fine-tuned).
+def checkpoint_alone(checkpoint: Path, data: Path) -> dict:
+    """What the fine-tuning started from, and how right it is alone on each movement's sweeps.
 
-    A sweep's answer is the largest of its windows' normalised geometric mean, as a
-    movement's model answers before calibration: how far the pretraining carries to these
-    sweeps on its own.
+    The checkpoint's model, the digest of the set it was trained on and its scaling; per
+    movement, the share of sweeps it names right, not fine-tuned: a sweep's answer is the
+    largest of its windows' normalised geometric mean, as a movement's model answers before
+    calibration (how far the pretraining carries to these sweeps on its own).
     """
     from tactex_classify.data.dataset import Dataset
     from tactex_classify.identification.movement_evidence import sweep_vectors, trial_movements
@@ -136,7 +137,9 @@ def checkpoint_alone(checkpoint: Path, data: Path) -> dict[str, float]:
     right: dict[str, list[bool]] = {}
     for trial, label, vector in zip(trials, labels, vectors, strict=True):
         right.setdefault(movement_of[int(trial)], []).append(bool(vector.argmax() == label))
-    return {name: float(np.mean(answers)) for name, answers in right.items()}
+    return {'model': info.model, 'trained_on': info.trained_on, 'scaling': info.scaling,
+            'alone_sweep_accuracy': {name: float(np.mean(answers))
+                                     for name, answers in right.items()}}
 
 
 def live_episodes(work: Path, bundle: Path, movements: Path, args) -> tuple[list[dict], dict]:
@@ -260,11 +263,7 @@ def main() -> int:
                        for key in ('tempering', 'repeat_discount')},
             'episodes': episodes, 'steps': steps}
     if args.init:  # what the fine-tuning started from, told by the set it was trained on
-        from tactex_classify.models.checkpoint import read_checkpoint
-        checkpoint = read_checkpoint(args.init)
-        kept['pretrained'] = {'model': checkpoint.model, 'trained_on': checkpoint.trained_on,
-                              'scaling': checkpoint.fields.get('scaler', {}).get('kind'),
-                              'alone_sweep_accuracy': checkpoint_alone(args.init, data)}
+        kept['pretrained'] = checkpoint_alone(args.init, data)
     kept['training'] = args.training
     kept['movements'] = [row['name'] for row in
                          yaml.safe_load(Path(movements).read_text())['movements']]

@@ -132,4 +132,4 @@ def pretrained_model(checkpoint: Path, model: str | None, dataset) -> tuple[str,
                            'convert (or import) DATA with --resample '
                            f'{info.stream.sampling_rate_hz:g}, or start from a checkpoint of '
                            f'{rate:.4g} Hz')
-    return info.model, info.fields.get('scaler', {}).get('kind')
+    return info.model, info.scaling

@@ -159,6 +159,11 @@ class CheckpointInfo:
         return self.folder / next(iter(self.files))
 
     @property
+    def scaling(self) -> str | None:
+        """The input scaling a deep model was trained with (`minmax`, ...; None: a baseline)."""
+        return self.fields.get('scaler', {}).get('kind')
+
+    @property
     def model_id(self) -> str:
         """`name@sha` (first 7 hex digits of the model file's SHA-256)."""
         return f'{self.model}@{next(iter(self.files.values()))[:7]}'
