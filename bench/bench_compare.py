@@ -9,7 +9,8 @@ at 128, 256 and 512 samples (50 % overlap) into `--work` (datasets already there
 as those carried to a lent GPU, need no bags), then runs `tactex compare`
 on the datasets into bench/results/GRID/ (`--grid`, default compare: five epochs, both
 schemes; compare_long: the deep models trained longer; compare_converged: the README's
-main comparison; compare_gpu: the lent GPU's grid). The grid resumes: run this again
+main comparison; compare_gpu: the lent GPU's first grid; compare_gpu_full: every model
+at every window and scheme on a lent GPU). The grid resumes: run this again
 (same settings) and only the cells not yet finished are trained, so the kept run can be
 built in chunks on a busy machine. Each call appends its steps and their durations to
 GRID/run.json; `bench/render_results.py` builds the docs' comparison sections from

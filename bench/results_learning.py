@@ -2,6 +2,7 @@
 # SPDX-License-Identifier: Apache-2.0
 """Result sections of learning: the synthetic set, training, model grids, transfer."""
 
+import itertools
 import json
 from pathlib import Path
 
@@ -544,6 +545,94 @@ def compare_gpu() -> str:
             f'![accuracy]({FIGURES}/compare_gpu/accuracy.png)\n')
 
 
+def _grid_projection(name: str, models: list[str], windows: list[int], per_scheme: int) -> dict:
+    """How far a kept grid of both schemes is and, at the pace it measured, what is left.
+
+    together: the cells that trained at once on average (their training seconds over the
+    grid's wall seconds); left_min: the minutes the missing cells need at that pace, each
+    costing the mean training seconds of its model, window and scheme's finished cells (the
+    other scheme's where that one has none yet, else the model's at any window).
+    """
+    _, _, grid = _kept_grid(name)
+    cells = _cells(name)
+    wall_s = sum(step['seconds'] for step in grid)
+    together = sum(cell['train_s'] for cell in cells.values()) / wall_s
+    seconds: dict[tuple, list[float]] = {}
+    for (model, window, _, _, scheme), cell in cells.items():
+        for key in ((model, window, scheme), (model, window), (model,)):
+            seconds.setdefault(key, []).append(cell['train_s'])
+    from tactex_classify.models.registry import SCHEMES
+    left_s = 0.0
+    for model, window, scheme in itertools.product(models, windows, SCHEMES):
+        spent = seconds.get((model, window, scheme), [])
+        like = spent or seconds.get((model, window)) or seconds[model,]
+        left_s += (per_scheme - len(spent)) * float(np.mean(like))
+    return {'done': len(cells), 'wall_min': wall_s / 60, 'together': together,
+            'left_min': left_s / together / 60}
+
+
+def compare_gpu_full() -> str:
+    """The issue's full grid on a lent GPU: how far it is, its measured pace, what it shows."""
+    from tactex_classify.evaluation.grid_report import table
+    from tactex_classify.models.registry import ALL_MODELS, BASELINES
+    summary, run, grid = _kept_grid('compare_gpu_full')
+    settings, command = summary['settings'], grid[-1]['command']
+    machine = run['calls'][-1]['machine']
+    if not machine['gpu'] or any(call['machine'] != machine for call in run['calls']):
+        raise ValueError('the kept full GPU grid mixes machines or ran without a GPU')
+    gpu, seeds, folds = machine['gpu'], int(_option(command, '--seeds')), settings['folds']
+    windows = sorted(int(window) for window in summary['data'])
+    total = len(ALL_MODELS) * len(windows) * 2 * seeds * folds
+    projection = _grid_projection('compare_gpu_full', list(ALL_MODELS), windows, seeds * folds)
+    calls = ', '.join(f'{step["seconds"] / 60:.1f} min' for step in grid)
+    rebuilt = [number for number, call in enumerate(run['calls'], 1) if 'note' in call]
+    rows = summary['rows']
+
+    def best(window: int, scheme: str, baseline: bool) -> str:
+        ranked = [row for row in rows if row['window'] == window and scheme in
+                  row['schemes'] and (row['model'] in BASELINES) == baseline and
+                  not row['not_converged']]
+        row = max(ranked, key=lambda row: row['schemes'][scheme]['accuracy']['mean'])
+        values = row['schemes'][scheme]
+        return f'{row["model"]} {100 * values["accuracy"]["mean"]:.1f} % ({values["cells"]})'
+    honest = '; '.join(f'{window}: {best(window, "grouped", False)} against '
+                       f'{best(window, "grouped", True)}' for window in windows)
+    leaky = '; '.join(f'{window}: {best(window, "stratified", True)}' for window in windows)
+    projected = projection['wall_min'] + projection['left_min']
+    return (f"The issue's full grid on a GPU (`python bench/bench_compare.py --grid "
+            f'compare_gpu_full --recordings 20 --windows {",".join(map(str, windows))} --cv '
+            f'both --folds {folds} --seeds {seeds} --epochs {settings["epochs"]} '
+            f'--early-stopping {settings["early_stopping"]} --profile {settings["profile"]} '
+            f'--scaling {settings["scaling"]} --device cuda --mps --cells-per-gpu '
+            f'{_option(command, "--cells-per-gpu")} --cpus {machine["cpu_count"]}`, outputs '
+            'in `bench/results/compare_gpu_full/`): every model at every window, both '
+            f'schemes, {folds} folds, {seeds} seed{"s" if seeds > 1 else ""}, {total} cells, '
+            "on the first 20 sweeps per texture of the learning curves' set (grid.json keeps "
+            "the datasets' digests; a resumed call needs the same data). **Device: one "
+            f'{gpu["name"]}** (torch {gpu["torch"]}) with {machine["cpu_count"]} cores. '
+            f'Calls: {calls}, each stopped at its time limit'
+            + (f' (call {", ".join(map(str, rebuilt))}: its entry in run.json was rebuilt '
+               'from its log, as the entry says)' if rebuilt else '') +
+            f'. **Incomplete: {projection["done"]} of {total} cells**, in the order the grid '
+            'runs them (fold by fold), so each row holds its first folds.\n\n'
+            f'**Pace, measured on this grid.** The finished cells trained for '
+            f'{projection["together"] * projection["wall_min"]:.0f} min in '
+            f'{projection["wall_min"]:.1f} min of the grid\'s wall time: '
+            f'{projection["together"]:.1f} cells at once on average. At that pace the '
+            f'{total - projection["done"]} cells left (each as long as the finished cells of '
+            f'its model, window and scheme) need about {projection["left_min"]:.0f} min more, '
+            f'so the whole grid about {projected:.0f} min: '
+            + ('within' if projected <= 60 else 'beyond') + ' the hour of the goal, as a '
+            'projection until a lent GPU finishes the grid (its last cells may train with '
+            'fewer beside them).\n\n'
+            f'**What it shows so far.** Grouped by recording, the best deep model against the '
+            f'best baseline (cells in brackets): {honest}. Leaky, the best baseline: {leaky}: '
+            'windows of one recording on both sides of the split flatter the baselines far '
+            'more than the deep models.\n\n'
+            + table(rows, seeds * folds * 2) + '\n'
+            f'![accuracy]({FIGURES}/compare_gpu_full/accuracy.png)\n')
+
+
 def gpu_pace() -> str:
     """How fast cells train together on the lent GPU, and what that makes of the full grid."""
     from tactex_classify.models.modern_architectures import ENSEMBLE_MEMBERS
@@ -669,7 +758,7 @@ def gpu_pace() -> str:
         '(they hold half and a quarter of the windows), and the baselines (their '
         'single-thread training seconds in the main comparison) have the cores to '
         'themselves. `tactex compare --device cuda --mps --cells-per-gpu 16` runs a grid this '
-        'way; the one-hour goal stays open until a lent GPU runs it.\n\n'
+        'way: [the full grid on a GPU](#the-full-grid-on-a-gpu) measures it.\n\n'
         f'**{cpu_cores} CPU cores: the 8-hour goal is out of reach.** In the main comparison one '
         f'{inception} cell took {it_cpu_s / 60:.0f} min of one core at window 128 '
         f'(mean of {it_cpu_cells} cells, early stopping included); the ensemble trains '
