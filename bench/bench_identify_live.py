@@ -19,7 +19,8 @@ With `--init CHECKPOINT` (and `--profile`, `--epochs`, `--scaling`) every moveme
 model, in the bundle and in the offline report alike, is fine-tuned from the checkpoint.
 
 Keeps bench/results/identify_live.json (or identify_live_sweeps.json; with `--init`, the
-same names ending in _init), and draws every live run kept in identify_live.png (`--plot`
+same names ending in _init; `--keep` names another of LIVE_RUNS, and `--pretraining` says
+how the --init checkpoint was made), and draws every live run kept in identify_live.png (`--plot`
 redraws it alone): every live episode
 (truth, answer, movements, contact and wall seconds), the live summary beside the offline
 report's active row, and the commands with their seconds. `--work DIR` keeps (and
@@ -44,7 +45,7 @@ RESULTS = Path(__file__).parent / 'results' / 'identify_live.json'
 MOVEMENTS = Path(__file__).parents[1] / 'config' / 'movements.yaml'
 # The live runs kept (beside RESULTS), drawn side by side in PLOT.
 LIVE_RUNS = ('identify_live.json', 'identify_live_sweeps.json', 'identify_live_init.json',
-             'identify_live_sweeps_init.json')
+             'identify_live_sweeps_init.json', 'identify_live_sweeps_init_sweeps.json')
 PLOT = RESULTS.with_name('identify_live.png')
 
 
@@ -217,6 +218,11 @@ def main() -> int:
                         help='training sweeps from sim collect, or through the sweep action')
     parser.add_argument('--textures', type=int, default=12, help='the first N textures')
     parser.add_argument('--work', type=Path, help='bags, data, bundle, logs (required)')
+    parser.add_argument('--pretraining', metavar='TEXT',
+                        help='with --init: how the checkpoint was made, kept with the run')
+    parser.add_argument('--keep', choices=LIVE_RUNS,
+                        help='the kept file in bench/results (default: identify_live, '
+                             '_sweeps with --training sweeps, then _init with --init)')
     parser.add_argument('--plot', action='store_true',
                         help=f'only redraw {PLOT.name} from the runs kept')
     args = parser.parse_args()
@@ -225,6 +231,8 @@ def main() -> int:
         return 0
     if args.work is None:
         parser.error('--work DIR is required (or --plot)')
+    if args.pretraining and not args.init:
+        parser.error('--pretraining describes the --init checkpoint: give --init too')
     # The steps that made the work folder's contents, kept with it: a later call that
     # reuses them keeps their commands and seconds.
     made = args.work / 'steps.json'
@@ -264,6 +272,8 @@ def main() -> int:
             'episodes': episodes, 'steps': steps}
     if args.init:  # what the fine-tuning started from, told by the set it was trained on
         kept['pretrained'] = checkpoint_alone(args.init, data)
+        if args.pretraining:
+            kept['pretrained']['recipe'] = args.pretraining
     kept['training'] = args.training
     kept['movements'] = [row['name'] for row in
                          yaml.safe_load(Path(movements).read_text())['movements']]
@@ -271,6 +281,8 @@ def main() -> int:
         'identify_live_sweeps.json')
     if args.init:  # fine-tuned bundles are kept beside the others, never over them
         results = results.with_name(f'{results.stem}_init.json')
+    if args.keep:
+        results = RESULTS.with_name(args.keep)
     results.write_text(json.dumps(kept, indent=1) + '\n', encoding='utf-8')
     plot(PLOT)
     print(json.dumps({k: kept[k] for k in ('live', 'offline_active', 'probe')}, indent=1))

@@ -172,11 +172,15 @@ def identify_live_sweeps_init() -> str:
     return _live_section('identify_live_sweeps_init.json')
 
 
-def _bench_options(kept: dict, goals_per_texture: float) -> str:
+def identify_live_sweeps_init_sweeps() -> str:
+    return _live_section('identify_live_sweeps_init_sweeps.json')
+
+
+def _bench_options(kept: dict, goals_per_texture: float, name: str) -> str:
     """The bench's options that reproduce a kept live run (the checkpoint as PRETRAINED).
 
-    Its training, its goals per texture if not one, and its model with the model's training
-    options if not the default MiniRocket.
+    Its training, its goals per texture if not one, its model with the model's training
+    options if not the default MiniRocket, and `--keep` where `name` is not the default.
     """
     training = (f'--training sweeps --sweeps {kept["sweeps_per_texture_and_movement"]} '
                 if kept.get('training') == 'sweeps' else '')
@@ -187,7 +191,10 @@ def _bench_options(kept: dict, goals_per_texture: float) -> str:
         options[options.index('--init') + 1] = 'PRETRAINED'
     model = (' '.join(['--model', kept['model'], *options]) + ' '
              if kept['model'] != 'minirocket' or options else '')
-    return f'{training}{episodes}{model}--work DIR'
+    default = ('identify_live' + ('_sweeps' if kept.get('training') == 'sweeps' else '')
+               + ('_init' if kept.get('pretrained') else '') + '.json')
+    keep = f'--keep {name} ' if name != default else ''
+    return f'{training}{episodes}{model}{keep}--work DIR'
 
 
 def _fine_tuned_from(kept: dict) -> str:
@@ -202,7 +209,8 @@ def _fine_tuned_from(kept: dict) -> str:
     recipe.append(f'scaling {named["--scaling"]}' if '--scaling' in named else
                   f"the checkpoint's {pretrained['scaling']} scaling")
     source = kept_json('identification_init.json')['source']
-    origin = (f"the learning curves' set ({source['recordings']} recordings of "
+    origin = (pretrained['recipe'] if 'recipe' in pretrained else
+              f"the learning curves' set ({source['recordings']} recordings of "
               f"{source['classes']} textures, the set bench_identification_init.py pretrains "
               'on)' if pretrained['trained_on'] == source['digest'] else
               f'the set of digest {pretrained["trained_on"][:16]}' if pretrained['trained_on']
@@ -255,7 +263,7 @@ def _live_section(name: str) -> str:
               f'{update["repeat_discount"]:g})' if update else '')
     return (
         'Measured live (`python bench/bench_identify_live.py '
-        f'{_bench_options(kept, goals_per_texture)}`, {minutes:.0f} min '
+        f'{_bench_options(kept, goals_per_texture, name)}`, {minutes:.0f} min '
         f'of live identification): a bundle of {kept["model"]} per movement{fitted} trained '
         f'on {trained_on}; the system launched in simulation, {probe["points"]} probes asked '
         f'along {1e3 * kept["span_m"]:.0f} mm of which {probe["contacts"]} gave a contact '

@@ -519,8 +519,9 @@ def compare_gpu() -> str:
             f'--cells-per-gpu {sharing[0]} --models {",".join(models)}`, outputs in '
             f'`bench/results/compare_gpu/`). **Device: one {gpu["name"]}** '
             f'({gpu["memory_gib"]:.0f} GiB, torch {gpu["torch"]}) with {machine["cpu_count"]} '
-            'cores, lent for 15 minutes a session; every other figure on this page came from '
-            f'the two CPU cores. Calls: {calls}' + (', each stopped at its time limit'
+            'cores, lent for 15 minutes a session, like the two sections on many cells on one '
+            'GPU and the full grid below; every other figure on this page came from the two '
+            f'CPU cores. Calls: {calls}' + (', each stopped at its time limit'
                                                    if stopped else '') +
             f'. **Incomplete**: {len(cells)} of {total} cells ({len(deep)} of them deep '
             'models), so most rows hold one or two folds of the first seed: read them as a '
@@ -548,44 +549,79 @@ def compare_gpu() -> str:
 def _grid_projection(name: str, models: list[str], windows: list[int], per_scheme: int) -> dict:
     """How far a kept grid of both schemes is and, at the pace it measured, what is left.
 
+    Deep models (on the GPU) and baselines (on the cores) are paced apart. For each,
     together: the cells that trained at once on average (their training seconds over the
-    grid's wall seconds); left_min: the minutes the missing cells need at that pace, each
-    costing the mean training seconds of its model, window and scheme's finished cells (the
-    other scheme's where that one has none yet, else the model's at any window).
+    grid's wall seconds); left_min: the minutes its missing cells need at that pace, each
+    costing the mean training seconds of its model, window and scheme's finished cells
+    (else its model and window's, else its model's, else the kind's). The grid's minutes
+    left are the longer of the two.
     """
+    from tactex_classify.models.registry import BASELINES, SCHEMES
     _, _, grid = _kept_grid(name)
     cells = _cells(name)
     wall_s = sum(step['seconds'] for step in grid)
-    together = sum(cell['train_s'] for cell in cells.values()) / wall_s
+    if not cells or not wall_s:
+        raise ValueError(f'the kept grid {name} has no finished cells or no timed call')
     seconds: dict[tuple, list[float]] = {}
     for (model, window, _, _, scheme), cell in cells.items():
-        for key in ((model, window, scheme), (model, window), (model,)):
+        kind = model in BASELINES
+        for key in ((model, window, scheme), (model, window), (model,), (kind,)):
             seconds.setdefault(key, []).append(cell['train_s'])
-    from tactex_classify.models.registry import SCHEMES
-    left_s = 0.0
-    for model, window, scheme in itertools.product(models, windows, SCHEMES):
-        spent = seconds.get((model, window, scheme), [])
-        like = spent or seconds.get((model, window)) or seconds[model,]
-        left_s += (per_scheme - len(spent)) * float(np.mean(like))
-    return {'done': len(cells), 'wall_min': wall_s / 60, 'together': together,
-            'left_min': left_s / together / 60}
+    pace = {}
+    for kind, label in ((False, 'deep'), (True, 'baselines')):
+        left_s = 0.0
+        for model, window, scheme in itertools.product(
+                [m for m in models if (m in BASELINES) == kind], windows, SCHEMES):
+            spent = seconds.get((model, window, scheme), [])
+            like = spent or next(seconds[key] for key in ((model, window), (model,), (kind,))
+                                 if key in seconds)
+            left_s += (per_scheme - len(spent)) * float(np.mean(like))
+        together = sum(seconds[kind,]) / wall_s
+        pace[label] = {'together': together, 'left_min': left_s / together / 60}
+    return {'done': len(cells), 'wall_min': wall_s / 60, **pace,
+            'left_min': max(kind['left_min'] for kind in pace.values())}
+
+
+def _full_grid() -> dict:
+    """The kept full GPU grid: its summary, calls, steps, models, windows and projection."""
+    from tactex_classify.models.registry import ALL_MODELS
+    summary, run, grid = _kept_grid('compare_gpu_full')
+    command = grid[-1]['command']
+    if _option(command, '--cv') != 'both':
+        raise ValueError('the kept full GPU grid runs both schemes')
+    models = (_option(command, '--models').split(',') if '--models' in command.split()
+              else list(ALL_MODELS))
+    windows = sorted(int(window) for window in summary['data'])
+    seeds, folds = int(_option(command, '--seeds')), summary['settings']['folds']
+    return {'summary': summary, 'run': run, 'grid': grid, 'command': command,
+            'models': models, 'windows': windows, 'seeds': seeds, 'folds': folds,
+            'total': len(models) * len(windows) * 2 * seeds * folds,
+            'projection': _grid_projection('compare_gpu_full', models, windows, seeds * folds)}
+
+
+def _full_grid_minutes() -> float:
+    """The minutes the kept full GPU grid projects for itself: run so far and left."""
+    projection = _full_grid()['projection']
+    return projection['wall_min'] + projection['left_min']
 
 
 def compare_gpu_full() -> str:
     """The issue's full grid on a lent GPU: how far it is, its measured pace, what it shows."""
     from tactex_classify.evaluation.grid_report import table
-    from tactex_classify.models.registry import ALL_MODELS, BASELINES
-    summary, run, grid = _kept_grid('compare_gpu_full')
-    settings, command = summary['settings'], grid[-1]['command']
+    from tactex_classify.models.registry import BASELINES
+    full = _full_grid()
+    summary, run, grid, command = full['summary'], full['run'], full['grid'], full['command']
+    windows, seeds, folds = full['windows'], full['seeds'], full['folds']
+    total, projection = full['total'], full['projection']
     machine = run['calls'][-1]['machine']
     if not machine['gpu'] or any(call['machine'] != machine for call in run['calls']):
         raise ValueError('the kept full GPU grid mixes machines or ran without a GPU')
-    gpu, seeds, folds = machine['gpu'], int(_option(command, '--seeds')), settings['folds']
-    windows = sorted(int(window) for window in summary['data'])
-    total = len(ALL_MODELS) * len(windows) * 2 * seeds * folds
-    projection = _grid_projection('compare_gpu_full', list(ALL_MODELS), windows, seeds * folds)
+    gpu = machine['gpu']
+    deep, baselines = projection['deep'], projection['baselines']
     calls = ', '.join(f'{step["seconds"] / 60:.1f} min' for step in grid)
+    stopped = all(step['returncode'] not in (0, None) for step in grid)
     rebuilt = [number for number, call in enumerate(run['calls'], 1) if 'note' in call]
+    recordings = {call['recordings_per_texture'] for call in run['calls']}.pop()
     rows = summary['rows']
 
     def best(window: int, scheme: str, baseline: bool) -> str:
@@ -595,42 +631,61 @@ def compare_gpu_full() -> str:
         row = max(ranked, key=lambda row: row['schemes'][scheme]['accuracy']['mean'])
         values = row['schemes'][scheme]
         return f'{row["model"]} {100 * values["accuracy"]["mean"]:.1f} % ({values["cells"]})'
+
+    def leaky_gain(baseline: bool) -> list[float]:
+        return [100 * (row['schemes']['stratified']['accuracy']['mean'] - _mean_grouped(row))
+                for row in rows if (row['model'] in BASELINES) == baseline and
+                not row['not_converged'] and {'grouped', 'stratified'} <= set(row['schemes'])]
     honest = '; '.join(f'{window}: {best(window, "grouped", False)} against '
                        f'{best(window, "grouped", True)}' for window in windows)
     leaky = '; '.join(f'{window}: {best(window, "stratified", True)}' for window in windows)
+    gains = {kind: leaky_gain(kind == 'baselines') for kind in ('baselines', 'deep models')}
+    gains_text = ', '.join(f'the {kind} {np.median(values):+.0f} points (median of '
+                           f'{len(values)} rows, {min(values):+.0f} to {max(values):+.0f})'
+                           for kind, values in gains.items())
     projected = projection['wall_min'] + projection['left_min']
-    return (f"The issue's full grid on a GPU (`python bench/bench_compare.py --grid "
-            f'compare_gpu_full --recordings 20 --windows {",".join(map(str, windows))} --cv '
-            f'both --folds {folds} --seeds {seeds} --epochs {settings["epochs"]} '
-            f'--early-stopping {settings["early_stopping"]} --profile {settings["profile"]} '
-            f'--scaling {settings["scaling"]} --device cuda --mps --cells-per-gpu '
-            f'{_option(command, "--cells-per-gpu")} --cpus {machine["cpu_count"]}`, outputs '
-            'in `bench/results/compare_gpu_full/`): every model at every window, both '
+    return (f"The issue's full grid on a GPU (`{_bench_command(command, recordings, windows)}`, "
+            'outputs in `bench/results/compare_gpu_full/`): every model at every window, both '
             f'schemes, {folds} folds, {seeds} seed{"s" if seeds > 1 else ""}, {total} cells, '
-            "on the first 20 sweeps per texture of the learning curves' set (grid.json keeps "
-            "the datasets' digests; a resumed call needs the same data). **Device: one "
-            f'{gpu["name"]}** (torch {gpu["torch"]}) with {machine["cpu_count"]} cores. '
-            f'Calls: {calls}, each stopped at its time limit'
+            f"on the first {recordings} sweeps per texture of the learning curves' set "
+            "(grid.json keeps the datasets' digests; a resumed call needs the same data). "
+            f'**Device: one {gpu["name"]}** (torch {gpu["torch"]}) with '
+            f'{machine["cpu_count"]} cores. Calls: {calls}'
+            + (', each stopped at its time limit' if stopped else '')
             + (f' (call {", ".join(map(str, rebuilt))}: its entry in run.json was rebuilt '
                'from its log, as the entry says)' if rebuilt else '') +
             f'. **Incomplete: {projection["done"]} of {total} cells**, in the order the grid '
             'runs them (fold by fold), so each row holds its first folds.\n\n'
-            f'**Pace, measured on this grid.** The finished cells trained for '
-            f'{projection["together"] * projection["wall_min"]:.0f} min in '
-            f'{projection["wall_min"]:.1f} min of the grid\'s wall time: '
-            f'{projection["together"]:.1f} cells at once on average. At that pace the '
+            f'**Pace, measured on this grid.** In {projection["wall_min"]:.1f} min of the '
+            f"grid's wall time (each call's start included), the deep models' finished cells "
+            f'trained {deep["together"]:.1f} at once on average (on the GPU) and the '
+            f"baselines' {baselines['together']:.1f} (on the cores). At those paces the "
             f'{total - projection["done"]} cells left (each as long as the finished cells of '
-            f'its model, window and scheme) need about {projection["left_min"]:.0f} min more, '
-            f'so the whole grid about {projected:.0f} min: '
-            + ('within' if projected <= 60 else 'beyond') + ' the hour of the goal, as a '
-            'projection until a lent GPU finishes the grid (its last cells may train with '
-            'fewer beside them).\n\n'
+            f'its model, window and scheme) need about {deep["left_min"]:.0f} min on the GPU '
+            f'and {baselines["left_min"]:.0f} min on the cores, side by side: the whole grid '
+            f'about {projected:.0f} min, '
+            + ('within' if projected <= 60 else 'beyond') + ' the hour of the goal. It is a '
+            'projection until a lent GPU finishes the grid: its last cells may train with '
+            'fewer beside them, and each further call spends about 20 s starting.\n\n'
             f'**What it shows so far.** Grouped by recording, the best deep model against the '
-            f'best baseline (cells in brackets): {honest}. Leaky, the best baseline: {leaky}: '
-            'windows of one recording on both sides of the split flatter the baselines far '
-            'more than the deep models.\n\n'
+            f'best baseline (cells in brackets): {honest}. Leaky, the best baseline: {leaky}. '
+            f'Leaky splits add to grouped accuracy {gains_text}: windows of one recording on '
+            'both sides of the split flatter the baselines most (a leaky figure here is '
+            'mostly one fold).\n\n'
             + table(rows, seeds * folds * 2) + '\n'
             f'![accuracy]({FIGURES}/compare_gpu_full/accuracy.png)\n')
+
+
+def _bench_command(command: str, recordings: int, windows: list[int]) -> str:
+    """The bench_compare call that runs a kept grid's `tactex compare` step."""
+    words = command.split()
+    options = ' '.join(f'{name} {_option(command, name)}' for name in (
+        '--cv', '--folds', '--seeds', '--epochs', '--early-stopping', '--profile', '--scaling',
+        '--device', '--cells-per-gpu', '--cpus') if name in words)
+    grid = Path(_option(command, '--out')).name
+    return (f'python bench/bench_compare.py --grid {grid} --recordings {recordings} '
+            f'--windows {",".join(map(str, windows))} {options}'
+            + (' --mps' if '--mps' in words else ''))
 
 
 def gpu_pace() -> str:
@@ -743,7 +798,7 @@ def gpu_pace() -> str:
         f'tuned cell and {together_it["vs_one_cell"]:.0f} times one untuned cell. The untuned '
         f'single cells of {inception} in the two calls differ by '
         f'{100 * (max(repeats) / min(repeats) - 1):.0f} % (call to call).\n\n'
-        '**The full grid, estimated (not run).** Every model at windows 128, 256 and 512, '
+        '**The full grid, estimated before it ran.** Every model at windows 128, 256 and 512, '
         f"both schemes, 5 folds ({per_model * len(DEEP_MODELS)} deep cells) at tactex's GPU "
         f'setting (MPS and autotune: {small} {pace(now_small)} with '
         f'{now_small["cells"]} cells, {inception} {pace(together_it)} with '
@@ -758,7 +813,8 @@ def gpu_pace() -> str:
         '(they hold half and a quarter of the windows), and the baselines (their '
         'single-thread training seconds in the main comparison) have the cores to '
         'themselves. `tactex compare --device cuda --mps --cells-per-gpu 16` runs a grid this '
-        'way: [the full grid on a GPU](#the-full-grid-on-a-gpu) measures it.\n\n'
+        'way: [the full grid on a GPU](#the-full-grid-on-a-gpu) measures its pace on the '
+        f'grid itself (about {_full_grid_minutes():.0f} min projected).\n\n'
         f'**{cpu_cores} CPU cores: the 8-hour goal is out of reach.** In the main comparison one '
         f'{inception} cell took {it_cpu_s / 60:.0f} min of one core at window 128 '
         f'(mean of {it_cpu_cells} cells, early stopping included); the ensemble trains '

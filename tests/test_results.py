@@ -86,3 +86,34 @@ def test_the_main_comparison_names_rows_short_of_cells_or_not_converged(tmp_path
     (grid / 'run.json').write_text(json.dumps(run))
     with pytest.raises(ValueError, match='mixes'):
         renderer.compare_converged()
+
+
+def test_a_grid_projects_its_missing_cells_at_the_pace_its_own_cells_measured(
+        tmp_path, monkeypatch):
+    _renderer()
+    learning = sys.modules['results_learning']
+    kept = sys.modules['results_common']
+    grid = tmp_path / 'grid'
+    (grid / 'cells').mkdir(parents=True)
+    # 100 s of wall time; cnn_3 trained 2 cells of 50 s, minirocket 1 cell of 10 s.
+    finished = [('cnn_3', 'grouped', 1, 50.0), ('cnn_3', 'stratified', 1, 50.0),
+                ('minirocket', 'grouped', 1, 10.0)]
+    for number, (model, scheme, fold, seconds) in enumerate(finished):
+        (grid / 'cells' / f'{number}.json').write_text(json.dumps({
+            'cell': {'model': model, 'window': 128, 'seed': 0, 'fold': fold,
+                     'scheme': scheme}, 'train_s': seconds}))
+    (grid / 'summary.json').write_text('{}')
+    (grid / 'run.json').write_text(json.dumps({'calls': [{'steps': [
+        {'command': 'tactex compare data.npz', 'seconds': 100.0}]}]}))
+    monkeypatch.setattr(kept, 'RESULTS', tmp_path)
+    projection = learning._grid_projection('grid', ['cnn_3', 'resnet', 'minirocket'], [128], 2)
+    assert projection['done'] == 3 and projection['wall_min'] == pytest.approx(100 / 60)
+    deep, baselines = projection['deep'], projection['baselines']
+    assert deep['together'] == pytest.approx(1.0)  # 100 s of training in 100 s
+    # cnn_3 lacks one cell per scheme (50 s each); resnet, with none, is taken at the
+    # deep cells' mean (50 s) for all four: 300 s at one cell at a time.
+    assert deep['left_min'] == pytest.approx(300 / 60)
+    # minirocket at 0.1 cells at once: 3 cells of 10 s left take 300 s.
+    assert baselines['together'] == pytest.approx(0.1)
+    assert baselines['left_min'] == pytest.approx(300 / 60)
+    assert projection['left_min'] == pytest.approx(300 / 60)
