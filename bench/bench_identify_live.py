@@ -172,13 +172,13 @@ def plot(path: Path) -> None:
     import matplotlib
     matplotlib.use('Agg')
     import matplotlib.pyplot as plt
-    runs = [json.loads((path.parent / name).read_text()) for name in LIVE_RUNS
+    runs = [(name, json.loads((path.parent / name).read_text())) for name in LIVE_RUNS
             if (path.parent / name).is_file()]
-    runs = [kept for kept in runs  # a run kept before the goals kept their beliefs is left out
+    runs = [(name, kept) for name, kept in runs  # kept before the goals kept their beliefs
             if all('belief' in episode for episode in kept['episodes'])]
     figure, panels = plt.subplots(1, len(runs), figsize=(max(6.0, 4.2 * len(runs)), 3.8),
                                   sharey=True, squeeze=False)
-    for axes, kept in zip(panels[0], runs, strict=True):
+    for axes, (name, kept) in zip(panels[0], runs, strict=True):
         textures = len({episode['truth'] for episode in kept['episodes']})
         for episode in kept['episodes']:
             color = ('grey' if not episode['answer'] else
@@ -189,7 +189,8 @@ def plot(path: Path) -> None:
         right = sum(episode['answer'] == episode['truth'] for episode in kept['episodes'])
         tuned = ' fine-tuned' if kept.get('pretrained') else ''
         axes.set_title(f'{kept["model"]}{tuned}, trained on {kept.get("training", "collect")}'
-                       f'\n{right} of {len(kept["episodes"])} decided right', fontsize=9)
+                       f'\n{right} of {len(kept["episodes"])} decided right ({name})',
+                       fontsize=8)
         axes.set_xlabel('contact seconds')
     panels[0][0].set_ylabel("true texture's belief")
     figure.suptitle('live Identify goals: green right, red wrong, grey undecided',

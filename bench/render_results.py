@@ -28,6 +28,7 @@ from results_identification import (  # noqa: E402
     identify_live,
     identify_live_sweeps,
     identify_live_sweeps_init,
+    identify_live_sweeps_init_sweeps,
 )
 from results_learning import (  # noqa: E402
     architectures,
@@ -87,6 +88,7 @@ SECTIONS: dict[str, Callable[[], str]] = {
     'recordings': recordings, 'predict_play': predict_play, 'identification': identification,
     'identify_live': identify_live, 'identify_live_sweeps': identify_live_sweeps,
     'identify_live_sweeps_init': identify_live_sweeps_init,
+    'identify_live_sweeps_init_sweeps': identify_live_sweeps_init_sweeps,
     'identification_init': identification_init}
 
 
