@@ -80,6 +80,46 @@ def test_record_keeps_any_metadata_text_exactly(tmp_path, ros_context, options, 
     assert recorded_metadata(out) == expected
 
 
+def test_record_with_sim_time_logs_sweep_segments_on_the_simulation_clock(tmp_path,
+                                                                         ros_context):
+    import rclpy
+    from rosbags.highlevel import AnyReader
+    from rosgraph_msgs.msg import Clock
+    from std_msgs.msg import Bool
+
+    from tactex_common import topics
+    from tactex_common.ros import COMMAND
+    out = tmp_path / 'recording'
+    process = start(out, '--use-sim-time')
+    node = rclpy.create_node('record_sim_time_test', context=ros_context)
+    clock = node.create_publisher(Clock, '/clock', 10)
+    active = node.create_publisher(Bool, topics.SWEEP_ACTIVE, COMMAND)
+    simulated = Clock()
+    simulated.clock.sec = 1000  # a simulation 1000 s in: far from any wall-clock time
+
+    def tick() -> bool:
+        clock.publish(simulated)
+        active.publish(Bool(data=True))
+        return any(out.glob('part_*'))
+    try:
+        assert wait_for(tick, 30), 'the recorder wrote nothing'
+        for _ in range(5):
+            tick()
+            time.sleep(0.05)
+        process.send_signal(signal.SIGINT)
+        assert process.wait(timeout=90) == 0, (tmp_path / 'record.log').read_text()
+    finally:
+        node.destroy_node()
+        if process.poll() is None:
+            process.kill()
+    with AnyReader(sorted(out.glob('part_*'))) as reader:
+        segments = [c for c in reader.connections if c.topic == topics.SWEEP_ACTIVE]
+        logged = [log_ns for _, log_ns, _ in reader.messages(connections=segments)]
+    # Messages that came before the node's first /clock carry time 0; none the wall clock.
+    assert logged and all(log_ns <= 1001 * 10**9 for log_ns in logged)
+    assert any(log_ns >= 1000 * 10**9 for log_ns in logged)
+
+
 @pytest.mark.parametrize('stop', [signal.SIGTERM, signal.SIGKILL], ids=['SIGTERM', 'SIGKILL'])
 def test_killing_record_never_leaves_the_recorder_running(tmp_path, stop):
     process = start(tmp_path / 'recording')

@@ -41,6 +41,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('--split-s', type=number(at_most=3600.0), default=1.0,
                         help='seconds per part bag: the most a crash can lose (1.0)')
     parser.add_argument('--compress', action='store_true', help='zstd-compress messages')
+    parser.add_argument('--use-sim-time', action='store_true',
+                        help="stamp what has no header (sweep/active, the metadata) with the "
+                             "simulation's /clock, as a simulated system's IMU stamps are; "
+                             'without it, the wall clock')
 
 
 def metadata_of(args: argparse.Namespace) -> dict:
@@ -86,13 +90,15 @@ def yaml_quoted(text: str) -> str:
     return '"' + ''.join(out) + '"'
 
 
-def parameter_file(out: Path, metadata: dict, split_s: float, compress: bool) -> str:
+def parameter_file(out: Path, metadata: dict, split_s: float, compress: bool,
+                   use_sim_time: bool = False) -> str:
     """The recorder node's parameters as a ROS 2 parameter file."""
     return ('recorder_node:\n  ros__parameters:\n'
             f'    output: {yaml_quoted(str(out))}\n'
             f'    metadata: {yaml_quoted(json.dumps(metadata, ensure_ascii=False))}\n'
             f'    split_s: {split_s!r}\n'
-            f'    compress: {"true" if compress else "false"}\n')
+            f'    compress: {"true" if compress else "false"}\n'
+            f'    use_sim_time: {"true" if use_sim_time else "false"}\n')
 
 
 def _die_with_parent():
@@ -116,7 +122,8 @@ def run(args: argparse.Namespace) -> int:
 
     check_output_folder(args.out)
     metadata = metadata_of(args)
-    parameters = parameter_file(args.out.absolute(), metadata, args.split_s, args.compress)
+    parameters = parameter_file(args.out.absolute(), metadata, args.split_s, args.compress,
+                                args.use_sim_time)
     executable = shutil.which('recorder_node') or str(Path(sys.executable).parent /
                                                       'recorder_node')
     with tempfile.TemporaryFile('w+', encoding='utf-8') as handle:
