@@ -45,7 +45,8 @@ RESULTS = Path(__file__).parent / 'results' / 'identify_live.json'
 MOVEMENTS = Path(__file__).parents[1] / 'config' / 'movements.yaml'
 # The live runs kept (beside RESULTS), drawn side by side in PLOT.
 LIVE_RUNS = ('identify_live.json', 'identify_live_sweeps.json', 'identify_live_init.json',
-             'identify_live_sweeps_init.json', 'identify_live_sweeps_init_sweeps.json')
+             'identify_live_sweeps_init.json', 'identify_live_sweeps_init_sweeps.json',
+             'identify_live_sweeps_init_sweeps_discount.json')
 PLOT = RESULTS.with_name('identify_live.png')
 
 
@@ -94,7 +95,8 @@ def prepared(work: Path, args, steps: list[dict]) -> tuple[Path, Path, Path, Pat
         folds = ['--folds', str(max(2, min(3, args.sweeps)))] if args.training == 'sweeps' \
             else []
         timed([TACTEX, 'train', str(data), '--movements', str(movements), '--model',
-               args.model, *folds, *training_options(args), '--out', str(work / 'run')], steps)
+               args.model, *folds, *training_options(args), *repeats(args), '--out',
+               str(work / 'run')], steps)
     offline = work / 'offline'
     if not (offline / 'identification.json').is_file():
         # Nested folds need two training sweeps per cell inside each outer fold: with
@@ -104,8 +106,13 @@ def prepared(work: Path, args, steps: list[dict]) -> tuple[Path, Path, Path, Pat
                '--movements', str(movements), '--policies', 'active', '--folds', outer,
                '--inner-folds', '2',
                '--seeds', str(args.offline_seeds), '--model', args.model,
-               *training_options(args)], steps)
+               *training_options(args), *repeats(args)], steps)
     return data, bundle, offline, movements
+
+
+def repeats(args) -> list[str]:
+    """The bundle's and the offline report's option to fit a discount of repeated movements."""
+    return ['--repeat-discount'] if args.repeat_discount else []
 
 
 def training_options(args) -> list[str]:
@@ -219,6 +226,8 @@ def main() -> int:
                         help='training sweeps from sim collect, or through the sweep action')
     parser.add_argument('--textures', type=int, default=12, help='the first N textures')
     parser.add_argument('--work', type=Path, help='bags, data, bundle, logs (required)')
+    parser.add_argument('--repeat-discount', action='store_true',
+                        help="fit a discount of a movement's repeats (train and report)")
     parser.add_argument('--pretraining', metavar='TEXT',
                         help='with --init: how the checkpoint was made, kept with the run')
     parser.add_argument('--keep', choices=LIVE_RUNS,
@@ -276,6 +285,7 @@ def main() -> int:
         if args.pretraining:
             kept['pretrained']['recipe'] = args.pretraining
     kept['training'] = args.training
+    kept['repeat_discount_fitted'] = args.repeat_discount
     kept['movements'] = [row['name'] for row in
                          yaml.safe_load(Path(movements).read_text())['movements']]
     results = RESULTS if args.training == 'collect' else RESULTS.with_name(

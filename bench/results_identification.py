@@ -194,7 +194,8 @@ def _bench_options(kept: dict, goals_per_texture: float, name: str) -> str:
     default = ('identify_live' + ('_sweeps' if kept.get('training') == 'sweeps' else '')
                + ('_init' if kept.get('pretrained') else '') + '.json')
     keep = f'--keep {name} ' if name != default else ''
-    return f'{training}{episodes}{model}{keep}--work DIR'
+    discount = '--repeat-discount ' if kept.get('repeat_discount_fitted') else ''
+    return f'{training}{episodes}{model}{discount}{keep}--work DIR'
 
 
 def _fine_tuned_from(kept: dict) -> str:
