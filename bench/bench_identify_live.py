@@ -110,6 +110,12 @@ def prepared(work: Path, args, steps: list[dict]) -> tuple[Path, Path, Path, Pat
     return data, bundle, offline, movements
 
 
+def default_kept_file(training: str, fine_tuned: bool) -> str:
+    """Where a live run is kept without --keep: fine-tuned bundles beside, never over, others."""
+    return ('identify_live' + ('_sweeps' if training == 'sweeps' else '')
+            + ('_init' if fine_tuned else '') + '.json')
+
+
 def repeats(args) -> list[str]:
     """The bundle's and the offline report's option to fit a discount of repeated movements."""
     return ['--repeat-discount'] if args.repeat_discount else []
@@ -288,12 +294,7 @@ def main() -> int:
     kept['repeat_discount_fitted'] = args.repeat_discount
     kept['movements'] = [row['name'] for row in
                          yaml.safe_load(Path(movements).read_text())['movements']]
-    results = RESULTS if args.training == 'collect' else RESULTS.with_name(
-        'identify_live_sweeps.json')
-    if args.init:  # fine-tuned bundles are kept beside the others, never over them
-        results = results.with_name(f'{results.stem}_init.json')
-    if args.keep:
-        results = RESULTS.with_name(args.keep)
+    results = RESULTS.with_name(args.keep or default_kept_file(args.training, bool(args.init)))
     results.write_text(json.dumps(kept, indent=1) + '\n', encoding='utf-8')
     plot(PLOT)
     print(json.dumps({k: kept[k] for k in ('live', 'offline_active', 'probe')}, indent=1))

@@ -191,8 +191,8 @@ def _bench_options(kept: dict, goals_per_texture: float, name: str) -> str:
         options[options.index('--init') + 1] = 'PRETRAINED'
     model = (' '.join(['--model', kept['model'], *options]) + ' '
              if kept['model'] != 'minirocket' or options else '')
-    default = ('identify_live' + ('_sweeps' if kept.get('training') == 'sweeps' else '')
-               + ('_init' if kept.get('pretrained') else '') + '.json')
+    from bench_identify_live import default_kept_file
+    default = default_kept_file(kept.get('training', 'collect'), bool(kept.get('pretrained')))
     keep = f'--keep {name} ' if name != default else ''
     discount = '--repeat-discount ' if kept.get('repeat_discount_fitted') else ''
     return f'{training}{episodes}{model}{discount}{keep}--work DIR'

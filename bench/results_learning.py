@@ -466,10 +466,7 @@ def compare_gpu() -> str:
     summary, run, grid = _kept_grid('compare_gpu')
     settings, first = summary['settings'], grid[0]['command']
     seeds, folds = int(_option(first, '--seeds')), settings['folds']
-    machines = {json.dumps(call['machine'], sort_keys=True) for call in run['calls']}
-    if len(machines) != 1 or not run['calls'][0]['machine']['gpu']:
-        raise ValueError(f'the kept GPU grid mixes machines or ran without a GPU: {machines}')
-    machine = run['calls'][0]['machine']
+    machine = _gpu_machine(run, 'GPU grid')
     gpu = machine['gpu']
     models = _option(first, '--models').split(',')
     deep_models = [model for model in models if model not in BASELINES]
@@ -546,6 +543,14 @@ def compare_gpu() -> str:
             f'![accuracy]({FIGURES}/compare_gpu/accuracy.png)\n')
 
 
+def _gpu_machine(run: dict, grid: str) -> dict:
+    """The one machine, with a GPU, that ran every call of a kept grid."""
+    machines = {json.dumps(call['machine'], sort_keys=True) for call in run['calls']}
+    if len(machines) != 1 or not run['calls'][0]['machine']['gpu']:
+        raise ValueError(f'the kept {grid} mixes machines or ran without a GPU: {machines}')
+    return run['calls'][0]['machine']
+
+
 def _grid_projection(name: str, models: list[str], windows: list[int], per_scheme: int) -> dict:
     """How far a kept grid of both schemes is and, at the pace it measured, what is left.
 
@@ -554,7 +559,7 @@ def _grid_projection(name: str, models: list[str], windows: list[int], per_schem
     grid's wall seconds); left_min: the minutes its missing cells need at that pace, each
     costing the mean training seconds of its model, window and scheme's finished cells
     (else its model and window's, else its model's, else the kind's). The grid's minutes
-    left are the longer of the two.
+    left are the longer of the two; whole_min adds the minutes it ran.
     """
     from tactex_classify.models.registry import BASELINES, SCHEMES
     _, _, grid = _kept_grid(name)
@@ -578,8 +583,9 @@ def _grid_projection(name: str, models: list[str], windows: list[int], per_schem
             left_s += (per_scheme - len(spent)) * float(np.mean(like))
         together = sum(seconds[kind,]) / wall_s
         pace[label] = {'together': together, 'left_min': left_s / together / 60}
-    return {'done': len(cells), 'wall_min': wall_s / 60, **pace,
-            'left_min': max(kind['left_min'] for kind in pace.values())}
+    left_min = max(kind['left_min'] for kind in pace.values())
+    return {'done': len(cells), 'wall_min': wall_s / 60, **pace, 'left_min': left_min,
+            'whole_min': wall_s / 60 + left_min}
 
 
 def _full_grid() -> dict:
@@ -599,12 +605,6 @@ def _full_grid() -> dict:
             'projection': _grid_projection('compare_gpu_full', models, windows, seeds * folds)}
 
 
-def _full_grid_minutes() -> float:
-    """The minutes the kept full GPU grid projects for itself: run so far and left."""
-    projection = _full_grid()['projection']
-    return projection['wall_min'] + projection['left_min']
-
-
 def compare_gpu_full() -> str:
     """The issue's full grid on a lent GPU: how far it is, its measured pace, what it shows."""
     from tactex_classify.evaluation.grid_report import table
@@ -613,9 +613,7 @@ def compare_gpu_full() -> str:
     summary, run, grid, command = full['summary'], full['run'], full['grid'], full['command']
     windows, seeds, folds = full['windows'], full['seeds'], full['folds']
     total, projection = full['total'], full['projection']
-    machine = run['calls'][-1]['machine']
-    if not machine['gpu'] or any(call['machine'] != machine for call in run['calls']):
-        raise ValueError('the kept full GPU grid mixes machines or ran without a GPU')
+    machine = _gpu_machine(run, 'full GPU grid')
     gpu = machine['gpu']
     deep, baselines = projection['deep'], projection['baselines']
     calls = ', '.join(f'{step["seconds"] / 60:.1f} min' for step in grid)
@@ -643,7 +641,7 @@ def compare_gpu_full() -> str:
     gains_text = ', '.join(f'the {kind} {np.median(values):+.0f} points (median of '
                            f'{len(values)} rows, {min(values):+.0f} to {max(values):+.0f})'
                            for kind, values in gains.items())
-    projected = projection['wall_min'] + projection['left_min']
+    projected = projection['whole_min']
     return (f"The issue's full grid on a GPU (`{_bench_command(command, recordings, windows)}`, "
             'outputs in `bench/results/compare_gpu_full/`): every model at every window, both '
             f'schemes, {folds} folds, {seeds} seed{"s" if seeds > 1 else ""}, {total} cells, '
@@ -814,7 +812,7 @@ def gpu_pace() -> str:
         'single-thread training seconds in the main comparison) have the cores to '
         'themselves. `tactex compare --device cuda --mps --cells-per-gpu 16` runs a grid this '
         'way: [the full grid on a GPU](#the-full-grid-on-a-gpu) measures its pace on the '
-        f'grid itself (about {_full_grid_minutes():.0f} min projected).\n\n'
+        f'grid itself (about {_full_grid()["projection"]["whole_min"]:.0f} min projected).\n\n'
         f'**{cpu_cores} CPU cores: the 8-hour goal is out of reach.** In the main comparison one '
         f'{inception} cell took {it_cpu_s / 60:.0f} min of one core at window 128 '
         f'(mean of {it_cpu_cells} cells, early stopping included); the ensemble trains '
