@@ -13,7 +13,7 @@ Training sweeps (`--training`):
 Then `tactex convert` at the movements' window, `tactex train --movements` (the bundle,
 one `--model` per movement, calibrated), the offline `tactex report identification` on the
 same dataset, model and policy, and live: the system launched with `bundle:=...`, then for
-every texture `--episodes` Identify goals (active, threshold 0.99) on the probed pathway.
+every texture `--episodes` Identify goals (`--policy`, threshold 0.99) on the probed pathway.
 
 With `--init CHECKPOINT` (and `--profile`, `--epochs`, `--scaling`) every movement's deep
 model, in the bundle and in the offline report alike, is fine-tuned from the checkpoint.
@@ -46,7 +46,7 @@ MOVEMENTS = Path(__file__).parents[1] / 'config' / 'movements.yaml'
 # The live runs kept (beside RESULTS), drawn side by side in PLOT.
 LIVE_RUNS = ('identify_live.json', 'identify_live_sweeps.json', 'identify_live_init.json',
              'identify_live_sweeps_init.json', 'identify_live_sweeps_init_sweeps.json',
-             'identify_live_sweeps_init_sweeps_discount.json')
+             'identify_live_sweeps_init_sweeps_realized.json')
 PLOT = RESULTS.with_name('identify_live.png')
 
 
@@ -103,7 +103,7 @@ def prepared(work: Path, args, steps: list[dict]) -> tuple[Path, Path, Path, Pat
         # three sweeps per cell (through the sweep action), three outer folds.
         outer = '3' if args.training == 'sweeps' and args.sweeps < 4 else '2'
         timed([TACTEX, 'report', 'identification', str(data), '--out', str(offline),
-               '--movements', str(movements), '--policies', 'active', '--folds', outer,
+               '--movements', str(movements), '--policies', args.policy, '--folds', outer,
                '--inner-folds', '2',
                '--seeds', str(args.offline_seeds), '--model', args.model,
                *training_options(args), *repeats(args)], steps)
@@ -169,7 +169,7 @@ def live_episodes(work: Path, bundle: Path, movements: Path, args) -> tuple[list
             probe = demo.probe(client, alive)
             episodes = identify_each(demo, client, alive, list(TEXTURES)[:args.textures],
                                      budget_movements=args.budget_movements,
-                                     episodes=args.episodes)
+                                     episodes=args.episodes, policy=args.policy)
     return episodes, {'points': probe['points'], 'contacts': len(probe['pathway'].contacts),
                       'normal_error_deg': float(np.mean(probe['normal_deg'])),
                       'position_error_mm': float(np.mean(probe['position_mm']))}
@@ -227,6 +227,8 @@ def main() -> int:
                         help='probed pathway, m (the fastest movement needs 150 mm)')
     parser.add_argument('--episodes', type=int, default=1, help='Identify goals per texture')
     parser.add_argument('--budget-movements', type=int, default=8)
+    parser.add_argument('--policy', choices=('active', 'active-realized'), default='active',
+                        help='how the live goals and the offline replay choose (active)')
     parser.add_argument('--offline-seeds', type=int, default=10)
     parser.add_argument('--training', choices=('collect', 'sweeps'), default='collect',
                         help='training sweeps from sim collect, or through the sweep action')
@@ -267,7 +269,7 @@ def main() -> int:
     kept_live = json.loads(live.read_text())
     episodes, probe = kept_live['episodes'], kept_live['probe']
     offline_report = json.loads((offline / 'identification.json').read_text())
-    active = offline_report['policies']['active']
+    active = offline_report['policies'][args.policy]  # kept as offline_active
     kept = {'scene_seed': args.seed, 'sweeps_per_texture_and_movement': args.sweeps,
             'model': args.model, 'training_options': training_options(args),
             'span_m': args.span, 'probe': probe,
@@ -291,6 +293,7 @@ def main() -> int:
         if args.pretraining:
             kept['pretrained']['recipe'] = args.pretraining
     kept['training'] = args.training
+    kept['policy'] = args.policy
     kept['repeat_discount_fitted'] = args.repeat_discount
     kept['movements'] = [row['name'] for row in
                          yaml.safe_load(Path(movements).read_text())['movements']]

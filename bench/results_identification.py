@@ -195,7 +195,8 @@ def _bench_options(kept: dict, goals_per_texture: float, name: str) -> str:
     default = default_kept_file(kept.get('training', 'collect'), bool(kept.get('pretrained')))
     keep = f'--keep {name} ' if name != default else ''
     discount = '--repeat-discount ' if kept.get('repeat_discount_fitted') else ''
-    return f'{training}{episodes}{model}{discount}{keep}--work DIR'
+    policy = f'--policy {kept["policy"]} ' if kept.get('policy', 'active') != 'active' else ''
+    return f'{training}{episodes}{model}{discount}{policy}{keep}--work DIR'
 
 
 def _fine_tuned_from(kept: dict) -> str:
@@ -234,6 +235,7 @@ def _live_interval(episodes: list[dict], offline: float) -> str:
 def _live_section(name: str) -> str:
     kept = kept_json(name)
     live, offline, probe = kept['live'], kept['offline_active'], kept['probe']
+    policy = kept.get('policy', 'active')  # offline_active holds that policy's replay
     textures = sorted({episode['truth'] for episode in kept['episodes']})
     goals_per_texture = live['episodes'] / max(len(textures), 1)
     movements = kept.get('movements', ['8'] * 8)
@@ -252,7 +254,7 @@ def _live_section(name: str) -> str:
             f'(leader {100 * live["leader_accuracy"]:.1f} %) | {100 * live["decided"]:.0f} % | '
             f'{live["median_movements"]:.0f} | {live["median_contact_s"]:.1f} | '
             f'{live["p90_contact_s"]:.1f} |',
-            f'| offline replay, active | {100 * offline["accuracy"]:.1f} % | | '
+            f'| offline replay, {policy} | {100 * offline["accuracy"]:.1f} % | | '
             f'{offline["median_movements"]:.0f} | {offline["median_contact_s"]:.1f} | '
             f'{offline["p90_contact_s"]:.1f} |']
     chosen: dict[str, int] = {}
@@ -268,7 +270,7 @@ def _live_section(name: str) -> str:
         f'of live identification): a bundle of {kept["model"]} per movement{fitted} trained '
         f'on {trained_on}; the system launched in simulation, {probe["points"]} probes asked '
         f'along {1e3 * kept["span_m"]:.0f} mm of which {probe["contacts"]} gave a contact '
-        f'(the pathway), then {live["episodes"]} Identify goals (active, threshold 0.99, at '
+        f'(the pathway), then {live["episodes"]} Identify goals ({policy}, threshold 0.99, at '
         f'most {kept["budget_movements"]} movements), '
         f'{"one" if goals_per_texture == 1 else f"{goals_per_texture:g}"} per texture; '
         f'{live["failed"]} '
@@ -276,14 +278,14 @@ def _live_section(name: str) -> str:
         f'same model and policy ({kept["offline_episodes"]} held-out episodes, '
         f'{kept.get("offline_folds", 2)} folds):\n\n'
         + '\n'.join(rows)
-        + f'\n\nOffline, active was {100 * kept["offline_accuracy_after_budget"]:.1f} % right '
+        + f'\n\nOffline, {policy} was {100 * kept["offline_accuracy_after_budget"]:.1f} % right '
         f'after {kept["budget_movements"]} movements, the live budget. '
         + _live_interval(kept['episodes'], kept['offline_accuracy_after_budget']) +
         f'A live goal took a median {live["median_wall_s"]:.0f} s of wall time (the arm '
         'travels between sweeps). Movements the live goals ran: '
         + ', '.join(f'{movement} {count}' for movement, count in
                     sorted(chosen.items(), key=lambda kv: -kv[1])) + '.'
-        + _offline_ranking(kept) + _checkpoint_alone(kept) + '\n')
+        + _offline_ranking(kept, policy) + _checkpoint_alone(kept) + '\n')
 
 
 def _checkpoint_alone(kept: dict) -> str:
@@ -297,12 +299,12 @@ def _checkpoint_alone(kept: dict) -> str:
                 sorted(alone.items(), key=lambda kv: -kv[1])) + '.')
 
 
-def _offline_ranking(kept: dict) -> str:
-    """What the replay chose first and how right each movement was on held-out sweeps."""
+def _offline_ranking(kept: dict, policy: str) -> str:
+    """What the replay of `policy` chose first and how right each movement was alone."""
     first, right = kept.get('offline_first_three'), kept.get('offline_sweep_accuracy')
     if not first or not right:  # kept before the bench recorded them
         return ''
-    return (" Offline, active's first three movements were "
+    return (f" Offline, {policy}'s first three movements were "
             + ', '.join(f'{name} {count}' for name, count in
                         sorted(first.items(), key=lambda kv: -kv[1]))
             + f' (of {sum(first.values())}); a single held-out sweep was right for '

@@ -270,6 +270,37 @@ def test_a_discounted_repeat_moves_the_belief_less_and_active_turns_to_another_m
     assert identification.movements == [0, 1, 0, 1]
 
 
+def test_active_realized_turns_from_a_movement_whose_sweeps_move_nothing_where_active_repeats_it():
+    """Live, a model out of its depth answers flat vectors: active asks its movement again."""
+    rows = separating((0, 1, 2, 3), 4, sure=0.9)
+    table = EvidenceTable(names(4), [movement('sharp', 1.0, rows),
+                                     movement('weaker', 1.0, separating((0, 1, 2, 3), 4, 0.8))])
+    flat = np.full(4, 0.25)
+    chosen_by = {}
+    for policy in ('active', 'active-realized'):
+        identification = Identification(table, policy, Budget(threshold=1.0, movements=4))
+        while (chosen := identification.next_movement()) is not None:
+            identification.observe(chosen, flat if chosen == 0 else [0.8, 0.2 / 3, 0.2 / 3,
+                                                                     0.2 / 3])
+        chosen_by[policy] = identification.movements
+    assert chosen_by['active'] == [0, 0, 0, 0]
+    assert chosen_by['active-realized'][0] == 0 and 1 in chosen_by['active-realized'][1:3]
+
+
+def test_realized_trust_is_one_before_a_sweep_and_where_a_sweep_moves_the_belief_as_expected():
+    rows = separating((0, 1), 2, sure=0.8)
+    table = EvidenceTable(names(2), [movement('a', 1.0, rows), movement('b', 1.0, rows)])
+    identification = Identification(table, 'active-realized', Budget(threshold=1.0))
+    assert identification.realized_trust() == pytest.approx([1.0, 1.0])
+    identification.observe(0, [0.5, 0.5])  # moved nothing: trust w / 2w
+    assert identification.realized_trust() == pytest.approx([0.5, 1.0])
+    for _ in range(3):  # the held-out sweeps themselves, one per texture in turn
+        identification.observe(1, [0.8, 0.2])
+        identification.observe(1, [0.2, 0.8])
+    assert 0.5 < identification.realized_trust()[1] < 2.0
+    assert Identification(table, 'active').realized_trust() == pytest.approx([1.0, 1.0])
+
+
 def test_temperature_scaling_undoes_overconfidence_and_lowers_the_calibration_error():
     rng = np.random.default_rng(4)
     labels = np.repeat(np.arange(5), 200)

@@ -39,7 +39,7 @@ from tactex_classify.identification.selection import Budget, POLICIES
 from tactex_classify.training.deep_classifier import TrainingConfig
 from tactex_description.movements import load_movements
 
-SETTINGS = ReplaySettings(folds=2, inner_folds=2, seeds=3,
+SETTINGS = ReplaySettings(policies=POLICIES, folds=2, inner_folds=2, seeds=3,
                           training=TrainingConfig(model='extratrees'),
                           budget=Budget(threshold=0.99, movements=6))
 

@@ -34,7 +34,7 @@ def identification(scratch: Path, size: Size, log: Callable[[str], None], *,
     from tactex_classify.data.dataset import convert
     from tactex_classify.identification.offline import replay, ReplaySettings, summary
     from tactex_classify.identification.report import accuracy_curves
-    from tactex_classify.identification.selection import Budget, POLICIES
+    from tactex_classify.identification.selection import Budget, COMPARED
     from tactex_classify.training.deep_classifier import TrainingConfig
     from tactex_description.movements import load_movements
     from tactex_sim.collect import collect
@@ -51,7 +51,7 @@ def identification(scratch: Path, size: Size, log: Callable[[str], None], *,
     data = convert([bags], window=movements.window, hop=movements.window // 2,
                    progress=lambda line: None)
     # The default budget's threshold is the live node's and identify_node's (0.99).
-    settings = ReplaySettings(policies=POLICIES, budget=Budget(), folds=FOLDS,
+    settings = ReplaySettings(policies=COMPARED, budget=Budget(), folds=FOLDS,
                               inner_folds=FOLDS, seeds=size.identify_seeds,
                               training=TrainingConfig(model=MODEL, seed=seed), seed=seed)
     began = time.monotonic()

@@ -28,7 +28,7 @@ from tactex.options import (
     staged_folder,
 )
 from tactex.training_options import add_training_options, resolve_model, training_config
-from tactex_classify.identification.selection import POLICIES as POLICY_NAMES  # numpy only
+from tactex_classify.identification.selection import COMPARED, POLICIES  # numpy only
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -57,9 +57,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     identification.add_argument('--movements', type=Path, metavar='YAML',
                                 help='the movement file the recordings were made with '
                                      '(default config/movements.yaml)')
-    identification.add_argument('--policies', type=_policies, default=POLICY_NAMES,
+    identification.add_argument('--policies', type=_policies, default=COMPARED,
                                 metavar='P[,P...]', help='comma-separated, of '
-                                f'{", ".join(POLICY_NAMES)} (default all)')
+                                f'{", ".join(POLICIES)} (default {",".join(COMPARED)})')
     identification.add_argument('--threshold', type=number(at_most=1.0), default=0.99,
                                 help="stop when the leading texture's posterior exceeds this "
                                      "(default 0.99, the live node's)")
@@ -86,9 +86,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def _policies(text: str) -> tuple[str, ...]:
     names = tuple(name.strip() for name in text.split(','))
-    unknown = [name for name in names if name not in POLICY_NAMES]
+    unknown = [name for name in names if name not in POLICIES]
     if unknown or len(set(names)) != len(names):
-        raise argparse.ArgumentTypeError(f'must be distinct names of {", ".join(POLICY_NAMES)}'
+        raise argparse.ArgumentTypeError(f'must be distinct names of {", ".join(POLICIES)}'
                                          f' separated by commas, got {text!r}')
     return names
 

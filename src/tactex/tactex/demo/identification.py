@@ -98,8 +98,8 @@ def record_movement_sweeps(demo, client, alive, pathway, movements, textures: li
 
 
 def identify_each(demo, client, alive, textures: list[str], *, budget_movements: int,
-                  episodes: int = 1, pathway=None) -> list[dict]:
-    """`episodes` Identify goals (active, THRESHOLD) per texture; one row per goal.
+                  episodes: int = 1, pathway=None, policy: str = 'active') -> list[dict]:
+    """`episodes` Identify goals (`policy`, THRESHOLD) per texture; one row per goal.
 
     Without `pathway` the goals leave it empty: identify_node takes the broadcast one.
 
@@ -119,7 +119,7 @@ def identify_each(demo, client, alive, textures: list[str], *, budget_movements:
                 if truth in f.class_names:
                     belief.append((float(f.contact_seconds),
                                    float(f.probabilities[list(f.class_names).index(truth)])))
-            goal = Identify.Goal(policy='active', threshold=THRESHOLD,
+            goal = Identify.Goal(policy=policy, threshold=THRESHOLD,
                                  budget_movements=budget_movements, seed=episode)
             if pathway is not None:
                 goal.pathway = pathway

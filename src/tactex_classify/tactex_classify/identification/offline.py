@@ -45,7 +45,7 @@ from tactex_classify.identification.movement_evidence import (
     subset,
     trial_labels,
 )
-from tactex_classify.identification.selection import Budget, Identification, POLICIES
+from tactex_classify.identification.selection import Budget, COMPARED, Identification
 from tactex_classify.identification.tempering import DISCOUNTS, fit_tempering
 from tactex_classify.models.registry import BASELINES
 from tactex_classify.training.deep_classifier import TrainingConfig
@@ -60,7 +60,7 @@ MAX_PLANS = 20_000  # plans of one length best_plans scores at most
 class ReplaySettings:
     """What to replay: policies, stopping rules, folds, seeds and the per-movement model."""
 
-    policies: tuple[str, ...] = POLICIES
+    policies: tuple[str, ...] = COMPARED
     budget: Budget = Budget()
     folds: int = 3
     inner_folds: int = 3

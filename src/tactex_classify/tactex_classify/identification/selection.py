@@ -11,7 +11,14 @@ Policies (`POLICIES`):
   repeated;
 - `random`: a movement drawn uniformly from the generator seeded by `seed`;
 - `round-robin`: the movements in their file's order, again and again (one that cannot
-  run is passed over, and the turn goes on after the last one run).
+  run is passed over, and the turn goes on after the last one run);
+- `active-realized`: `active`, each movement's gain scaled by how much of what the table
+  expected its sweeps have delivered in this identification (`realized_trust`). A sweep's
+  realized gain is KL(belief after || belief before), whose mean under the table is the
+  expected gain itself, so while the table describes the sweeps the scale stays near one;
+  a movement whose sweeps barely move the belief (its model out of its depth on these
+  sweeps, live) is asked less, where `active` would repeat it for as long as the belief
+  stays where it was.
 
 Every policy picks only among movements that fit the remaining time budget (and, in an
 offline replay, that still have a held-out sweep: `available`), and ties go to the
@@ -31,7 +38,8 @@ from tactex_classify.identification.evidence_table import EvidenceTable
 from tactex_classify.identification.posterior import normalised, uniform, updated
 from tactex_common.numbers import is_finite_number
 
-POLICIES = ('active', 'random', 'fixed', 'round-robin')
+POLICIES = ('active', 'random', 'fixed', 'round-robin', 'active-realized')
+COMPARED = POLICIES[:4]  # the issue's comparison: what a report replays by default
 DECIDED, MOVEMENT_BUDGET, TIME_BUDGET = 'decided', 'movement budget', 'time budget'
 NONE_LEFT = 'no movement left'
 
@@ -114,6 +122,8 @@ class Identification:
         self._rng = np.random.default_rng(seed)
         self._gain_at_prior = table.information_gain(self.log_posterior) / table.seconds
         self._fixed = int(np.argmax(self._gain_at_prior))
+        self.expected_nats = np.zeros(len(table.names))  # per movement, over its sweeps
+        self.realized_nats = np.zeros(len(table.names))
 
     @property
     def posterior(self) -> np.ndarray:
@@ -168,15 +178,30 @@ class Identification:
             return None
         fits = self._candidates() & (True if available is None else np.asarray(available))
         candidates = np.flatnonzero(fits)
-        if self.policy == 'active':  # before the first sweep the belief is the prior
+        if self.policy in ('active', 'active-realized'):  # the first from the prior
             gain = self._gain_at_prior if not self.movements else self.table.information_gain(
                 self.log_posterior, self.repeats) / self.table.seconds
+            if self.policy == 'active-realized':
+                gain = gain * self.realized_trust()
             return int(candidates[np.argmax(gain[candidates])])
         if self.policy == 'random':
             return int(self._rng.choice(candidates))
         after_last = self.movements[-1] + 1 if self.movements else 0  # round-robin's turn
         order = np.roll(np.arange(len(fits)), -after_last)
         return int(next(index for index in order if fits[index]))
+
+    def realized_trust(self) -> np.ndarray:
+        """Per movement, (w + realized) / (w + expected) nats over its sweeps so far.
+
+        w, the movement's expected gain from the starting belief, is one sweep's worth of
+        trust in the table before any sweep of it: a movement not run yet scores one, one
+        sweep that moved nothing about a half, two about a third. Tracked for
+        `active-realized` only (ones for the other policies).
+        """
+        prior_nats = np.maximum(self._gain_at_prior * self.table.seconds, 0.0)
+        expected = prior_nats + self.expected_nats
+        return np.where(expected > 0.0, (prior_nats + self.realized_nats)
+                        / np.where(expected > 0.0, expected, 1.0), 1.0)
 
     def observe(self, movement: int, probabilities) -> np.ndarray:
         """Take one sweep of `movement` whose model answered `probabilities`; the new belief.
@@ -188,8 +213,20 @@ class Identification:
         if not (isinstance(movement, (int, np.integer)) and 0 <= movement < len(self.table.names)):
             raise ValueError(f'movement must be an index below {len(self.table.names)}, got '
                              f'{movement!r}')
-        self.log_posterior = updated(self.log_posterior, self.table.log_likelihood(
-            int(movement), probabilities, repeats=int(self.repeats[movement])))
+        before = self.log_posterior
+        repeats = self.repeats
+        self.log_posterior = updated(before, self.table.log_likelihood(
+            int(movement), probabilities, repeats=int(repeats[movement])))
+        if self.policy == 'active-realized':
+            self.expected_nats[movement] += max(
+                float(self.table.information_gain(before, repeats)[movement]), 0.0)
+            self.realized_nats[movement] += divergence(self.log_posterior, before)
         self.movements.append(int(movement))
         self.contact_seconds += float(self.table.seconds[movement])
         return self.posterior
+
+
+def divergence(log_after: np.ndarray, log_before: np.ndarray) -> float:
+    """KL(after || before) in nats between two normalised log beliefs (>= 0, finite)."""
+    after = np.exp(log_after)
+    return max(float(np.sum(np.where(after > 0.0, after * (log_after - log_before), 0.0))), 0.0)
