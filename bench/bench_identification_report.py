@@ -5,7 +5,8 @@
 Runs `tactex sim collect --movements config/movements.yaml` (12 textures x 8 movements x
 `--sweeps` sweeps, on a scene seed no test uses), `tactex convert` at the movement
 file's window, then `tactex report identification` (grouped folds, nested evidence,
-every policy on the same held-out sweeps), and keeps the report in
+every policy on the same held-out sweeps, active-realized beside the comparison's four),
+and keeps the report in
 bench/results/identification/ with run.json (the commands, their seconds, the dataset).
 The same report is then run again with `--repeat-discount` (a fitted discount of a
 movement's repeats) on the same folds and sweeps, and its identification.json kept in
@@ -21,6 +22,8 @@ import sys
 import tempfile
 
 from bench_textures import TACTEX, timed  # one way to run and time a tactex step
+
+from tactex_classify.identification.selection import POLICIES
 
 RESULTS = Path(__file__).parent / 'results' / 'identification'
 MOVEMENTS = Path(__file__).parents[1] / 'config' / 'movements.yaml'
@@ -54,7 +57,7 @@ def main() -> int:
                    str(MOVEMENTS), '--folds', str(args.folds), '--inner-folds',
                    str(args.inner_folds), '--seeds', str(args.seeds),
                    '--model', args.model]
-        timed([*command, '--out', str(report)], steps)
+        timed([*command, '--policies', ','.join(POLICIES), '--out', str(report)], steps)
         timed([*command, '--repeat-discount', '--out', str(discounted)], steps)
         shutil.rmtree(RESULTS, ignore_errors=True)
         shutil.copytree(report, RESULTS)

@@ -201,8 +201,9 @@ def plot(path: Path) -> None:
         axes.axhline(0.99, color='k', linestyle='--', linewidth=0.8)
         right = sum(episode['answer'] == episode['truth'] for episode in kept['episodes'])
         tuned = ' fine-tuned' if kept.get('pretrained') else ''
+        policy = '' if kept.get('policy', 'active') == 'active' else f', {kept["policy"]}'
         axes.set_title(f'{kept["model"]}{tuned}, trained on {kept.get("training", "collect")}'
-                       f'\n{right} of {len(kept["episodes"])} decided right ({name})',
+                       f'{policy}\n{right} of {len(kept["episodes"])} decided right ({name})',
                        fontsize=8)
         axes.set_xlabel('contact seconds')
     panels[0][0].set_ylabel("true texture's belief")

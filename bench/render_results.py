@@ -29,6 +29,8 @@ from results_identification import (  # noqa: E402
     identify_live_sweeps,
     identify_live_sweeps_init,
     identify_live_sweeps_init_sweeps,
+    identify_live_sweeps_init_sweeps_realized,
+    texture_signal,
 )
 from results_learning import (  # noqa: E402
     architectures,
@@ -89,6 +91,8 @@ SECTIONS: dict[str, Callable[[], str]] = {
     'identify_live': identify_live, 'identify_live_sweeps': identify_live_sweeps,
     'identify_live_sweeps_init': identify_live_sweeps_init,
     'identify_live_sweeps_init_sweeps': identify_live_sweeps_init_sweeps,
+    'identify_live_sweeps_init_sweeps_realized': identify_live_sweeps_init_sweeps_realized,
+    'texture_signal': texture_signal,
     'identification_init': identification_init}
 
 

@@ -176,6 +176,10 @@ def identify_live_sweeps_init_sweeps() -> str:
     return _live_section('identify_live_sweeps_init_sweeps.json')
 
 
+def identify_live_sweeps_init_sweeps_realized() -> str:
+    return _live_section('identify_live_sweeps_init_sweeps_realized.json')
+
+
 def _bench_options(kept: dict, goals_per_texture: float, name: str) -> str:
     """The bench's options that reproduce a kept live run (the checkpoint as PRETRAINED).
 
@@ -375,3 +379,54 @@ def identification_init() -> str:
         + f"\n\n{len(unconverged)} of the fine-tuned setting's {trainings} trainings did not "
         'converge' + (f' ({", ".join(reasons)})' if reasons else '') + '.'
         + _against_goals(tuned) + '\n')
+
+
+def texture_signal() -> str:
+    """How far each texture's own vibration rises above the IMU noise, by path and movement."""
+    kept = kept_json('texture_signal.json')
+    noise = kept['noise_rms']
+    paths = list(kept['paths'])
+    textures = list(next(row for row in kept['paths'][paths[0]].values()
+                         if 'textures' in row)['textures'])
+
+    def best(path: str, texture: str, channel: str) -> tuple[float, str]:
+        rows = {name: row for name, row in kept['paths'][path].items() if 'textures' in row}
+        name = max(rows, key=lambda m: rows[m]['textures'][texture][f'{channel}_rms'])
+        return rows[name]['textures'][texture][f'{channel}_rms'] / noise[channel], name
+
+    lines = ['| texture | ' + ' | '.join(f'{path}: accel | {path}: gyro' for path in paths)
+             + ' |', '|---|' + '---|---|' * len(paths)]
+    for texture in textures:
+        cells = []
+        for path in paths:
+            for channel in ('accel', 'gyro'):
+                ratio, name = best(path, texture, channel)
+                cells.append(f'{ratio:.2g} ({name})')
+        lines.append(f'| {texture} | ' + ' | '.join(cells) + ' |')
+    above = [t for t in textures
+             if max(best(paths[0], t, c)[0] for c in ('accel', 'gyro')) > 2.0]
+    forces = {path: [row['force_n'] for row in kept['paths'][path].values() if 'force_n' in row]
+              for path in paths}
+    pressures = {path: [row['pressure_pa'] for row in kept['paths'][path].values()
+                        if 'pressure_pa' in row] for path in paths}
+    refused = {path: [name for name, row in kept['paths'][path].items() if 'refused' in row]
+               for path in paths}
+    live = kept_json('identify_live_sweeps_init_sweeps_realized.json')
+    decided = sorted({e['truth'] for e in live['episodes'] if e['answer'] == e['truth']})
+    return (
+        f'Measured (`python bench/bench_texture_signal.py`, {kept["seconds"]:.0f} s): one sweep '
+        f'of every texture under every movement of the {kept["scene"]} scene in MuJoCo with '
+        "the IMU noise off, along the sweep action's path (planned from a probe-like pathway, "
+        "played through the driver's controller) and sim collect's scripted one; a "
+        "texture's own signal is the reading over it minus the reading over no texture, "
+        "over the contact segment. Its rms (norm over the three axes) against the scene's "
+        f'IMU noise ({noise["accel"]:.3f} m/s^2 and {noise["gyro"]:.4f} rad/s over three '
+        'axes), the largest over the movements, and at which:\n\n' + '\n'.join(lines)
+        + '\n\n' + ' '.join(
+            f'{path}: mean contact force {min(forces[path]):.3f}-{max(forces[path]):.3f} N, '
+            f'barometer {min(pressures[path]):.0f}-{max(pressures[path]):.0f} Pa'
+            + (f' ({", ".join(refused[path])} refused: the arm cannot follow it)'
+               if refused[path] else '') + '.' for path in paths)
+        + f' Through the sweep action, above twice the noise at some movement: '
+        f'{", ".join(above)}. The live goals of the run above decided, always right, on: '
+        f'{", ".join(decided)}.\n')

@@ -15,6 +15,7 @@ probing.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 import math
 
@@ -94,6 +95,18 @@ def execute(world: World, plan: SweepPlan, *, start_joints=None, tail_s: float =
             the plan's first point.
         tail_s: simulated time after the trajectory's end.
     """
+    goal, on_sample = driven(world, plan, start_joints=start_joints)
+    return record(world, goal, plan.trajectory.duration_s + tail_s, on_sample=on_sample)
+
+
+def driven(world: World, plan: SweepPlan, *, start_joints=None
+           ) -> tuple[Callable[[float], np.ndarray], Callable[[], None]]:
+    """Place the arm and hand `plan` to the driver's controller, as the bridge does.
+
+    Returns (goal, on_sample): the joint targets at a simulated time, and what to call
+    after every sensor sample (the controller reads the measured joints). `start_joints`
+    as for `execute`.
+    """
     first = plan.trajectory.positions[0]
     start = np.concatenate([first, [0.0]]) if start_joints is None else np.asarray(
         start_joints, dtype=float)
@@ -110,8 +123,7 @@ def execute(world: World, plan: SweepPlan, *, start_joints=None, tail_s: float =
         target = controller.goal(time_s)
         return world.joint_positions() if target is None else target
 
-    return record(world, goal, trajectory.duration_s + tail_s,
-                  on_sample=lambda: controller.update_measured(world.joint_positions()))
+    return goal, lambda: controller.update_measured(world.joint_positions())
 
 
 def record(world: World, controller, duration_s: float, *, on_sample=None) -> SweepRecord:
