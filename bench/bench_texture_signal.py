@@ -16,7 +16,10 @@ texture: the difference of the accelerometer and gyro readings over the contact 
 is the texture's own signal (the texture effect changes no physics, and the sensor
 chips' filtering and quantisation are deterministic). Its rms (the norm over the three
 axes) is given against the rms of the scene's IMU noise over three axes, and beside it
-the mean contact force and barometer reading of the sweep (ground truth).
+the mean contact force and barometer reading of the sweep (ground truth) and the
+high-frequency content of the sweep over no texture (the rms of sample-to-sample
+differences over the square root of two: what white noise of that rms would give), the
+motion each path carries whatever the texture.
 
 Keeps bench/results/texture_signal.json and texture_signal.png (the ratio per texture and
 movement, one panel per path and channel).
@@ -125,6 +128,8 @@ def measured(sweep, movement: Movement) -> dict:
                           'gyro_rms': rms_norm(felt['gyro'] - bare['gyro'])}
     return {'force_n': float(np.mean(bare['force_n'])),
             'pressure_pa': float(np.mean(bare['pressure_pa'])),
+            'bare_accel_hf_rms': rms_norm(np.diff(bare['accel'], axis=0) / math.sqrt(2.0)),
+            'bare_gyro_hf_rms': rms_norm(np.diff(bare['gyro'], axis=0) / math.sqrt(2.0)),
             'samples': int(len(bare['force_n'])), 'textures': textures}
 
 

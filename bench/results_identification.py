@@ -146,7 +146,7 @@ def _without_discount(report: dict, steps: list[int]) -> str:
     discounted = kept_json('identification/with_repeat_discount/identification.json')
     rows = ['| policy | repeat discount | accuracy | ' + ' | '.join(f'after {k}' for k in steps)
             + ' |', '|---|---|---|' + '---|' * len(steps)]
-    for policy in report['policies']:
+    for policy in [p for p in report['policies'] if p in discounted['policies']]:
         for name, table in (('none', report), ('fitted', discounted)):
             row = table['policies'][policy]
             rows.append(f'| {policy} | {name} | {100 * row["accuracy"]:.1f} % | ' + ' | '.join(
@@ -411,6 +411,8 @@ def texture_signal() -> str:
                         if 'pressure_pa' in row] for path in paths}
     refused = {path: [name for name, row in kept['paths'][path].items() if 'refused' in row]
                for path in paths}
+    motion = {path: [row['bare_gyro_hf_rms'] for row in kept['paths'][path].values()
+                     if 'bare_gyro_hf_rms' in row] for path in paths}
     live = kept_json('identify_live_sweeps_init_sweeps_realized.json')
     decided = sorted({e['truth'] for e in live['episodes'] if e['answer'] == e['truth']})
     return (
@@ -424,7 +426,9 @@ def texture_signal() -> str:
         'axes), the largest over the movements, and at which:\n\n' + '\n'.join(lines)
         + '\n\n' + ' '.join(
             f'{path}: mean contact force {min(forces[path]):.3f}-{max(forces[path]):.3f} N, '
-            f'barometer {min(pressures[path]):.0f}-{max(pressures[path]):.0f} Pa'
+            f'barometer {min(pressures[path]):.0f}-{max(pressures[path]):.0f} Pa, '
+            f'over no texture a high-frequency gyro of {min(motion[path]):.4f}-'
+            f'{max(motion[path]):.4f} rad/s'
             + (f' ({", ".join(refused[path])} refused: the arm cannot follow it)'
                if refused[path] else '') + '.' for path in paths)
         + f' Through the sweep action, above twice the noise at some movement: '

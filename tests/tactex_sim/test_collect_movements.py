@@ -9,6 +9,7 @@ recording's movement; a movement the arm cannot sweep is refused before any bag,
 command naming the movement file.
 """
 
+from dataclasses import replace
 import json
 from pathlib import Path
 import tomllib
@@ -18,10 +19,13 @@ import pytest
 
 from tactex.cli import main
 from tactex_classify.data.bags import read_recording
+from tactex_description.kinematics import forward_kinematics
+from tactex_description.mjcf import EDGE_TIP_RADIUS_M
 from tactex_description.movements import load_movements
 from tactex_sim.collect import collect, movement_scene
 from tactex_sim.errors import SceneError
 from tactex_sim.scene import parse_scene
+from tactex_sim.sweep import plan_sweep, SweepParameters
 
 ROOT = Path(__file__).resolve().parents[2]
 SCENE = parse_scene(tomllib.loads((ROOT / 'config' / 'scenes' / 'uneven_texture.toml')
@@ -73,6 +77,29 @@ def test_a_backward_movement_slides_towards_the_start_over_its_contact_length(tm
         # it pushes its tilted edge ahead (backward) than when it drags it.
         assert 0.6 * movement.contact_length_m < travel < 1.1 * movement.contact_length_m, \
             movement.name
+
+
+def rim_depths(scene):
+    """How deep the edge's rim is planned into the surface while the scripted sweep slides."""
+    plan = plan_sweep(scene, SweepParameters.nominal(scene))
+    sliding = (plan.times_s > plan.slide_start_s) & (plan.times_s < plan.slide_end_s)
+    edges = np.array([forward_kinematics(joints[:4])[:3, 3] for joints in plan.joints[sliding]])
+    x, z = edges[:, 0], edges[:, 2]
+    above = (z - scene.surface.height(x)) / np.sqrt(1.0 + scene.surface.slope(x) ** 2)
+    return EDGE_TIP_RADIUS_M - above
+
+
+def test_a_movement_presses_its_rim_as_deep_as_the_sweep_action_would(tmp_path):
+    """A movement file's press depth is the rim's, in sim collect as in a Sweep goal."""
+    movement, = movement_file(tmp_path, '{name: m, speed: 0.015, press_depth: 0.0015, '
+                              'edge_tilt: 0.5, direction: forward, '
+                              'contact_length: 0.03}').movements
+    swept = movement_scene(SCENE, movement)
+    assert swept.sweep.press == 'rim' and SCENE.sweep.press == 'centre'
+    assert np.mean(rim_depths(swept)) == pytest.approx(0.0015, abs=1e-4)
+    # The scene's own sweep presses the edge's centre its depth in: the rim r deeper.
+    centred = replace(swept, sweep=replace(swept.sweep, press='centre'))
+    assert np.mean(rim_depths(centred)) == pytest.approx(0.0015 + EDGE_TIP_RADIUS_M, abs=1e-4)
 
 
 def test_a_bag_does_not_depend_on_the_order_of_the_movement_file(tmp_path):

@@ -41,6 +41,8 @@ def test_unknown_section_key_lists_the_known_ones():
     ({'effects': ['contact', 'contact']}, 'repeat'),
     ({'effect': {'texture': {}}}, 'does not list'),
     ({'patches': [{'texture': 'wood', 'x_m': [0.2, 0.1], 'y_m': [0, 1]}]}, 'empty rectangle'),
+    ({'sweep': {'press': 'tip'}}, r'\[sweep\] press must be "centre" or "rim"'),
+    ({'sweep': {'press': 3}}, r'\[sweep\] press must be text'),
 ])
 def test_bad_values_fail_with_the_key(change, match):
     with pytest.raises(SceneError, match=match):

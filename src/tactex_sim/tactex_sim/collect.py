@@ -78,7 +78,7 @@ def movement_scene(scene: Scene, movement: Movement) -> Scene:
     """The scene with its nominal sweep replaced by `movement`, its variability kept.
 
     The movement slides along the scene's swept path from its start (forward) or back to
-    it (backward).
+    it (backward), its press depth the rim's indentation as the Sweep action presses it.
 
     Raises:
         SceneError: the movement slides further than the scene's swept path.
@@ -92,6 +92,7 @@ def movement_scene(scene: Scene, movement: Movement) -> Scene:
     backward = movement.direction == 'backward'
     sweep = replace(scene.sweep, speed_m_s=movement.speed_m_s, contact_s=movement.contact_s,
                     edge_offset_rad=movement.edge_tilt_rad, direction=-1 if backward else 1,
+                    press='rim',
                     start_x_m=scene.sweep.start_x_m
                     + (movement.contact_length_m if backward else 0.0))
     spread = replace(scene.variability, press_depth_m=(movement.press_depth_m,

@@ -92,13 +92,23 @@ class Patch:
 
 @dataclass(frozen=True)
 class Sweep:
-    """The scripted sweep: sliding speed, contact duration, edge offset, start, direction."""
+    """The scripted sweep: sliding speed, contact duration, edge offset, start, direction.
+
+    `press` says what [variability] press_depth_m indents into the surface: 'centre', the
+    edge's centre (the scenes' own sweeps, as laid out), or 'rim', its rim, as a Sweep
+    goal and a movement file mean it (`tactex sim collect --movements` sweeps so, to
+    press as the arm does under the same movement).
+    """
 
     speed_m_s: float = SLIDING_SPEED_M_S
     contact_s: float = 7.6
     edge_offset_rad: float = 0.35
     start_x_m: float = 0.13
     direction: int = 1  # +1 slides towards +x from start_x_m, -1 towards -x
+    press: str = 'centre'
+
+
+PRESS_REFERENCES = ('centre', 'rim')
 
 
 @dataclass(frozen=True)
@@ -225,6 +235,9 @@ def parse_scene(raw: dict[str, Any], source: str = '<scene>') -> Scene:
             raise SceneError(f'{source}: [effect.{name}] configures an effect the scene does '
                              f'not list in effects {effects!r}')
     sweep = _section(Sweep, raw.get('sweep', {}), source, 'sweep')
+    if sweep.press not in PRESS_REFERENCES:
+        raise SceneError(f'{source}: [sweep] press must be "centre" or "rim" (what '
+                         f'press_depth_m indents), got {sweep.press!r}')
     if not sweep.contact_s <= MAX_CONTACT_S:
         raise SceneError(f'{source}: [sweep] contact_s must be <= {MAX_CONTACT_S:g} s, got '
                          f'{sweep.contact_s!r}')

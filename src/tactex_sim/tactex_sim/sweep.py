@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from tactex_description.kinematics import inverse_kinematics
+from tactex_description.mjcf import EDGE_TIP_RADIUS_M
 from tactex_sim.errors import SimError
 from tactex_sim.scene import Scene
 
@@ -107,6 +108,9 @@ def plan_sweep(scene: Scene, parameters: SweepParameters, duration_s: float | No
     times = np.arange(0.0, total + PLAN_STEP_S, PLAN_STEP_S)
     joints = np.zeros((times.size, 5))
     seed = np.array([0.0, 0.3, 0.0, 1.0])
+    # The script places the edge's centre; a rim pressed d in puts it d - r in.
+    centre_depth = parameters.press_depth_m - (
+        EDGE_TIP_RADIUS_M if scene.sweep.press == 'rim' else 0.0)
     for i, t in enumerate(times):
         travel = parameters.speed_m_s * min(max(t - slide_start, 0.0), contact_s)
         x = parameters.start_x_m + parameters.direction * travel
@@ -121,8 +125,7 @@ def plan_sweep(scene: Scene, parameters: SweepParameters, duration_s: float | No
             lift = 0.0
         else:
             lift = APPROACH_HEIGHT_M * _smooth((t - slide_end) / LIFT_S)
-        depth = parameters.press_depth_m * (1.0 if lift == 0.0 else
-                                            max(0.0, 1.0 - lift / 0.003))
+        depth = centre_depth * (1.0 if lift == 0.0 else max(0.0, 1.0 - lift / 0.003))
         point = np.array([x, height]) + (lift - depth) * normal
         pitch = math.pi / 2 - math.atan(slope) - parameters.edge_offset_rad
         result = inverse_kinematics([point[0], 0.0, point[1]], pitch, seed=seed)
