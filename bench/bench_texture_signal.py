@@ -19,7 +19,8 @@ axes) is given against the rms of the scene's IMU noise over three axes, and bes
 the mean contact force and barometer reading of the sweep (ground truth) and the
 high-frequency content of the sweep over no texture (the rms of sample-to-sample
 differences over the square root of two: what white noise of that rms would give), the
-motion each path carries whatever the texture.
+motion each path carries whatever the texture, over the whole contact segment and
+without its first START_S (where a sweep that starts sliding at full speed jolts).
 
 Keeps bench/results/texture_signal.json and texture_signal.png (the ratio per texture and
 movement, one panel per path and channel).
@@ -56,6 +57,7 @@ START_JOINTS = np.array([0.0, -0.3, 0.3, 1.2, 0.0])  # where the bridge starts t
 PROBE_STEP_M, PROBE_POSITION_SD_M, PROBE_NORMAL_SD_RAD = 0.01, 0.00025, math.radians(1.5)
 PATHS = ('sweep action', 'sim collect')
 SEED = 0
+START_S = 0.25  # the first part of the contact segment, left out of the motion 'after start'
 
 
 def through_sweep_action(movement: Movement, texture: str | None) -> dict:
@@ -104,13 +106,14 @@ def _world(scene, texture: str | None) -> World:
 
 
 def _row(sample) -> tuple:
-    return (*sample.accel, *sample.gyro, sample.truth.contact.force, sample.pressure)
+    return (*sample.accel, *sample.gyro, sample.truth.contact.force, sample.pressure,
+            sample.time_s)
 
 
 def _readings(rows: list[tuple]) -> dict:
     table = np.array(rows, dtype=float)
     return {'accel': table[:, 0:3], 'gyro': table[:, 3:6], 'force_n': table[:, 6],
-            'pressure_pa': table[:, 7]}
+            'pressure_pa': table[:, 7], 'time_s': table[:, 8] - table[0, 8]}
 
 
 def rms_norm(values: np.ndarray) -> float:
@@ -130,6 +133,8 @@ def measured(sweep, movement: Movement) -> dict:
             'pressure_pa': float(np.mean(bare['pressure_pa'])),
             'bare_accel_hf_rms': rms_norm(np.diff(bare['accel'], axis=0) / math.sqrt(2.0)),
             'bare_gyro_hf_rms': rms_norm(np.diff(bare['gyro'], axis=0) / math.sqrt(2.0)),
+            'bare_gyro_hf_rms_after_start': rms_norm(np.diff(
+                bare['gyro'][bare['time_s'] >= START_S], axis=0) / math.sqrt(2.0)),
             'samples': int(len(bare['force_n'])), 'textures': textures}
 
 

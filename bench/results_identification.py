@@ -413,6 +413,8 @@ def texture_signal() -> str:
                for path in paths}
     motion = {path: [row['bare_gyro_hf_rms'] for row in kept['paths'][path].values()
                      if 'bare_gyro_hf_rms' in row] for path in paths}
+    settled = {path: [row['bare_gyro_hf_rms_after_start'] for row in kept['paths'][path].values()
+                      if 'bare_gyro_hf_rms_after_start' in row] for path in paths}
     live = kept_json('identify_live_sweeps_init_sweeps_realized.json')
     decided = sorted({e['truth'] for e in live['episodes'] if e['answer'] == e['truth']})
     return (
@@ -428,8 +430,9 @@ def texture_signal() -> str:
             f'{path}: mean contact force {min(forces[path]):.3f}-{max(forces[path]):.3f} N, '
             f'barometer {min(pressures[path]):.0f}-{max(pressures[path]):.0f} Pa, '
             f'over no texture a high-frequency gyro of {min(motion[path]):.4f}-'
-            f'{max(motion[path]):.4f} rad/s'
-            + (f' ({", ".join(refused[path])} refused: the arm cannot follow it)'
+            f'{max(motion[path]):.4f} rad/s, {min(settled[path]):.4f}-{max(settled[path]):.4f} '
+            'after the first 0.25 s of contact'
+            + (f'; {", ".join(refused[path])} refused (the arm cannot follow it)'
                if refused[path] else '') + '.' for path in paths)
         + f' Through the sweep action, above twice the noise at some movement: '
         f'{", ".join(above)}. The live goals of the run above decided, always right, on: '
