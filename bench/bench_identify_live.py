@@ -25,7 +25,8 @@ redraws it alone): every live episode
 (truth, answer, movements, contact and wall seconds), the live summary beside the offline
 report's active row, and the commands with their seconds. `--work DIR` keeps (and
 reuses) the bags, dataset, bundle, offline report, live episodes (live/episodes.json) and
-the commands that made them with their seconds (steps.json).
+the commands that made them with their seconds (steps.json); another `--policy` has its
+own offline report and live goals (offline_POLICY/, live_POLICY/).
 """
 
 import argparse
@@ -97,7 +98,7 @@ def prepared(work: Path, args, steps: list[dict]) -> tuple[Path, Path, Path, Pat
         timed([TACTEX, 'train', str(data), '--movements', str(movements), '--model',
                args.model, *folds, *training_options(args), *repeats(args), '--out',
                str(work / 'run')], steps)
-    offline = work / 'offline'
+    offline = work / policy_folder('offline', args.policy)
     if not (offline / 'identification.json').is_file():
         # Nested folds need two training sweeps per cell inside each outer fold: with
         # three sweeps per cell (through the sweep action), three outer folds.
@@ -108,6 +109,11 @@ def prepared(work: Path, args, steps: list[dict]) -> tuple[Path, Path, Path, Pat
                '--seeds', str(args.offline_seeds), '--model', args.model,
                *training_options(args), *repeats(args)], steps)
     return data, bundle, offline, movements
+
+
+def policy_folder(name: str, policy: str) -> str:
+    """A work folder's offline report or live goals of `policy` (active's keep their names)."""
+    return name if policy == 'active' else f'{name}_{policy}'
 
 
 def default_kept_file(training: str, fine_tuned: bool) -> str:
@@ -161,7 +167,7 @@ def live_episodes(work: Path, bundle: Path, movements: Path, args) -> tuple[list
     from tactex.demo.identification import identify_each
     from tactex.demo.pipeline import DEFAULT, Demo, demo_environment
     from tactex_sim.textures import TEXTURES
-    folder = work / 'live'
+    folder = work / policy_folder('live', args.policy)
     folder.mkdir(parents=True, exist_ok=True)
     with demo_environment(folder):
         demo = Demo(folder, folder, replace(DEFAULT, probe_span_m=args.span), time.monotonic())
@@ -261,7 +267,7 @@ def main() -> int:
     finally:
         args.work.mkdir(parents=True, exist_ok=True)
         made.write_text(json.dumps(steps, indent=1) + '\n', encoding='utf-8')
-    live = args.work / 'live' / 'episodes.json'
+    live = args.work / policy_folder('live', args.policy) / 'episodes.json'
     if not live.is_file():
         began = time.monotonic()
         episodes, probe = live_episodes(args.work, bundle, movements, args)

@@ -10,7 +10,8 @@ sweep of the uneven texture scene in MuJoCo along two paths:
   and played through the driver's own controller, the way identify_node's Sweep goals
   move the arm (the press depth is the rim's indentation);
 - `sim collect`: the simulator's scripted sweep of `tactex sim collect --movements`, at
-  the movement's nominal speed, press and tilt (the script presses the edge's centre).
+  the movement's nominal speed, press and tilt (the movement's scene presses the rim,
+  `press = "rim"`, as the sweep action does).
 Each sweep runs twice with the IMU noise off, once over the texture and once over no
 texture: the difference of the accelerometer and gyro readings over the contact segment
 is the texture's own signal (the texture effect changes no physics, and the sensor

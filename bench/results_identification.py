@@ -386,7 +386,8 @@ def texture_signal() -> str:
     kept = kept_json('texture_signal.json')
     noise = kept['noise_rms']
     paths = list(kept['paths'])
-    textures = list(next(row for row in kept['paths'][paths[0]].values()
+    action = 'sweep action'
+    textures = list(next(row for row in kept['paths'][action].values()
                          if 'textures' in row)['textures'])
 
     def best(path: str, texture: str, channel: str) -> tuple[float, str]:
@@ -404,7 +405,7 @@ def texture_signal() -> str:
                 cells.append(f'{ratio:.2g} ({name})')
         lines.append(f'| {texture} | ' + ' | '.join(cells) + ' |')
     above = [t for t in textures
-             if max(best(paths[0], t, c)[0] for c in ('accel', 'gyro')) > 2.0]
+             if max(best(action, t, c)[0] for c in ('accel', 'gyro')) > 2.0]
     forces = {path: [row['force_n'] for row in kept['paths'][path].values() if 'force_n' in row]
               for path in paths}
     pressures = {path: [row['pressure_pa'] for row in kept['paths'][path].values()

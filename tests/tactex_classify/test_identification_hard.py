@@ -71,6 +71,10 @@ def test_any_answers_keep_the_belief_finite_and_normalised(table, policy, seed, 
         assert_normalised(identification)
         assert np.all(np.isfinite(table.information_gain(identification.log_posterior,
                                                          identification.repeats)))
+        assert all(0.0 <= table.expected_divergence(identification.log_posterior, index,
+                                                     int(identification.repeats[index]))
+                   < np.inf for index in range(len(table.names)))
+        assert np.all(np.isfinite(identification.realized_trust()))
 
 
 def gain_sweep_by_sweep(table, log_posterior):

@@ -115,7 +115,7 @@ def record_sweep(scene: Scene, texture_name: str, trial: int, out: Path,
                   drift_pa_per_s=parameters.drift_pa_per_s)
     metadata = {'label': texture_name, 'trial': trial, 'surface': scene.surface.kind,
                 'scene': scene.name, 'source': 'tactex_sim', 'sensor_rate_hz':
-                scene.sensor_rate_hz, 'sweep': asdict(parameters),
+                scene.sensor_rate_hz, 'sweep': {**asdict(parameters), 'press': scene.sweep.press},
                 **({'movement': movement} if movement else {})}
     path = out / f'{slug(texture_name)}{"_" + movement if movement else ""}_{trial:04d}'
     over_texture = 0

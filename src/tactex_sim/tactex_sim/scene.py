@@ -107,6 +107,16 @@ class Sweep:
     direction: int = 1  # +1 slides towards +x from start_x_m, -1 towards -x
     press: str = 'centre'
 
+    def __post_init__(self) -> None:
+        """Refuse a press that is neither 'centre' nor 'rim' (as a scene file's is).
+
+        Raises:
+            ValueError: naming the value.
+        """
+        if self.press not in PRESS_REFERENCES:
+            raise ValueError(f'press must be "centre" or "rim" (what press_depth_m indents), '
+                             f'got {self.press!r}')
+
 
 PRESS_REFERENCES = ('centre', 'rim')
 
@@ -235,9 +245,6 @@ def parse_scene(raw: dict[str, Any], source: str = '<scene>') -> Scene:
             raise SceneError(f'{source}: [effect.{name}] configures an effect the scene does '
                              f'not list in effects {effects!r}')
     sweep = _section(Sweep, raw.get('sweep', {}), source, 'sweep')
-    if sweep.press not in PRESS_REFERENCES:
-        raise SceneError(f'{source}: [sweep] press must be "centre" or "rim" (what '
-                         f'press_depth_m indents), got {sweep.press!r}')
     if not sweep.contact_s <= MAX_CONTACT_S:
         raise SceneError(f'{source}: [sweep] contact_s must be <= {MAX_CONTACT_S:g} s, got '
                          f'{sweep.contact_s!r}')
@@ -267,8 +274,8 @@ def _section(cls, table: dict, source: str, section: str):
             values[item.name] = _coerce(table[item.name], default, source, section, item.name)
     try:
         return cls(**values)
-    except TypeError as err:
-        raise SceneError(f'{source}: [{section}]: {err}') from None
+    except (TypeError, ValueError) as err:
+        raise SceneError(f'{source}: [{section}] {err}') from None
 
 
 def _coerce(value, default, source: str, section: str, key: str):

@@ -42,6 +42,13 @@ def entropy(log_posterior: np.ndarray) -> np.ndarray:
     return -np.sum(np.where(probability > 0.0, probability * log_posterior, 0.0), axis=-1)
 
 
+def divergence(log_after: np.ndarray, log_before: np.ndarray) -> np.ndarray:
+    """KL(after || before) in nats between normalised log beliefs, along the last axis (>= 0)."""
+    after = np.exp(log_after)
+    return np.maximum(np.sum(np.where(after > 0.0, after * (log_after - log_before), 0.0),
+                             axis=-1), 0.0)
+
+
 def checked_probabilities(probabilities, classes: int) -> np.ndarray:
     """One model answer as a float vector of `classes` finite values >= 0.
 

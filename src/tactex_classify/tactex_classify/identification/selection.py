@@ -13,19 +13,12 @@ Policies (`POLICIES`):
 - `round-robin`: the movements in their file's order, again and again (one that cannot
   run is passed over, and the turn goes on after the last one run);
 - `active-realized`: `active`, each movement's gain scaled by how much of what the table
-  expected its sweeps have delivered in this identification (`realized_trust`). A sweep's
-  realized gain is KL(belief after || belief before), whose mean under the table is the
-  expected gain itself, so while the table describes the sweeps the scale stays near one;
-  a movement whose sweeps barely move the belief (its model out of its depth on these
-  sweeps, live) is asked less, where `active` would repeat it for as long as the belief
-  stays where it was.
-
-Every policy picks only among movements that fit the remaining time budget (and, in an
-offline replay, that still have a held-out sweep: `available`), and ties go to the
-movement listed first, so a run is the same for the same seed. The loop stops when the
-leading texture's posterior exceeds the threshold (the live node's rule), when the
-movement budget is spent, when no movement fits the time left, or when none is available;
-it decides only after at least one movement (the starting belief is no evidence).
+  expected its sweeps have delivered in this identification (`realized_trust`): a sweep's
+  realized KL(belief after || belief before) against the KL the table expects of that
+  movement's sweep under the belief it met (`EvidenceTable.expected_divergence`), so
+  while the table describes the sweeps the scale stays near one; a movement whose sweeps
+  barely move the belief (its model out of its depth on these sweeps, live) is asked
+  less, where `active` would repeat it for as long as the belief stays where it was.
 """
 
 from __future__ import annotations
@@ -35,13 +28,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from tactex_classify.identification.evidence_table import EvidenceTable
-from tactex_classify.identification.posterior import normalised, uniform, updated
+from tactex_classify.identification.posterior import divergence, normalised, uniform, updated
 from tactex_common.numbers import is_finite_number
 
 POLICIES = ('active', 'random', 'fixed', 'round-robin', 'active-realized')
 COMPARED = POLICIES[:4]  # the issue's comparison: what a report replays by default
 DECIDED, MOVEMENT_BUDGET, TIME_BUDGET = 'decided', 'movement budget', 'time budget'
 NONE_LEFT = 'no movement left'
+MIN_EXPECTED_NATS = 1e-12  # below it a movement's trust stays one (no ratio of rounding)
 
 
 def check_threshold(threshold: float, classes: int) -> None:
@@ -122,7 +116,11 @@ class Identification:
         self._rng = np.random.default_rng(seed)
         self._gain_at_prior = table.information_gain(self.log_posterior) / table.seconds
         self._fixed = int(np.argmax(self._gain_at_prior))
-        self.expected_nats = np.zeros(len(table.names))  # per movement, over its sweeps
+        # active-realized: per movement, the KL its sweeps were expected to and did move.
+        self._expected_at_prior = np.array([
+            table.expected_divergence(self.log_posterior, index)
+            for index in range(len(table.names))]) if policy == 'active-realized' else None
+        self.expected_nats = np.zeros(len(table.names))
         self.realized_nats = np.zeros(len(table.names))
 
     @property
@@ -181,8 +179,8 @@ class Identification:
         if self.policy in ('active', 'active-realized'):  # the first from the prior
             gain = self._gain_at_prior if not self.movements else self.table.information_gain(
                 self.log_posterior, self.repeats) / self.table.seconds
-            if self.policy == 'active-realized':
-                gain = gain * self.realized_trust()
+            if self.policy == 'active-realized':  # a negative gain is not made less so
+                gain = np.where(gain > 0.0, gain * self.realized_trust(), gain)
             return int(candidates[np.argmax(gain[candidates])])
         if self.policy == 'random':
             return int(self._rng.choice(candidates))
@@ -191,17 +189,21 @@ class Identification:
         return int(next(index for index in order if fits[index]))
 
     def realized_trust(self) -> np.ndarray:
-        """Per movement, (w + realized) / (w + expected) nats over its sweeps so far.
+        """Per movement, (w + realized) / (w + expected) nats of KL over its sweeps so far.
 
-        w, the movement's expected gain from the starting belief, is one sweep's worth of
-        trust in the table before any sweep of it: a movement not run yet scores one, one
-        sweep that moved nothing about a half, two about a third. Tracked for
-        `active-realized` only (ones for the other policies).
+        w, the KL one sweep of the movement was expected to move the starting belief, is
+        one sweep's worth of trust in the table before any sweep of it: a movement not run
+        yet scores one, one sweep that moved nothing about a half, two about a third. A
+        movement the table expects nothing of keeps one. Tracked for `active-realized` only
+        (ones for the other policies).
         """
-        prior_nats = np.maximum(self._gain_at_prior * self.table.seconds, 0.0)
+        if self._expected_at_prior is None:
+            return np.ones(len(self.table.names))
+        prior_nats = self._expected_at_prior
         expected = prior_nats + self.expected_nats
-        return np.where(expected > 0.0, (prior_nats + self.realized_nats)
-                        / np.where(expected > 0.0, expected, 1.0), 1.0)
+        telling = expected > MIN_EXPECTED_NATS
+        return np.where(telling, (prior_nats + self.realized_nats)
+                        / np.where(telling, expected, 1.0), 1.0)
 
     def observe(self, movement: int, probabilities) -> np.ndarray:
         """Take one sweep of `movement` whose model answered `probabilities`; the new belief.
@@ -218,15 +220,10 @@ class Identification:
         self.log_posterior = updated(before, self.table.log_likelihood(
             int(movement), probabilities, repeats=int(repeats[movement])))
         if self.policy == 'active-realized':
-            self.expected_nats[movement] += max(
-                float(self.table.information_gain(before, repeats)[movement]), 0.0)
-            self.realized_nats[movement] += divergence(self.log_posterior, before)
+            self.expected_nats[movement] += self.table.expected_divergence(
+                before, int(movement), int(repeats[movement]))
+            self.realized_nats[movement] += float(divergence(self.log_posterior, before))
         self.movements.append(int(movement))
         self.contact_seconds += float(self.table.seconds[movement])
         return self.posterior
 
-
-def divergence(log_after: np.ndarray, log_before: np.ndarray) -> float:
-    """KL(after || before) in nats between two normalised log beliefs (>= 0, finite)."""
-    after = np.exp(log_after)
-    return max(float(np.sum(np.where(after > 0.0, after * (log_after - log_before), 0.0))), 0.0)
