@@ -289,7 +289,8 @@ def _live_section(name: str) -> str:
         'travels between sweeps). Movements the live goals ran: '
         + ', '.join(f'{movement} {count}' for movement, count in
                     sorted(chosen.items(), key=lambda kv: -kv[1])) + '.'
-        + _offline_ranking(kept, policy) + _checkpoint_alone(kept) + '\n')
+        + _offline_ranking(kept, policy) + _checkpoint_alone(kept)
+        + (f' {kept["note"]}' if kept.get('note') else '') + '\n')
 
 
 def _checkpoint_alone(kept: dict) -> str:
