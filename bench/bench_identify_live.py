@@ -41,6 +41,7 @@ import numpy as np
 import yaml
 
 from tactex.demo.identification import identification_figures
+from tactex_classify.identification.selection import POLICIES
 
 RESULTS = Path(__file__).parent / 'results' / 'identify_live.json'
 MOVEMENTS = Path(__file__).parents[1] / 'config' / 'movements.yaml'
@@ -234,7 +235,7 @@ def main() -> int:
                         help='probed pathway, m (the fastest movement needs 150 mm)')
     parser.add_argument('--episodes', type=int, default=1, help='Identify goals per texture')
     parser.add_argument('--budget-movements', type=int, default=8)
-    parser.add_argument('--policy', choices=('active', 'active-realized'), default='active',
+    parser.add_argument('--policy', choices=POLICIES, default='active',
                         help='how the live goals and the offline replay choose (active)')
     parser.add_argument('--offline-seeds', type=int, default=10)
     parser.add_argument('--training', choices=('collect', 'sweeps'), default='collect',

@@ -388,13 +388,21 @@ def texture_signal() -> str:
     noise = kept['noise_rms']
     paths = list(kept['paths'])
     action = 'sweep action'
-    textures = list(next(row for row in kept['paths'][action].values()
-                         if 'textures' in row)['textures'])
+    # Per path, the movements it measured (a refused one kept only its reason).
+    measured = {path: {name: row for name, row in kept['paths'][path].items()
+                       if 'textures' in row} for path in paths}
+    refused = {path: [name for name in kept['paths'][path] if name not in measured[path]]
+               for path in paths}
+    textures = list(next(iter(measured[action].values()))['textures'])
 
     def best(path: str, texture: str, channel: str) -> tuple[float, str]:
-        rows = {name: row for name, row in kept['paths'][path].items() if 'textures' in row}
+        rows = measured[path]
         name = max(rows, key=lambda m: rows[m]['textures'][texture][f'{channel}_rms'])
         return rows[name]['textures'][texture][f'{channel}_rms'] / noise[channel], name
+
+    def spread(path: str, key: str) -> tuple[float, float]:
+        values = [row[key] for row in measured[path].values()]
+        return min(values), max(values)
 
     lines = ['| texture | ' + ' | '.join(f'{path}: accel | {path}: gyro' for path in paths)
              + ' |', '|---|' + '---|---|' * len(paths)]
@@ -407,16 +415,6 @@ def texture_signal() -> str:
         lines.append(f'| {texture} | ' + ' | '.join(cells) + ' |')
     above = [t for t in textures
              if max(best(action, t, c)[0] for c in ('accel', 'gyro')) > 2.0]
-    forces = {path: [row['force_n'] for row in kept['paths'][path].values() if 'force_n' in row]
-              for path in paths}
-    pressures = {path: [row['pressure_pa'] for row in kept['paths'][path].values()
-                        if 'pressure_pa' in row] for path in paths}
-    refused = {path: [name for name, row in kept['paths'][path].items() if 'refused' in row]
-               for path in paths}
-    motion = {path: [row['bare_gyro_hf_rms'] for row in kept['paths'][path].values()
-                     if 'bare_gyro_hf_rms' in row] for path in paths}
-    settled = {path: [row['bare_gyro_hf_rms_after_start'] for row in kept['paths'][path].values()
-                      if 'bare_gyro_hf_rms_after_start' in row] for path in paths}
     live = kept_json('identify_live_sweeps_init_sweeps_realized.json')
     decided = sorted({e['truth'] for e in live['episodes'] if e['answer'] == e['truth']})
     return (
@@ -429,11 +427,11 @@ def texture_signal() -> str:
         f'IMU noise ({noise["accel"]:.3f} m/s^2 and {noise["gyro"]:.4f} rad/s over three '
         'axes), the largest over the movements, and at which:\n\n' + '\n'.join(lines)
         + '\n\n' + ' '.join(
-            f'{path}: mean contact force {min(forces[path]):.3f}-{max(forces[path]):.3f} N, '
-            f'barometer {min(pressures[path]):.0f}-{max(pressures[path]):.0f} Pa, '
-            f'over no texture a high-frequency gyro of {min(motion[path]):.4f}-'
-            f'{max(motion[path]):.4f} rad/s, {min(settled[path]):.4f}-{max(settled[path]):.4f} '
-            'after the first 0.25 s of contact'
+            '{}: mean contact force {:.3f}-{:.3f} N, barometer {:.0f}-{:.0f} Pa, over no '
+            'texture a high-frequency gyro of {:.4f}-{:.4f} rad/s, {:.4f}-{:.4f} after the '
+            'first 0.25 s of contact'.format(
+                path, *spread(path, 'force_n'), *spread(path, 'pressure_pa'),
+                *spread(path, 'bare_gyro_hf_rms'), *spread(path, 'bare_gyro_hf_rms_after_start'))
             + (f'; {", ".join(refused[path])} refused (the arm cannot follow it)'
                if refused[path] else '') + '.' for path in paths)
         + f' Through the sweep action, above twice the noise at some movement: '

@@ -26,6 +26,7 @@ from tactex_sim.collect import collect, movement_scene
 from tactex_sim.errors import SceneError
 from tactex_sim.scene import parse_scene
 from tactex_sim.sweep import plan_sweep, SweepParameters
+from tactex_trajectory.simulated_sweeps import rim_press_depth
 
 ROOT = Path(__file__).resolve().parents[2]
 SCENE = parse_scene(tomllib.loads((ROOT / 'config' / 'scenes' / 'uneven_texture.toml')
@@ -84,9 +85,7 @@ def rim_depths(scene):
     plan = plan_sweep(scene, SweepParameters.nominal(scene))
     sliding = (plan.times_s > plan.slide_start_s) & (plan.times_s < plan.slide_end_s)
     edges = np.array([forward_kinematics(joints[:4])[:3, 3] for joints in plan.joints[sliding]])
-    x, z = edges[:, 0], edges[:, 2]
-    above = (z - scene.surface.height(x)) / np.sqrt(1.0 + scene.surface.slope(x) ** 2)
-    return EDGE_TIP_RADIUS_M - above
+    return rim_press_depth(edges, scene.surface)
 
 
 def test_a_movement_presses_its_rim_as_deep_as_the_sweep_action_would(tmp_path):

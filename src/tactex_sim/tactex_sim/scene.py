@@ -90,6 +90,9 @@ class Patch:
         return self.x_m[0] <= x <= self.x_m[1] and self.y_m[0] <= y <= self.y_m[1]
 
 
+PRESS_REFERENCES = ('centre', 'rim')  # what a sweep's press depth indents
+
+
 @dataclass(frozen=True)
 class Sweep:
     """The scripted sweep: sliding speed, contact duration, edge offset, start, direction.
@@ -117,8 +120,6 @@ class Sweep:
             raise ValueError(f'press must be "centre" or "rim" (what press_depth_m indents), '
                              f'got {self.press!r}')
 
-
-PRESS_REFERENCES = ('centre', 'rim')
 
 
 @dataclass(frozen=True)

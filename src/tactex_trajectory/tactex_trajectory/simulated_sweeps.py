@@ -176,9 +176,9 @@ def measure_segment(record: SweepRecord, segment_s: tuple[float, float], path: S
     errors = window_speeds(times, travel, [(times[0], times[-1])]) / speed_m_s - 1.0
     arm_errors = window_speeds(times, path.travel_of(record.arm_edge_positions[segment]),
                                [(times[0], times[-1])]) / speed_m_s - 1.0
-    held = _press_depth(record.arm_edge_positions[segment], surface)
+    held = rim_press_depth(record.arm_edge_positions[segment], surface)
     depth_error = held - press_depth_m
-    planned = _press_depth(np.array([ARM.tool_pose(np.asarray(commanded(t))[:4])[0]
+    planned = rim_press_depth(np.array([ARM.tool_pose(np.asarray(commanded(t))[:4])[0]
                                      for t in times]), surface)
     planned_error = planned - press_depth_m
     return SweepMeasurement(
@@ -192,7 +192,7 @@ def measure_segment(record: SweepRecord, segment_s: tuple[float, float], path: S
         planned_depth_error_rms_m=float(np.sqrt(np.mean(planned_error ** 2))))
 
 
-def _press_depth(edge_positions: np.ndarray, surface: Surface) -> np.ndarray:
+def rim_press_depth(edge_positions: np.ndarray, surface: Surface) -> np.ndarray:
     """How deep the rim of an edge at these positions would be in the true surface (m)."""
     x, z = edge_positions[:, 0], edge_positions[:, 2]
     height_above = (z - surface.height(x)) / np.sqrt(1.0 + surface.slope(x) ** 2)

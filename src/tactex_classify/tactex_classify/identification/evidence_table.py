@@ -109,8 +109,10 @@ class EvidenceTable:
         self._movement_of = np.concatenate(
             [np.full(len(labels), index) for index, (_, labels) in enumerate(rows)])
         self._label_of = np.concatenate([labels for _, labels in rows])
-        self._share_of = np.concatenate(
-            [1.0 / np.bincount(labels, minlength=len(self.classes))[labels] for _, labels in rows])
+        # Each held-out sweep's share of its texture (a texture is drawn, then its sweep).
+        self._shares_of = [1.0 / np.bincount(labels, minlength=len(self.classes))[labels]
+                           for _, labels in rows]
+        self._share_of = np.concatenate(self._shares_of)
         shifted = self._stacked - self._stacked.max(axis=1, keepdims=True)
         self._by_products = bool(-shifted.min() <= PRODUCT_SPREAD)
         self._exp_shifted = np.exp(shifted)
@@ -216,9 +218,7 @@ class EvidenceTable:
         entropy lost, so a realized KL is compared with this, not with the gain.
         """
         log_posterior = normalised(np.asarray(log_posterior, dtype=float))
-        labels = self._labels_of[movement]
-        drawn = np.exp(log_posterior)[labels] / np.bincount(
-            labels, minlength=len(self.classes))[labels]
+        drawn = np.exp(log_posterior)[self._labels_of[movement]] * self._shares_of[movement]
         terms = self._rows_of[movement] * self.repeat_weights(repeats)
         return float(np.dot(drawn, divergence(normalised(log_posterior + terms),
                                               log_posterior)))
