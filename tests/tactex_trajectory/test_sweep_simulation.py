@@ -19,7 +19,8 @@ from tactex_driver.arm import ArmController
 from tactex_driver.playback import JointLimits
 from tactex_sim.world import World
 from tactex_trajectory.monitor import SweepMonitor
-from tactex_trajectory.planner import plan_sweep
+from tactex_trajectory.planner import plan_sweep, SweepSettings
+from tactex_trajectory.poses import PoseSettings
 from tactex_trajectory.simulated_sweeps import execute, measure, probed_pathway, record
 
 CONTACT_FRACTION_MIN = 0.95
@@ -57,6 +58,21 @@ def test_a_sweep_of_the_uneven_scene_meets_the_accuracy_thresholds(seed):
         record, sweep, 'slide', 'slide')
 
 
+def played(world, controller, sweep, *, tail_s):
+    """Hand `sweep` to the driver's controller now and record until `tail_s` after its end."""
+    trajectory = sweep.trajectory
+    controller.execute(list(ARM_JOINT_NAMES), trajectory.times_s.tolist(),
+                       trajectory.positions.tolist(), trajectory.velocities.tolist(),
+                       world.time_s)
+
+    def goal(time_s):
+        target = controller.goal(time_s)
+        return world.joint_positions() if target is None else target
+
+    return record(world, goal, trajectory.duration_s + tail_s,
+                  on_sample=lambda: controller.update_measured(world.joint_positions()))
+
+
 def peak_force(record, sweep, first: str, last: str) -> float:
     """Largest contact force (N) from the start of phase `first` to the end of `last`."""
     inside = ((record.times_s >= sweep.phase(first).start_s)
@@ -92,17 +108,7 @@ def test_a_sweep_from_an_arm_sagging_below_its_held_goal_is_watched_without_a_fa
     controller.execute(list(ARM_JOINT_NAMES), [0.0], [FLANK_REST[:4].tolist()], [],
                        world.time_s)
     sweep = plan_sweep(FLANK_POINTS, FLANK_NORMALS, None, world.joint_positions())
-    trajectory = sweep.trajectory
-    controller.execute(list(ARM_JOINT_NAMES), trajectory.times_s.tolist(),
-                       trajectory.positions.tolist(), trajectory.velocities.tolist(),
-                       world.time_s)
-
-    def goal(time_s):
-        target = controller.goal(time_s)
-        return world.joint_positions() if target is None else target
-
-    run = record(world, goal, trajectory.duration_s + 0.5,
-                 on_sample=lambda: controller.update_measured(world.joint_positions()))
+    run = played(world, controller, sweep, tail_s=0.5)
     monitor = SweepMonitor(sweep)
     worst = 0.0
     for time_s, joints, pressure in zip(run.times_s, run.joints, run.pressure_pa,
@@ -114,3 +120,57 @@ def test_a_sweep_from_an_arm_sagging_below_its_held_goal_is_watched_without_a_fa
             worst = max(worst, status.tracking_error_m)
     assert worst < 0.004  # 2.6 mm; over 10 mm (an abort) when the step started the clock
     assert monitor.result().contact_fraction >= CONTACT_FRACTION_MIN
+
+
+# The pathway a live identification run probed on the uneven scene (x = 0.10-0.20 m).
+LIVE_POINTS = 1e-3 * np.array([
+    [99.0, 0.0, 22.2], [108.7, 0.0, 18.4], [118.7, 0.0, 14.4], [128.9, 0.0, 11.1],
+    [139.2, 0.0, 11.1], [149.7, 0.0, 10.7], [159.9, 0.0, 13.7], [170.1, 0.0, 17.9],
+    [180.0, 0.0, 21.8], [189.8, 0.0, 24.7], [199.4, 0.0, 25.9]])
+LIVE_NORMALS = np.array([
+    [0.299, 0.003, 0.954], [0.356, 0.003, 0.935], [0.327, 0.003, 0.945],
+    [0.239, 0.002, 0.971], [0.029, 0.001, 1.0], [-0.152, -0.002, 0.988],
+    [-0.29, -0.002, 0.957], [-0.366, -0.003, 0.931], [-0.355, -0.002, 0.935],
+    [-0.226, -0.001, 0.974], [-0.033, -0.001, 0.999]])
+
+
+def test_a_backward_sweep_planned_where_a_forward_one_ended_starts_its_clock():
+    """Its first motion is a 3 mm step that turns into the descent.
+
+    The departure was taken at that corner (3 mm along the step), which the arm, sagging
+    under the load and cutting the corner, never reached: the sweep node aborted with
+    'the arm did not start moving within 10 s' twice in 48 live identification goals,
+    each time a backward movement right after a fast forward one.
+    """
+    # The fast forward movement's part ends 1.6 mm short of the last contact, where the
+    # backward one starts: its first motion is a step of 3 mm, and then it descends.
+    share = 1.0 - 1.6 / np.linalg.norm(1e3 * (LIVE_POINTS[-1] - LIVE_POINTS[-2]))
+    end_point = LIVE_POINTS[-2] + share * (LIVE_POINTS[-1] - LIVE_POINTS[-2])
+    end_normal = LIVE_NORMALS[-2] + share * (LIVE_NORMALS[-1] - LIVE_NORMALS[-2])
+    forward_points = np.vstack([LIVE_POINTS[:-1], end_point])
+    forward_normals = np.vstack([LIVE_NORMALS[:-1], end_normal / np.linalg.norm(end_normal)])
+    world = World(SCENE, seed=0)
+    controller = ArmController(JointLimits.of_robot())
+    world.place_arm([0.0, -1.0, 0.3, 0.7, 0.0])
+    controller.update_measured(world.joint_positions())
+    controller.torque_on(world.time_s)
+
+    forward = SweepSettings(sliding_speed_m_s=0.03)
+    backward = SweepSettings(sliding_speed_m_s=0.02,
+                             pose=PoseSettings(edge_offset_rad=0.5, press_depth_m=0.002))
+    for sweep_points, sweep_normals, settings in (
+            (forward_points, forward_normals, forward),
+            (LIVE_POINTS[::-1][:7], LIVE_NORMALS[::-1][:7], backward)):
+        sweep = plan_sweep(sweep_points, sweep_normals, None, world.joint_positions(),
+                           settings)
+        run = played(world, controller, sweep, tail_s=0.3)
+        monitor = SweepMonitor(sweep)
+        for time_s, joints, pressure in zip(run.times_s, run.joints, run.pressure_pa,
+                                            strict=True):
+            monitor.update_pressure(time_s, pressure)
+            assert monitor.update_joints(time_s, joints).abort_reason == ''
+        assert monitor.started
+        # The simulated arm leaves as the trajectory arrives: the clock starts at once.
+        end_s = float(run.times_s[-1])
+        assert abs(end_s - monitor.trajectory_time(end_s)) < 0.05
+        assert monitor.result().contact_fraction >= CONTACT_FRACTION_MIN

@@ -153,18 +153,31 @@ class SweepMonitor:
     def _departure(self) -> tuple[float, np.ndarray | None, float]:
         """When, in which direction and how far the planned edge departs from its start.
 
-        The departure is DEPARTURE_M of travel (or half the plan's largest distance from
-        its start, when that is less); the direction is the start's to there. A plan that
-        never leaves its start departs at 0 in no direction.
+        The departure is the first of DEPARTURE_M, 2 DEPARTURE_M, ... of travel from the
+        start after which the plan goes on along the same direction by DEPARTURE_M more;
+        the direction is the start's to there. A plan whose first motion is a short step
+        that then turns (a sweep planned where the last one ended moves 3 mm and descends)
+        would otherwise depart at the corner, which an arm that sags and cuts corners
+        never reaches. Where no distance qualifies, the first (or half the plan's largest
+        distance from its start, when that is less) is kept. A plan that never leaves its
+        start departs at 0 in no direction.
         """
         times = np.linspace(0.0, self.plan.trajectory.duration_s, 4000)
         edges = np.array([ARM.tool_pose(q)[0] for q in self._interpolant(times)])
-        distances = np.linalg.norm(edges - edges[0], axis=1)
-        threshold = min(DEPARTURE_M, 0.5 * float(np.max(distances)))
-        if threshold <= 1e-6:
+        offsets = edges - edges[0]
+        distances = np.linalg.norm(offsets, axis=1)
+        reach = float(np.max(distances))
+        first = min(DEPARTURE_M, 0.5 * reach)
+        if first <= 1e-6:
             return 0.0, None, DEPARTURE_M
-        index = int(np.argmax(distances >= threshold))
-        return float(times[index]), (edges[index] - edges[0]) / distances[index], threshold
+        candidates = [(int(np.argmax(distances >= threshold)), threshold) for threshold in
+                      np.arange(first, 0.5 * reach + 1e-12, DEPARTURE_M)]
+        for index, threshold in candidates:
+            direction = offsets[index] / distances[index]
+            if float(np.max(offsets[index:] @ direction)) >= threshold + DEPARTURE_M:
+                return float(times[index]), direction, float(threshold)
+        index, threshold = candidates[0]
+        return float(times[index]), offsets[index] / distances[index], float(threshold)
 
     def _departed(self, measured: np.ndarray) -> bool:
         """Whether the measured edge has left its rest as the plan leaves its start."""
