@@ -38,7 +38,6 @@ import time
 
 import numpy as np
 
-from tactex_classify.identification.pathway_part import part_length_m
 from tactex_description.movements import load_movements, Movement
 from tactex_sim import sweep as scripted
 from tactex_sim.collect import movement_scene
@@ -66,7 +65,7 @@ def through_sweep_action(movement: Movement, texture: str | None) -> dict:
     start, settings = SCENE.sweep.start_x_m, SweepSettings(
         sliding_speed_m_s=movement.speed_m_s, pose=PoseSettings(
             edge_offset_rad=movement.edge_tilt_rad, press_depth_m=movement.press_depth_m))
-    length = part_length_m(movement, settings.ramp_acceleration_m_s2) + PROBE_STEP_M
+    length = movement.part_length_m(settings.ramp_acceleration_m_s2) + PROBE_STEP_M
     points, normals = probe_like_pathway(
         SCENE.surface, start, start + length, PROBE_STEP_M,
         np.random.default_rng(SEED), position_sd_m=PROBE_POSITION_SD_M,

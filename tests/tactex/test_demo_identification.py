@@ -18,7 +18,6 @@ from tactex.demo.identification import (
     ramp_acceleration,
 )
 from tactex.errors import CommandError
-from tactex_classify.identification.pathway_part import part_length_m
 from tactex_description.movements import load_movements
 from tactex_msgs.msg import Contact, Pathway
 
@@ -44,7 +43,7 @@ def test_a_pathway_holds_the_movements_whose_contact_and_ramps_fit_in_file_order
     ramps = ramp_acceleration()
     held = fitting_movements(pathway_along_x(0.07), SHIPPED)
     assert held.names == tuple(m.name for m in SHIPPED.movements
-                               if part_length_m(m, ramps) <= 0.07 + 1e-3)
+                               if m.part_length_m(ramps) <= 0.07 + 1e-3)
     assert held.names[:3] == ('slow_light', 'slow_deep', 'default') and held.window == 128
     assert fitting_movements(pathway_along_x(0.07), SHIPPED, 2).names == ('slow_light',
                                                                          'slow_deep')

@@ -12,14 +12,9 @@ import math
 import numpy as np
 import pytest
 
-from tactex_classify.identification.pathway_part import (
-    holds,
-    movement_part,
-    part_length_m,
-    pathway_length,
-    ramp_length_m,
-)
+from tactex_classify.identification.pathway_part import holds, movement_part, pathway_length
 from tactex_description.movements import Movement
+from tactex_description.speed_ramp import ramp_length_m
 
 ACCELERATION = 0.05
 # A pathway of 11 contacts 10 mm apart along x, on a gentle wave, normals tilting with it.
@@ -35,7 +30,7 @@ def movement(contact_m: float, direction: str = 'forward', speed: float = 0.02) 
 
 def test_a_cosine_ramp_covers_pi_v_squared_over_4a():
     assert ramp_length_m(0.02, 0.05) == pytest.approx(math.pi * 0.0004 / 0.2)
-    assert part_length_m(movement(0.03), ACCELERATION) == pytest.approx(
+    assert movement(0.03).part_length_m(ACCELERATION) == pytest.approx(
         0.03 + 2 * ramp_length_m(0.02, ACCELERATION))
 
 
@@ -43,7 +38,7 @@ def test_a_forward_part_starts_at_the_first_contact_and_is_as_long_as_contact_an
     wanted = movement(0.03)
     points, normals = movement_part(POINTS, NORMALS, wanted, ACCELERATION)
     assert points[0] == pytest.approx(POINTS[0])
-    assert pathway_length(points) == pytest.approx(part_length_m(wanted, ACCELERATION))
+    assert pathway_length(points) == pytest.approx(wanted.part_length_m(ACCELERATION))
     assert np.linalg.norm(normals, axis=1) == pytest.approx(np.ones(len(normals)))
     inner = len(points) - 1
     assert points[:inner] == pytest.approx(POINTS[:inner])  # the probed contacts themselves

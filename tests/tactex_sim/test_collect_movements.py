@@ -11,6 +11,7 @@ command naming the movement file.
 
 from dataclasses import replace
 import json
+import math
 from pathlib import Path
 import tomllib
 
@@ -22,7 +23,8 @@ from tactex_classify.data.bags import read_recording
 from tactex_description.kinematics import forward_kinematics
 from tactex_description.mjcf import EDGE_TIP_RADIUS_M
 from tactex_description.movements import load_movements
-from tactex_sim.collect import collect, movement_scene
+from tactex_description.speed_ramp import RAMP_ACCELERATION_M_S2
+from tactex_sim.collect import collect, collectable_scenes, movement_scene
 from tactex_sim.errors import SceneError
 from tactex_sim.scene import parse_scene
 from tactex_sim.sweep import plan_sweep, SweepParameters
@@ -60,6 +62,7 @@ def test_every_texture_is_swept_under_every_movement_with_unique_trials(tmp_path
         assert meta['trial'] == int(path.name[-4:])
         assert abs(meta['sweep']['speed_m_s'] / movement.speed_m_s - 1) <= 2 * 0.04 + 1e-9
         assert meta['sweep']['direction'] == (-1 if movement.direction == 'backward' else 1)
+        assert meta['sweep']['ramp_acceleration_m_s2'] == RAMP_ACCELERATION_M_S2
 
 
 def test_a_backward_movement_slides_towards_the_start_over_its_contact_length(tmp_path):
@@ -101,6 +104,45 @@ def test_a_movement_presses_its_rim_as_deep_as_the_sweep_action_would(tmp_path):
     assert np.mean(rim_depths(centred)) == pytest.approx(0.0015 + EDGE_TIP_RADIUS_M, abs=1e-4)
 
 
+def test_a_movement_ramps_its_speed_around_its_contact_as_the_sweep_action_slides(tmp_path):
+    """Up from rest and back down at the action's ramp acceleration, outside the contact.
+
+    The recording's active part is the contact at full speed; the scenes' own sweeps
+    start and stop at full speed.
+    """
+    flat = parse_scene(tomllib.loads((ROOT / 'config' / 'scenes' / 'even_texture.toml')
+                                     .read_text()), 'even_texture')
+    movement, = movement_file(tmp_path, BACKWARD).movements
+    for scene, ramped in ((movement_scene(flat, movement), True), (flat, False)):
+        plan = plan_sweep(scene, SweepParameters.nominal(scene))
+        # On the flat plate the edge's x is the script's travel.
+        x = np.array([forward_kinematics(joints[:4])[0, 3] for joints in plan.joints])
+        speed = np.abs(np.gradient(x, plan.times_s))
+        active = (plan.times_s > plan.slide_start_s + 0.015) & (
+            plan.times_s < plan.slide_end_s - 0.015)  # a step's central difference halves
+        assert speed[active] == pytest.approx(scene.sweep.speed_m_s, rel=0.02)
+        assert plan.slide_end_s - plan.slide_start_s == pytest.approx(scene.sweep.contact_s)
+        before = plan.times_s < plan.slide_start_s - 0.02
+        if ramped:
+            ramp_s = math.pi * movement.speed_m_s / (2 * RAMP_ACCELERATION_M_S2)
+            speed_at = dict(zip(np.round(plan.times_s, 2), speed, strict=True))
+            ramp_begins = plan.slide_start_s - ramp_s
+            assert speed_at[round(ramp_begins - 0.05, 2)] < 0.05 * movement.speed_m_s
+            assert speed_at[round(ramp_begins + ramp_s / 2, 2)] == pytest.approx(
+                movement.speed_m_s / 2, rel=0.1)  # the cosine ramp's middle
+            assert np.max(np.abs(np.gradient(speed, plan.times_s))) < \
+                1.1 * RAMP_ACCELERATION_M_S2
+            assert np.all(speed[before] < movement.speed_m_s)
+        else:
+            assert np.max(speed[before]) < 1e-4  # at rest until it slides at full speed
+
+
+def test_every_shipped_movement_is_collectable_on_the_uneven_scene():
+    """Contact and both speed ramps on the patch and within the arm's reach."""
+    shipped = load_movements(ROOT / 'config' / 'movements.yaml')
+    assert list(collectable_scenes(SCENE, shipped)) == list(shipped.names)
+
+
 def test_a_bag_does_not_depend_on_the_order_of_the_movement_file(tmp_path):
     one = collect(SCENE, 1, tmp_path / 'one', textures=('wood',),
                   movements=movement_file(tmp_path, FORWARD, BACKWARD, name='a.yaml'),
@@ -137,8 +179,10 @@ def test_a_movement_the_arm_cannot_sweep_is_refused_before_any_bag(tmp_path):
                 progress=lambda line: None)
     assert not (tmp_path / 'bags').exists()
     far = movement_file(tmp_path, '{name: far, speed: 0.02, press_depth: 0.002, edge_tilt: '
-                        '0.5, direction: forward, contact_length: 0.2}')
-    with pytest.raises(SceneError, match="far slides 200 mm; the scene's swept path holds 114"):
+                        '0.5, direction: forward, contact_length: 0.25}')
+    # 250 mm and 2 x 6 mm of ramps from x = 0.085 m (+ 8 mm drawn) off the patch at 0.33 m
+    with pytest.raises(SceneError, match='far slides 250 mm and ramps its speed over 13 mm '
+                                         'more; the texture patch holds 237 mm'):
         movement_scene(SCENE, far.movements[0])
 
 

@@ -43,6 +43,8 @@ def test_unknown_section_key_lists_the_known_ones():
     ({'patches': [{'texture': 'wood', 'x_m': [0.2, 0.1], 'y_m': [0, 1]}]}, 'empty rectangle'),
     ({'sweep': {'press': 'tip'}}, r'\[sweep\] press must be "centre" or "rim"'),
     ({'sweep': {'press': 3}}, r'\[sweep\] press must be text'),
+    ({'sweep': {'ramp_acceleration_m_s2': 0}}, r'ramp_acceleration_m_s2 must be > 0 m/s\^2'),
+    ({'sweep': {'ramp_acceleration_m_s2': 'slow'}}, 'ramp_acceleration_m_s2 must be a finite'),
 ])
 def test_bad_values_fail_with_the_key(change, match):
     with pytest.raises(SceneError, match=match):

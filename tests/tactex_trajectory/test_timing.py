@@ -7,6 +7,7 @@ import math
 import numpy as np
 import pytest
 
+from tactex_description.speed_ramp import ramped_law
 from tactex_trajectory.errors import SweepRefused
 from tactex_trajectory.timing import (
     ACCELERATION_LIMITS,
@@ -15,7 +16,6 @@ from tactex_trajectory.timing import (
     min_jerk_law,
     move_duration,
     ramp_duration,
-    ramped_law,
     timed_move,
     VELOCITY_LIMITS,
 )

@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 from support.hard_values import anything, finite, FLOAT32_MAX, FLOAT64_MAX, vectors
 
+from tactex_description.speed_ramp import ramped_law
 from tactex_driver.playback import JointLimits
 from tactex_sim.scene import load_scene, resolve_scene
 from tactex_trajectory.errors import PathError, SweepRefused, TrajectoryError
@@ -29,7 +30,6 @@ from tactex_trajectory.timing import (
     MAX_PART_S,
     min_jerk_law,
     move_duration,
-    ramped_law,
     timed_move,
 )
 

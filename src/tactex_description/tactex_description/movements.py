@@ -38,12 +38,13 @@ import yaml
 from tactex_common.files import read_text
 from tactex_common.numbers import is_finite_number
 from tactex_description.geometry import PRESS_TRAVEL_M
+from tactex_description.speed_ramp import ramp_length_m
 
 MIN_PRESS_DEPTH_M = 0.0015
-# Faster than 50 mm/s, the sweep's speed ramps (0.05 m/s^2) take more than 25 mm at each
-# end of the demo's 100 mm pathway; slower than 5 mm/s, three 128-sample windows at 120 Hz
-# cover under 11 mm. In simulation the edge holds 0.96-1.04 of the commanded speed in
-# mid-contact from 10 to 40 mm/s (config/movements.yaml, 6 sweeps each).
+# At 50 mm/s the sweep's speed ramps (0.05 m/s^2) take 39 mm at each end of a pathway
+# (the demo probes 100 mm); slower than 5 mm/s, three 128-sample windows at 120 Hz cover
+# under 11 mm. In simulation the edge held 0.96-1.04 of the commanded speed in
+# mid-contact from 10 to 40 mm/s (6 sweeps of each movement the shipped file then had).
 SPEED_RANGE_M_S = (0.005, 0.05)
 DIRECTIONS = ('forward', 'backward')
 MAX_MOVEMENTS = 32
@@ -190,6 +191,11 @@ class Movement:
     def contact_s(self) -> float:
         """Seconds in contact at the sliding speed."""
         return self.contact_length_m / self.speed_m_s
+
+    def part_length_m(self, ramp_acceleration_m_s2: float) -> float:
+        """Path the movement slides along: its contact and a speed ramp at each end."""
+        return self.contact_length_m + 2.0 * ramp_length_m(self.speed_m_s,
+                                                           ramp_acceleration_m_s2)
 
 
 @dataclass(frozen=True)

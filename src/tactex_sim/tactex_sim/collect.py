@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import asdict, replace
+import math
 from pathlib import Path
 import tempfile
 import time
@@ -20,6 +21,7 @@ import numpy as np
 
 from tactex_common.cluster import ray_session, run_tasks
 from tactex_description.movements import Movement, MovementSet
+from tactex_description.speed_ramp import RAMP_ACCELERATION_M_S2
 from tactex_sim.errors import SceneError, SimError
 from tactex_sim.recording import SweepBag
 from tactex_sim.scene import Scene
@@ -77,27 +79,49 @@ def check_collectable(scene: Scene) -> None:
 def movement_scene(scene: Scene, movement: Movement) -> Scene:
     """The scene with its nominal sweep replaced by `movement`, its variability kept.
 
-    The movement slides along the scene's swept path from its start (forward) or back to
-    it (backward), its press depth the rim's indentation as the Sweep action presses it.
+    The movement slides along the scene's texture patch as the Sweep action slides along
+    its part of a pathway: from the scene's start, it ramps its speed up, slides its
+    contact, and ramps down (at the action's ramp acceleration as shipped); forward
+    towards +x, backward from the far end of that part back to the start. Its press depth
+    is the rim's indentation as the Sweep action presses it.
 
     Raises:
-        SceneError: the movement slides further than the scene's swept path.
+        SceneError: the movement's part runs off the patch under the scene's start.
     """
-    path_m = scene.sweep.speed_m_s * scene.sweep.contact_s
-    if movement.contact_length_m > path_m + 1e-9:
+    ramps = RAMP_ACCELERATION_M_S2
+    part_m = movement.part_length_m(ramps)
+    patch_end = _patch_end_x(scene)
+    # The latest start drawn is two standard deviations on (SweepParameters.draw).
+    latest_start = scene.sweep.start_x_m + 2.0 * scene.variability.start_x_m
+    if latest_start + part_m > patch_end + 1e-9:
         raise SceneError(f'{scene.path or scene.name}: movement {movement.name} slides '
-                         f"{1e3 * movement.contact_length_m:.0f} mm; the scene's swept path "
-                         f'holds {1e3 * path_m:.0f} mm ([sweep] speed_m_s x contact_s): '
-                         'shorten its contact_length')
+                         f'{1e3 * movement.contact_length_m:.0f} mm and ramps its speed over '
+                         f'{1e3 * (part_m - movement.contact_length_m):.0f} mm more; the '
+                         f'texture patch holds {1e3 * max(0.0, patch_end - latest_start):.0f} '
+                         f'mm from the latest start ([sweep] start_x_m + 2 x [variability] '
+                         'start_x_m): shorten its contact_length or lower its speed')
     backward = movement.direction == 'backward'
     sweep = replace(scene.sweep, speed_m_s=movement.speed_m_s, contact_s=movement.contact_s,
                     edge_offset_rad=movement.edge_tilt_rad, direction=-1 if backward else 1,
-                    press='rim',
-                    start_x_m=scene.sweep.start_x_m
-                    + (movement.contact_length_m if backward else 0.0))
+                    press='rim', ramp_acceleration_m_s2=ramps,
+                    start_x_m=scene.sweep.start_x_m + (part_m if backward else 0.0))
     spread = replace(scene.variability, press_depth_m=(movement.press_depth_m,
                                                        scene.variability.press_depth_m[1]))
     return replace(scene, sweep=sweep, variability=spread)
+
+
+def _ramps(scene: Scene) -> dict:
+    """The sweep's ramp acceleration for a recording's metadata (none: full speed at once)."""
+    acceleration = scene.sweep.ramp_acceleration_m_s2
+    return {'ramp_acceleration_m_s2': acceleration} if math.isfinite(acceleration) else {}
+
+
+def _patch_end_x(scene: Scene) -> float:
+    """Where (+x, m) the texture patch under the scene's start ends (the start: none there)."""
+    start = scene.sweep.start_x_m
+    ends = [p.x_m[1] for p in scene.patches
+            if p.y_m[0] <= 0.0 <= p.y_m[1] and p.x_m[0] <= start <= p.x_m[1]]
+    return max(ends, default=start)
 
 
 def record_sweep(scene: Scene, texture_name: str, trial: int, out: Path,
@@ -115,7 +139,8 @@ def record_sweep(scene: Scene, texture_name: str, trial: int, out: Path,
                   drift_pa_per_s=parameters.drift_pa_per_s)
     metadata = {'label': texture_name, 'trial': trial, 'surface': scene.surface.kind,
                 'scene': scene.name, 'source': 'tactex_sim', 'sensor_rate_hz':
-                scene.sensor_rate_hz, 'sweep': {**asdict(parameters), 'press': scene.sweep.press},
+                scene.sensor_rate_hz, 'sweep': {**asdict(parameters), 'press': scene.sweep.press,
+                                                 **_ramps(scene)},
                 **({'movement': movement} if movement else {})}
     path = out / f'{slug(texture_name)}{"_" + movement if movement else ""}_{trial:04d}'
     over_texture = 0

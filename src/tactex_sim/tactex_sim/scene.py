@@ -100,7 +100,10 @@ class Sweep:
     `press` says what [variability] press_depth_m indents into the surface: 'centre', the
     edge's centre (the scenes' own sweeps, as laid out), or 'rim', its rim, as a Sweep
     goal and a movement file mean it (`tactex sim collect --movements` sweeps so, to
-    press as the arm does under the same movement).
+    press as the arm does under the same movement). `ramp_acceleration_m_s2` is the
+    peak acceleration of cosine speed ramps before and after the contact, as the Sweep
+    action slides (`tactex_description.speed_ramp`); infinite (the default, the scenes'
+    own sweeps) starts and stops at full speed.
     """
 
     speed_m_s: float = SLIDING_SPEED_M_S
@@ -109,9 +112,10 @@ class Sweep:
     start_x_m: float = 0.13
     direction: int = 1  # +1 slides towards +x from start_x_m, -1 towards -x
     press: str = 'centre'
+    ramp_acceleration_m_s2: float = math.inf
 
     def __post_init__(self) -> None:
-        """Refuse a press that is neither 'centre' nor 'rim' (as a scene file's is).
+        """Refuse a press that is neither 'centre' nor 'rim', or a ramp acceleration <= 0.
 
         Raises:
             ValueError: naming the value.
@@ -119,6 +123,9 @@ class Sweep:
         if self.press not in PRESS_REFERENCES:
             raise ValueError(f'press must be "centre" or "rim" (what press_depth_m indents), '
                              f'got {self.press!r}')
+        if not self.ramp_acceleration_m_s2 > 0:
+            raise ValueError(f'ramp_acceleration_m_s2 must be > 0 m/s^2 (the Sweep action '
+                             f'ramps at 0.05), got {self.ramp_acceleration_m_s2!r}')
 
 
 

@@ -2,11 +2,13 @@
 # SPDX-License-Identifier: Apache-2.0
 """Scripted sweeps: the sensor edge pressed into the surface and dragged along it.
 
-Until the trajectory executor drives the simulation, a sweep is planned here: approach
-above the start point, descend to the press depth, slide along the surface (radially,
-in the arm's plane) at the sweep speed with the sensor axis tilted by the edge offset
-from the inward normal, lift off. Each phase is solved with the analytic IK every
-10 ms; the sliding phase is the "moving and in contact" part of a recording.
+A sweep recorded without the trajectory executor is planned here: approach above the
+start point, descend to the press depth, slide along the surface (radially, in the arm's
+plane) at the sweep speed with the sensor axis tilted by the edge offset from the inward
+normal, lift off. Where the scene asks for speed ramps, the slide ramps up to the speed
+and down from it as the Sweep action does, pressed in, around the contact. Each phase is
+solved with the analytic IK every 10 ms; the contact at full speed is the "moving and in
+contact" part of a recording.
 """
 
 from __future__ import annotations
@@ -21,6 +23,7 @@ import numpy as np
 
 from tactex_description.kinematics import inverse_kinematics
 from tactex_description.mjcf import EDGE_TIP_RADIUS_M
+from tactex_description.speed_ramp import ramp_duration_s, ramped_law
 from tactex_sim.errors import SimError
 from tactex_sim.scene import Scene
 
@@ -102,9 +105,18 @@ def plan_sweep(scene: Scene, parameters: SweepParameters, duration_s: float | No
     """
     surface = scene.surface
     contact_s = scene.sweep.contact_s if duration_s is None else duration_s
-    slide_start = SETTLE_S + DESCEND_S
+    speed = parameters.speed_m_s
+    ramp_s = ramp_duration_s(speed, scene.sweep.ramp_acceleration_m_s2)
+    slide_begin = SETTLE_S + DESCEND_S  # pressed in: the speed ramps up from here
+    slide_start = slide_begin + ramp_s
     slide_end = slide_start + contact_s
-    total = slide_end + LIFT_S
+    total = slide_end + ramp_s + LIFT_S
+    if ramp_s > 0.0:
+        law = ramped_law(speed * (contact_s + ramp_s), speed, ramp_s)
+        travelled = law.position
+    else:
+        def travelled(t):
+            return speed * min(max(t, 0.0), contact_s)
     times = np.arange(0.0, total + PLAN_STEP_S, PLAN_STEP_S)
     joints = np.zeros((times.size, 5))
     seed = np.array([0.0, 0.3, 0.0, 1.0])
@@ -112,19 +124,19 @@ def plan_sweep(scene: Scene, parameters: SweepParameters, duration_s: float | No
     centre_depth = parameters.press_depth_m - (
         EDGE_TIP_RADIUS_M if scene.sweep.press == 'rim' else 0.0)
     for i, t in enumerate(times):
-        travel = parameters.speed_m_s * min(max(t - slide_start, 0.0), contact_s)
+        travel = float(travelled(t - slide_begin))
         x = parameters.start_x_m + parameters.direction * travel
         height = float(surface.height(x))
         slope = float(surface.slope(x))
         normal = surface.normal(x)
         if t < SETTLE_S:
             lift = APPROACH_HEIGHT_M
-        elif t < slide_start:
+        elif t < slide_begin:
             lift = APPROACH_HEIGHT_M * (1.0 - _smooth((t - SETTLE_S) / DESCEND_S))
-        elif t <= slide_end:
+        elif t <= slide_end + ramp_s:
             lift = 0.0
         else:
-            lift = APPROACH_HEIGHT_M * _smooth((t - slide_end) / LIFT_S)
+            lift = APPROACH_HEIGHT_M * _smooth((t - slide_end - ramp_s) / LIFT_S)
         depth = centre_depth * (1.0 if lift == 0.0 else max(0.0, 1.0 - lift / 0.003))
         point = np.array([x, height]) + (lift - depth) * normal
         pitch = math.pi / 2 - math.atan(slope) - parameters.edge_offset_rad

@@ -24,6 +24,7 @@ import numpy as np
 from tactex_common.constants import SLIDING_SPEED_M_S
 from tactex_common.numbers import is_finite_number
 from tactex_description.mjcf import EDGE_TIP_RADIUS_M
+from tactex_description.speed_ramp import RAMP_ACCELERATION_M_S2, ramped_law
 from tactex_driver.errors import TrajectoryRejected
 from tactex_driver.playback import JointLimits, LIMIT_TOLERANCE, plan
 from tactex_trajectory.errors import SweepRefused
@@ -43,7 +44,6 @@ from tactex_trajectory.timing import (
     JointPath,
     move_duration,
     ramp_duration,
-    ramped_law,
     timed_move,
     TimedJoints,
 )
@@ -81,7 +81,7 @@ class SweepSettings:
     sliding_speed_m_s: float = SLIDING_SPEED_M_S
     approach_height_m: float = 0.02
     descent_speed_m_s: float = 0.03
-    ramp_acceleration_m_s2: float = 0.05
+    ramp_acceleration_m_s2: float = RAMP_ACCELERATION_M_S2
     settle_s: float = 0.3
     path: PathSettings = field(default_factory=PathSettings)
     pose: PoseSettings = field(default_factory=PoseSettings)

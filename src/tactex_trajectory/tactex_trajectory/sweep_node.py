@@ -110,8 +110,9 @@ class SweepNode(TactexNode):
                 high=0.1)).value,
             descent_speed_m_s=declare('descent_speed', defaults.descent_speed_m_s, _positive(
                 'peak speed of the descent and the lift (m/s)', high=0.1)).value,
-            ramp_acceleration_m_s2=declare('ramp_acceleration', 0.05, _positive(
-                'largest edge acceleration of the speed ramps (m/s^2)', high=1.0)).value,
+            ramp_acceleration_m_s2=declare(
+                'ramp_acceleration', defaults.ramp_acceleration_m_s2, _positive(
+                    'largest edge acceleration of the speed ramps (m/s^2)', high=1.0)).value,
             settle_s=declare('settle_time', 0.3, _positive(
                 'dwell pressed in before sliding (s)', high=10.0)).value,
             path=PathSettings(

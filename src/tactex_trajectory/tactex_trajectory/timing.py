@@ -12,7 +12,6 @@ until the joint velocity and acceleration limits of the robot description hold.
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass
 import math
 
@@ -20,6 +19,7 @@ import numpy as np
 from scipy.interpolate import CubicHermiteSpline, CubicSpline
 
 from tactex_description.geometry import ARM_JOINT_NAMES, OPEN_MANIPULATOR_X
+from tactex_description.speed_ramp import ramp_duration_s, TimeLaw
 from tactex_trajectory.errors import SweepRefused
 
 VELOCITY_LIMITS = np.array([OPEN_MANIPULATOR_X.joint(n).velocity for n in ARM_JOINT_NAMES])
@@ -96,17 +96,6 @@ def concatenate(parts: list[TimedJoints]) -> TimedJoints:
                        np.vstack(accelerations))
 
 
-@dataclass(frozen=True)
-class TimeLaw:
-    """s(t), s'(t), s''(t) of a path of length `length` over `duration_s`."""
-
-    duration_s: float
-    length: float
-    position: Callable[[np.ndarray], np.ndarray]
-    speed: Callable[[np.ndarray], np.ndarray]
-    acceleration: Callable[[np.ndarray], np.ndarray]
-
-
 def min_jerk_law(length: float, duration_s: float) -> TimeLaw:
     """Rest to rest: s = L (10 r^3 - 15 r^4 + 6 r^5), r = t / T."""
     def phase(t):  # r in [0, 1]; t clipped first, so a huge t cannot overflow t / T
@@ -125,35 +114,6 @@ def min_jerk_law(length: float, duration_s: float) -> TimeLaw:
         return length / duration_s ** 2 * (60 * r - 180 * r ** 2 + 120 * r ** 3)
 
     return TimeLaw(duration_s, length, position, speed, acceleration)
-
-
-def ramped_law(length: float, speed_m_s: float, ramp_s: float) -> TimeLaw:
-    """Cosine ramp to `speed_m_s` over `ramp_s`, constant speed, cosine ramp down."""
-    ramp_length = speed_m_s * ramp_s / 2.0
-    cruise_s = (length - 2.0 * ramp_length) / speed_m_s
-    duration = 2.0 * ramp_s + cruise_s
-    w = math.pi / ramp_s
-
-    def position(t):
-        t = np.clip(np.asarray(t, dtype=float), 0.0, duration)
-        up = speed_m_s / 2.0 * (t - np.sin(w * t) / w)
-        down_t = duration - t
-        down = length - speed_m_s / 2.0 * (down_t - np.sin(w * down_t) / w)
-        cruise = ramp_length + speed_m_s * (t - ramp_s)
-        travel = np.where(t < ramp_s, up, np.where(t > duration - ramp_s, down, cruise))
-        return np.clip(travel, 0.0, length)  # t - sin(wt)/w rounds below 0 near t = 0
-
-    def speed(t):
-        t = np.clip(np.asarray(t, dtype=float), 0.0, duration)
-        edge = np.minimum(t, duration - t)
-        return np.where(edge < ramp_s, speed_m_s / 2.0 * (1.0 - np.cos(w * edge)), speed_m_s)
-
-    def acceleration(t):
-        t = np.clip(np.asarray(t, dtype=float), 0.0, duration)
-        value = speed_m_s / 2.0 * w * np.sin(w * np.minimum(t, duration - t))
-        return np.where(t < ramp_s, value, np.where(t > duration - ramp_s, -value, 0.0))
-
-    return TimeLaw(duration, length, position, speed, acceleration)
 
 
 @dataclass(frozen=True)
@@ -241,6 +201,6 @@ def ramp_duration(path: JointPath, speed_m_s: float, ramp_acceleration_m_s2: flo
         raise SweepRefused(f'{ARM_JOINT_NAMES[joint]} cannot follow the path at '
                            f'{speed_m_s * 1e3:.1f} mm/s within its velocity and acceleration '
                            f'limits; slide at most {fastest * 1e3 * 0.99:.1f} mm/s')
-    by_cap = math.pi * speed_m_s / (2.0 * ramp_acceleration_m_s2)
+    by_cap = ramp_duration_s(speed_m_s, ramp_acceleration_m_s2)
     by_joints = float(np.max(math.pi * speed_m_s * first / (2.0 * spare)))
     return max(by_cap, by_joints)

@@ -39,7 +39,7 @@ from tactex_classify.identification.bundle import load_bundle
 from tactex_classify.identification.calibration import calibrated
 from tactex_classify.identification.movement_evidence import sweep_vector
 from tactex_classify.identification.movement_goals import movement_goal, probed_arrays
-from tactex_classify.identification.pathway_part import holds, part_length_m, pathway_length
+from tactex_classify.identification.pathway_part import holds, pathway_length
 from tactex_classify.identification.selection import Budget, DECIDED, Identification
 from tactex_classify.online.evidence import union_seconds
 from tactex_classify.online.live import LiveSettings, LiveWindows, Window
@@ -51,6 +51,7 @@ from tactex_common.serving import goal_pathway, OneGoal
 from tactex_common.stamps import stamp_ns
 from tactex_common.ticks import Ticks
 from tactex_description.movements import load_movements, MovementError
+from tactex_description.speed_ramp import RAMP_ACCELERATION_M_S2
 from tactex_msgs.action import Identify, Sweep
 from tactex_msgs.msg import Pathway
 
@@ -101,9 +102,10 @@ class IdentifyNode(TactexNode):
                 3600.0)).value,
             'sweep_timeout_s': self.declare_parameter('sweep_timeout_s', 300.0, _range(
                 'abort a sweep that has not ended after this long (s)', 1.0, 36000.0)).value,
-            'ramp_acceleration': self.declare_parameter('ramp_acceleration', 0.05, _range(
-                "the sweep node's ramp_acceleration (m/s^2): each movement's part of the "
-                'pathway adds its two speed ramps to its contact', 1e-9, 1.0)).value,
+            'ramp_acceleration': self.declare_parameter(
+                'ramp_acceleration', RAMP_ACCELERATION_M_S2, _range(
+                    "the sweep node's ramp_acceleration (m/s^2): each movement's part of the "
+                    'pathway adds its two speed ramps to its contact', 1e-9, 1.0)).value,
             'settle_s': self.declare_parameter('settle_s', 2.0, _range(
                 'wait this long after a sweep for its last windows (s)', 0.0, 60.0)).value,
         }
@@ -220,7 +222,7 @@ class IdentifyNode(TactexNode):
         ramps = self._ramp_acceleration
         available = np.array([holds(points, movement, ramps) for movement in movements])
         if not available.any():
-            shortest = min(part_length_m(movement, ramps) for movement in movements)
+            shortest = min(movement.part_length_m(ramps) for movement in movements)
             return 'abort', (f'refused: the pathway is {1e3 * pathway_length(points):.0f} mm '
                              f'long; the shortest movement needs {1e3 * shortest:.0f} mm (its '
                              'contact and speed ramps): probe a longer pathway')

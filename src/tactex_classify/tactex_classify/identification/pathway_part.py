@@ -3,10 +3,10 @@
 """The part of a probed pathway one movement slides along: never off the pathway.
 
 A movement slides `contact_length_m` at its speed. The sweep ramps its speed up before
-and down after that contact on the same surface (a cosine ramp of peak acceleration a
-covers pi v^2 / (4 a): `ramp_length_m`), so its part of the pathway is the contact plus
-both ramps: from the pathway's first contact onwards (forward) or from its last contact
-back towards the first (backward). The part follows the pathway's polyline through its
+and down after that contact on the same surface (`tactex_description.speed_ramp`), so
+its part of the pathway is the contact plus both ramps (`Movement.part_length_m`): from
+the pathway's first contact onwards (forward) or from its last contact back towards the
+first (backward). The part follows the pathway's polyline through its
 contacts; where it ends between two contacts, its last point is interpolated on that
 segment (its normal too, renormalised), so the edge stays on the probed surface. A
 pathway shorter than the part cannot hold the movement.
@@ -25,17 +25,6 @@ from tactex_description.movements import Movement
 LENGTH_TOLERANCE_M = 1e-3
 
 
-def ramp_length_m(speed_m_s: float, acceleration_m_s2: float) -> float:
-    """Path covered by a cosine speed ramp from rest to `speed_m_s` at this peak acceleration."""
-    return math.pi * speed_m_s ** 2 / (4.0 * acceleration_m_s2)
-
-
-def part_length_m(movement: Movement, acceleration_m_s2: float) -> float:
-    """Pathway a movement needs: its contact and a speed ramp at each end."""
-    return movement.contact_length_m + 2.0 * ramp_length_m(movement.speed_m_s,
-                                                           acceleration_m_s2)
-
-
 def pathway_length(points: np.ndarray) -> float:
     """Length of the polyline through `points` (N x 3, m); 0 for fewer than two."""
     points = np.asarray(points, dtype=float).reshape(-1, 3)
@@ -45,7 +34,7 @@ def pathway_length(points: np.ndarray) -> float:
 
 def holds(points: np.ndarray, movement: Movement, acceleration_m_s2: float) -> bool:
     """Whether the pathway through `points` is long enough for `movement` and its ramps."""
-    return pathway_length(points) >= part_length_m(movement, acceleration_m_s2) \
+    return pathway_length(points) >= movement.part_length_m(acceleration_m_s2) \
         - LENGTH_TOLERANCE_M
 
 
@@ -77,7 +66,7 @@ def movement_part(points: np.ndarray, normals: np.ndarray, movement: Movement,
     if not math.isfinite(length):
         raise ValueError('the pathway is longer than a float can hold: its positions are not '
                          'in metres')
-    needed = part_length_m(movement, acceleration_m_s2)
+    needed = movement.part_length_m(acceleration_m_s2)
     if points.shape[0] < 2 or not holds(points, movement, acceleration_m_s2):
         raise ValueError(f'movement {movement.name} needs {1e3 * needed:.1f} mm (its contact '
                          f'and speed ramps); the pathway is {1e3 * length:.1f} mm long')
