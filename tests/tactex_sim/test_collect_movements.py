@@ -137,6 +137,19 @@ def test_a_movement_ramps_its_speed_around_its_contact_as_the_sweep_action_slide
             assert np.max(speed[before]) < 1e-4  # at rest until it slides at full speed
 
 
+def test_movements_take_their_parts_of_the_swept_path_as_of_a_probed_pathway(tmp_path):
+    """Forward from the path's start, backward from its end, as on a pathway.
+
+    The Sweep action puts them so on a probed pathway (identification's pathway_part), so
+    the same movement meets the same stretch of the plate's wave in sim collect as through
+    the action.
+    """
+    forward, backward = movement_file(tmp_path, FORWARD, BACKWARD).movements
+    path_end = SCENE.sweep.start_x_m + SCENE.sweep.speed_m_s * SCENE.sweep.contact_s
+    assert movement_scene(SCENE, forward).sweep.start_x_m == SCENE.sweep.start_x_m
+    assert movement_scene(SCENE, backward).sweep.start_x_m == pytest.approx(path_end)
+
+
 def test_every_shipped_movement_is_collectable_on_the_uneven_scene():
     """Contact and both speed ramps on the patch and within the arm's reach."""
     shipped = load_movements(ROOT / 'config' / 'movements.yaml')

@@ -79,32 +79,36 @@ def check_collectable(scene: Scene) -> None:
 def movement_scene(scene: Scene, movement: Movement) -> Scene:
     """The scene with its nominal sweep replaced by `movement`, its variability kept.
 
-    The movement slides along the scene's texture patch as the Sweep action slides along
-    its part of a pathway: from the scene's start, it ramps its speed up, slides its
-    contact, and ramps down (at the action's ramp acceleration as shipped); forward
-    towards +x, backward from the far end of that part back to the start. Its press depth
-    is the rim's indentation as the Sweep action presses it.
+    The scene's swept path ([sweep] start_x_m on, speed_m_s x contact_s long, towards +x)
+    stands for a probed pathway, and the movement slides its part of it as the Sweep
+    action slides a movement's part of a pathway: forward from the path's start, backward
+    from its end back towards the start; the speed ramps up before the contact and down
+    after it (at the action's ramp acceleration as shipped). Its press depth is the rim's
+    indentation as the Sweep action presses it.
 
     Raises:
-        SceneError: the movement's part runs off the patch under the scene's start.
+        SceneError: the movement's part, drawn starts included, runs off the texture patch.
     """
     ramps = RAMP_ACCELERATION_M_S2
     part_m = movement.part_length_m(ramps)
-    patch_end = _patch_end_x(scene)
-    # The latest start drawn is two standard deviations on (SweepParameters.draw).
-    latest_start = scene.sweep.start_x_m + 2.0 * scene.variability.start_x_m
-    if latest_start + part_m > patch_end + 1e-9:
+    backward = movement.direction == 'backward'
+    path_start = scene.sweep.start_x_m
+    start = path_start + (scene.sweep.speed_m_s * scene.sweep.contact_s if backward else 0.0)
+    # Starts are drawn within two standard deviations (SweepParameters.draw).
+    spread = 2.0 * scene.variability.start_x_m
+    low, high = _patch_span(scene, start)
+    room = (start - spread - low) if backward else (high - start - spread)
+    if part_m > room + 1e-9:
+        where = "swept path's end" if backward else "swept path's start"
         raise SceneError(f'{scene.path or scene.name}: movement {movement.name} slides '
                          f'{1e3 * movement.contact_length_m:.0f} mm and ramps its speed over '
                          f'{1e3 * (part_m - movement.contact_length_m):.0f} mm more; the '
-                         f'texture patch holds {1e3 * max(0.0, patch_end - latest_start):.0f} '
-                         f'mm from the latest start ([sweep] start_x_m + 2 x [variability] '
-                         'start_x_m): shorten its contact_length or lower its speed')
-    backward = movement.direction == 'backward'
+                         f'texture patch holds {1e3 * max(0.0, room):.0f} mm from the {where} '
+                         f'(x = {start:.3f} m, less two [variability] start_x_m): shorten its '
+                         'contact_length or lower its speed')
     sweep = replace(scene.sweep, speed_m_s=movement.speed_m_s, contact_s=movement.contact_s,
                     edge_offset_rad=movement.edge_tilt_rad, direction=-1 if backward else 1,
-                    press='rim', ramp_acceleration_m_s2=ramps,
-                    start_x_m=scene.sweep.start_x_m + (part_m if backward else 0.0))
+                    press='rim', ramp_acceleration_m_s2=ramps, start_x_m=start)
     spread = replace(scene.variability, press_depth_m=(movement.press_depth_m,
                                                        scene.variability.press_depth_m[1]))
     return replace(scene, sweep=sweep, variability=spread)
@@ -116,12 +120,11 @@ def _ramps(scene: Scene) -> dict:
     return {'ramp_acceleration_m_s2': acceleration} if math.isfinite(acceleration) else {}
 
 
-def _patch_end_x(scene: Scene) -> float:
-    """Where (+x, m) the texture patch under the scene's start ends (the start: none there)."""
-    start = scene.sweep.start_x_m
-    ends = [p.x_m[1] for p in scene.patches
-            if p.y_m[0] <= 0.0 <= p.y_m[1] and p.x_m[0] <= start <= p.x_m[1]]
-    return max(ends, default=start)
+def _patch_span(scene: Scene, x_m: float) -> tuple[float, float]:
+    """The x extent (m) of the texture patches at y = 0 around `x_m` ((x_m, x_m): none)."""
+    spans = [p.x_m for p in scene.patches if p.y_m[0] <= 0.0 <= p.y_m[1]
+             and p.x_m[0] <= x_m <= p.x_m[1]]
+    return (min(s[0] for s in spans), max(s[1] for s in spans)) if spans else (x_m, x_m)
 
 
 def record_sweep(scene: Scene, texture_name: str, trial: int, out: Path,
