@@ -42,9 +42,9 @@ def test_the_shipped_movements_span_the_arm_and_each_holds_three_windows_at_120_
     movements = load_movements(SHIPPED, sample_rate_hz=120.0)
     assert 6 <= len(movements.movements) <= 12 and movements.window == 128
     speeds = sorted({m.speed_m_s for m in movements.movements})
-    # 35 mm/s: faster, the part with both speed ramps runs out of the arm's reach on the
-    # uneven scene (test_every_shipped_movement_is_collectable_on_the_uneven_scene).
-    assert speeds[0] <= 0.010 and speeds[-1] >= 0.035
+    # 30 mm/s: faster, a drawn sweep's part with both speed ramps runs out of the arm's
+    # reach on the uneven scene (test_every_shipped_movement_is_collectable_...).
+    assert speeds[0] <= 0.010 and speeds[-1] >= 0.030
     assert {m.direction for m in movements.movements} == {'forward', 'backward'}
     assert len({m.press_depth_m for m in movements.movements}) >= 3
     assert len({m.edge_tilt_rad for m in movements.movements}) >= 3

@@ -150,6 +150,21 @@ def test_movements_take_their_parts_of_the_swept_path_as_of_a_probed_pathway(tmp
     assert movement_scene(SCENE, backward).sweep.start_x_m == pytest.approx(path_end)
 
 
+def test_a_movement_only_its_extreme_draws_cannot_sweep_is_refused_before_any_bag(tmp_path):
+    """Its nominal sweep fits; one drawn 8 mm farther and 8 % faster would not.
+
+    sim collect crashed at sweep 1690 of 1920 on such a draw of a shipped movement.
+    """
+    edge = movement_file(tmp_path, '{name: edge, speed: 0.035, press_depth: 0.002, '
+                         'edge_tilt: 0.5, direction: forward, contact_length: 0.0875}')
+    swept = movement_scene(SCENE, edge.movements[0])
+    plan_sweep(swept, SweepParameters.nominal(swept))  # reachable as laid out
+    with pytest.raises(SceneError, match='movement edge: sweep point .* unreachable'):
+        collect(SCENE, 1, tmp_path / 'bags', textures=('wood',), movements=edge,
+                progress=lambda line: None)
+    assert not (tmp_path / 'bags').exists()
+
+
 def test_every_shipped_movement_is_collectable_on_the_uneven_scene():
     """Contact and both speed ramps on the patch and within the arm's reach."""
     shipped = load_movements(ROOT / 'config' / 'movements.yaml')

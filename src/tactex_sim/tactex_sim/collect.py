@@ -252,7 +252,8 @@ def collectable_scenes(scene: Scene, movements: MovementSet | None = None) -> di
     for name, each in scenes.items():
         try:
             check_collectable(each)
-            plan_sweep(each, SweepParameters.nominal(each))
+            for parameters in (SweepParameters.nominal(each), *SweepParameters.extremes(each)):
+                plan_sweep(each, parameters)
         except SimError as err:
             raise SceneError(f'movement {name}: {err}; lower its edge_tilt or press_depth, or '
                              'shorten its contact_length') from None

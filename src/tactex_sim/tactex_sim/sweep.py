@@ -14,7 +14,7 @@ contact" part of a recording.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 import math
 import time
 from typing import TYPE_CHECKING
@@ -63,8 +63,8 @@ class SweepParameters:
     def draw(cls, scene: Scene, rng: np.random.Generator) -> SweepParameters:
         """Nominal sweep of the scene varied as its [variability] table says.
 
-        Start and speed are drawn within two standard deviations, so every sweep stays
-        in the part of the workspace the scene was laid out for.
+        Start, speed and mount tilt are drawn within two standard deviations, so every
+        sweep stays in the part of the workspace the scene was laid out for (`extremes`).
         """
         sweep, spread = scene.sweep, scene.variability
         depth_mean, depth_sd = spread.press_depth_m
@@ -73,11 +73,30 @@ class SweepParameters:
             speed_m_s=sweep.speed_m_s * (1.0 + _bounded_normal(rng, spread.speed_fraction)),
             press_depth_m=float(np.clip(rng.normal(depth_mean, depth_sd), 0.3 * depth_mean,
                                         2.0 * depth_mean)),
-            edge_offset_rad=sweep.edge_offset_rad + rng.normal(0.0, spread.mount_tilt_rad),
+            edge_offset_rad=sweep.edge_offset_rad + _bounded_normal(rng, spread.mount_tilt_rad),
             heading_rad=rng.uniform(-spread.heading_rad, spread.heading_rad),
             noise_scale=max(0.2, 1.0 + rng.normal(0.0, spread.noise_scale)),
             drift_pa_per_s=rng.normal(0.0, spread.drift_pa_per_s),
             direction=sweep.direction)
+
+
+    @classmethod
+    def extremes(cls, scene: Scene) -> list[SweepParameters]:
+        """The draws at the corners of what `draw` can draw of the pose and the path.
+
+        Every start (+-2 sd), mount tilt (+-2 sd) and press depth (0.3 to 2 x the mean)
+        combined, at the fastest speed (+2 sd: the longest path): a scene whose extremes
+        the arm can sweep can sweep every draw between them.
+        """
+        sweep, spread = scene.sweep, scene.variability
+        depth_mean = spread.press_depth_m[0]
+        nominal = cls.nominal(scene)
+        return [replace(nominal, start_x_m=sweep.start_x_m + start * 2.0 * spread.start_x_m,
+                        speed_m_s=sweep.speed_m_s * (1.0 + 2.0 * spread.speed_fraction),
+                        edge_offset_rad=sweep.edge_offset_rad
+                        + tilt * 2.0 * spread.mount_tilt_rad,
+                        press_depth_m=depth * depth_mean)
+                for start in (-1.0, 1.0) for tilt in (-1.0, 1.0) for depth in (0.3, 2.0)]
 
 
 @dataclass(frozen=True)
