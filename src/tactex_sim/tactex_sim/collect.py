@@ -95,9 +95,9 @@ def movement_scene(scene: Scene, movement: Movement) -> Scene:
     path_start = scene.sweep.start_x_m
     start = path_start + (scene.sweep.speed_m_s * scene.sweep.contact_s if backward else 0.0)
     # Starts are drawn within two standard deviations (SweepParameters.draw).
-    spread = 2.0 * scene.variability.start_x_m
+    drawn_m = 2.0 * scene.variability.start_x_m
     low, high = _patch_span(scene, start)
-    room = (start - spread - low) if backward else (high - start - spread)
+    room = (start - drawn_m - low) if backward else (high - start - drawn_m)
     if part_m > room + 1e-9:
         where = "swept path's end" if backward else "swept path's start"
         raise SceneError(f'{scene.path or scene.name}: movement {movement.name} slides '
