@@ -79,7 +79,6 @@ class SweepParameters:
             drift_pa_per_s=rng.normal(0.0, spread.drift_pa_per_s),
             direction=sweep.direction)
 
-
     @classmethod
     def extremes(cls, scene: Scene) -> list[SweepParameters]:
         """The draws at the corners of what `draw` can draw of the pose and the path.
