@@ -21,7 +21,13 @@ from tactex_sim.world import World
 from tactex_trajectory.monitor import SweepMonitor
 from tactex_trajectory.planner import plan_sweep, SweepSettings
 from tactex_trajectory.poses import PoseSettings
-from tactex_trajectory.simulated_sweeps import execute, measure, probed_pathway, record
+from tactex_trajectory.simulated_sweeps import (
+    execute,
+    handed,
+    measure,
+    probed_pathway,
+    record,
+)
 
 CONTACT_FRACTION_MIN = 0.95
 SPEED_ERROR_MAX = 0.10
@@ -60,17 +66,8 @@ def test_a_sweep_of_the_uneven_scene_meets_the_accuracy_thresholds(seed):
 
 def played(world, controller, sweep, *, tail_s):
     """Hand `sweep` to the driver's controller now and record until `tail_s` after its end."""
-    trajectory = sweep.trajectory
-    controller.execute(list(ARM_JOINT_NAMES), trajectory.times_s.tolist(),
-                       trajectory.positions.tolist(), trajectory.velocities.tolist(),
-                       world.time_s)
-
-    def goal(time_s):
-        target = controller.goal(time_s)
-        return world.joint_positions() if target is None else target
-
-    return record(world, goal, trajectory.duration_s + tail_s,
-                  on_sample=lambda: controller.update_measured(world.joint_positions()))
+    goal, on_sample = handed(world, controller, sweep)
+    return record(world, goal, sweep.trajectory.duration_s + tail_s, on_sample=on_sample)
 
 
 def peak_force(record, sweep, first: str, last: str) -> float:

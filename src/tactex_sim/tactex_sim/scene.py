@@ -23,6 +23,7 @@ from tactex_common.constants import MAX_SEED, SLIDING_SPEED_M_S
 from tactex_common.errors import RefusedFileError
 from tactex_common.files import read_bytes
 from tactex_common.numbers import is_finite_number
+from tactex_description.speed_ramp import RAMP_ACCELERATION_M_S2
 from tactex_sim.errors import SceneError
 
 MAX_SCENE_BYTES = 1024 * 1024
@@ -125,7 +126,8 @@ class Sweep:
                              f'got {self.press!r}')
         if not self.ramp_acceleration_m_s2 > 0:
             raise ValueError(f'ramp_acceleration_m_s2 must be > 0 m/s^2 (the Sweep action '
-                             f'ramps at 0.05), got {self.ramp_acceleration_m_s2!r}')
+                             f'ramps at {RAMP_ACCELERATION_M_S2:g}), got '
+                             f'{self.ramp_acceleration_m_s2!r}')
 
 
 

@@ -170,14 +170,18 @@ class SweepMonitor:
         first = min(DEPARTURE_M, 0.5 * reach)
         if first <= 1e-6:
             return 0.0, None, DEPARTURE_M
-        candidates = [(int(np.argmax(distances >= threshold)), threshold) for threshold in
-                      np.arange(first, 0.5 * reach + 1e-12, DEPARTURE_M)]
-        for index, threshold in candidates:
-            direction = offsets[index] / distances[index]
-            if float(np.max(offsets[index:] @ direction)) >= threshold + DEPARTURE_M:
-                return float(times[index]), direction, float(threshold)
-        index, threshold = candidates[0]
-        return float(times[index]), offsets[index] / distances[index], float(threshold)
+
+        def departure(threshold: float) -> tuple[int, np.ndarray, float]:
+            index = int(np.argmax(distances >= threshold))
+            return index, offsets[index] / distances[index], float(threshold)
+
+        def goes_on(index: int, direction: np.ndarray, threshold: float) -> bool:
+            return float(np.max(offsets[index:] @ direction)) >= threshold + DEPARTURE_M
+
+        thresholds = np.arange(first, 0.5 * reach + 1e-12, DEPARTURE_M)
+        index, direction, threshold = next(
+            (d for d in map(departure, thresholds) if goes_on(*d)), departure(first))
+        return float(times[index]), direction, threshold
 
     def _departed(self, measured: np.ndarray) -> bool:
         """Whether the measured edge has left its rest as the plan leaves its start."""

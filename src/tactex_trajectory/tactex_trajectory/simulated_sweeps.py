@@ -114,6 +114,16 @@ def driven(world: World, plan: SweepPlan, *, start_joints=None
     controller = ArmController(JointLimits.of_robot())
     controller.update_measured(world.joint_positions())
     controller.torque_on(world.time_s)
+    return handed(world, controller, plan)
+
+
+def handed(world: World, controller: ArmController, plan: SweepPlan
+           ) -> tuple[Callable[[float], np.ndarray], Callable[[], None]]:
+    """Hand `plan` to a driver's `controller` already holding the arm in `world`, now.
+
+    Returns (goal, on_sample) as `driven` does; what the controller ran before is replaced
+    (the arm goes on from where it is, as after an earlier sweep).
+    """
     trajectory = plan.trajectory
     controller.execute(list(ARM_JOINT_NAMES), trajectory.times_s.tolist(),
                        trajectory.positions.tolist(), trajectory.velocities.tolist(),
