@@ -4,9 +4,9 @@
 
 Runs `tactex sim collect --movements config/movements.yaml` (12 textures x 8 movements x
 `--sweeps` sweeps, on a scene seed no test uses), `tactex convert` at the movement
-file's window, then `tactex report identification` (grouped folds, nested evidence,
-every policy on the same held-out sweeps, active-realized beside the comparison's four),
-and keeps the report in
+file's window, then `tactex report identification` (grouped folds dealt `--repeats`
+times, nested evidence, every policy on the same held-out sweeps, active-realized beside
+the comparison's four, active paired against each), and keeps the report in
 bench/results/identification/ with run.json (the commands, their seconds, the dataset).
 The same report is then run again with `--repeat-discount` (a fitted discount of a
 movement's repeats) on the same folds and sweeps, and its identification.json kept in
@@ -35,6 +35,8 @@ def main() -> int:
     parser.add_argument('--seed', type=int, default=2035, help='scene seed (no test uses it)')
     parser.add_argument('--folds', type=int, default=2)
     parser.add_argument('--seeds', type=int, default=10)
+    parser.add_argument('--repeats', type=int, default=5,
+                        help='partitions into folds, each replayed (repeated cross-validation)')
     parser.add_argument('--inner-folds', type=int, default=3,
                         help='calibration folds inside each outer fold (2 below 6 sweeps)')
     parser.add_argument('--model', default='minirocket')
@@ -55,8 +57,8 @@ def main() -> int:
         report, discounted = Path(scratch) / 'report', Path(scratch) / 'discounted'
         command = [TACTEX, 'report', 'identification', str(data), '--movements',
                    str(MOVEMENTS), '--folds', str(args.folds), '--inner-folds',
-                   str(args.inner_folds), '--seeds', str(args.seeds),
-                   '--model', args.model]
+                   str(args.inner_folds), '--seeds', str(args.seeds), '--repeats',
+                   str(args.repeats), '--model', args.model]
         timed([*command, '--policies', ','.join(POLICIES), '--out', str(report)], steps)
         timed([*command, '--repeat-discount', '--out', str(discounted)], steps)
         shutil.rmtree(RESULTS, ignore_errors=True)

@@ -5,6 +5,8 @@
 from results_common import FIGURES, kept_json
 from scipy.stats import binomtest
 
+from tactex_classify.identification.report import against_table, partitions
+
 
 def identification() -> str:
     report = kept_json('identification/identification.json')
@@ -49,7 +51,8 @@ def identification() -> str:
            '`--bags`' if earlier else '') + ': '
         f'{len(report["classes"])} textures x {len(report["movement_names"])} movements x '
         f'{run["sweeps_per_texture_and_movement"]} simulated sweeps on scene seed '
-        f'{run["scene_seed"]}, which no test uses; {settings["folds"]} folds grouped by '
+        f'{run["scene_seed"]}, which no test uses; {partitions(settings)}'
+        f'{settings["folds"]} folds grouped by '
         f'recording, {settings["seeds"]} seeds, {report["episodes"]} episodes per policy; '
         f'{settings["model"]} per movement; threshold {settings["threshold"]:g}; chance '
         f'{chance:.1f} %; `bench/results/identification/`, with '
@@ -67,6 +70,7 @@ def identification() -> str:
            "other folds' held-out sweeps, scored on each fold's (the luck taken out)"
            if report.get('best_plans') else '') + ':\n\n' + '\n'.join(after)
         + (_against_goals(report) if same else '')
+        + ''.join('\n' + line for line in against_table(report))
         + _without_discount(report, steps)
         + '\n\nEach movement on its own, one held-out sweep '
         '(`movement_confusions.png` has the confusion matrices):\n\n' + '\n'.join(movements)

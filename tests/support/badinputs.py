@@ -849,6 +849,8 @@ BAD_INPUTS = {
              'argument --policies', '{w}/report'),
         Case('report identification {w}/data.npz --out {w}/report --threshold 1.5',
              'argument --threshold', '{w}/report'),
+        Case('report identification {w}/data.npz --out {w}/report --repeats 0',
+             'argument --repeats', '{w}/report'),
         Case('report identification {w}/data.npz --out {w}/report --budget-seconds -1',
              'argument --budget-seconds', '{w}/report'),
         Case('report identification {w}/data.npz --out {w}/report --threshold 0',

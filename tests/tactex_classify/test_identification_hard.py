@@ -6,7 +6,8 @@ Whatever a model answers (zeros, subnormals, 1e-300, ones, values above one, unn
 the belief stays finite and normalised and the expected information gain finite; a NaN,
 an infinity, a negative value or a wrong shape is refused with a ValueError naming it;
 calibration and the tempering fit stay finite on extreme probabilities; the best plans'
-accuracies stay shares on any sweeps; empty input is refused.
+accuracies stay shares on any sweeps, and so do paired differences between policies on
+any episodes and contact times; empty input is refused.
 """
 
 import math
@@ -19,8 +20,9 @@ import pytest
 from support.hard_values import anything, NON_FINITE
 
 from tactex_classify.identification.calibration import calibrated, fit_temperature, reliability
+from tactex_classify.identification.comparison import contact_grid, MAX_TIMES, paired_difference
 from tactex_classify.identification.evidence_table import EvidenceTable, MovementEvidence
-from tactex_classify.identification.offline import best_plans, repeat_sums
+from tactex_classify.identification.offline import best_plans, Episode, repeat_sums
 from tactex_classify.identification.pathway_part import movement_part
 from tactex_classify.identification.posterior import entropy, normalised
 from tactex_classify.identification.selection import Budget, Identification, POLICIES
@@ -105,11 +107,11 @@ def test_the_gain_equals_the_sweep_by_sweep_sum_for_any_evidence_and_belief(tabl
 def test_the_best_plans_are_shares_on_any_sweeps(table, data):
     classes, names = len(table.classes), list(table.names)
     plan_terms = []
-    for fold in range(data.draw(st.integers(1, 2))):
+    for repeat, fold in np.ndindex(data.draw(st.integers(1, 2)), data.draw(st.integers(1, 2))):
         for texture in range(classes):
             pools = [[data.draw(hnp.arrays(np.float64, classes, elements=answers))
                       for _ in range(data.draw(st.integers(1, 3)))] for _ in names]
-            plan_terms.append((fold, texture, repeat_sums(table, pools)))
+            plan_terms.append((repeat, fold, texture, repeat_sums(table, pools)))
     plans = best_plans({'movements': names, 'contact_s': table.seconds.tolist(),
                         'classes': list(table.classes), 'plan_terms': plan_terms})
     assert plans and [plan['movements'] for plan in plans] == list(range(1, len(plans) + 1))
@@ -207,3 +209,30 @@ def test_a_movement_part_is_refused_or_finite_and_starts_on_the_pathway(
     assert np.all(np.isfinite(part)) and np.all(np.isfinite(part_normals))
     assert part.shape == part_normals.shape and len(part) >= 2
     assert np.array_equal(part[0], points[0 if direction == 'forward' else -1])
+
+
+@settings(max_examples=100, deadline=None)
+@given(st.data())
+def test_the_paired_difference_stays_a_difference_of_shares_on_any_episodes(data):
+    textures = data.draw(st.integers(1, 4))
+    episodes = []
+    for key in range(data.draw(st.integers(0, 6))):
+        texture, steps = key % textures, data.draw(st.integers(0, 4))
+        seconds = np.cumsum(data.draw(st.lists(st.sampled_from([1e-9, 2.5, 1e6]),
+                                               min_size=steps, max_size=steps))).tolist()
+        for policy in ('active', 'random'):
+            leaders = data.draw(st.lists(st.integers(0, textures - 1), min_size=steps,
+                                         max_size=steps))
+            episodes.append(Episode(policy, 0, key, texture, movements=[0] * steps,
+                                    leaders=leaders, contact_s=seconds))
+    grid = contact_grid(episodes, data.draw(st.sampled_from([0.0, -1.0, 1e-9, 2.5, math.inf,
+                                                             math.nan])))
+    assert len(grid) <= MAX_TIMES and np.all(np.isfinite(grid))
+    against = paired_difference(episodes, 'active', 'random', grid, resamples=50)
+    assert against['pairs'] == len(episodes) // 2
+    for name in ('difference', 'low', 'high'):
+        assert len(against[name]) == len(grid)
+    if against['pairs']:
+        low, high = np.array(against['low']), np.array(against['high'])
+        assert np.all((-1.0 <= low) & (low <= high + 1e-12) & (high <= 1.0))
+        assert np.all(np.abs(against['difference']) <= 1.0)

@@ -26,9 +26,11 @@ from support.movement_data import (
 )
 
 from tactex.cli import main
+from tactex_classify.identification.comparison import contact_grid, paired_difference
 from tactex_classify.identification.movement_evidence import checked_movements, MovementDataError
 from tactex_classify.identification.offline import (
     best_plans,
+    Episode,
     recordings_needed,
     replay,
     ReplaySettings,
@@ -74,6 +76,51 @@ def test_active_never_starts_with_the_movement_that_tells_nothing(replayed):
     table = summary(replayed, SETTINGS)
     assert table['movements']['tells_all']['sweep_accuracy'] > 0.9
     assert table['movements']['tells_nothing']['sweep_accuracy'] < 0.7
+
+
+def test_repeated_partitions_replay_each_and_the_first_is_the_unrepeated_replay(tmp_path,
+                                                                               replayed):
+    settings = replace(SETTINGS, policies=('active', 'random'), repeats=2)
+    again = replay(movement_dataset(tmp_path), load_movements(movement_file(tmp_path)),
+                   settings, progress=lambda line: None)
+    episodes = again['episodes']
+    assert len(episodes) == 2 * 2 * SETTINGS.folds * len(TEXTURES) * SETTINGS.seeds
+    first = [(e.policy, e.fold, e.texture, e.seed, e.movements, e.leaders)
+             for e in episodes if e.repeat == 0]
+    assert first == [(e.policy, e.fold, e.texture, e.seed, e.movements, e.leaders)
+                     for e in replayed['episodes'] if e.policy in settings.policies]
+    assert len(again['tempering']) == 2 * SETTINGS.folds
+    table = summary(again, settings)
+    assert table['settings']['repeats'] == 2 and table['episodes'] == len(episodes) // 2
+    assert table['movements']['tells_all']['sweeps'] == len(TEXTURES) * RECORDINGS
+
+
+def test_active_is_compared_with_every_other_policy_paired_at_equal_contact_time(replayed):
+    against = summary(replayed, SETTINGS)['active_against']
+    assert list(against) == [policy for policy in POLICIES if policy != 'active']
+    for other, row in against.items():
+        assert row['pairs'] == SETTINGS.folds * len(TEXTURES) * SETTINGS.seeds, other
+        assert row['textures'] == len(TEXTURES)
+        assert row['contact_s'][0] == pytest.approx(min(replayed['contact_s']))
+        assert all(low <= high for low, high in zip(row['low'], row['high'], strict=True))
+
+
+def test_a_policy_right_where_another_is_wrong_differs_by_one_with_no_doubt():
+    def episode(policy, texture, leader):
+        return Episode(policy, 0, 0, texture, movements=[0, 0], leaders=[leader, leader],
+                       contact_s=[2.5, 5.0])
+
+    episodes = [episode('active', texture, texture) for texture in range(3)] + [
+        episode('random', texture, (texture + 1) % 3) for texture in range(3)]
+    grid = contact_grid(episodes, 2.5)
+    assert grid.tolist() == [2.5, 5.0]
+    right = paired_difference(episodes, 'active', 'random', grid)
+    assert right['difference'] == right['low'] == right['high'] == [1.0, 1.0]
+    assert paired_difference(episodes, 'active', 'active', grid)['difference'] == [0.0, 0.0]
+    half = episodes[:3] + [episode('random', 0, 0), *episodes[4:]]  # one texture found by both
+    mixed = paired_difference(half, 'active', 'random', grid)
+    assert mixed['difference'] == pytest.approx([2 / 3, 2 / 3])
+    assert mixed['low'][0] < 2 / 3 < mixed['high'][0] == 1.0
 
 
 def test_the_same_inputs_give_the_same_report(tmp_path, replayed):
@@ -138,8 +185,8 @@ def test_the_best_plan_is_found_by_enumeration_and_repeats_a_movement_only_as_po
 
     result = {'movements': ['sharp', 'weak'], 'contact_s': [2.0, 3.0], 'classes': ['a', 'b'],
               'plan_terms': [  # sharp is right once then misleads; weak always says a
-                  (0, 0, [sums(steps((0, 2), (1, 3))), sums(steps((0, 1), (0, 1), (0, 1)))]),
-                  (1, 1, [sums(steps((1, 2), (0, 3))), sums(steps((0, 1), (0, 1)))])]}
+                  (0, 0, 0, [sums(steps((0, 2), (1, 3))), sums(steps((0, 1), (0, 1), (0, 1)))]),
+                  (0, 1, 1, [sums(steps((1, 2), (0, 3))), sums(steps((0, 1), (0, 1)))])]}
     plans = best_plans(result)
     assert [plan['movements'] for plan in plans] == [1, 2, 3, 4]  # weak: 2 sweeps in every pool
     assert plans[0] == {'movements': 1, 'accuracy': 1.0, 'chosen_elsewhere': 1.0,
@@ -155,12 +202,17 @@ def test_a_plan_chosen_on_the_other_folds_loses_the_luck_of_choosing_on_its_own_
         return np.cumsum([np.zeros(2), np.eye(2)[texture]], axis=0)
 
     result = {'movements': ['left', 'right'], 'contact_s': [1.0, 1.0], 'classes': ['a', 'b'],
-              'plan_terms': [(0, 0, [sums(0), sums(1)]),  # fold 0: left is right
-                             (1, 1, [sums(0), sums(1)])]}  # fold 1: right is right
+              'plan_terms': [(0, 0, 0, [sums(0), sums(1)]),  # fold 0: left is right
+                             (0, 1, 1, [sums(0), sums(1)])]}  # fold 1: right is right
     single = best_plans(result)[0]
     assert single['accuracy'] == 0.5 and single['chosen_elsewhere'] == 0.0
     alone = {**result, 'plan_terms': result['plan_terms'][:1]}
     assert best_plans(alone)[0]['chosen_elsewhere'] is None  # one fold: nothing elsewhere
+    # Another partition deals the same recordings again: its folds are not elsewhere.
+    dealt_again = {**result, 'plan_terms': [*result['plan_terms'],
+                                            (1, 0, 1, [sums(0), sums(1)]),
+                                            (1, 1, 0, [sums(0), sums(1)])]}
+    assert best_plans(dealt_again)[0]['chosen_elsewhere'] == 0.0
 
 
 def test_recordings_without_a_movement_or_another_movement_file_are_refused(tmp_path):
@@ -213,12 +265,15 @@ def test_the_command_writes_the_report_and_prints_each_policy(tmp_path, capsys):
     assert main(['report', 'identification', str(tmp_path / 'data.npz'), '--out',
                  str(tmp_path / 'out'), '--movements', str(movement_file(tmp_path)),
                  '--folds', '2', '--inner-folds', '2', '--seeds', '2', '--model',
-                 'extratrees', '--policies', 'active,fixed', '--budget-movements', '4']) == 0
+                 'extratrees', '--policies', 'active,fixed', '--budget-movements', '4',
+                 '--repeats', '2']) == 0
     printed = capsys.readouterr().out
     assert 'active' in printed and 'fixed' in printed and 'random' not in printed
+    assert 'repeat 2, fold 2/2: tells_all fitted' in printed
     kept = json.loads((tmp_path / 'out' / 'identification.json').read_text())
     assert list(kept['policies']) == ['active', 'fixed']
-    assert kept['settings']['budget_movements'] == 4
+    assert kept['settings']['budget_movements'] == 4 and kept['settings']['repeats'] == 2
+    assert list(kept['active_against']) == ['fixed']
 
 
 def test_the_command_refuses_a_movement_file_of_another_window_as_train_does(tmp_path, capsys):

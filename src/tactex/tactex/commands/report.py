@@ -72,6 +72,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                                      'the held-out sweeps (10)')
     identification.add_argument('--folds', type=fold_count, default=3,
                                 help='folds grouped by recording (3)')
+    identification.add_argument('--repeats', type=integer(1, 100), default=1,
+                                help='partitions into folds, each dealt from its own shuffle '
+                                     'and replayed (repeated cross-validation; default 1): '
+                                     'with few recordings per texture and movement, which '
+                                     'share a fold moves the figures by several points')
     identification.add_argument('--inner-folds', type=fold_count, default=3,
                                 help='folds within the training recordings for the evidence '
                                      'and its calibration (3)')
@@ -153,7 +158,7 @@ def _identification(args: argparse.Namespace) -> int:
     settings = ReplaySettings(
         policies=args.policies, folds=args.folds, inner_folds=args.inner_folds,
         seeds=args.seeds, training=training_config(args, model), seed=args.seed,
-        repeat_discount=args.repeat_discount,
+        repeat_discount=args.repeat_discount, repeats=args.repeats,
         budget=Budget(args.threshold, args.budget_movements, args.budget_seconds))
     started = time.monotonic()
     try:

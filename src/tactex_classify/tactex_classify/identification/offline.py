@@ -3,14 +3,17 @@
 """Identification replayed on held-out recordings: every policy on the same folds and draws.
 
 The recordings are split into `folds` folds grouped by recording and balanced per
-(texture, movement). For each fold, every movement's model, temperature, out-of-fold
-evidence and the tempering exponent come from the other folds only (nested: the
-evidence table's vectors are themselves out of fold within them); the held-out
-recordings then give, per movement, the calibrated sweep vectors an arm would have
-produced. An episode identifies one texture of the fold: each step takes the chosen
-movement's next held-out sweep of that texture, never the same sweep twice (a movement
-whose sweeps are used up is no longer available). Every policy sees the same sweeps in
-the same order for a (fold, texture, seed), so policies differ only by their choices.
+(texture, movement), and with `repeats` above one dealt again from another shuffle
+(repeated cross-validation: which recordings share a fold moves the figures by several
+points on twenty recordings per cell, and every partition is replayed). For each fold,
+every movement's model, temperature, out-of-fold evidence and the tempering exponent
+come from the other folds only (nested: the evidence table's vectors are themselves out
+of fold within them); the held-out recordings then give, per movement, the calibrated
+sweep vectors an arm would have produced. An episode identifies one texture of the
+fold: each step takes the chosen movement's next held-out sweep of that texture, never
+the same sweep twice (a movement whose sweeps are used up is no longer available). Every
+policy sees the same sweeps in the same order for a (repeat, fold, texture, seed), so
+policies differ only by their choices (`comparison` pairs them).
 
 `best_plans` bounds what choosing can buy: the best plan of at most k movements fixed in
 advance (how many sweeps of each), picked in hindsight on those same held-out sweeps.
@@ -33,6 +36,7 @@ import numpy as np
 from tactex_classify.data.dataset import Dataset
 from tactex_classify.evaluation.cross_validation import confusion
 from tactex_classify.identification.calibration import reliability
+from tactex_classify.identification.comparison import contact_grid, paired_difference
 from tactex_classify.identification.evidence_table import EvidenceTable
 from tactex_classify.identification.movement_evidence import (
     cell_counts,
@@ -68,6 +72,7 @@ class ReplaySettings:
     training: TrainingConfig = field(default_factory=lambda: TrainingConfig(model=DEFAULT_MODEL))
     seed: int = 0  # the folds and episodes; the models' own seed is training.seed
     repeat_discount: bool = False  # True: fit the discount of a movement's repeats
+    repeats: int = 1  # partitions into folds, partition r dealt from seed + r
 
     @property
     def model(self) -> str:
@@ -83,6 +88,7 @@ class Episode:
     fold: int
     seed: int
     texture: int
+    repeat: int = 0  # the partition into folds
     movements: list[int] = field(default_factory=list)
     leaders: list[int] = field(default_factory=list)  # the leading texture after each step
     contact_s: list[float] = field(default_factory=list)  # cumulative, after each step
@@ -156,76 +162,81 @@ def replay(dataset: Dataset, movements: MovementSet, settings: ReplaySettings = 
     check_cells(counts, needed, f'--folds {settings.folds} with --inner-folds '
                 f'{settings.inner_folds}', _fold_fix(min(counts.values()), settings.folds))
     names = list(movements.names)
-    fold_of = assign_folds({t: (dataset.classes[label_of[t]], m)
-                            for t, m in movement_of.items()},
-                           settings.folds, settings.seed)
     arm_s = _arm_seconds(dataset, movement_of, names)
     classes = len(dataset.classes)
     episodes: list[Episode] = []
     held_out = {name: {'labels': [], 'vectors': [], 'unconverged': []} for name in names}
     tempering, plan_terms = [], []
-    for fold in range(settings.folds):
-        started = time.monotonic()
-        fitted, test, predict_s = [], [], []
-        for index, name in enumerate(names, start=1):
-            own = [t for t, m in movement_of.items() if m == name]
-            fitting = time.monotonic()
-            fit = fit_movement(name, subset(dataset, [t for t in own if fold_of[t] != fold]),
-                               lambda: build_estimator(settings.training),
-                               folds=settings.inner_folds, seed=settings.seed)
-            progress(f'fold {fold + 1}/{settings.folds}: {name} fitted ({index}/{len(names)}, '
-                     f'{time.monotonic() - fitting:.0f} s)'
-                     + ('; not converged: ' + ', '.join(f'{where} ({why})' for where, why in
-                                                        fit.unconverged)
-                        if fit.unconverged else ''))
-            began = time.perf_counter()
-            trials, labels, vectors = fit.predict_sweeps(
-                subset(dataset, [t for t in own if fold_of[t] == fold]))
-            predict_s.append((time.perf_counter() - began) / max(len(trials), 1))
-            fitted.append(fit)
-            test.append((labels, vectors))
-            held_out[name]['labels'] += labels.tolist()
-            held_out[name]['vectors'] += vectors.tolist()
-            held_out[name]['unconverged'] += [f'fold {fold + 1}, {where}: {why}'
-                                              for where, why in fit.unconverged]
-        evidence = [movement_evidence(fit, movements.by_name(fit.name).contact_s)
-                    for fit in fitted]
-        fitted_update = fit_tempering(dataset.classes, evidence, seed=settings.seed,
-                                      discounts=DISCOUNTS if settings.repeat_discount else (0.0,))
-        tempering.append(fitted_update)
-        table = EvidenceTable(dataset.classes, evidence, *fitted_update)
-        for texture in range(classes):
-            for seed in range(settings.seeds):
-                order = np.random.default_rng([settings.seed, fold, texture, seed])
-                pools = [list(vectors[order.permutation(np.flatnonzero(labels == texture))])
-                         for labels, vectors in test]
-                plan_terms.append((fold, texture, repeat_sums(table, pools)))
-                for policy in settings.policies:
-                    episodes.append(_episode(table, policy, settings.budget, fold, seed,
-                                             texture, [list(pool) for pool in pools],
-                                             arm_s, predict_s, settings.seed))
-        progress(f'fold {fold + 1}/{settings.folds}: {len(names)} movements fitted, '
-                 f'tempering {fitted_update.exponent:.2f}, repeat discount '
-                 f'{fitted_update.repeat_discount:g}, '
-                 f'{classes * settings.seeds * len(settings.policies)} episodes '
-                 f'({time.monotonic() - started:.0f} s)')
+    for repeat in range(settings.repeats):
+        seed = settings.seed + repeat
+        fold_of = assign_folds({t: (dataset.classes[label_of[t]], m)
+                                for t, m in movement_of.items()}, settings.folds, seed)
+        for fold in range(settings.folds):
+            partition = f'repeat {repeat + 1}, ' if settings.repeats > 1 else ''
+            where = f'{partition}fold {fold + 1}/{settings.folds}'  # in the progress lines
+            started = time.monotonic()
+            fitted, test, predict_s = [], [], []
+            for index, name in enumerate(names, start=1):
+                own = [t for t, m in movement_of.items() if m == name]
+                fitting = time.monotonic()
+                fit = fit_movement(name, subset(dataset, [t for t in own if fold_of[t] != fold]),
+                                   lambda: build_estimator(settings.training),
+                                   folds=settings.inner_folds, seed=seed)
+                progress(f'{where}: {name} fitted ({index}/{len(names)}, '
+                         f'{time.monotonic() - fitting:.0f} s)'
+                         + ('; not converged: ' + ', '.join(f'{at} ({why})' for at, why in
+                                                            fit.unconverged)
+                            if fit.unconverged else ''))
+                began = time.perf_counter()
+                trials, labels, vectors = fit.predict_sweeps(
+                    subset(dataset, [t for t in own if fold_of[t] == fold]))
+                predict_s.append((time.perf_counter() - began) / max(len(trials), 1))
+                fitted.append(fit)
+                test.append((labels, vectors))
+                held_out[name]['labels'] += labels.tolist()
+                held_out[name]['vectors'] += vectors.tolist()
+                held_out[name]['unconverged'] += [f'{partition}fold {fold + 1}, {at}: {why}'
+                                                  for at, why in fit.unconverged]
+            evidence = [movement_evidence(fit, movements.by_name(fit.name).contact_s)
+                        for fit in fitted]
+            fitted_update = fit_tempering(
+                dataset.classes, evidence, seed=seed,
+                discounts=DISCOUNTS if settings.repeat_discount else (0.0,))
+            tempering.append(fitted_update)
+            table = EvidenceTable(dataset.classes, evidence, *fitted_update)
+            for texture in range(classes):
+                for episode_seed in range(settings.seeds):
+                    order = np.random.default_rng([seed, fold, texture, episode_seed])
+                    pools = [list(vectors[order.permutation(np.flatnonzero(labels == texture))])
+                             for labels, vectors in test]
+                    plan_terms.append((repeat, fold, texture, repeat_sums(table, pools)))
+                    for policy in settings.policies:
+                        episodes.append(_episode(
+                            table, policy, settings.budget,
+                            Episode(policy, fold, episode_seed, texture, repeat),
+                            [list(pool) for pool in pools], arm_s, predict_s, seed))
+            progress(f'{where}: {len(names)} movements fitted, tempering '
+                     f'{fitted_update.exponent:.2f}, repeat discount '
+                     f'{fitted_update.repeat_discount:g}, '
+                     f'{classes * settings.seeds * len(settings.policies)} episodes '
+                     f'({time.monotonic() - started:.0f} s)')
     return {'episodes': episodes, 'held_out': held_out, 'tempering': tempering,
             'plan_terms': plan_terms, 'arm_s': arm_s, 'movements': names,
             'classes': list(dataset.classes),
             'contact_s': [movements.by_name(name).contact_s for name in names]}
 
 
-def _episode(table: EvidenceTable, policy: str, budget: Budget, fold: int, seed: int,
-             texture: int, pools: list[list[np.ndarray]], arm_s: list[float],
-             predict_s: list[float], base_seed: int) -> Episode:
-    """One texture identified by one policy from the fold's held-out sweeps.
+def _episode(table: EvidenceTable, policy: str, budget: Budget, episode: Episode,
+             pools: list[list[np.ndarray]], arm_s: list[float], predict_s: list[float],
+             base_seed: int) -> Episode:
+    """`episode`'s texture identified by `policy` from its fold's held-out sweeps.
 
-    The random policy draws from its own stream per (run seed, fold, texture, seed), so
-    its episodes do not all repeat one sequence of movements.
+    The random policy draws from its own stream per (run seed + repeat, fold, texture,
+    seed), so its episodes do not all repeat one sequence of movements.
     """
-    stream = int(np.random.SeedSequence([base_seed, fold, texture, seed]).generate_state(1)[0])
+    stream = int(np.random.SeedSequence(
+        [base_seed, episode.fold, episode.texture, episode.seed]).generate_state(1)[0])
     identification = Identification(table, policy, budget, seed=stream)
-    episode = Episode(policy, fold, seed, texture)
     began = time.perf_counter()
     while (chosen := identification.next_movement(
             np.array([bool(pool) for pool in pools]))) is not None:
@@ -267,10 +278,11 @@ def best_plans(result: dict, most: int = PLAN_MOVEMENTS) -> list[dict]:
     fixed in advance for every episode (random draws one per episode, and a policy that
     stops on its threshold chooses how many sweeps from them, so either may pass it).
     `chosen_elsewhere` takes the selection's luck out: each fold's episodes scored with
-    the plan best on the other folds' (None with one fold). The list ends before a k with
-    more than MAX_PLANS plans of k sweeps, and is empty when no episode was replayed.
+    the plan best on the other folds' of the same partition (None with one fold). The
+    list ends before a k with more than MAX_PLANS plans of k sweeps, and is empty when no
+    episode was replayed.
     """
-    plan_terms: list[tuple[int, int, list[np.ndarray]]] = result['plan_terms']
+    plan_terms: list[tuple[int, int, int, list[np.ndarray]]] = result['plan_terms']
     if not plan_terms:
         return []
     names, seconds = result['movements'], np.asarray(result['contact_s'], dtype=float)
@@ -281,9 +293,10 @@ def best_plans(result: dict, most: int = PLAN_MOVEMENTS) -> list[dict]:
     for episode, (*_, own) in enumerate(plan_terms):
         for movement, depth in enumerate(deepest):
             sums[episode, movement, :depth + 1] = own[movement][:depth + 1]
-    fold = np.array([fold for fold, *_ in plan_terms])
-    folds = np.unique(fold)
-    truth = np.array([texture for _, texture, _ in plan_terms])
+    repeat = np.array([repeat for repeat, *_ in plan_terms])
+    fold = np.array([fold for _, fold, *_ in plan_terms])
+    partitions = sorted(set(zip(repeat.tolist(), fold.tolist(), strict=True)))
+    truth = np.array([texture for _, _, texture, _ in plan_terms])
     every = np.arange(len(names))
     best, plans, rows = [], [], []
     for k in range(1, min(most, int(deepest.sum())) + 1):
@@ -297,8 +310,9 @@ def best_plans(result: dict, most: int = PLAN_MOVEMENTS) -> list[dict]:
         right = np.array(rows)  # (plans of 1..k sweeps, episodes)
         shares = right.mean(axis=1)
         top = plans[int(np.argmax(shares))]
-        elsewhere = [right[np.argmax(right[:, fold != f].mean(axis=1)), fold == f]
-                     for f in folds] if len(folds) > 1 else None
+        elsewhere = [right[np.argmax(right[:, (repeat == r) & (fold != f)].mean(axis=1)),
+                           (repeat == r) & (fold == f)]
+                     for r, f in partitions] if len(np.unique(fold)) > 1 else None
         best.append({'movements': k, 'accuracy': float(shares.max()),
                      'chosen_elsewhere': None if elsewhere is None
                      else float(np.concatenate(elsewhere).mean()),
@@ -362,7 +376,8 @@ def summary(result: dict, settings: ReplaySettings) -> dict:
         calibration = reliability(vectors, labels)
         per_movement[name] = {
             'sweep_accuracy': float(np.mean(vectors.argmax(axis=1) == labels)),
-            'calibration_error': calibration.error, 'sweeps': int(len(labels)),
+            'calibration_error': calibration.error,
+            'sweeps': int(len(labels)) // settings.repeats,  # each held out once a repeat
             'unconverged': held['unconverged'],
             'confusion': confusion(labels, vectors.argmax(axis=1),
                                    len(result['classes'])).tolist()}
@@ -373,11 +388,26 @@ def summary(result: dict, settings: ReplaySettings) -> dict:
             'classes': result['classes'], 'movement_names': result['movements'],
             'contact_s': result['contact_s'], 'arm_s': result['arm_s'],
             'best_plans': best_plans(result),
+            'active_against': active_against(result, settings),
             'settings': {'folds': settings.folds, 'inner_folds': settings.inner_folds,
                          'seeds': settings.seeds, 'model': settings.model,
                          **training_settings(settings.training),
                          'threshold': settings.budget.threshold,
                          'budget_movements': settings.budget.movements,
                          'budget_seconds': settings.budget.seconds,
-                         'repeat_discount': settings.repeat_discount}}
+                         'repeat_discount': settings.repeat_discount,
+                         'repeats': settings.repeats}}
+
+
+def active_against(result: dict, settings: ReplaySettings) -> dict:
+    """Per other policy replayed, active minus it by contact time (`paired_difference`).
+
+    The times step by the shortest movement's contact; {} when active was not replayed.
+    """
+    if 'active' not in settings.policies:
+        return {}
+    grid = contact_grid(result['episodes'], min(result['contact_s'], default=0.0))
+    return {other: paired_difference(result['episodes'], 'active', other, grid,
+                                     seed=settings.seed)
+            for other in settings.policies if other != 'active'}
 

@@ -2,8 +2,10 @@
 # SPDX-License-Identifier: Apache-2.0
 """The identification report: identification.json, identification.md and its PNGs.
 
-Plots: accuracy against contact seconds per policy (mean over folds x seeds, shaded one
-standard deviation; dashed, the best plan of at most k movements in hindsight), movements to
+Plots: accuracy against contact seconds per policy (mean over repeats x folds x seeds,
+shaded one standard deviation; dashed, the best plan of at most k movements in hindsight),
+active minus each other policy at equal contact time (paired, with a 95 % interval over
+the textures), movements to
 decision, the movements `active` chose per true texture, arm and wall time beside
 contact time, the reliability of each movement's calibrated sweep probabilities, and each
 movement's confusion matrix (what shows whether any movement tells more than another).
@@ -18,17 +20,20 @@ import numpy as np
 
 from tactex_classify.evaluation.training_report import draw_confusion
 from tactex_classify.identification.calibration import reliability
+from tactex_classify.identification.comparison import right_by
 from tactex_classify.identification.offline import Episode, ReplaySettings, summary
 from tactex_classify.training.convergence import WHAT_TO_CHANGE
 from tactex_common import plotting
 
-PLOTS = ('accuracy_vs_contact.png', 'movements_to_decision.png', 'active_choices.png',
-         'time.png', 'reliability.png', 'movement_confusions.png')
+PLOTS = ('accuracy_vs_contact.png', 'active_against.png', 'movements_to_decision.png',
+         'active_choices.png', 'time.png', 'reliability.png', 'movement_confusions.png')
+ONLY_WITH_ACTIVE = ('active_against.png', 'active_choices.png')
+SHOWN_STEPS = (1, 2, 3, 5, 10, 20, 30)  # contact times of the paired table, in shortest sweeps
 
 
 def accuracy_curves(episodes: list[Episode], policy: str, grid_s: np.ndarray
                     ) -> tuple[np.ndarray, np.ndarray]:
-    """Mean and sd over (fold, seed) of the share of textures whose leader is right by time t.
+    """Mean and sd over (repeat, fold, seed) of the share of textures right by time t.
 
     Before its first movement an episode has no leader (counted wrong); after its last,
     its final leader stands.
@@ -37,9 +42,8 @@ def accuracy_curves(episodes: list[Episode], policy: str, grid_s: np.ndarray
     for episode in episodes:
         if episode.policy != policy:
             continue
-        steps = np.searchsorted(np.asarray(episode.contact_s), grid_s, side='right')
-        right = np.array([0.0, *[leader == episode.texture for leader in episode.leaders]])
-        groups.setdefault((episode.fold, episode.seed), []).append(right[steps])
+        groups.setdefault((episode.repeat, episode.fold, episode.seed), []).append(
+            right_by(episode.contact_s, episode.leaders, episode.texture, grid_s))
     means = np.array([np.mean(rows, axis=0) for rows in groups.values()])
     return means.mean(axis=0), means.std(axis=0)
 
@@ -50,14 +54,16 @@ def write_report(folder: Path, result: dict, settings: ReplaySettings) -> dict:
     table = summary(result, settings)
     (folder / 'identification.json').write_text(json.dumps(table, indent=1) + '\n',
                                                 encoding='utf-8')
-    _plot_accuracy(folder / PLOTS[0], result['episodes'], settings.policies,
-                   table['best_plans'])
-    _plot_movements(folder / PLOTS[1], result['episodes'], settings.policies)
+    _plot_accuracy(folder / 'accuracy_vs_contact.png', result['episodes'],
+                   settings.policies, table['best_plans'])
+    _plot_movements(folder / 'movements_to_decision.png', result['episodes'],
+                    settings.policies)
     if 'active' in settings.policies:
-        _plot_choices(folder / PLOTS[2], result)
-    _plot_time(folder / PLOTS[3], table)
-    _plot_reliability(folder / PLOTS[4], result)
-    _plot_confusions(folder / PLOTS[5], table)
+        _plot_against(folder / 'active_against.png', table['active_against'])
+        _plot_choices(folder / 'active_choices.png', result)
+    _plot_time(folder / 'time.png', table)
+    _plot_reliability(folder / 'reliability.png', result)
+    _plot_confusions(folder / 'movement_confusions.png', table)
     (folder / 'identification.md').write_text(markdown(table), encoding='utf-8')
     return table
 
@@ -67,13 +73,15 @@ def markdown(table: dict) -> str:
     settings = table['settings']
     classes = len(table['classes'])
     lines = ['# Active identification, replayed on held-out recordings', '',
-             f'{table["episodes"]} episodes per policy ({settings["folds"]} folds grouped by '
+             f'{table["episodes"]} episodes per policy ({partitions(settings)}'
+             f'{settings["folds"]} folds grouped by '
              f'recording x {settings["seeds"]} seeds x {classes} textures; one episode moves '
              f'accuracy by {100 / max(table["episodes"], 1):.2f} points). Per movement: '
              f'{model_text(settings)}, calibrated by temperature on out-of-fold sweeps '
              f'({settings["inner_folds"]} inner folds); tempering exponent '
              f'{", ".join(f"{t:.2f}" for t in table["tempering"])} and repeat discount '
-             f'{", ".join(f"{c:g}" for c in table["repeat_discount"])} (per fold). '
+             f'{", ".join(f"{c:g}" for c in table["repeat_discount"])} (per fold'
+             f'{" of each partition" if settings.get("repeats", 1) > 1 else ""}). '
              'Threshold '
              f'{settings["threshold"]:g}; budget {settings["budget_movements"] or "no limit on"}'
              f' movements, {settings["budget_seconds"] or "no limit on"} contact seconds.', '',
@@ -85,6 +93,7 @@ def markdown(table: dict) -> str:
                      f'{row["median_movements"]:.0f} | {row["median_arm_s"]:.1f} | '
                      f'{row["median_wall_s"]:.1f} |')
     lines += _plans_table(table)
+    lines += against_table(table)
     lines += ['', '| movement | contact (s) | arm (s) | held-out sweeps | sweep accuracy | '
               'calibration error |', '|---|---|---|---|---|---|']
     for name, contact, arm in zip(table['movement_names'], table['contact_s'], table['arm_s'],
@@ -105,6 +114,12 @@ def markdown(table: dict) -> str:
     return '\n'.join(lines)
 
 
+def partitions(settings: dict) -> str:
+    """'R partitions into ' where the folds were dealt R > 1 times, else ''."""
+    repeats = settings.get('repeats', 1)  # a report kept before repeats were
+    return f'{repeats} partitions into ' if repeats > 1 else ''
+
+
 def model_text(settings: dict) -> str:
     """The per-movement model, with how it trained if it is a deep one."""
     if 'profile' not in settings:  # a baseline, or a report kept before the recipe was
@@ -118,9 +133,9 @@ def model_text(settings: dict) -> str:
 
 
 def plots_of(table: dict) -> tuple[str, ...]:
-    """The report's PNGs: active's choices only where active was replayed."""
+    """The report's PNGs: active's own plots only where active was replayed."""
     return tuple(name for name in PLOTS
-                 if name != 'active_choices.png' or 'active' in table['policies'])
+                 if name not in ONLY_WITH_ACTIVE or 'active' in table['policies'])
 
 
 def _plans_table(table: dict) -> list[str]:
@@ -153,6 +168,42 @@ def _plans_table(table: dict) -> list[str]:
     return lines
 
 
+def against_table(table: dict) -> list[str]:
+    """Active minus each other policy at a few contact times, with the 95 % intervals."""
+    against = table.get('active_against') or {}
+    if not against:
+        return []
+    grid = next(iter(against.values()))['contact_s']
+    columns = [k - 1 for k in SHOWN_STEPS if k <= len(grid)]
+    textures = next(iter(against.values()))['textures']
+    lines = ['', 'Active minus each other policy at equal contact time (points of accuracy, '
+             'paired on the same held-out sweeps; in brackets the 95 % interval of a '
+             f'bootstrap over the {textures} textures: an interval above zero favours active):',
+             '', '| active minus | ' + ' | '.join(f'{grid[i]:g} s' for i in columns) + ' |',
+             '|---' * (len(columns) + 1) + '|']
+    for other, row in against.items():
+        lines.append(f'| {other} | ' + ' | '.join(
+            f'{100 * row["difference"][i]:+.1f} [{100 * row["low"][i]:+.1f}, '
+            f'{100 * row["high"][i]:+.1f}]' for i in columns) + ' |')
+    return lines
+
+
+def _plot_against(path: Path, against: dict) -> None:
+    plt, figure, axis = plotting.figure()
+    axis.axhline(0.0, color='gray', lw=0.8)
+    for index, (other, row) in enumerate(against.items(), start=1):
+        grid = np.asarray(row['contact_s'])
+        axis.plot(grid, 100 * np.asarray(row['difference']), color=f'C{index}',
+                  label=f'active - {other}')
+        axis.fill_between(grid, 100 * np.asarray(row['low']), 100 * np.asarray(row['high']),
+                          color=f'C{index}', alpha=0.15, lw=0)
+    axis.set_xlabel('contact seconds')
+    axis.set_ylabel('difference in accuracy (points)')
+    plotting.legend_outside(axis)
+    plotting.save(plt, figure, path, 'paired on the same held-out sweeps; band: 95 % '
+                  'bootstrap interval over the textures')
+
+
 def _plot_accuracy(path: Path, episodes: list[Episode], policies: tuple[str, ...],
                    plans: list[dict]) -> None:
     longest = max((e.contact_s[-1] for e in episodes if e.contact_s), default=1.0)
@@ -171,7 +222,8 @@ def _plot_accuracy(path: Path, episodes: list[Episode], policies: tuple[str, ...
     axis.set_xlabel('contact seconds')
     axis.set_ylabel('textures identified right (%)')
     plotting.legend_outside(axis)
-    plotting.save(plt, figure, path, 'held-out recordings; band: one sd over folds x seeds')
+    plotting.save(plt, figure, path,
+                  'held-out recordings; band: one sd over repeats x folds x seeds')
 
 
 def _plot_movements(path: Path, episodes: list[Episode], policies: tuple[str, ...]) -> None:
