@@ -277,13 +277,13 @@ def main() -> int:
     kept_live = json.loads(live.read_text())
     episodes, probe = kept_live['episodes'], kept_live['probe']
     offline_report = json.loads((offline / 'identification.json').read_text())
-    active = offline_report['policies'][args.policy]  # kept as offline_active
+    active = offline_report['policies'][args.policy]  # kept as offline
     kept = {'scene_seed': args.seed, 'sweeps_per_texture_and_movement': args.sweeps,
             'model': args.model, 'training_options': training_options(args),
             'span_m': args.span, 'probe': probe,
             'budget_movements': args.budget_movements,
             'live': identification_figures(episodes), 'live_seconds': kept_live['seconds'],
-            'offline_active': {key: active[key] for key in (
+            'offline': {key: active[key] for key in (
                 'accuracy', 'median_contact_s', 'p90_contact_s', 'median_movements')},
             'offline_accuracy_after_budget': active['accuracy_after_k'][
                 min(args.budget_movements, len(active['accuracy_after_k'])) - 1],
@@ -308,7 +308,7 @@ def main() -> int:
     results = RESULTS.with_name(args.keep or default_kept_file(args.training, bool(args.init)))
     results.write_text(json.dumps(kept, indent=1) + '\n', encoding='utf-8')
     plot(PLOT)
-    print(json.dumps({k: kept[k] for k in ('live', 'offline_active', 'probe')}, indent=1))
+    print(json.dumps({k: kept[k] for k in ('live', 'offline', 'probe')}, indent=1))
     return 0
 
 

@@ -47,7 +47,7 @@ from tactex_sim.world import World
 from tactex_trajectory.errors import SweepRefused
 from tactex_trajectory.planner import plan_sweep, SweepSettings
 from tactex_trajectory.poses import PoseSettings
-from tactex_trajectory.simulated_sweeps import driven, probe_like_pathway
+from tactex_trajectory.simulated_sweeps import execute, probe_like_pathway
 
 RESULTS = Path(__file__).parent / 'results' / 'texture_signal.json'
 MOVEMENTS = Path(__file__).parents[1] / 'config' / 'movements.yaml'
@@ -73,15 +73,10 @@ def through_sweep_action(movement: Movement, texture: str | None) -> dict:
     if movement.direction == 'backward':
         points, normals = points[::-1], normals[::-1]
     plan = plan_sweep(points, normals, None, START_JOINTS, settings)
-    world = _world(QUIET, texture)
-    world.controller, on_sample = driven(world, plan, start_joints=START_JOINTS)
-    rows = []
-    while world.time_s < plan.trajectory.duration_s:
-        sample = world.next_sample()
-        on_sample()
-        if plan.contact_start_s <= sample.time_s <= plan.contact_end_s:
-            rows.append(_row(sample))
-    return _readings(rows)
+    played = execute(_world(QUIET, texture), plan, start_joints=START_JOINTS, tail_s=0.0)
+    kept = (plan.contact_start_s <= played.times_s) & (played.times_s <= plan.contact_end_s)
+    return _readings(np.column_stack([played.accel, played.gyro, played.force_n,
+                                      played.pressure_pa, played.times_s])[kept])
 
 
 def through_sim_collect(movement: Movement, texture: str | None) -> dict:
@@ -110,7 +105,8 @@ def _row(sample) -> tuple:
             sample.time_s)
 
 
-def _readings(rows: list[tuple]) -> dict:
+def _readings(rows) -> dict:
+    """Accel, gyro, force, pressure and time (from the first row) of rows as `_row` gives."""
     table = np.array(rows, dtype=float)
     return {'accel': table[:, 0:3], 'gyro': table[:, 3:6], 'force_n': table[:, 6],
             'pressure_pa': table[:, 7], 'time_s': table[:, 8] - table[0, 8]}

@@ -242,8 +242,8 @@ def _live_interval(episodes: list[dict], offline: float) -> str:
 
 def _live_section(name: str) -> str:
     kept = kept_json(name)
-    live, offline, probe = kept['live'], kept['offline_active'], kept['probe']
-    policy = kept.get('policy', 'active')  # offline_active holds that policy's replay
+    live, offline, probe = kept['live'], kept['offline'], kept['probe']
+    policy = kept.get('policy', 'active')  # the policy run live, and replayed offline
     textures = sorted({episode['truth'] for episode in kept['episodes']})
     goals_per_texture = live['episodes'] / max(len(textures), 1)
     movements = kept.get('movements', ['8'] * 8)

@@ -37,7 +37,10 @@ from tactex_trajectory.poses import ARM
 
 @dataclass(frozen=True)
 class SweepRecord:
-    """Ground truth at every sensor sample of a simulated sweep (times from its start)."""
+    """Ground truth and the IMU's readings at every sensor sample of a simulated sweep.
+
+    Times from the sweep's start.
+    """
 
     times_s: np.ndarray
     touching: np.ndarray
@@ -46,6 +49,8 @@ class SweepRecord:
     arm_edge_positions: np.ndarray  # sensor_edge of the measured arm joints, body rigid
     pressure_pa: np.ndarray
     joints: np.ndarray  # measured joint1..joint4 (rad)
+    accel: np.ndarray  # what the IMU's accelerometer read (m/s^2, sensor frame)
+    gyro: np.ndarray  # what its gyro read (rad/s)
 
 
 @dataclass(frozen=True)
@@ -151,10 +156,12 @@ def record(world: World, controller, duration_s: float, *, on_sample=None) -> Sw
             on_sample()
         rows.append((sample.time_s - origin, sample.truth.contact.touching,
                      sample.truth.contact.force, *sample.truth.edge_position,
-                     *ARM.tool_pose(joints[:4])[0], sample.pressure, *joints[:4]))
+                     *ARM.tool_pose(joints[:4])[0], sample.pressure, *joints[:4],
+                     *sample.accel, *sample.gyro))
     table = np.array(rows, dtype=float)
     return SweepRecord(table[:, 0], table[:, 1] > 0.5, table[:, 2], table[:, 3:6],
-                       table[:, 6:9], table[:, 9], table[:, 10:14])
+                       table[:, 6:9], table[:, 9], table[:, 10:14], table[:, 14:17],
+                       table[:, 17:20])
 
 
 def measure(record: SweepRecord, plan: SweepPlan, surface: Surface) -> SweepMeasurement:
