@@ -367,8 +367,11 @@ def identification_init() -> str:
         'for the three reports'
         + (f'; made earlier by the same steps and given with {", ".join(earlier)}'
            if earlier else '') + f'): the {sweeps_set["classes"]} textures x '
-        f'{len(first["movement_names"])} movements x {per_cell} sweeps above, on the same '
-        f'folds, seeds and held-out sweeps ({first["episodes"]} episodes per policy); per '
+        f'{len(first["movement_names"])} movements x {per_cell} sweeps above, on '
+        + ('the first of its partitions into folds, with its seeds and held-out sweeps '
+           if kept_json('identification/identification.json')['settings'].get('repeats', 1)
+           > 1 else 'the same folds, seeds and held-out sweeps ')
+        + f'({first["episodes"]} episodes per policy); per '
         f'movement minirocket, cnn_3 from scratch (`{scratch}`), and cnn_3 fine-tuned '
         f'(`--init`, `--profile modern`, at most {kept["fine_tuning_epochs"]} epochs) from a '
         f'{pre["model"]} pretrained on {source["recordings"]} recordings of '
