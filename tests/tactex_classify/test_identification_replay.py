@@ -12,6 +12,7 @@ fixes its movements in advance.
 
 from dataclasses import replace
 import json
+import math
 import re
 
 import numpy as np
@@ -26,7 +27,7 @@ from support.movement_data import (
 )
 
 from tactex.cli import main
-from tactex_classify.identification.comparison import contact_grid, paired_difference
+from tactex_classify.identification.comparison import contact_grid, paired_difference, right_by
 from tactex_classify.identification.movement_evidence import checked_movements, MovementDataError
 from tactex_classify.identification.offline import (
     best_plans,
@@ -36,7 +37,7 @@ from tactex_classify.identification.offline import (
     ReplaySettings,
     summary,
 )
-from tactex_classify.identification.report import PLOTS, write_report
+from tactex_classify.identification.report import accuracy_curves, PLOTS, write_report
 from tactex_classify.identification.selection import Budget, POLICIES
 from tactex_classify.training.deep_classifier import TrainingConfig
 from tactex_description.movements import load_movements
@@ -90,6 +91,9 @@ def test_repeated_partitions_replay_each_and_the_first_is_the_unrepeated_replay(
     assert first == [(e.policy, e.fold, e.texture, e.seed, e.movements, e.leaders)
                      for e in replayed['episodes'] if e.policy in settings.policies]
     assert len(again['tempering']) == 2 * SETTINGS.folds
+    dealt = {repeat: [(e.fold, e.texture, e.seed, e.movements, e.leaders) for e in episodes
+                      if e.repeat == repeat and e.policy == 'random'] for repeat in (0, 1)}
+    assert dealt[0] != dealt[1]  # the second partition is dealt from its own shuffle
     table = summary(again, settings)
     assert table['settings']['repeats'] == 2 and table['episodes'] == len(episodes) // 2
     assert table['movements']['tells_all']['sweeps'] == len(TEXTURES) * RECORDINGS
@@ -102,7 +106,10 @@ def test_active_is_compared_with_every_other_policy_paired_at_equal_contact_time
         assert row['pairs'] == SETTINGS.folds * len(TEXTURES) * SETTINGS.seeds, other
         assert row['textures'] == len(TEXTURES)
         assert row['contact_s'][0] == pytest.approx(min(replayed['contact_s']))
-        assert all(low <= high for low, high in zip(row['low'], row['high'], strict=True))
+        grid = np.array(row['contact_s'])
+        assert row['difference'] == pytest.approx(  # textures hold as many pairs each
+            accuracy_curves(replayed['episodes'], 'active', grid)[0]
+            - accuracy_curves(replayed['episodes'], other, grid)[0])
 
 
 def test_a_policy_right_where_another_is_wrong_differs_by_one_with_no_doubt():
@@ -121,6 +128,17 @@ def test_a_policy_right_where_another_is_wrong_differs_by_one_with_no_doubt():
     mixed = paired_difference(half, 'active', 'random', grid)
     assert mixed['difference'] == pytest.approx([2 / 3, 2 / 3])
     assert mixed['low'][0] < 2 / 3 < mixed['high'][0] == 1.0
+
+
+def test_a_movement_ending_on_a_contact_time_within_rounding_has_finished_by_it():
+    ends = np.cumsum([0.7, 0.3, 0.3, 0.1, 0.1])  # 1.5000000000000002
+    assert right_by(ends.tolist(), [1, 1, 1, 1, 0], 0, np.array([1.4, 1.5])).tolist() == [
+        False, True]
+    moved = Episode('active', 0, 0, 0, leaders=[0], contact_s=[2.0])
+    for broken in (math.nan, math.inf):  # wherever the broken episode sits
+        for episodes in ([Episode('active', 0, 1, 0, leaders=[0], contact_s=[broken]), moved],
+                         [moved, Episode('active', 0, 1, 0, leaders=[0], contact_s=[broken])]):
+            assert contact_grid(episodes, 1.0).size == 0
 
 
 def test_the_same_inputs_give_the_same_report(tmp_path, replayed):

@@ -7,11 +7,14 @@ Every policy of a replay meets the same held-out sweeps in the same order for a
 an episode counts right when its leader after the movements finished by t is the true
 texture (none before its first; its final leader after its last). The difference in
 accuracy is the mean over the paired episodes; its interval is a percentile bootstrap
-over the textures (each texture's mean difference over all its episodes is one draw).
-Resampling textures, not episodes: an episode's seeds reorder the same held-out sweeps,
-and its folds and repeats reuse the same recordings, so they are not independent draws;
-the textures are, and the question is whether the difference would hold on other
-textures like these.
+over the textures: a resample draws the textures with replacement and pools the paired
+episodes of those drawn (a texture weighs by its pairs, the same for every texture in a
+replay). Textures, not episodes: an episode's seeds reorder the same held-out sweeps,
+and its folds and repeats reuse the same recordings. What the interval covers: how much
+the difference rests on a few textures, given these recordings; not the draw of the
+recordings themselves (repeats show that), nor other texture sets (the textures share
+the models and compete as classes). It is pointwise: of many contact times, a few
+intervals exclude zero by chance, so a run of them says more than one.
 """
 
 from __future__ import annotations
@@ -25,18 +28,27 @@ LEVEL = 0.95
 
 def right_by(contact_s: list[float], leaders: list[int], texture: int,
              grid_s: np.ndarray) -> np.ndarray:
-    """Per time of `grid_s`, whether the leader after the movements finished by then is right."""
-    steps = np.searchsorted(np.asarray(contact_s, dtype=float), grid_s, side='right')
+    """Per time of `grid_s`, whether the leader after the movements finished by then is right.
+
+    A movement that ends within rounding (1e-9 relative) of a grid time counts as finished
+    by it: contact times are sums of movements' seconds, the grid multiples of a step.
+    """
+    steps = np.searchsorted(np.asarray(contact_s, dtype=float), grid_s * (1 + 1e-9),
+                            side='right')
     return np.array([False, *[leader == texture for leader in leaders]])[steps]
 
 
 def contact_grid(episodes: list, step_s: float) -> np.ndarray:
-    """Contact times every `step_s` up to the longest episode's (empty: none).
+    """Contact times every `step_s` up to the longest episode's.
 
     At most MAX_TIMES of them: a step that would give more widens to longest / MAX_TIMES.
+    Empty without an episode that moved, or with a step or contact time that is not
+    finite and > 0.
     """
-    longest = max((e.contact_s[-1] for e in episodes if e.contact_s), default=0.0)
-    if not (np.isfinite(step_s) and step_s > 0.0 and np.isfinite(longest) and longest > 0.0):
+    ends = np.array([e.contact_s[-1] for e in episodes if e.contact_s], dtype=float)
+    longest = ends.max() if ends.size else 0.0
+    if not (np.isfinite(step_s) and step_s > 0.0 and np.all(np.isfinite(ends))
+            and longest > 0.0):
         return np.zeros(0)
     step_s = max(step_s, longest / MAX_TIMES)
     return step_s * np.arange(1, min(int(np.ceil(longest / step_s - 1e-9)), MAX_TIMES) + 1)
@@ -70,9 +82,8 @@ def paired_difference(episodes: list, policy: str, other: str, grid_s: np.ndarra
         by_texture.setdefault(key[2], []).append(
             keyed[policy][key].astype(float) - keyed[other][key])
     if not by_texture:
-        empty = [float('nan')] * len(grid_s)
-        return {'contact_s': list(map(float, grid_s)), 'difference': empty, 'low': empty,
-                'high': empty, 'pairs': 0, 'textures': 0}
+        return {'contact_s': list(map(float, grid_s)), 'pairs': 0, 'textures': 0,
+                **{name: [float('nan')] * len(grid_s) for name in ('difference', 'low', 'high')}}
     means = np.array([np.mean(rows, axis=0) for rows in by_texture.values()])
     weights = np.array([len(rows) for rows in by_texture.values()], dtype=float)
     textures = len(means)  # a resample: how often each texture is drawn, textures draws

@@ -72,7 +72,7 @@ class ReplaySettings:
     training: TrainingConfig = field(default_factory=lambda: TrainingConfig(model=DEFAULT_MODEL))
     seed: int = 0  # the folds and episodes; the models' own seed is training.seed
     repeat_discount: bool = False  # True: fit the discount of a movement's repeats
-    repeats: int = 1  # partitions into folds, partition r dealt from seed + r
+    repeats: int = 1  # partitions into folds; partition r from seed + r (seeds s, s + 1 share)
 
     @property
     def model(self) -> str:
@@ -168,9 +168,10 @@ def replay(dataset: Dataset, movements: MovementSet, settings: ReplaySettings = 
     held_out = {name: {'labels': [], 'vectors': [], 'unconverged': []} for name in names}
     tempering, plan_terms = [], []
     for repeat in range(settings.repeats):
-        seed = settings.seed + repeat
+        partition_seed = settings.seed + repeat
         fold_of = assign_folds({t: (dataset.classes[label_of[t]], m)
-                                for t, m in movement_of.items()}, settings.folds, seed)
+                                for t, m in movement_of.items()}, settings.folds,
+                               partition_seed)
         for fold in range(settings.folds):
             partition = f'repeat {repeat + 1}, ' if settings.repeats > 1 else ''
             where = f'{partition}fold {fold + 1}/{settings.folds}'  # in the progress lines
@@ -181,7 +182,7 @@ def replay(dataset: Dataset, movements: MovementSet, settings: ReplaySettings = 
                 fitting = time.monotonic()
                 fit = fit_movement(name, subset(dataset, [t for t in own if fold_of[t] != fold]),
                                    lambda: build_estimator(settings.training),
-                                   folds=settings.inner_folds, seed=seed)
+                                   folds=settings.inner_folds, seed=partition_seed)
                 progress(f'{where}: {name} fitted ({index}/{len(names)}, '
                          f'{time.monotonic() - fitting:.0f} s)'
                          + ('; not converged: ' + ', '.join(f'{at} ({why})' for at, why in
@@ -200,13 +201,14 @@ def replay(dataset: Dataset, movements: MovementSet, settings: ReplaySettings = 
             evidence = [movement_evidence(fit, movements.by_name(fit.name).contact_s)
                         for fit in fitted]
             fitted_update = fit_tempering(
-                dataset.classes, evidence, seed=seed,
+                dataset.classes, evidence, seed=partition_seed,
                 discounts=DISCOUNTS if settings.repeat_discount else (0.0,))
             tempering.append(fitted_update)
             table = EvidenceTable(dataset.classes, evidence, *fitted_update)
             for texture in range(classes):
                 for episode_seed in range(settings.seeds):
-                    order = np.random.default_rng([seed, fold, texture, episode_seed])
+                    order = np.random.default_rng([partition_seed, fold, texture,
+                                                   episode_seed])
                     pools = [list(vectors[order.permutation(np.flatnonzero(labels == texture))])
                              for labels, vectors in test]
                     plan_terms.append((repeat, fold, texture, repeat_sums(table, pools)))
@@ -214,7 +216,8 @@ def replay(dataset: Dataset, movements: MovementSet, settings: ReplaySettings = 
                         episodes.append(_episode(
                             table, policy, settings.budget,
                             Episode(policy, fold, episode_seed, texture, repeat),
-                            [list(pool) for pool in pools], arm_s, predict_s, seed))
+                            [list(pool) for pool in pools], arm_s, predict_s,
+                            partition_seed))
             progress(f'{where}: {len(names)} movements fitted, tempering '
                      f'{fitted_update.exponent:.2f}, repeat discount '
                      f'{fitted_update.repeat_discount:g}, '
@@ -270,8 +273,8 @@ def best_plans(result: dict, most: int = PLAN_MOVEMENTS) -> list[dict]:
     """Per k in 1..most, the plan of at most k sweeps (per movement how many) right most often.
 
     A plan's answer in an episode is the leader after its sweeps, taken from the same
-    held-out pools the policies drew from; its `accuracy` is the mean over every (fold,
-    texture, seed). A movement is repeated at most as often as every pool allows. At most
+    held-out pools the policies drew from; its `accuracy` is the mean over every (repeat,
+    fold, texture, seed). A movement is repeated at most as often as every pool allows. At most
     k, as a policy's accuracy after k keeps the leader of an episode that stopped
     earlier. That plan is picked on the held-out sweeps it is scored on: optimistic, not
     a policy, and the more plans there are the more it flatters; it bounds only plans
@@ -295,7 +298,7 @@ def best_plans(result: dict, most: int = PLAN_MOVEMENTS) -> list[dict]:
             sums[episode, movement, :depth + 1] = own[movement][:depth + 1]
     repeat = np.array([repeat for repeat, *_ in plan_terms])
     fold = np.array([fold for _, fold, *_ in plan_terms])
-    partitions = sorted(set(zip(repeat.tolist(), fold.tolist(), strict=True)))
+    held_out_sets = sorted(set(zip(repeat.tolist(), fold.tolist(), strict=True)))
     truth = np.array([texture for _, _, texture, _ in plan_terms])
     every = np.arange(len(names))
     best, plans, rows = [], [], []
@@ -312,7 +315,7 @@ def best_plans(result: dict, most: int = PLAN_MOVEMENTS) -> list[dict]:
         top = plans[int(np.argmax(shares))]
         elsewhere = [right[np.argmax(right[:, (repeat == r) & (fold != f)].mean(axis=1)),
                            (repeat == r) & (fold == f)]
-                     for r, f in partitions] if len(np.unique(fold)) > 1 else None
+                     for r, f in held_out_sets] if len(np.unique(fold)) > 1 else None
         best.append({'movements': k, 'accuracy': float(shares.max()),
                      'chosen_elsewhere': None if elsewhere is None
                      else float(np.concatenate(elsewhere).mean()),

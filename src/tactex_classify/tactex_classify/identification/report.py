@@ -4,11 +4,11 @@
 
 Plots: accuracy against contact seconds per policy (mean over repeats x folds x seeds,
 shaded one standard deviation; dashed, the best plan of at most k movements in hindsight),
-active minus each other policy at equal contact time (paired, with a 95 % interval over
-the textures), movements to
-decision, the movements `active` chose per true texture, arm and wall time beside
-contact time, the reliability of each movement's calibrated sweep probabilities, and each
-movement's confusion matrix (what shows whether any movement tells more than another).
+active minus each other policy at equal contact time (paired, with a pointwise 95 %
+interval over the textures), movements to decision, the movements `active` chose per
+true texture, arm and wall time beside contact time, the reliability of each movement's
+calibrated sweep probabilities, and each movement's confusion matrix (what shows whether
+any movement tells more than another).
 """
 
 from __future__ import annotations
@@ -28,7 +28,7 @@ from tactex_common import plotting
 PLOTS = ('accuracy_vs_contact.png', 'active_against.png', 'movements_to_decision.png',
          'active_choices.png', 'time.png', 'reliability.png', 'movement_confusions.png')
 ONLY_WITH_ACTIVE = ('active_against.png', 'active_choices.png')
-SHOWN_STEPS = (1, 2, 3, 5, 10, 20, 30)  # contact times of the paired table, in shortest sweeps
+SHOWN_STEPS = (1, 2, 3, 5, 10, 20, 30)  # contact times of the paired table, in grid steps
 
 
 def accuracy_curves(episodes: list[Episode], policy: str, grid_s: np.ndarray
@@ -152,7 +152,8 @@ def _plans_table(table: dict) -> list[str]:
              'can pass by luck), and active chooses from each sweep: these can pass it. '
              'Picked among many plans, it is '
              'flattered by luck; "chosen elsewhere" scores each fold with the plan best on the '
-             'other folds, what a choice learnt from more recordings could reach.', '',
+             'other folds of its partition, what a choice learnt from more recordings could '
+             'reach.', '',
              f'| k | {" | ".join(policies)} | best plan (hindsight) | chosen elsewhere | its '
              'movements | its contact (s) |', '|---' * (len(policies) + 5) + '|']
     after = [table['policies'][p]['accuracy_after_k'] for p in policies]
@@ -175,10 +176,13 @@ def against_table(table: dict) -> list[str]:
         return []
     grid = next(iter(against.values()))['contact_s']
     columns = [k - 1 for k in SHOWN_STEPS if k <= len(grid)]
+    if not columns:
+        return []
     textures = next(iter(against.values()))['textures']
     lines = ['', 'Active minus each other policy at equal contact time (points of accuracy, '
-             'paired on the same held-out sweeps; in brackets the 95 % interval of a '
-             f'bootstrap over the {textures} textures: an interval above zero favours active):',
+             'paired on the same held-out sweeps; in brackets the pointwise 95 % interval of '
+             f'a bootstrap over the {textures} textures, given these recordings: an interval '
+             'above zero favours active):',
              '', '| active minus | ' + ' | '.join(f'{grid[i]:g} s' for i in columns) + ' |',
              '|---' * (len(columns) + 1) + '|']
     for other, row in against.items():
@@ -200,8 +204,8 @@ def _plot_against(path: Path, against: dict) -> None:
     axis.set_xlabel('contact seconds')
     axis.set_ylabel('difference in accuracy (points)')
     plotting.legend_outside(axis)
-    plotting.save(plt, figure, path, 'paired on the same held-out sweeps; band: 95 % '
-                  'bootstrap interval over the textures')
+    plotting.save(plt, figure, path, 'paired on the same held-out sweeps; band: pointwise '
+                  '95 % bootstrap interval over the textures')
 
 
 def _plot_accuracy(path: Path, episodes: list[Episode], policies: tuple[str, ...],
