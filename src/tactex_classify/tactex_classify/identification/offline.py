@@ -163,22 +163,21 @@ def replay(dataset: Dataset, movements: MovementSet, settings: ReplaySettings = 
                 f'{settings.inner_folds}', _fold_fix(min(counts.values()), settings.folds))
     names = list(movements.names)
     arm_s = _arm_seconds(dataset, movement_of, names)
-    classes = len(dataset.classes)
     episodes: list[Episode] = []
     held_out = {name: {'labels': [], 'vectors': [], 'unconverged': []} for name in names}
     tempering, plan_terms = [], []
+    cell_of = {t: (dataset.classes[label_of[t]], m) for t, m in movement_of.items()}
+    own_of = {name: [t for t, m in movement_of.items() if m == name] for name in names}
     for repeat in range(settings.repeats):
         partition_seed = settings.seed + repeat
-        fold_of = assign_folds({t: (dataset.classes[label_of[t]], m)
-                                for t, m in movement_of.items()}, settings.folds,
-                               partition_seed)
+        partition = f'repeat {repeat + 1}, ' if settings.repeats > 1 else ''
+        fold_of = assign_folds(cell_of, settings.folds, partition_seed)
         for fold in range(settings.folds):
-            partition = f'repeat {repeat + 1}, ' if settings.repeats > 1 else ''
             where = f'{partition}fold {fold + 1}/{settings.folds}'  # in the progress lines
             started = time.monotonic()
             fitted, test, predict_s = [], [], []
             for index, name in enumerate(names, start=1):
-                own = [t for t, m in movement_of.items() if m == name]
+                own = own_of[name]
                 fitting = time.monotonic()
                 fit = fit_movement(name, subset(dataset, [t for t in own if fold_of[t] != fold]),
                                    lambda: build_estimator(settings.training),
@@ -205,28 +204,44 @@ def replay(dataset: Dataset, movements: MovementSet, settings: ReplaySettings = 
                 discounts=DISCOUNTS if settings.repeat_discount else (0.0,))
             tempering.append(fitted_update)
             table = EvidenceTable(dataset.classes, evidence, *fitted_update)
-            for texture in range(classes):
-                for episode_seed in range(settings.seeds):
-                    order = np.random.default_rng([partition_seed, fold, texture,
-                                                   episode_seed])
-                    pools = [list(vectors[order.permutation(np.flatnonzero(labels == texture))])
-                             for labels, vectors in test]
-                    plan_terms.append((repeat, fold, texture, repeat_sums(table, pools)))
-                    for policy in settings.policies:
-                        episodes.append(_episode(
-                            table, policy, settings.budget,
-                            Episode(policy, fold, episode_seed, texture, repeat),
-                            [list(pool) for pool in pools], arm_s, predict_s,
-                            partition_seed))
+            fold_episodes, fold_plans = _fold_episodes(table, test, settings, repeat, fold,
+                                                       arm_s, predict_s)
+            episodes += fold_episodes
+            plan_terms += fold_plans
             progress(f'{where}: {len(names)} movements fitted, tempering '
                      f'{fitted_update.exponent:.2f}, repeat discount '
                      f'{fitted_update.repeat_discount:g}, '
-                     f'{classes * settings.seeds * len(settings.policies)} episodes '
+                     f'{len(fold_episodes)} episodes '
                      f'({time.monotonic() - started:.0f} s)')
     return {'episodes': episodes, 'held_out': held_out, 'tempering': tempering,
             'plan_terms': plan_terms, 'arm_s': arm_s, 'movements': names,
             'classes': list(dataset.classes),
             'contact_s': [movements.by_name(name).contact_s for name in names]}
+
+
+def _fold_episodes(table: EvidenceTable, test: list[tuple[np.ndarray, np.ndarray]],
+                   settings: ReplaySettings, repeat: int, fold: int, arm_s: list[float],
+                   predict_s: list[float]) -> tuple[list[Episode], list[tuple]]:
+    """Every policy's episodes on one fold's held-out sweeps, and the plans' sums on them.
+
+    `test`: per movement, the fold's held-out (labels, sweep vectors). For every texture
+    and episode seed, the pools are one seeded shuffle of each movement's held-out sweeps
+    of the texture, the same for every policy.
+    """
+    partition_seed = settings.seed + repeat
+    episodes, plan_terms = [], []
+    for texture in range(len(table.classes)):
+        for episode_seed in range(settings.seeds):
+            order = np.random.default_rng([partition_seed, fold, texture, episode_seed])
+            pools = [list(vectors[order.permutation(np.flatnonzero(labels == texture))])
+                     for labels, vectors in test]
+            plan_terms.append((repeat, fold, texture, repeat_sums(table, pools)))
+            episodes += [_episode(table, policy, settings.budget,
+                                  Episode(policy, fold, episode_seed, texture, repeat),
+                                  [list(pool) for pool in pools], arm_s, predict_s,
+                                  partition_seed)
+                         for policy in settings.policies]
+    return episodes, plan_terms
 
 
 def _episode(table: EvidenceTable, policy: str, budget: Budget, episode: Episode,
