@@ -259,3 +259,21 @@ def test_inflation_within_the_limit_is_untouched():
     import bz2
     data = bytes(range(256)) * 1000
     assert inflation._bz2(bz2.compress(data) + bz2.compress(data)) == data + data
+
+
+def test_a_part_surveyed_again_is_not_reopened_until_its_files_change(original, tmp_path,
+                                                                      monkeypatch):
+    from tactex_classify.data import topic_inventory
+    folder = shutil.copytree(original, tmp_path / 'surveyed')
+    opened = []
+    real_open = topic_inventory.open_part
+    monkeypatch.setattr(topic_inventory, 'open_part',
+                        lambda part, **kw: opened.append(part) or real_open(part, **kw))
+    first = topic_inventory.survey(folder)
+    first.counts.clear()  # a caller's change stays its own
+    again = topic_inventory.survey(folder)
+    assert len(opened) == 1 and again.counts and again.types == first.types
+    metadata = folder / 'metadata.yaml'
+    metadata.write_text(metadata.read_text() + '\n')  # another size: surveyed anew
+    topic_inventory.survey(folder)
+    assert len(opened) == 2

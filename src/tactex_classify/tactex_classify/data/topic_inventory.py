@@ -9,10 +9,12 @@ It answers "which topic holds the IMU?" when the expected name is not there.
 
 from __future__ import annotations
 
+import copy
 from dataclasses import dataclass, field
+from functools import lru_cache
 from pathlib import Path
 
-from tactex_classify.data.sources import open_part
+from tactex_classify.data.sources import open_part, storage_files
 from tactex_common.interfaces import typestore
 
 
@@ -70,9 +72,33 @@ class TopicInventory:
 def survey(part: Path) -> TopicInventory:
     """The inventory of one part (topics holding messages only).
 
+    A part surveyed before whose storage files have the same sizes and modification times
+    is not opened again: convert surveys every recording for its common channels and then
+    once more as it reads it, and a recorder's recording is many one-second parts, each
+    costing an open of its metadata and type definitions.
+
     Raises:
         BagError: the part cannot be opened (see `tactex_classify.data.sources.open_part`).
     """
+    part = Path(part)
+    try:
+        files = storage_files(part) + ([part / 'metadata.yaml'] if part.is_dir() else [])
+        signature = tuple((str(f), f.stat().st_size, f.stat().st_mtime_ns)
+                          for f in files if f.exists())
+    except OSError:  # unreadable: open_part says why
+        return _survey(part)
+    return copy.deepcopy(_surveyed(part, signature))
+
+
+@lru_cache(maxsize=8192)
+def _surveyed(part: Path, signature: tuple) -> TopicInventory:
+    """`_survey(part)` once per signature of its storage files."""
+    del signature  # the cache key only
+    return _survey(part)
+
+
+def _survey(part: Path) -> TopicInventory:
+    """The inventory of one part, read from its index."""
     inventory = TopicInventory()
     known = typestore().fielddefs  # the standard types and tactex_msgs: no fields listed
     with open_part(part, readable=lambda connection: False) as reader:  # counts only
