@@ -122,6 +122,59 @@ def _against_goals(report: dict) -> str:
            'random)') + '.')
 
 
+def identification_seeds() -> str:
+    """The two goals on fresh scene seeds, each apart and pooled (bench_identification_seeds)."""
+    kept = kept_json('identification_seeds/seeds.json')
+    settings = kept_json(f'identification_seeds/{kept["scene_seeds"][0]}.json')['settings']
+    minutes = sum(step['seconds'] or 0.0 for step in kept['steps']) / 60
+    earlier = any(step['seconds'] is None for step in kept['steps'])
+    compared = [p for p in ('active', 'random', 'active-realized')
+                if p in kept['against_random'][str(kept['scene_seeds'][0])]['policies']]
+    rows = ['| scene seed | fixed: final, median contact | active at 60 % of it | margin '
+            f'[95 % interval] | {" / ".join(compared)}: accuracy, median contact | active vs '
+            'random (contact times above / below zero) |', '|---|---|---|---|---|---|']
+    for seed in map(str, kept['scene_seeds']):
+        goal, random = kept['against_fixed'][seed], kept['against_random'][seed]
+        finals = [random['policies'][policy] for policy in compared]
+        rows.append(
+            f'| {seed} | {100 * goal["fixed_accuracy"]:.1f} %, '
+            f'{goal["fixed_median_contact_s"]:g} s | {100 * goal["accuracy"]:.1f} % after '
+            f'{goal["goal_contact_s"]:g} s | {_points(goal)} | '
+            + ' / '.join(f'{100 * row["accuracy"]:.1f}' for row in finals) + ' %, '
+            + ' / '.join(f'{row["median_contact_s"]:g}' for row in finals) + ' s | '
+            f'{random["times_above"]} / {random["times_below"]} of {random["times"]} |')
+    pooled = kept['pooled']
+    rows.append(f'| pooled ({pooled["units"]} seed x texture units) |  |  | {_points(pooled)} '
+                '|  |  |')
+    seeds = len(kept['scene_seeds'])
+    return (
+        'Measured (`python bench/bench_identification_seeds.py`'
+        + (', the reports made earlier by the same commands and read with `--reports`'
+           if earlier else f', {minutes:.0f} min') + '): the same collect, convert '
+        f'and report as above ({kept["sweeps_per_texture_and_movement"]} sweeps per texture '
+        f'and movement, {partitions(settings)}{settings["folds"]} folds, '
+        f'{settings["seeds"]} seeds, {settings["model"]} per movement) on {seeds} fresh '
+        'scene seeds, none used by a test or looked at while the policies were built. The '
+        "margin is active's accuracy after 60 % of fixed's median contact, less fixed's "
+        f'final accuracy, plus {100 * kept["goal_tolerance"]:g} point: at or above zero the '
+        'goal against fixed is met. Its interval is a bootstrap over the textures (pooled: '
+        "over every seed's textures, each against its own seed's fixed); "
+        f"[the plot]({FIGURES}/identification_seeds/seeds.png), and each seed's report "
+        'beside it:\n\n' + '\n'.join(rows)
+        + f'\n\nThe goal against fixed is met on {pooled["met"]} of {seeds} fresh seeds; '
+        f'pooled, the margin is {_points(pooled)} points'
+        + (', above zero throughout its interval' if pooled['low'] > 0 else
+           ', below zero throughout its interval' if pooled['high'] < 0 else
+           ', its interval spanning zero: on these seeds the policies cannot be told apart '
+           'on this goal') + '.')
+
+
+def _points(goal: dict) -> str:
+    """A margin and its interval, in points."""
+    return (f'{100 * goal["margin"]:+.1f} [{100 * goal["low"]:+.1f}, '
+            f'{100 * goal["high"]:+.1f}]')
+
+
 def _first_reaching(curve: list[float], level: float) -> int | None:
     """The first k (from 1) whose accuracy after k movements reaches `level`, or None."""
     return next((k for k, right in enumerate(curve, 1) if right >= level), None)

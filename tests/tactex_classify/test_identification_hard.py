@@ -10,6 +10,7 @@ accuracies stay shares on any sweeps, and so do paired differences between polic
 any episodes and contact times; empty input is refused.
 """
 
+from dataclasses import replace
 import math
 
 from hypothesis import given, settings
@@ -20,7 +21,12 @@ import pytest
 from support.hard_values import anything, NON_FINITE
 
 from tactex_classify.identification.calibration import calibrated, fit_temperature, reliability
-from tactex_classify.identification.comparison import contact_grid, MAX_TIMES, paired_difference
+from tactex_classify.identification.comparison import (
+    against_fixed,
+    contact_grid,
+    MAX_TIMES,
+    paired_difference,
+)
 from tactex_classify.identification.evidence_table import EvidenceTable, MovementEvidence
 from tactex_classify.identification.offline import best_plans, Episode, repeat_sums
 from tactex_classify.identification.pathway_part import movement_part
@@ -230,6 +236,12 @@ def test_the_paired_difference_stays_a_difference_of_shares_on_any_episodes(data
     assert len(grid) <= MAX_TIMES and np.all(np.isfinite(grid))
     against = paired_difference(episodes, 'active', 'random', grid, resamples=50)
     assert against['pairs'] == len(episodes) // 2
+    goal = against_fixed([replace(e, policy='fixed') if e.policy == 'random' else e
+                          for e in episodes], resamples=50)
+    if goal:
+        assert math.isfinite(goal['goal_contact_s']) and goal['goal_contact_s'] >= 0.0
+        assert -1.0 <= goal['low'] <= goal['margin'] + 1e-12
+        assert goal['margin'] <= goal['high'] + 1e-12 <= 1.01 + 1e-12
     for name in ('difference', 'low', 'high'):
         assert len(against[name]) == len(grid)
     if against['pairs']:

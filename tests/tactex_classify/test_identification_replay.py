@@ -27,7 +27,12 @@ from support.movement_data import (
 )
 
 from tactex.cli import main
-from tactex_classify.identification.comparison import contact_grid, paired_difference, right_by
+from tactex_classify.identification.comparison import (
+    against_fixed,
+    contact_grid,
+    paired_difference,
+    right_by,
+)
 from tactex_classify.identification.movement_evidence import checked_movements, MovementDataError
 from tactex_classify.identification.offline import (
     best_plans,
@@ -128,6 +133,38 @@ def test_a_policy_right_where_another_is_wrong_differs_by_one_with_no_doubt():
     mixed = paired_difference(half, 'active', 'random', grid)
     assert mixed['difference'] == pytest.approx([2 / 3, 2 / 3])
     assert mixed['low'][0] < 2 / 3 < mixed['high'][0] == 1.0
+
+
+def test_the_goal_against_fixed_is_active_at_sixty_percent_of_its_median_against_its_final(
+        replayed):
+    table = summary(replayed, SETTINGS)
+    goal = table['against_fixed']
+    fixed = table['policies']['fixed']
+    assert goal['pairs'] == SETTINGS.folds * len(TEXTURES) * SETTINGS.seeds
+    assert goal['fixed_median_contact_s'] == fixed['median_contact_s']
+    assert goal['goal_contact_s'] == pytest.approx(0.6 * fixed['median_contact_s'])
+    assert goal['fixed_accuracy'] == pytest.approx(fixed['accuracy'])
+    assert goal['accuracy'] == pytest.approx(accuracy_curves(
+        replayed['episodes'], 'active', np.array([goal['goal_contact_s']]))[0][0])
+    assert goal['margin'] == pytest.approx(goal['accuracy'] - goal['fixed_accuracy'] + 0.01)
+    assert goal['low'] <= goal['margin'] <= goal['high']
+    assert sum(goal['texture_pairs']) == goal['pairs']
+
+
+def test_the_goal_against_fixed_is_met_by_deciding_as_right_in_well_under_its_time():
+    def episode(policy, texture, leaders, seconds=2.5):
+        return Episode(policy, 0, 0, texture, movements=[0] * len(leaders), leaders=leaders,
+                       contact_s=(seconds * np.arange(1, len(leaders) + 1)).tolist())
+
+    fixed = [episode('fixed', texture, [texture] * 5) for texture in range(3)]  # right, 12.5 s
+    quick = against_fixed(fixed + [episode('active', t, [t]) for t in range(3)])
+    assert quick['goal_contact_s'] == pytest.approx(7.5)
+    assert quick['margin'] == quick['low'] == quick['high'] == pytest.approx(0.01)
+    slow = against_fixed(fixed + [episode('active', t, [(t + 1) % 3] * 3 + [t]) for t in range(3)])
+    assert slow['accuracy'] == 0.0 and slow['margin'] == pytest.approx(-0.99)
+    assert against_fixed(fixed) == {} and against_fixed([]) == {}
+    broken = [episode('fixed', 0, [0], seconds=math.nan), episode('active', 0, [0])]
+    assert against_fixed(broken) == {}
 
 
 def test_a_movement_ending_on_a_contact_time_within_rounding_has_finished_by_it():

@@ -36,7 +36,11 @@ import numpy as np
 from tactex_classify.data.dataset import Dataset
 from tactex_classify.evaluation.cross_validation import confusion
 from tactex_classify.identification.calibration import reliability
-from tactex_classify.identification.comparison import contact_grid, paired_difference
+from tactex_classify.identification.comparison import (
+    against_fixed,
+    contact_grid,
+    paired_difference,
+)
 from tactex_classify.identification.evidence_table import EvidenceTable
 from tactex_classify.identification.movement_evidence import (
     cell_counts,
@@ -407,6 +411,7 @@ def summary(result: dict, settings: ReplaySettings) -> dict:
             'contact_s': result['contact_s'], 'arm_s': result['arm_s'],
             'best_plans': best_plans(result),
             'active_against': active_against(result, settings),
+            'against_fixed': against_fixed(result['episodes'], seed=settings.seed),
             'settings': {'folds': settings.folds, 'inner_folds': settings.inner_folds,
                          'seeds': settings.seeds, 'model': settings.model,
                          **training_settings(settings.training),

@@ -20,7 +20,7 @@ import numpy as np
 
 from tactex_classify.evaluation.training_report import draw_confusion
 from tactex_classify.identification.calibration import reliability
-from tactex_classify.identification.comparison import right_by
+from tactex_classify.identification.comparison import GOAL_SHARE, GOAL_TOLERANCE, right_by
 from tactex_classify.identification.offline import Episode, ReplaySettings, summary
 from tactex_classify.training.convergence import WHAT_TO_CHANGE
 from tactex_common import plotting
@@ -94,6 +94,7 @@ def markdown(table: dict) -> str:
                      f'{row["median_wall_s"]:.1f} |')
     lines += _plans_table(table)
     lines += against_table(table)
+    lines += fixed_goal_lines(table)
     lines += ['', '| movement | contact (s) | arm (s) | held-out sweeps | sweep accuracy | '
               'calibration error |', '|---|---|---|---|---|---|']
     for name, contact, arm in zip(table['movement_names'], table['contact_s'], table['arm_s'],
@@ -190,6 +191,21 @@ def against_table(table: dict) -> list[str]:
             f'{100 * row["difference"][i]:+.1f} [{100 * row["low"][i]:+.1f}, '
             f'{100 * row["high"][i]:+.1f}]' for i in columns) + ' |')
     return lines
+
+
+def fixed_goal_lines(table: dict) -> list[str]:
+    """The goal against fixed: active at 60 % of fixed's median contact, with its interval."""
+    goal = table.get('against_fixed') or {}
+    if not goal:
+        return []
+    verdict = 'met' if goal['margin'] >= 0 else 'not met'
+    return ['', f'Against `fixed` (the goal: its final accuracy, within '
+            f'{100 * GOAL_TOLERANCE:g} point, in at most {100 * GOAL_SHARE:g} % of its median '
+            f'contact): fixed ends at {100 * goal["fixed_accuracy"]:.1f} % after a median '
+            f'{goal["fixed_median_contact_s"]:g} s; after {goal["goal_contact_s"]:g} s active '
+            f'has {100 * goal["accuracy"]:.1f} %. Margin {100 * goal["margin"]:+.1f} points '
+            f'({verdict}; 95 % interval [{100 * goal["low"]:+.1f}, {100 * goal["high"]:+.1f}] '
+            f'over the {goal["textures"]} textures, paired on the same held-out sweeps).']
 
 
 def _plot_against(path: Path, against: dict) -> None:
