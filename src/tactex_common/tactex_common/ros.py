@@ -169,10 +169,11 @@ def spin(make_node: Callable[[], Node], args: list[str] | None = None) -> None:
 
     The executor spins on a thread of its own while the main thread waits for a stop
     signal (Python runs signal handlers only there, and a wait set does not wake for
-    them); on one it shuts the executor down, then destroys the node and shuts rclpy
-    down, in that order. rclpy's own handlers are off: they shut the context down under
-    running callbacks (RCLError tracebacks) or raise KeyboardInterrupt inside one, and
-    they ignore SIGHUP and an inherited ignored SIGINT (tactex_common.stopping).
+    them); on one it lets the spinning thread finish, shuts the executor down, then
+    destroys the node and shuts rclpy down, in that order. rclpy's own handlers are off:
+    they shut the context down under running callbacks (RCLError tracebacks) or raise
+    KeyboardInterrupt inside one, and they ignore SIGHUP and an inherited ignored SIGINT
+    (tactex_common.stopping).
 
     A parameter value the node refuses at construction is one `error:` line on stderr and
     SystemExit(1), no traceback; each given parameter it does not declare, one warning.
@@ -206,8 +207,8 @@ def spin(make_node: Callable[[], Node], args: list[str] | None = None) -> None:
             spinner.start()
             while not stop.wait(STOP_CHECK_S):
                 pass
+            spinner.join()  # within STOP_CHECK_S: it waits no longer than that at a time
             executor.shutdown(timeout_sec=STOP_CHECK_S)
-            spinner.join()
             if failures:  # a callback raised: the node fails as if it had spun here
                 raise failures[0]
         finally:
@@ -218,9 +219,15 @@ def spin(make_node: Callable[[], Node], args: list[str] | None = None) -> None:
 
 def _spin_until_shutdown(executor: SingleThreadedExecutor, stop: threading.Event,
                          failures: list[BaseException]) -> None:
-    """Spin `executor` until it is shut down, keeping what a callback raised; then set `stop`."""
+    """Spin `executor` until `stop` or shutdown, keeping what a callback raised; then set `stop`.
+
+    Each wait lasts at most STOP_CHECK_S: shutting the executor down while this thread is
+    entering a wait could leave it waiting on nothing (a node with no traffic would never
+    wake), so the main thread joins this one first and shuts the executor down after.
+    """
     try:
-        executor.spin()
+        while not stop.is_set() and executor.context.ok():
+            executor.spin_once(timeout_sec=STOP_CHECK_S)
     except ExternalShutdownException:
         pass
     except BaseException as error:  # noqa: B036 - handed to the main thread, raised there
