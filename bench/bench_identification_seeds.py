@@ -37,17 +37,12 @@ FRESH = (2037, 2039, 2041)
 
 
 def random_goal(report: dict) -> dict:
-    """Against random: every policy's accuracy and median contact, where active lags."""
-    active, random = (report['policies'][p] for p in ('active', 'random'))
-    curve, theirs = active['accuracy_after_k'], random['accuracy_after_k']
-    later = [k for k, right in enumerate(theirs, 1)
-             if next((j for j, a in enumerate(curve, 1) if a >= right - 1e-12), k + 1) > k]
+    """Against random: every policy's accuracy and median contact, where active leads or lags."""
     against = report['active_against']['random']
     low, high = np.array(against['low']), np.array(against['high'])
     return {'policies': {policy: {'accuracy': row['accuracy'],
                                   'median_contact_s': row['median_contact_s']}
                          for policy, row in report['policies'].items()},
-            'random_steps': len(theirs), 'active_later_at': later,
             'times': len(low), 'times_above': int(np.sum(low > 0)),
             'times_below': int(np.sum(high < 0))}
 
@@ -109,15 +104,14 @@ def main() -> int:
                        str(args.sweeps), '--seed', str(seed), '--out', str(folder / 'bags')]
             convert = [TACTEX, 'convert', str(folder / 'bags'), '--out',
                        str(folder / 'data.npz'), '--window', '128']
-            if args.reports:
-                for command in (collect, convert, [*report, '--out', str(folder / 'report')]):
+            for command in (collect, convert, [*report, '--out', str(folder / 'report')]):
+                if args.reports:
                     steps.append({'command': ' '.join(['tactex', *command[1:]]).replace(
                         scratch, 'SCRATCH'), 'seconds': None, 'note': 'run earlier (--reports)'})
-                made = args.reports / str(seed) / 'identification.json'
-            else:
-                for command in (collect, convert, [*report, '--out', str(folder / 'report')]):
+                else:
                     timed(command, steps)
-                made = folder / 'report' / 'identification.json'
+            made = (args.reports / str(seed) if args.reports else folder / 'report') \
+                / 'identification.json'
             reports[seed] = json.loads(made.read_text(encoding='utf-8'))
         shutil.rmtree(RESULTS, ignore_errors=True)
         RESULTS.mkdir(parents=True)
