@@ -8,6 +8,7 @@ expected information gain per contact second (active) or the comparison policies
 loop stops at the threshold or a budget; every choice repeats for the same seed.
 """
 
+from dataclasses import replace
 import math
 
 import numpy as np
@@ -25,7 +26,7 @@ from tactex_classify.identification.selection import (
     POLICIES,
     TIME_BUDGET,
 )
-from tactex_classify.identification.tempering import DISCOUNTS, fit_tempering
+from tactex_classify.identification.tempering import DISCOUNTS, fit_tempering, repeat_order
 
 
 def gaussian_posteriors(labels, separation, rng, classes):
@@ -255,6 +256,38 @@ def test_sweeps_that_repeat_their_movements_mistake_are_discounted_and_independe
     assert fit_tempering(names(6), fresh, discounts=DISCOUNTS).repeat_discount == 0.0
 
 
+def test_repeats_take_the_sweeps_their_first_sweeps_model_judged_then_the_other_models():
+    models = np.array([0, 0, 1, 1, 1, 2])
+    assert list(repeat_order(models, 3)) == [3, 4, 2, 5, 0, 1]
+    assert list(repeat_order(models, 5)) == [5, 0, 1, 2, 3, 4]
+    assert list(repeat_order(np.arange(4), 2)) == [2, 3, 0, 1]  # a model per sweep: round
+
+
+def judged_by_three_models(name, wrong_shift, rng, rounds=6):
+    """Interleaved sweeps of three models; model m says the next texture for texture m + shift."""
+    rows, labels, models = [], [], []
+    for texture in range(3):
+        for _ in range(rounds):
+            for model in range(3):
+                said = (texture + 1) % 3 if (model + wrong_shift) % 3 == texture else texture
+                vector = np.full(3, 0.1) * np.exp(rng.normal(0.0, 0.1, 3))
+                vector[said] = 0.8
+                rows.append(vector / vector.sum())
+                labels.append(texture)
+                models.append(model)
+    return MovementEvidence(name, 1.0, np.array(rows), np.array(labels), np.array(models))
+
+
+def test_repeats_judged_by_one_model_share_its_mistakes_so_the_fit_trusts_them_less():
+    rng = np.random.default_rng(0)
+    judged = [judged_by_three_models('a', 0, rng), judged_by_three_models('b', 1, rng)]
+    unknown = [replace(movement, models=None) for movement in judged]  # a model per sweep
+    assert (fit_tempering(names(3), judged).exponent
+            < 0.6 * fit_tempering(names(3), unknown).exponent)
+    assert fit_tempering(names(3), judged, discounts=DISCOUNTS).repeat_discount > 0.0
+    assert fit_tempering(names(3), unknown, discounts=DISCOUNTS).repeat_discount == 0.0
+
+
 def test_a_discounted_repeat_moves_the_belief_less_and_active_turns_to_another_movement():
     rows = separating((0, 1), 2, sure=0.8)
     table = EvidenceTable(names(2), [movement('first', 1.0, rows),
@@ -343,6 +376,8 @@ def test_malformed_evidence_is_refused_naming_what_is_wrong():
         EvidenceTable(names(3), [movement('m', 0.0, rows)])
     with pytest.raises(ValueError, match=r'probabilities must be \(sweeps, 3\)'):
         EvidenceTable(names(3), [MovementEvidence('m', 1.0, np.ones((6, 2)), np.zeros(6, int))])
+    with pytest.raises(ValueError, match='models must be one integer per sweep'):
+        EvidenceTable(names(3), [replace(movement('m', 1.0, rows), models=np.zeros(6))])
     with pytest.raises(ValueError, match='no movements'):
         EvidenceTable(names(3), [])
     with pytest.raises(ValueError, match='tempering'):

@@ -5,9 +5,10 @@
 Whatever a model answers (zeros, subnormals, 1e-300, ones, values above one, unnormalised),
 the belief stays finite and normalised and the expected information gain finite; a NaN,
 an infinity, a negative value or a wrong shape is refused with a ValueError naming it;
-calibration and the tempering fit stay finite on extreme probabilities; the best plans'
-accuracies stay shares on any sweeps, and so do paired differences between policies on
-any episodes and contact times; empty input is refused.
+calibration and the tempering fit stay finite on extreme probabilities and any models
+(repeats still take every sweep once); the best plans' accuracies stay shares on any
+sweeps, and so do paired differences between policies on any episodes and contact
+times; empty input is refused.
 """
 
 from dataclasses import replace
@@ -32,13 +33,17 @@ from tactex_classify.identification.offline import best_plans, Episode, repeat_s
 from tactex_classify.identification.pathway_part import movement_part
 from tactex_classify.identification.posterior import entropy, normalised
 from tactex_classify.identification.selection import Budget, Identification, POLICIES
-from tactex_classify.identification.tempering import DISCOUNTS, fit_tempering
+from tactex_classify.identification.tempering import DISCOUNTS, fit_tempering, repeat_order
 from tactex_description.movements import Movement
 
 pytestmark = pytest.mark.hard_case
 
 # What a model can answer: any non-negative finite numbers, the breaking ones often.
 answers = st.one_of(st.sampled_from([0.0, -0.0, 5e-324, 1e-300, 1.0, 1e300]), st.floats(0.0, 1.0))
+
+
+# Which model judged a sweep: any integers, the extremes often.
+model_ids = st.one_of(st.sampled_from([-2 ** 63, -1, 0, 2 ** 63 - 1]), st.integers(0, 3))
 
 
 @st.composite
@@ -51,7 +56,8 @@ def evidence(draw):
                                                                 max_size=3)))
         probabilities = draw(hnp.arrays(np.float64, (len(labels), classes), elements=answers))
         seconds = draw(st.sampled_from([1e-9, 0.5, 3.0, 1e6]))
-        movements.append(MovementEvidence(f'm{index}', seconds, probabilities, labels))
+        models = draw(st.none() | hnp.arrays(np.int64, len(labels), elements=model_ids))
+        movements.append(MovementEvidence(f'm{index}', seconds, probabilities, labels, models))
     return [f't{k}' for k in range(classes)], movements
 
 
@@ -199,6 +205,15 @@ def test_calibration_stays_finite_on_any_answers(probabilities, data):
 def test_the_tempering_fit_stays_on_its_grid_for_any_answers(drawn):
     exponent, discount = fit_tempering(*drawn, episodes_per_texture=2, discounts=DISCOUNTS)
     assert 0.05 <= exponent <= 4.0 and discount in DISCOUNTS
+
+
+@settings(max_examples=200, deadline=None)
+@given(hnp.arrays(np.int64, st.integers(1, 12), elements=model_ids), st.data())
+def test_repeats_take_every_sweep_once_starting_from_the_drawn_one(models, data):
+    models = np.sort(models)
+    first = data.draw(st.integers(0, len(models) - 1))
+    order = repeat_order(models, first)
+    assert order[0] == first and sorted(order) == list(range(len(models)))
 
 
 @settings(max_examples=200, deadline=None)

@@ -27,13 +27,19 @@ from support.movement_data import (
 )
 
 from tactex.cli import main
+from tactex_classify.evaluation.cross_validation import cross_validate
 from tactex_classify.identification.comparison import (
     against_fixed,
     contact_grid,
     paired_difference,
     right_by,
 )
-from tactex_classify.identification.movement_evidence import checked_movements, MovementDataError
+from tactex_classify.identification.movement_evidence import (
+    checked_movements,
+    fit_movement,
+    movement_evidence,
+    MovementDataError,
+)
 from tactex_classify.identification.offline import (
     best_plans,
     Episode,
@@ -45,6 +51,7 @@ from tactex_classify.identification.offline import (
 from tactex_classify.identification.report import accuracy_curves, PLOTS, write_report
 from tactex_classify.identification.selection import Budget, POLICIES
 from tactex_classify.training.deep_classifier import TrainingConfig
+from tactex_classify.training.estimators import build_estimator
 from tactex_description.movements import load_movements
 
 SETTINGS = ReplaySettings(policies=POLICIES, folds=2, inner_folds=2, seeds=3,
@@ -365,6 +372,16 @@ def test_a_deep_model_trains_as_train_would_and_a_training_cut_short_is_marked(t
     assert 'cnn_2 (modern profile, at most 2 epochs, window scaling)' in text
     assert '| tells_all (not converged) |' in text and 'raise --epochs' in text
     assert 'tells_all: fold 1, inner fold 1: ' in text
+
+
+def test_each_out_of_fold_sweep_names_the_inner_model_that_judged_it(tmp_path):
+    dataset = movement_dataset(tmp_path)
+    fitted = fit_movement('all', dataset, lambda: build_estimator(SETTINGS.training), folds=2)
+    judged = cross_validate(dataset, lambda: build_estimator(SETTINGS.training), 'grouped',
+                            folds=2)
+    assert [set(judged.fold[dataset.trial == trial]) for trial in fitted.trials] == [
+        {fold} for fold in fitted.folds]
+    assert list(movement_evidence(fitted, 1.0).models) == list(fitted.folds)
 
 
 def test_a_baseline_has_nothing_to_converge(replayed):

@@ -58,12 +58,16 @@ class MovementEvidence:
         contact_seconds: the edge's time in contact during one sweep of the movement.
         probabilities: (sweeps, classes) class probabilities of held-out sweeps.
         labels: (sweeps,) each sweep's true texture, an index into the classes.
+        models: (sweeps,) which model judged each sweep (its inner fold), or None when
+            unknown (each sweep counts as judged by a model of its own). Sweeps one model
+            judged share its mistakes, as an identification's repeats of a movement do.
     """
 
     name: str
     contact_seconds: float
     probabilities: np.ndarray
     labels: np.ndarray
+    models: np.ndarray | None = None
 
 
 class EvidenceTable:
@@ -102,6 +106,8 @@ class EvidenceTable:
         self.repeat_discount = float(repeat_discount)
         self.seconds = np.array([self._seconds(movement) for movement in movements])
         rows = [self._rows(movement) for movement in movements]
+        self._models_of = [model_of for _, _, model_of in rows]
+        rows = [(terms, labels) for terms, labels, _ in rows]
         self.log_typical = np.stack([self._log_typical(terms, labels) for terms, labels in rows])
         self._labels_of = [labels for _, labels in rows]
         self._rows_of = [terms - self.log_typical[index] for index, (terms, _) in enumerate(rows)]
@@ -126,8 +132,12 @@ class EvidenceTable:
                              f'> 0, got {seconds!r}')
         return float(seconds)
 
-    def _rows(self, movement: MovementEvidence) -> tuple[np.ndarray, np.ndarray]:
-        """The movement's tempered log likelihood terms and labels, checked."""
+    def _rows(self, movement: MovementEvidence) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The movement's tempered log likelihood terms, labels and models, checked.
+
+        The sweeps are put in the order of the model that judged them (stably), so that
+        a texture's sweeps of one model sit together (`held_out_models`).
+        """
         classes = len(self.classes)
         probabilities = np.asarray(movement.probabilities, dtype=float)
         labels = np.asarray(movement.labels)
@@ -146,7 +156,14 @@ class EvidenceTable:
             raise ValueError(f'movement {movement.name!r} has no held-out sweep of '
                              f'{", ".join(self.classes[i] for i in missing)}: record and '
                              'cross-validate every texture under every movement')
-        return tempered_log_likelihoods(probabilities, self.tempering), labels.astype(int)
+        models = (np.arange(len(labels)) if movement.models is None
+                  else np.asarray(movement.models))
+        if models.shape != labels.shape or not np.issubdtype(models.dtype, np.integer):
+            raise ValueError(f'movement {movement.name!r}: models must be one integer per '
+                             f'sweep ({len(labels)}), got {movement.models!r}')
+        order = np.argsort(models, kind='stable')
+        return (tempered_log_likelihoods(probabilities[order], self.tempering),
+                labels[order].astype(int), models[order])
 
     def _log_typical(self, terms: np.ndarray, labels: np.ndarray) -> np.ndarray:
         """The log of Z(k), the mean of q(k)^tau, each true texture weighted alike."""
@@ -173,6 +190,10 @@ class EvidenceTable:
     def held_out_log_likelihoods(self, movement: int, texture: int) -> np.ndarray:
         """(sweeps, classes): the update's terms of `movement`'s held-out sweeps of `texture`."""
         return self._rows_of[movement][self._labels_of[movement] == texture]
+
+    def held_out_models(self, movement: int, texture: int) -> np.ndarray:
+        """(sweeps,): which model judged each of `held_out_log_likelihoods`' rows (ascending)."""
+        return self._models_of[movement][self._labels_of[movement] == texture]
 
     def information_gain(self, log_posterior: np.ndarray, repeats=None) -> np.ndarray:
         """Expected entropy lost (nats) by one sweep of each movement, given the belief.

@@ -185,6 +185,7 @@ class FittedMovement:
     raw: np.ndarray  # out-of-fold sweep vectors before calibration
     estimator: object  # fitted on every window of the movement
     unconverged: tuple[tuple[str, str], ...] = ()  # ('inner fold 2', 'still falling'), ...
+    folds: np.ndarray | None = None  # the inner fold (so the model) that judged each sweep
 
     @property
     def vectors(self) -> np.ndarray:
@@ -220,11 +221,13 @@ def fit_movement(name: str, dataset: Dataset, make: Callable[[], object], *, fol
                                 f'{folds} times; record more sweeps or lower the folds')
     out_of_fold = cross_validate(dataset, make, 'grouped', folds=folds, seed=seed)
     trials, labels, raw = sweep_vectors(dataset, out_of_fold.proba)
+    _, first_windows = np.unique(dataset.trial, return_index=True)  # in `trials`' order
     final = make()
     final.fit(dataset.X, dataset.y, dataset.classes, groups=dataset.trial,
               channels=dataset.channels)
     return FittedMovement(name, fit_temperature(raw, labels), trials, labels, raw, final,
-                          unconverged(out_of_fold.histories, final, len(dataset.classes)))
+                          unconverged(out_of_fold.histories, final, len(dataset.classes)),
+                          out_of_fold.fold[first_windows])
 
 
 def unconverged(histories: list[list[dict]], final: object, classes: int
@@ -245,4 +248,5 @@ def unconverged(histories: list[list[dict]], final: object, classes: int
 
 def movement_evidence(fitted: FittedMovement, contact_seconds: float) -> MovementEvidence:
     """The evidence table's row of a fitted movement."""
-    return MovementEvidence(fitted.name, contact_seconds, fitted.vectors, fitted.labels)
+    return MovementEvidence(fitted.name, contact_seconds, fitted.vectors, fitted.labels,
+                            fitted.folds)

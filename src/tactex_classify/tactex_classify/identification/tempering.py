@@ -8,13 +8,15 @@ One exponent tau scales every log likelihood, and a movement's sweep after n of 
 counts 1 / (1 + c n) of its first (`EvidenceTable.repeat_weights`): repeats of one
 movement share its model's mistakes more than sweeps of different movements do. Both are
 fitted on the out-of-fold vectors themselves: for every texture, replayed episodes draw
-movements uniformly and, for each, one of its held-out sweeps of that texture (a movement
-drawn again takes its next sweep, never the same one while others are left); (tau, c)
-minimises the mean negative log posterior of the true texture over every step of every
-episode (a proper scoring rule, so neither overconfidence nor timidity pays). The draws
-are made once from `seed` and shared by every candidate: tau on a logarithmic grid, c
-among the discounts asked for (ties: the smaller c, then the smaller tau). By default c is
-0 (every sweep counts fully): on held-out simulated sweeps the fitted discount raised the
+movements uniformly and, for each, one of its held-out sweeps of that texture (a
+movement drawn again takes another, never the same one while others are left, and first
+those the same cross-validation model judged: an identification's repeats of a movement
+all meet one model, the final one, so they share its mistakes); (tau, c) minimises the
+mean negative log posterior of the true texture over every step of every episode (a
+proper scoring rule, so neither overconfidence nor timidity pays). The draws are made
+once from `seed` and shared by every candidate: tau on a logarithmic grid, c among the
+discounts asked for (ties: the smaller c, then the smaller tau). By default c is 0
+(every sweep counts fully): on held-out simulated sweeps the fitted discount raised the
 final accuracy but slowed `active` over its first ten movements
 (docs/topics/identification-measured.md), so it is fitted only on request (DISCOUNTS).
 """
@@ -50,20 +52,39 @@ def replayed_terms(table: EvidenceTable, draws: list[tuple[int, list[tuple[int, 
 
     `draws`: (true texture, [(movement, a random integer), ...]) per episode, every episode
     as long; a movement's first integer in an episode picks its first held-out sweep of the
-    texture, and each repeat takes the next.
+    texture, and each repeat takes the next in `repeat_order`: the sweeps the same model
+    judged first, as an identification's repeats of a movement all meet one model.
     """
     terms = np.empty((len(draws), len(draws[0][1]), len(table.classes)))
     repeats = np.zeros(terms.shape[:2], dtype=int)
     for episode, (texture, steps) in enumerate(draws):
-        first: dict[int, int] = {}
+        orders: dict[int, np.ndarray] = {}
         taken = np.zeros(len(table.names), dtype=int)
         for step, (movement, draw) in enumerate(steps):
             held_out = table.held_out_log_likelihoods(movement, texture)
-            terms[episode, step] = held_out[(first.setdefault(movement, draw) + taken[movement])
-                                            % len(held_out)]
+            if movement not in orders:
+                models = table.held_out_models(movement, texture)
+                orders[movement] = repeat_order(models, draw % len(models))
+            order = orders[movement]
+            terms[episode, step] = held_out[order[taken[movement] % len(order)]]
             repeats[episode, step] = taken[movement]
             taken[movement] += 1
     return terms, repeats, np.array([texture for texture, _ in draws])
+
+
+def repeat_order(models: np.ndarray, first: int) -> np.ndarray:
+    """The order in which repeats take sweeps, from sweep `first`, given ascending `models`.
+
+    First the sweeps of `first`'s model, from `first` on and round to its block's start;
+    then the other models' sweeps, from the next block on, round. With every sweep a model
+    of its own, that is every sweep from `first` on, round.
+    """
+    count = len(models)
+    start = int(np.searchsorted(models, models[first], side='left'))
+    stop = int(np.searchsorted(models, models[first], side='right'))
+    block = np.r_[first:stop, start:first]
+    rest = np.r_[stop:count, 0:start]
+    return np.concatenate([block, rest]).astype(int)
 
 
 def discount_loss(terms: np.ndarray, repeats: np.ndarray, truth: np.ndarray,
