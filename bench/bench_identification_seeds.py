@@ -1,20 +1,23 @@
 # Copyright 2026 The tactex authors
 # SPDX-License-Identifier: Apache-2.0
-"""The identification goals on fresh scene seeds, each apart and pooled.
+"""The identification goals on fresh scene seeds, apart and pooled, discount fitted or not.
 
 One scene seed decides little: on twenty sweeps per texture and movement the goal
 against the single best movement repeated rests on a point or two, within the interval
 of a bootstrap over twelve textures. For each of `--scene-seeds` (fresh: no test uses
 them and none was looked at while the policies were built), this runs the same collect,
 convert and `tactex report identification` as bench_identification_report.py (every
-policy, active-realized too) and keeps each seed's identification.json. It then pools
-the goal against fixed over the seeds: every seed's textures are other scenes, so a
+policy, active-realized too), and the report again with `--repeat-discount` (a fitted
+discount of a movement's repeats) on the same folds and sweeps. It then pools the goal
+against fixed over the seeds, for each: every seed's textures are other scenes, so a
 (seed, texture) is one more unit of the bootstrap (`comparison.texture_bootstrap`), each
 unit's margin measured against its own seed's fixed. Written to
 bench/results/identification_seeds/: seeds.json (rendered into the docs), seeds.png
-(each seed's margin with its interval, and the pooled one) and each seed's
-identification.json (its per-movement confusions among them).
-`--reports DIR` reuses DIR/SEED/identification.json written earlier by the same report.
+(each seed's margin with its interval, and the pooled one, both ways), each seed's
+identification.json (its per-movement confusions among them) and, in
+with_repeat_discount/, the same with the discount.
+`--reports DIR` reuses DIR/SEED/identification.json and
+DIR/SEED/with_repeat_discount/identification.json written earlier by the same reports.
 """
 
 import argparse
@@ -34,6 +37,7 @@ from tactex_common import plotting
 RESULTS = Path(__file__).parent / 'results' / 'identification_seeds'
 MOVEMENTS = Path(__file__).parents[1] / 'config' / 'movements.yaml'
 FRESH = (2037, 2039, 2041)
+DISCOUNTED = 'with_repeat_discount'  # the second report's folder and seeds.json key
 
 
 def random_goal(report: dict) -> dict:
@@ -57,23 +61,36 @@ def pooled(reports: dict[int, dict]) -> dict:
             'met': sum(r['against_fixed']['margin'] >= 0 for r in reports.values())}
 
 
-def plot(path: Path, reports: dict[int, dict], together: dict) -> None:
-    """Each seed's margin against fixed with its 95 % interval, and the pooled one."""
+def plot(path: Path, goals: dict[str, tuple[dict[int, dict], dict]]) -> None:
+    """Each seed's margin against fixed with its 95 % interval, and the pooled one, per variant."""
     plt, figure, axis = plotting.figure()
-    rows = [(str(seed), r['against_fixed']) for seed, r in reports.items()]
-    rows.append(('pooled', together))
-    for index, (name, row) in enumerate(rows):
-        axis.errorbar([index], [100 * row['margin']],
-                      yerr=[[100 * (row['margin'] - row['low'])],
-                            [100 * (row['high'] - row['margin'])]],
-                      fmt='o', color='C1' if name == 'pooled' else 'C0', capsize=4)
+    for shift, colour, (name, (reports, together)) in zip((-0.12, 0.12), ('C0', 'C1'),
+                                                          goals.items(), strict=True):
+        rows = [row['against_fixed'] for row in reports.values()] + [together]
+        for index, row in enumerate(rows):
+            axis.errorbar([index + shift], [100 * row['margin']],
+                          yerr=[[100 * (row['margin'] - row['low'])],
+                                [100 * (row['high'] - row['margin'])]],
+                          fmt='s' if index == len(rows) - 1 else 'o', color=colour, capsize=4,
+                          label=name if index == 0 else None)
+    labels = [*map(str, next(iter(goals.values()))[0]), 'pooled']
     axis.axhline(0.0, color='gray', lw=0.8)
-    axis.set_xticks(range(len(rows)), [name for name, _ in rows])
+    axis.set_xticks(range(len(labels)), labels)
     axis.set_xlabel('scene seed')
     axis.set_ylabel('margin of the goal against fixed (points)')
-    axis.set_xlim(-0.5, len(rows) - 0.5)
+    axis.set_xlim(-0.5, len(labels) - 0.5)
+    axis.legend()
     plotting.save(plt, figure, path, "active at 60 % of fixed's median contact, less fixed's "
                   'final, plus 1 point; 95 % interval over textures')
+
+
+def summary(reports: dict[int, dict]) -> dict:
+    """The goal against fixed per seed and pooled, and the comparison with random per seed."""
+    return {'against_fixed': {seed: {k: v for k, v in r['against_fixed'].items()
+                                     if not k.startswith('texture_')}
+                              for seed, r in reports.items()},
+            'pooled': pooled(reports),
+            'against_random': {seed: random_goal(r) for seed, r in reports.items()}}
 
 
 def main() -> int:
@@ -91,7 +108,7 @@ def main() -> int:
     args = parser.parse_args()
     scene_seeds = [int(seed) for seed in args.scene_seeds.split(',')]
     steps: list[dict] = []
-    reports: dict[int, dict] = {}
+    reports: dict[str, dict[int, dict]] = {'': {}, DISCOUNTED: {}}
     with tempfile.TemporaryDirectory() as scratch:
         for seed in scene_seeds:
             folder = Path(scratch) / str(seed)
@@ -104,31 +121,34 @@ def main() -> int:
                        str(args.sweeps), '--seed', str(seed), '--out', str(folder / 'bags')]
             convert = [TACTEX, 'convert', str(folder / 'bags'), '--out',
                        str(folder / 'data.npz'), '--window', '128']
-            for command in (collect, convert, [*report, '--out', str(folder / 'report')]):
+            for command in (collect, convert, [*report, '--out', str(folder / 'report')],
+                            [*report, '--repeat-discount', '--out',
+                             str(folder / 'report' / DISCOUNTED)]):
                 if args.reports:
                     steps.append({'command': ' '.join(['tactex', *command[1:]]).replace(
                         scratch, 'SCRATCH'), 'seconds': None, 'note': 'run earlier (--reports)'})
                 else:
                     timed(command, steps)
-            made = (args.reports / str(seed) if args.reports else folder / 'report') \
-                / 'identification.json'
-            reports[seed] = json.loads(made.read_text(encoding='utf-8'))
+            made = args.reports / str(seed) if args.reports else folder / 'report'
+            for variant, kept in reports.items():
+                kept[seed] = json.loads((made / variant / 'identification.json').read_text(
+                    encoding='utf-8'))
         shutil.rmtree(RESULTS, ignore_errors=True)
-        RESULTS.mkdir(parents=True)
-        for seed, report in reports.items():
-            (RESULTS / f'{seed}.json').write_text(json.dumps(report, indent=1) + '\n',
-                                                  encoding='utf-8')
-    together = pooled(reports)
+        (RESULTS / DISCOUNTED).mkdir(parents=True)
+        for variant, kept in reports.items():
+            for seed, report in kept.items():
+                (RESULTS / variant / f'{seed}.json').write_text(
+                    json.dumps(report, indent=1) + '\n', encoding='utf-8')
+    plain, discounted = summary(reports['']), summary(reports[DISCOUNTED])
     table = {'scene_seeds': scene_seeds, 'sweeps_per_texture_and_movement': args.sweeps,
-             'goal_tolerance': GOAL_TOLERANCE, 'steps': steps,
-             'against_fixed': {seed: {k: v for k, v in r['against_fixed'].items()
-                                      if not k.startswith('texture_')}
-                               for seed, r in reports.items()},
-             'pooled': together,
-             'against_random': {seed: random_goal(r) for seed, r in reports.items()}}
+             'goal_tolerance': GOAL_TOLERANCE, 'steps': steps, **plain, DISCOUNTED: discounted}
     (RESULTS / 'seeds.json').write_text(json.dumps(table, indent=1) + '\n', encoding='utf-8')
-    plot(RESULTS / 'seeds.png', reports, together)
-    print(json.dumps({'pooled': together, 'against_fixed': table['against_fixed']}, indent=1))
+    plot(RESULTS / 'seeds.png', {'every sweep counts fully (default)': (reports[''],
+                                                                        plain['pooled']),
+                                 'repeat discount fitted': (reports[DISCOUNTED],
+                                                            discounted['pooled'])})
+    print(json.dumps({'pooled': plain['pooled'], DISCOUNTED: discounted['pooled'],
+                      'against_fixed': plain['against_fixed']}, indent=1))
     return 0
 
 

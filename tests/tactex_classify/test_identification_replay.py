@@ -50,6 +50,7 @@ from tactex_classify.identification.offline import (
 )
 from tactex_classify.identification.report import accuracy_curves, PLOTS, write_report
 from tactex_classify.identification.selection import Budget, POLICIES
+from tactex_classify.identification.tempering import DISCOUNTS
 from tactex_classify.training.deep_classifier import TrainingConfig
 from tactex_classify.training.estimators import build_estimator
 from tactex_description.movements import load_movements
@@ -336,6 +337,18 @@ def test_the_command_writes_the_report_and_prints_each_policy(tmp_path, capsys):
     assert list(kept['policies']) == ['active', 'fixed']
     assert kept['settings']['budget_movements'] == 4 and kept['settings']['repeats'] == 2
     assert list(kept['active_against']) == ['fixed']
+    assert not kept['settings']['repeat_discount'] and set(kept['repeat_discount']) == {0.0}
+
+
+def test_asked_for_the_discount_the_report_fits_one_per_fold(tmp_path):
+    movement_dataset(tmp_path)
+    assert main(['report', 'identification', str(tmp_path / 'data.npz'), '--out',
+                 str(tmp_path / 'out'), '--movements', str(movement_file(tmp_path)),
+                 '--folds', '2', '--inner-folds', '2', '--seeds', '1', '--model',
+                 'extratrees', '--policies', 'active', '--repeat-discount']) == 0
+    kept = json.loads((tmp_path / 'out' / 'identification.json').read_text())
+    assert kept['settings']['repeat_discount'] and len(kept['repeat_discount']) == 2
+    assert set(kept['repeat_discount']) <= set(DISCOUNTS)
 
 
 def test_the_command_refuses_a_movement_file_of_another_window_as_train_does(tmp_path, capsys):

@@ -16,9 +16,9 @@ mean negative log posterior of the true texture over every step of every episode
 proper scoring rule, so neither overconfidence nor timidity pays). The draws are made
 once from `seed` and shared by every candidate: tau on a logarithmic grid, c among the
 discounts asked for (ties: the smaller c, then the smaller tau). By default c is 0
-(every sweep counts fully): on held-out simulated sweeps the fitted discount raised the
-final accuracy but slowed `active` over its first ten movements
-(docs/topics/identification-measured.md), so it is fitted only on request (DISCOUNTS).
+(every sweep counts fully) and fitted only on request (DISCOUNTS): on held-out sweeps of
+fresh scene seeds the fitted discount kept `active` from falling behind `random` late,
+but made it decide no sooner than random (docs/topics/identification-measured.md).
 """
 
 from __future__ import annotations
