@@ -149,9 +149,8 @@ def identification_seeds() -> str:
         '(`--repeat-discount`):\n\n'
         + _seed_rows(discounted, kept['scene_seeds'])
         + f'\n\nThe goal against fixed is met on {pooled["met"]} of {seeds} fresh seeds; '
-        f'pooled, the margin is {_points(pooled)} points{_verdict(pooled)}'
-        + (': on these seeds the policies cannot be told apart on this goal' if
-           pooled['low'] <= 0 <= pooled['high'] else '')
+        f'pooled, the margin is {_points(pooled)} points'
+        + _verdict(pooled, ': on these seeds the policies cannot be told apart on this goal')
         + f'. With the discount it is met on {discounted["pooled"]["met"]} of {seeds}, '
         f'pooled {_points(discounted["pooled"])}{_verdict(discounted["pooled"])}.')
 
@@ -179,11 +178,11 @@ def _seed_rows(goals: dict, scene_seeds: list[int]) -> str:
     return '\n'.join(rows)
 
 
-def _verdict(pooled: dict) -> str:
-    """Where the pooled margin's interval lies, as a clause."""
+def _verdict(pooled: dict, undecided: str = '') -> str:
+    """Where the pooled margin's interval lies, as a clause; `undecided` follows a span of zero."""
     return (', above zero throughout its interval' if pooled['low'] > 0 else
             ', below zero throughout its interval' if pooled['high'] < 0 else
-            ', its interval spanning zero')
+            ', its interval spanning zero' + undecided)
 
 
 def _points(goal: dict) -> str:

@@ -105,19 +105,19 @@ class EvidenceTable:
         self.tempering = float(tempering)
         self.repeat_discount = float(repeat_discount)
         self.seconds = np.array([self._seconds(movement) for movement in movements])
-        rows = [self._rows(movement) for movement in movements]
-        self._models_of = [model_of for _, _, model_of in rows]
-        rows = [(terms, labels) for terms, labels, _ in rows]
-        self.log_typical = np.stack([self._log_typical(terms, labels) for terms, labels in rows])
-        self._labels_of = [labels for _, labels in rows]
-        self._rows_of = [terms - self.log_typical[index] for index, (terms, _) in enumerate(rows)]
+        terms_of, self._labels_of, self._models_of = zip(
+            *(self._rows(movement) for movement in movements), strict=True)
+        self.log_typical = np.stack([
+            self._log_typical(terms, labels)
+            for terms, labels in zip(terms_of, self._labels_of, strict=True)])
+        self._rows_of = [terms - self.log_typical[index] for index, terms in enumerate(terms_of)]
         self._stacked = np.concatenate(self._rows_of)
         self._movement_of = np.concatenate(
-            [np.full(len(labels), index) for index, (_, labels) in enumerate(rows)])
-        self._label_of = np.concatenate([labels for _, labels in rows])
+            [np.full(len(labels), index) for index, labels in enumerate(self._labels_of)])
+        self._label_of = np.concatenate(self._labels_of)
         # Each held-out sweep's share of its texture (a texture is drawn, then its sweep).
         self._shares_of = [1.0 / np.bincount(labels, minlength=len(self.classes))[labels]
-                           for _, labels in rows]
+                           for labels in self._labels_of]
         self._share_of = np.concatenate(self._shares_of)
         shifted = self._stacked - self._stacked.max(axis=1, keepdims=True)
         self._by_products = bool(-shifted.min() <= PRODUCT_SPREAD)
