@@ -41,14 +41,20 @@ DISCOUNTED = 'with_repeat_discount'  # the second report's folder and seeds.json
 
 
 def random_goal(report: dict) -> dict:
-    """Against random: every policy's accuracy and median contact, where active leads or lags."""
+    """Against random: accuracy and median contact, where active leads or lags, equal accuracy.
+
+    At equal accuracy: per threshold, active's accuracy and mean contact seconds beside
+    the seconds random needs for that accuracy (the report's trade-off).
+    """
     against = report['active_against']['random']
     low, high = np.array(against['low']), np.array(against['high'])
     return {'policies': {policy: {'accuracy': row['accuracy'],
                                   'median_contact_s': row['median_contact_s']}
                          for policy, row in report['policies'].items()},
             'times': len(low), 'times_above': int(np.sum(low > 0)),
-            'times_below': int(np.sum(high < 0))}
+            'times_below': int(np.sum(high < 0)),
+            'at_equal_accuracy': report.get('tradeoff', {}).get('at_equal_accuracy', {}).get(
+                'random', [])}
 
 
 def pooled(reports: dict[int, dict]) -> dict:

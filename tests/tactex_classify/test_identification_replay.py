@@ -51,6 +51,7 @@ from tactex_classify.identification.offline import (
 from tactex_classify.identification.report import accuracy_curves, PLOTS, write_report
 from tactex_classify.identification.selection import Budget, POLICIES
 from tactex_classify.identification.tempering import DISCOUNTS
+from tactex_classify.identification.tradeoff import seconds_for, stop_step, tradeoff
 from tactex_classify.training.deep_classifier import TrainingConfig
 from tactex_classify.training.estimators import build_estimator
 from tactex_description.movements import load_movements
@@ -175,6 +176,44 @@ def test_the_goal_against_fixed_is_met_by_deciding_as_right_in_well_under_its_ti
     assert against_fixed(broken) == {}
 
 
+def test_an_episode_cut_at_a_lower_threshold_is_the_one_a_replay_at_that_threshold_makes(
+        tmp_path, replayed):
+    lower = replace(SETTINGS, budget=replace(SETTINGS.budget, threshold=0.8))
+    again = replay(movement_dataset(tmp_path), load_movements(movement_file(tmp_path)), lower,
+                   progress=lambda line: None)
+    for cut, whole in zip(again['episodes'], replayed['episodes'], strict=True):
+        step = stop_step(whole.top_posterior, 0.8)
+        assert (cut.movements, cut.leaders, cut.contact_s) == (
+            whole.movements[:step + 1], whole.leaders[:step + 1], whole.contact_s[:step + 1])
+    for policy in POLICIES:
+        assert tradeoff(replayed['episodes'], policy, [0.8]) == tradeoff(
+            again['episodes'], policy, [0.8])
+        assert tradeoff(again['episodes'], policy, [0.8])[0]['accuracy'] == pytest.approx(
+            summary(again, lower)['policies'][policy]['accuracy'])
+
+
+def test_every_policy_pays_more_contact_for_a_higher_threshold_up_to_the_replays(replayed):
+    trade = summary(replayed, SETTINGS)['tradeoff']
+    assert list(trade['curves']) == list(POLICIES)
+    for policy, curve in trade['curves'].items():
+        assert [row['threshold'] for row in curve] == [0.5, 0.7, 0.8, 0.9, 0.95, 0.98, 0.99]
+        seconds = [row['mean_contact_s'] for row in curve]
+        assert seconds == sorted(seconds) and seconds[0] > 0, policy
+        assert curve[-1]['accuracy'] == pytest.approx(
+            summary(replayed, SETTINGS)['policies'][policy]['accuracy'])
+    assert list(trade['at_equal_accuracy']) == [p for p in POLICIES if p != 'active']
+
+
+def test_the_seconds_for_an_accuracy_are_read_between_the_thresholds_that_first_reach_it():
+    curve = [{'accuracy': 0.6, 'mean_contact_s': 10.0}, {'accuracy': 0.8, 'mean_contact_s': 20.0},
+             {'accuracy': 0.7, 'mean_contact_s': 30.0}]
+    assert seconds_for(curve, 0.7) == pytest.approx(15.0)
+    assert seconds_for(curve, 0.5) == 10.0 and seconds_for(curve, 0.8) == 20.0
+    assert seconds_for(curve, 0.9) is None and seconds_for([], 0.5) is None
+    assert stop_step([], 0.5) == -1 and stop_step([0.4, 0.6, 0.9], 0.6) == 2
+    assert tradeoff([], 'active', [0.5]) == []
+
+
 def test_a_movement_ending_on_a_contact_time_within_rounding_has_finished_by_it():
     ends = np.cumsum([0.7, 0.3, 0.3, 0.1, 0.1])  # 1.5000000000000002
     assert right_by(ends.tolist(), [1, 1, 1, 1, 0], 0, np.array([1.4, 1.5])).tolist() == [
@@ -208,6 +247,7 @@ def test_the_report_holds_the_json_the_markdown_and_every_plot(tmp_path, replaye
     assert table['policies'] == kept['policies']
     text = (tmp_path / 'report' / 'identification.md').read_text()
     assert '| active |' in text and '| tells_nothing |' in text
+    assert 'What accuracy costs in contact time' in text and '| threshold | accuracy |' in text
     for name in PLOTS:
         assert (tmp_path / 'report' / name).stat().st_size > 1000, name
 

@@ -20,7 +20,8 @@ advance (how many sweeps of each), picked in hindsight on those same held-out sw
 Fixed and round-robin run such plans, so they do not pass it while they run to k; a
 policy that stops on its threshold picks how many sweeps from them, random draws its plan
 per episode (on few episodes it can pass by luck), and active, which looks at each sweep,
-can pass it by choosing.
+can pass it by choosing. `tradeoff` reads every policy's accuracy and contact seconds at
+lower thresholds off the same episodes.
 """
 
 from __future__ import annotations
@@ -55,6 +56,7 @@ from tactex_classify.identification.movement_evidence import (
 )
 from tactex_classify.identification.selection import Budget, COMPARED, Identification
 from tactex_classify.identification.tempering import DISCOUNTS, fit_tempering
+from tactex_classify.identification.tradeoff import at_equal_accuracy, THRESHOLDS, tradeoff
 from tactex_classify.models.registry import BASELINES
 from tactex_classify.training.deep_classifier import TrainingConfig
 from tactex_classify.training.estimators import build_estimator
@@ -95,6 +97,7 @@ class Episode:
     repeat: int = 0  # the partition into folds
     movements: list[int] = field(default_factory=list)
     leaders: list[int] = field(default_factory=list)  # the leading texture after each step
+    top_posterior: list[float] = field(default_factory=list)  # the leader's, after each step
     contact_s: list[float] = field(default_factory=list)  # cumulative, after each step
     arm_s: float = 0.0
     wall_s: float = 0.0
@@ -265,6 +268,7 @@ def _episode(table: EvidenceTable, policy: str, budget: Budget, episode: Episode
         identification.observe(chosen, pools[chosen].pop())
         episode.movements.append(chosen)
         episode.leaders.append(identification.leader)
+        episode.top_posterior.append(float(identification.posterior[identification.leader]))
         episode.contact_s.append(identification.contact_seconds)
         episode.arm_s += arm_s[chosen]
         episode.wall_s += arm_s[chosen] + predict_s[chosen]
@@ -411,6 +415,7 @@ def summary(result: dict, settings: ReplaySettings) -> dict:
             'contact_s': result['contact_s'], 'arm_s': result['arm_s'],
             'best_plans': best_plans(result),
             'active_against': active_against(result, settings),
+            'tradeoff': policy_tradeoffs(result['episodes'], settings),
             'against_fixed': against_fixed(result['episodes'], seed=settings.seed),
             'settings': {'folds': settings.folds, 'inner_folds': settings.inner_folds,
                          'seeds': settings.seeds, 'model': settings.model,
@@ -420,6 +425,17 @@ def summary(result: dict, settings: ReplaySettings) -> dict:
                          'budget_seconds': settings.budget.seconds,
                          'repeat_discount': settings.repeat_discount,
                          'repeats': settings.repeats}}
+
+
+def policy_tradeoffs(episodes: list[Episode], settings: ReplaySettings) -> dict:
+    """Every policy's accuracy and contact seconds at the thresholds up to the replay's.
+
+    {'curves': {policy: rows}, 'at_equal_accuracy': {other: rows}} (`tradeoff`).
+    """
+    threshold = settings.budget.threshold
+    thresholds = sorted({t for t in THRESHOLDS if t < threshold} | {threshold})
+    curves = {policy: tradeoff(episodes, policy, thresholds) for policy in settings.policies}
+    return {'curves': curves, 'at_equal_accuracy': at_equal_accuracy(curves)}
 
 
 def active_against(result: dict, settings: ReplaySettings) -> dict:

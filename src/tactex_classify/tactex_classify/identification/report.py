@@ -5,10 +5,11 @@
 Plots: accuracy against contact seconds per policy (mean over repeats x folds x seeds,
 shaded one standard deviation; dashed, the best plan of at most k movements in hindsight),
 active minus each other policy at equal contact time (paired, with a pointwise 95 %
-interval over the textures), movements to decision, the movements `active` chose per
-true texture, arm and wall time beside contact time, the reliability of each movement's
-calibrated sweep probabilities, and each movement's confusion matrix (what shows whether
-any movement tells more than another).
+interval over the textures), each policy's accuracy against its mean contact seconds as
+the decision threshold is lowered (`tradeoff`), movements to decision, the movements
+`active` chose per true texture, arm and wall time beside contact time, the reliability
+of each movement's calibrated sweep probabilities, and each movement's confusion matrix
+(what shows whether any movement tells more than another).
 """
 
 from __future__ import annotations
@@ -25,7 +26,8 @@ from tactex_classify.identification.offline import Episode, ReplaySettings, summ
 from tactex_classify.training.convergence import WHAT_TO_CHANGE
 from tactex_common import plotting
 
-PLOTS = ('accuracy_vs_contact.png', 'active_against.png', 'movements_to_decision.png',
+PLOTS = ('accuracy_vs_contact.png', 'active_against.png', 'tradeoff.png',
+         'movements_to_decision.png',
          'active_choices.png', 'time.png', 'reliability.png', 'movement_confusions.png')
 ONLY_WITH_ACTIVE = ('active_against.png', 'active_choices.png')
 SHOWN_STEPS = (1, 2, 3, 5, 10, 20, 30)  # contact times of the paired table, in grid steps
@@ -56,6 +58,7 @@ def write_report(folder: Path, result: dict, settings: ReplaySettings) -> dict:
                                                 encoding='utf-8')
     _plot_accuracy(folder / 'accuracy_vs_contact.png', result['episodes'],
                    settings.policies, table['best_plans'])
+    _plot_tradeoff(folder / 'tradeoff.png', table['tradeoff']['curves'])
     _plot_movements(folder / 'movements_to_decision.png', result['episodes'],
                     settings.policies)
     if 'active' in settings.policies:
@@ -95,6 +98,7 @@ def markdown(table: dict) -> str:
     lines += _plans_table(table)
     lines += against_table(table)
     lines += fixed_goal_lines(table)
+    lines += tradeoff_lines(table)
     lines += ['', '| movement | contact (s) | arm (s) | held-out sweeps | sweep accuracy | '
               'calibration error |', '|---|---|---|---|---|---|']
     for name, contact, arm in zip(table['movement_names'], table['contact_s'], table['arm_s'],
@@ -206,6 +210,54 @@ def fixed_goal_lines(table: dict) -> list[str]:
             f'has {100 * goal["accuracy"]:.1f} %. Margin {100 * goal["margin"]:+.1f} points '
             f'({verdict}; 95 % interval [{100 * goal["low"]:+.1f}, {100 * goal["high"]:+.1f}] '
             f'over the {goal["textures"]} textures, paired on the same held-out sweeps).']
+
+
+def tradeoff_lines(table: dict) -> list[str]:
+    """Each policy's accuracy and seconds per threshold, and the seconds at equal accuracy."""
+    curves = (table.get('tradeoff') or {}).get('curves') or {}
+    if not curves:  # a report kept before the trade-off was
+        return []
+    policies = list(curves)
+    lines = ['', 'What accuracy costs in contact time: every episode cut after its first step '
+             'whose leading posterior exceeds a lower threshold (a policy chooses from the '
+             'belief, never from the threshold, so that is the episode a replay at that '
+             'threshold makes). Accuracy / mean contact seconds per identification:', '',
+             f'| threshold | {" | ".join(policies)} |', '|---' * (len(policies) + 1) + '|']
+    for index, row in enumerate(curves[policies[0]]):
+        lines.append(f'| {row["threshold"]:g} | ' + ' | '.join(
+            f'{100 * curves[p][index]["accuracy"]:.1f} % / '
+            f'{curves[p][index]["mean_contact_s"]:.1f} s' for p in policies) + ' |')
+    equal = table['tradeoff'].get('at_equal_accuracy') or {}
+    if equal:
+        others = list(equal)
+        lines += ['', 'At equal accuracy: the mean contact seconds active needs at each '
+                  'threshold, beside what each other policy needs for the same accuracy on '
+                  'its own trade-off (between its thresholds; "never": none reaches it):', '',
+                  f'| threshold | accuracy | active (s) | {" | ".join(others)} |',
+                  '|---' * (len(others) + 3) + '|']
+        for index, row in enumerate(equal[others[0]]):
+            lines.append(f'| {row["threshold"]:g} | {100 * row["accuracy"]:.1f} % | '
+                         f'{row["seconds"]:.1f} | ' + ' | '.join(
+                             'never' if (s := equal[o][index]['other_seconds']) is None
+                             else f'{s:.1f}' for o in others) + ' |')
+    return lines
+
+
+def _plot_tradeoff(path: Path, curves: dict) -> None:
+    plt, figure, axis = plotting.figure()
+    for index, (policy, curve) in enumerate(curves.items()):
+        seconds = [row['mean_contact_s'] for row in curve]
+        accuracy = [100 * row['accuracy'] for row in curve]
+        axis.plot(seconds, accuracy, 'o-', ms=3, color=f'C{index}', label=policy)
+        if policy == 'active':
+            for row, x, y in zip(curve, seconds, accuracy, strict=True):
+                axis.annotate(f'{row["threshold"]:g}', (x, y), textcoords='offset points',
+                              xytext=(4, -10), fontsize=7, color=f'C{index}')
+    axis.set_xlabel('mean contact seconds per identification')
+    axis.set_ylabel('textures identified right (%)')
+    plotting.legend_outside(axis)
+    plotting.save(plt, figure, path, 'each point a decision threshold (labelled for active); '
+                  'up and to the left is better')
 
 
 def _plot_against(path: Path, against: dict) -> None:

@@ -1,0 +1,88 @@
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+"""What accuracy costs in contact time: each policy's accuracy and seconds at lower thresholds.
+
+A policy chooses its movements from the belief and the budget, never from the threshold
+(`selection.Identification.next_movement`), and stops once the leading posterior
+exceeds it. So an episode replayed with threshold T, cut after its first step whose
+leading posterior exceeds a lower threshold t (or left whole when none does), is exactly
+the episode a replay with t would have made on the same sweeps. One replay gives every
+policy's speed-accuracy trade-off for each t <= T: its accuracy and mean contact seconds
+per identification.
+
+At equal accuracy: the mean contact seconds another policy needs to reach each of
+`policy`'s accuracies, read off its trade-off between the thresholds that bracket that
+accuracy first (linear in seconds), or None where none of its thresholds reaches it.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+THRESHOLDS = (0.5, 0.7, 0.8, 0.9, 0.95, 0.98, 0.99)
+
+
+def stop_step(top_posterior: Sequence[float], threshold: float) -> int:
+    """The step (0-based) after which an episode with `threshold` stops, -1 without steps."""
+    over = np.flatnonzero(np.asarray(top_posterior, dtype=float) > threshold)
+    return int(over[0]) if over.size else len(top_posterior) - 1
+
+
+def tradeoff(episodes: list, policy: str, thresholds: Sequence[float]) -> list[dict]:
+    """Per threshold, `policy`'s episodes cut there: accuracy, contact seconds, decided share.
+
+    Args:
+        episodes: a replay's episodes (`offline.Episode`, with `top_posterior`).
+        policy: whose episodes.
+        thresholds: each at most the replay's (a higher one would need longer episodes).
+
+    Returns:
+        [{'threshold', 'accuracy', 'mean_contact_s', 'median_contact_s', 'decided'}, ...];
+        [] without an episode of `policy`.
+    """
+    own = [e for e in episodes if e.policy == policy]
+    if not own:
+        return []
+    rows = []
+    for threshold in thresholds:
+        right, contact, decided = [], [], []
+        for episode in own:
+            step = stop_step(episode.top_posterior, threshold)
+            right.append(step >= 0 and episode.leaders[step] == episode.texture)
+            contact.append(episode.contact_s[step] if step >= 0 else 0.0)
+            decided.append(step >= 0 and episode.top_posterior[step] > threshold)
+        rows.append({'threshold': float(threshold), 'accuracy': float(np.mean(right)),
+                     'mean_contact_s': float(np.mean(contact)),
+                     'median_contact_s': float(np.median(contact)),
+                     'decided': float(np.mean(decided))})
+    return rows
+
+
+def seconds_for(curve: list[dict], accuracy: float) -> float | None:
+    """The mean contact seconds `curve` needs to reach `accuracy` (see top), or None."""
+    previous = None
+    for row in curve:
+        if row['accuracy'] >= accuracy:
+            if previous is None:
+                return row['mean_contact_s']
+            share = (accuracy - previous['accuracy']) / (row['accuracy'] - previous['accuracy'])
+            return previous['mean_contact_s'] + share * (row['mean_contact_s']
+                                                         - previous['mean_contact_s'])
+        previous = row
+    return None
+
+
+def at_equal_accuracy(curves: dict[str, list[dict]], policy: str = 'active') -> dict:
+    """Per other policy: at each of `policy`'s thresholds, the seconds it needs beside the other's.
+
+    Returns:
+        {other: [{'threshold', 'accuracy', 'seconds' (policy's mean contact), 'other_seconds'
+        (None: the other never reaches that accuracy)}, ...]}; {} without `policy`'s curve.
+    """
+    own = curves.get(policy) or []
+    return {other: [{'threshold': row['threshold'], 'accuracy': row['accuracy'],
+                     'seconds': row['mean_contact_s'],
+                     'other_seconds': seconds_for(curve, row['accuracy'])} for row in own]
+            for other, curve in curves.items() if other != policy and own}
