@@ -13,7 +13,8 @@ against fixed over the seeds, for each: every seed's textures are other scenes, 
 (seed, texture) is one more unit of the bootstrap (`comparison.texture_bootstrap`), each
 unit's margin measured against its own seed's fixed. Written to
 bench/results/identification_seeds/: seeds.json (rendered into the docs), seeds.png
-(each seed's margin with its interval, and the pooled one, both ways), each seed's
+(each seed's margin with its interval, and the pooled one, both ways), tradeoff.png
+(active's and random's accuracy against contact as the threshold drops), each seed's
 identification.json (its per-movement confusions among them) and, in
 with_repeat_discount/, the same with the discount.
 `--reports DIR` reuses DIR/SEED/identification.json and
@@ -32,6 +33,7 @@ import numpy as np
 
 from tactex_classify.identification.comparison import GOAL_TOLERANCE, texture_bootstrap
 from tactex_classify.identification.selection import POLICIES
+from tactex_classify.identification.tradeoff import seconds_for
 from tactex_common import plotting
 
 RESULTS = Path(__file__).parent / 'results' / 'identification_seeds'
@@ -55,6 +57,22 @@ def random_goal(report: dict) -> dict:
             'times_below': int(np.sum(high < 0)),
             'at_equal_accuracy': report.get('tradeoff', {}).get('at_equal_accuracy', {}).get(
                 'random', [])}
+
+
+def fixed_on_tradeoff(report: dict) -> dict:
+    """The mean contact active's trade-off needs for fixed's final accuracy less the tolerance.
+
+    Beside fixed's median and mean contact: the goal against fixed read with active
+    stopped by a lower threshold, not by the report's. None where active never reaches it.
+    """
+    fixed, curves = report['policies']['fixed'], report.get('tradeoff', {}).get('curves', {})
+    if not curves:
+        return {}
+    return {'accuracy': fixed['accuracy'] - GOAL_TOLERANCE,
+            'active_mean_contact_s': seconds_for(curves['active'],
+                                                 fixed['accuracy'] - GOAL_TOLERANCE),
+            'fixed_median_contact_s': fixed['median_contact_s'],
+            'fixed_mean_contact_s': curves['fixed'][-1]['mean_contact_s']}
 
 
 def pooled(reports: dict[int, dict]) -> dict:
@@ -90,13 +108,34 @@ def plot(path: Path, goals: dict[str, tuple[dict[int, dict], dict]]) -> None:
                   'final, plus 1 point; 95 % interval over textures')
 
 
+def plot_tradeoff(path: Path, variants: dict[str, dict[int, dict]]) -> None:
+    """Per seed, active's and random's accuracy against mean contact as the threshold drops."""
+    seeds = list(next(iter(variants.values())))
+    plt, figure, axes = plotting.figure(1, len(seeds), squeeze=False, sharey=True)
+    for axis, seed in zip(axes[0], seeds, strict=True):
+        for style, (name, reports) in zip(('-', '--'), variants.items(), strict=False):
+            curves = reports[seed].get('tradeoff', {}).get('curves', {})
+            for colour, policy in (('C0', 'active'), ('C1', 'random')):
+                curve = curves.get(policy, [])
+                axis.plot([row['mean_contact_s'] for row in curve],
+                          [100 * row['accuracy'] for row in curve], style, marker='o', ms=3,
+                          color=colour, label=f'{policy}, {name}')
+        axis.set_title(f'scene seed {seed}')
+        axis.set_xlabel('mean contact seconds per identification')
+    axes[0][0].set_ylabel('textures identified right (%)')
+    plotting.legend_outside(axes[0][-1])
+    plotting.save(plt, figure, path, 'each point a decision threshold, 0.5 to 0.99; up and to '
+                  'the left is better')
+
+
 def summary(reports: dict[int, dict]) -> dict:
     """The goal against fixed per seed and pooled, and the comparison with random per seed."""
     return {'against_fixed': {seed: {k: v for k, v in r['against_fixed'].items()
                                      if not k.startswith('texture_')}
                               for seed, r in reports.items()},
             'pooled': pooled(reports),
-            'against_random': {seed: random_goal(r) for seed, r in reports.items()}}
+            'against_random': {seed: random_goal(r) for seed, r in reports.items()},
+            'fixed_on_tradeoff': {seed: fixed_on_tradeoff(r) for seed, r in reports.items()}}
 
 
 def main() -> int:
@@ -153,6 +192,8 @@ def main() -> int:
                                                                         plain['pooled']),
                                  'repeat discount fitted': (reports[DISCOUNTED],
                                                             discounted['pooled'])})
+    plot_tradeoff(RESULTS / 'tradeoff.png', {'default': reports[''],
+                                             'discount': reports[DISCOUNTED]})
     print(json.dumps({'pooled': plain['pooled'], DISCOUNTED: discounted['pooled'],
                       'against_fixed': plain['against_fixed']}, indent=1))
     return 0

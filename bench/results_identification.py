@@ -160,8 +160,9 @@ def identification_seeds() -> str:
 
 def _equal_accuracy(plain: dict, discounted: dict, scene_seeds: list[int]) -> str:
     """Against random at equal accuracy, per seed and threshold, both ways; '' if not kept."""
-    rows, saved = [], []
+    rows, saved = [], {}
     for label, goals in (('default', plain), ('discount', discounted)):
+        saved[label] = []
         for seed in map(str, scene_seeds):
             equal = {row['threshold']: row
                      for row in goals['against_random'][seed].get('at_equal_accuracy', [])}
@@ -175,7 +176,7 @@ def _equal_accuracy(plain: dict, discounted: dict, scene_seeds: list[int]) -> st
                              f'{100 * row["accuracy"]:.1f} %: {row["seconds"]:.1f} s vs '
                              + ('never' if other is None else f'{other:.1f} s'))
                 if row is not None:
-                    saved.append(other is None or row['seconds'] < other)
+                    saved[label].append(other is None or row['seconds'] < other)
             rows.append(f'| {seed}, {label} | ' + ' | '.join(cells) + ' |')
     return (
         '\n\nWhat accuracy costs in time, against `random` at equal accuracy: each '
@@ -183,10 +184,29 @@ def _equal_accuracy(plain: dict, discounted: dict, scene_seeds: list[int]) -> st
         'threshold (a policy chooses from the belief, never from the threshold, so that is '
         "the replay at that threshold); per threshold, active's accuracy and mean contact "
         'seconds per identification, against the mean seconds random needs for the same '
-        'accuracy on its own trade-off (between its thresholds). Active needs fewer in '
-        f'{sum(saved)} of {len(saved)}:\n\n'
+        'accuracy on its own trade-off (between its thresholds; "never": random does not '
+        f'reach it; [the plot]({FIGURES}/identification_seeds/tradeoff.png)). Of the '
+        '(seed, threshold) pairs shown, active needs fewer seconds in '
+        + ' and '.join(f'{sum(fewer)} of {len(fewer)} {label}' for label, fewer in saved.items()
+                       ).replace('discount', 'with the discount') + ':\n\n'
         '| scene seed, setting | ' + ' | '.join(f'threshold {t:g}' for t in SHOWN_THRESHOLDS)
-        + ' |\n' + '|---' * (len(SHOWN_THRESHOLDS) + 1) + '|\n' + '\n'.join(rows))
+        + ' |\n' + '|---' * (len(SHOWN_THRESHOLDS) + 1) + '|\n' + '\n'.join(rows)
+        + "\n\nThe goal against fixed read the same way (active stopped by a lower "
+        "threshold): the mean contact active's trade-off needs for fixed's final accuracy "
+        "less 1 point, as a share of fixed's median and of its mean contact: "
+        + '; '.join(f'{label}, ' + ', '.join(_fixed_share(goals['fixed_on_tradeoff'][str(seed)])
+                                            for seed in scene_seeds)
+                    for label, goals in (('by default', plain), ('with the discount',
+                                                                 discounted))) + '.')
+
+
+def _fixed_share(row: dict) -> str:
+    """'9.3 s (37 %, 47 %)': active's seconds and their shares of fixed's median and mean."""
+    seconds = row['active_mean_contact_s']
+    if seconds is None:
+        return 'never'
+    return (f'{seconds:.1f} s ({100 * seconds / row["fixed_median_contact_s"]:.0f} %, '
+            f'{100 * seconds / row["fixed_mean_contact_s"]:.0f} %)')
 
 
 def _seed_rows(goals: dict, scene_seeds: list[int]) -> str:
