@@ -33,7 +33,7 @@ import numpy as np
 
 from tactex_classify.identification.comparison import GOAL_TOLERANCE, texture_bootstrap
 from tactex_classify.identification.selection import POLICIES
-from tactex_classify.identification.tradeoff import seconds_for
+from tactex_classify.identification.tradeoff import fixed_goal
 from tactex_common import plotting
 
 RESULTS = Path(__file__).parent / 'results' / 'identification_seeds'
@@ -57,22 +57,6 @@ def random_goal(report: dict) -> dict:
             'times_below': int(np.sum(high < 0)),
             'at_equal_accuracy': report.get('tradeoff', {}).get('at_equal_accuracy', {}).get(
                 'random', [])}
-
-
-def fixed_on_tradeoff(report: dict) -> dict:
-    """The mean contact active's trade-off needs for fixed's final accuracy less the tolerance.
-
-    Beside fixed's median and mean contact: the goal against fixed read with active
-    stopped by a lower threshold, not by the report's. None where active never reaches it.
-    """
-    fixed, curves = report['policies']['fixed'], report.get('tradeoff', {}).get('curves', {})
-    if not curves:
-        return {}
-    return {'accuracy': fixed['accuracy'] - GOAL_TOLERANCE,
-            'active_mean_contact_s': seconds_for(curves['active'],
-                                                 fixed['accuracy'] - GOAL_TOLERANCE),
-            'fixed_median_contact_s': fixed['median_contact_s'],
-            'fixed_mean_contact_s': curves['fixed'][-1]['mean_contact_s']}
 
 
 def pooled(reports: dict[int, dict]) -> dict:
@@ -135,7 +119,9 @@ def summary(reports: dict[int, dict]) -> dict:
                               for seed, r in reports.items()},
             'pooled': pooled(reports),
             'against_random': {seed: random_goal(r) for seed, r in reports.items()},
-            'fixed_on_tradeoff': {seed: fixed_on_tradeoff(r) for seed, r in reports.items()}}
+            'fixed_on_tradeoff': {seed: fixed_goal(r.get('tradeoff', {}).get('curves', {}),
+                                                   GOAL_TOLERANCE)
+                                  for seed, r in reports.items()}}
 
 
 def main() -> int:

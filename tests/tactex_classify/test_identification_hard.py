@@ -8,7 +8,7 @@ an infinity, a negative value or a wrong shape is refused with a ValueError nami
 calibration and the tempering fit stay finite on extreme probabilities and any models
 (repeats still take every sweep once); the best plans' accuracies stay shares on any
 sweeps, and so do paired differences between policies on any episodes and contact
-times; empty input is refused.
+times, and every policy's trade-off at any thresholds; empty input is refused.
 """
 
 from dataclasses import replace
@@ -34,6 +34,7 @@ from tactex_classify.identification.pathway_part import movement_part
 from tactex_classify.identification.posterior import entropy, normalised
 from tactex_classify.identification.selection import Budget, Identification, POLICIES
 from tactex_classify.identification.tempering import DISCOUNTS, fit_tempering, repeat_order
+from tactex_classify.identification.tradeoff import at_equal_accuracy, fixed_goal, tradeoff
 from tactex_description.movements import Movement
 
 pytestmark = pytest.mark.hard_case
@@ -263,3 +264,34 @@ def test_the_paired_difference_stays_a_difference_of_shares_on_any_episodes(data
         low, high = np.array(against['low']), np.array(against['high'])
         assert np.all((-1.0 <= low) & (low <= high + 1e-12) & (high <= 1.0))
         assert np.all(np.abs(against['difference']) <= 1.0)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.data())
+def test_the_tradeoff_stays_shares_and_spent_seconds_on_any_episodes_and_thresholds(data):
+    episodes = []
+    for key in range(data.draw(st.integers(0, 5))):
+        steps = data.draw(st.integers(0, 4))
+        seconds = np.cumsum(data.draw(st.lists(st.sampled_from([1e-9, 2.5, 1e6]),
+                                               min_size=steps, max_size=steps))).tolist()
+        for policy in ('active', 'fixed'):
+            tops = data.draw(st.lists(st.sampled_from([0.0, 0.5, 0.99, 1.0, math.nan]),
+                                      min_size=steps, max_size=steps))
+            episodes.append(Episode(policy, 0, key, key % 2, movements=[0] * steps,
+                                    leaders=[key % 3] * steps, top_posterior=tops,
+                                    contact_s=seconds))
+    thresholds = data.draw(st.lists(st.sampled_from([-1.0, 0.0, 0.5, 0.99, 1.0, math.nan,
+                                                     math.inf]), max_size=4))
+    curves = {policy: tradeoff(episodes, policy, thresholds) for policy in ('active', 'fixed')}
+    for curve in curves.values():
+        assert len(curve) in (0, len(thresholds))
+        for row in curve:
+            assert 0.0 <= row['accuracy'] <= 1.0 and 0.0 <= row['decided'] <= 1.0
+            assert 0.0 <= row['median_contact_s'] < math.inf
+            assert 0.0 <= row['mean_contact_s'] < math.inf
+    for rows in at_equal_accuracy(curves).values():
+        for row in rows:
+            assert row['other_seconds'] is None or row['other_seconds'] >= 0.0
+    goal = fixed_goal(curves, 0.01)
+    if goal and goal['active_mean_contact_s'] is not None:
+        assert 0.0 <= goal['active_mean_contact_s'] < math.inf

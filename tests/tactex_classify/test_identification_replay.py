@@ -51,7 +51,12 @@ from tactex_classify.identification.offline import (
 from tactex_classify.identification.report import accuracy_curves, PLOTS, write_report
 from tactex_classify.identification.selection import Budget, POLICIES
 from tactex_classify.identification.tempering import DISCOUNTS
-from tactex_classify.identification.tradeoff import seconds_for, stop_step, tradeoff
+from tactex_classify.identification.tradeoff import (
+    fixed_goal,
+    seconds_for,
+    stop_step,
+    tradeoff,
+)
 from tactex_classify.training.deep_classifier import TrainingConfig
 from tactex_classify.training.estimators import build_estimator
 from tactex_description.movements import load_movements
@@ -202,6 +207,13 @@ def test_every_policy_pays_more_contact_for_a_higher_threshold_up_to_the_replays
         assert curve[-1]['accuracy'] == pytest.approx(
             summary(replayed, SETTINGS)['policies'][policy]['accuracy'])
     assert list(trade['at_equal_accuracy']) == [p for p in POLICIES if p != 'active']
+    fixed = summary(replayed, SETTINGS)['policies']['fixed']
+    goal = trade['fixed_goal']  # the goal against fixed, active stopped by a lower threshold
+    assert goal['accuracy'] == pytest.approx(fixed['accuracy'] - 0.01)
+    assert goal['fixed_median_contact_s'] == fixed['median_contact_s']
+    assert goal['active_mean_contact_s'] == seconds_for(trade['curves']['active'],
+                                                        goal['accuracy'])
+    assert fixed_goal({'active': trade['curves']['active']}, 0.01) == {}
 
 
 def test_the_seconds_for_an_accuracy_are_read_between_the_thresholds_that_first_reach_it():
@@ -248,6 +260,7 @@ def test_the_report_holds_the_json_the_markdown_and_every_plot(tmp_path, replaye
     text = (tmp_path / 'report' / 'identification.md').read_text()
     assert '| active |' in text and '| tells_nothing |' in text
     assert 'What accuracy costs in contact time' in text and '| threshold | accuracy |' in text
+    assert 'The goal against fixed read the same way' in text
     for name in PLOTS:
         assert (tmp_path / 'report' / name).stat().st_size > 1000, name
 

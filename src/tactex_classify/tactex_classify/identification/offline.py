@@ -40,6 +40,7 @@ from tactex_classify.identification.calibration import reliability
 from tactex_classify.identification.comparison import (
     against_fixed,
     contact_grid,
+    GOAL_TOLERANCE,
     paired_difference,
 )
 from tactex_classify.identification.evidence_table import EvidenceTable
@@ -56,7 +57,12 @@ from tactex_classify.identification.movement_evidence import (
 )
 from tactex_classify.identification.selection import Budget, COMPARED, Identification
 from tactex_classify.identification.tempering import DISCOUNTS, fit_tempering
-from tactex_classify.identification.tradeoff import at_equal_accuracy, THRESHOLDS, tradeoff
+from tactex_classify.identification.tradeoff import (
+    at_equal_accuracy,
+    fixed_goal,
+    THRESHOLDS,
+    tradeoff,
+)
 from tactex_classify.models.registry import BASELINES
 from tactex_classify.training.deep_classifier import TrainingConfig
 from tactex_classify.training.estimators import build_estimator
@@ -430,12 +436,14 @@ def summary(result: dict, settings: ReplaySettings) -> dict:
 def policy_tradeoffs(episodes: list[Episode], settings: ReplaySettings) -> dict:
     """Every policy's accuracy and contact seconds at the thresholds up to the replay's.
 
-    {'curves': {policy: rows}, 'at_equal_accuracy': {other: rows}} (`tradeoff`).
+    {'curves': {policy: rows}, 'at_equal_accuracy': {other: rows}, 'fixed_goal': the goal
+    against fixed read on active's trade-off} (`tradeoff`).
     """
     threshold = settings.budget.threshold
     thresholds = sorted({t for t in THRESHOLDS if t < threshold} | {threshold})
     curves = {policy: tradeoff(episodes, policy, thresholds) for policy in settings.policies}
-    return {'curves': curves, 'at_equal_accuracy': at_equal_accuracy(curves)}
+    return {'curves': curves, 'at_equal_accuracy': at_equal_accuracy(curves),
+            'fixed_goal': fixed_goal(curves, GOAL_TOLERANCE)}
 
 
 def active_against(result: dict, settings: ReplaySettings) -> dict:

@@ -227,6 +227,17 @@ def tradeoff_lines(table: dict) -> list[str]:
         lines.append(f'| {row["threshold"]:g} | ' + ' | '.join(
             f'{100 * curves[p][index]["accuracy"]:.1f} % / '
             f'{curves[p][index]["mean_contact_s"]:.1f} s' for p in policies) + ' |')
+    goal = table['tradeoff'].get('fixed_goal') or {}
+    if goal:
+        seconds = goal['active_mean_contact_s']
+        lines += ['', "The goal against fixed read the same way: active's trade-off reaches "
+                  f"fixed's final accuracy less {100 * GOAL_TOLERANCE:g} point "
+                  f'({100 * goal["accuracy"]:.1f} %) '
+                  + ('at none of its thresholds.' if seconds is None else
+                     f'after a mean {seconds:.1f} s of contact, '
+                     f'{100 * seconds / goal["fixed_median_contact_s"]:.0f} % of fixed\'s '
+                     f'median ({100 * seconds / goal["fixed_mean_contact_s"]:.0f} % of its '
+                     'mean).')]
     equal = table['tradeoff'].get('at_equal_accuracy') or {}
     if equal:
         others = list(equal)

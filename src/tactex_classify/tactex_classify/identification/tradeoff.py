@@ -12,7 +12,9 @@ per identification.
 
 At equal accuracy: the mean contact seconds another policy needs to reach each of
 `policy`'s accuracies, read off its trade-off between the thresholds that bracket that
-accuracy first (linear in seconds), or None where none of its thresholds reaches it.
+accuracy first (linear in seconds), or None where none of its thresholds reaches it. And
+the goal against fixed read the same way (`fixed_goal`): the seconds active's trade-off
+needs for fixed's final accuracy, less the goal's tolerance.
 """
 
 from __future__ import annotations
@@ -86,3 +88,22 @@ def at_equal_accuracy(curves: dict[str, list[dict]], policy: str = 'active') -> 
                      'seconds': row['mean_contact_s'],
                      'other_seconds': seconds_for(curve, row['accuracy'])} for row in own]
             for other, curve in curves.items() if other != policy and own}
+
+
+def fixed_goal(curves: dict[str, list[dict]], tolerance: float) -> dict:
+    """The mean contact active's trade-off needs for fixed's final accuracy less `tolerance`.
+
+    Fixed's final accuracy and contact are its trade-off's last row (the replay's own
+    threshold, whole episodes).
+
+    Returns:
+        {'accuracy', 'active_mean_contact_s' (None: never reached), 'fixed_median_contact_s',
+        'fixed_mean_contact_s'}; {} without active's or fixed's curve.
+    """
+    if not (curves.get('active') and curves.get('fixed')):
+        return {}
+    final = curves['fixed'][-1]
+    return {'accuracy': final['accuracy'] - tolerance,
+            'active_mean_contact_s': seconds_for(curves['active'], final['accuracy'] - tolerance),
+            'fixed_median_contact_s': final['median_contact_s'],
+            'fixed_mean_contact_s': final['mean_contact_s']}
