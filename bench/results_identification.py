@@ -8,6 +8,12 @@ from scipy.stats import binomtest
 from tactex_classify.identification.report import against_table, partitions
 
 SHOWN_THRESHOLDS = (0.7, 0.9, 0.95, 0.98, 0.99)  # of the trade-off against random
+TRADEOFF = ("report's episodes cut after the first step whose leading posterior exceeds a "
+            'lower threshold (a policy chooses from the belief, never from the threshold, so '
+            "that is the replay at that threshold); per threshold, active's accuracy and mean "
+            'contact seconds per identification, against the mean seconds random needs for '
+            'the same accuracy on its own trade-off (between its thresholds; "never": random '
+            'does not reach it;')
 
 
 def identification() -> str:
@@ -74,6 +80,7 @@ def identification() -> str:
         + (_against_goals(report) if same else '')
         + ''.join('\n' + line for line in against_table(report))
         + _without_discount(report, steps)
+        + _dev_equal_accuracy(report)
         + '\n\nEach movement on its own, one held-out sweep '
         '(`movement_confusions.png` has the confusion matrices):\n\n' + '\n'.join(movements)
         + f'\n\nChoosing the next movement (`python bench/bench_identification.py`, '
@@ -160,37 +167,16 @@ def identification_seeds() -> str:
 
 def _equal_accuracy(plain: dict, discounted: dict, scene_seeds: list[int]) -> str:
     """Against random at equal accuracy, per seed and threshold, both ways; '' if not kept."""
-    rows, saved = [], {}
-    for label, goals in (('default', plain), ('discount', discounted)):
-        saved[label] = []
-        for seed in map(str, scene_seeds):
-            equal = {row['threshold']: row
-                     for row in goals['against_random'][seed].get('at_equal_accuracy', [])}
-            if not equal:
-                return ''
-            cells = []
-            for threshold in SHOWN_THRESHOLDS:
-                row = equal.get(threshold)
-                other = row and row['other_seconds']
-                cells.append('' if row is None else
-                             f'{100 * row["accuracy"]:.1f} %: {row["seconds"]:.1f} s vs '
-                             + ('never' if other is None else f'{other:.1f} s'))
-                if row is not None:
-                    saved[label].append(other is None or row['seconds'] < other)
-            rows.append(f'| {seed}, {label} | ' + ' | '.join(cells) + ' |')
+    rows = {(f'{seed}, {label}', label): goals['against_random'][str(seed)].get(
+                'at_equal_accuracy', [])
+            for label, goals in (('default', plain), ('discount', discounted))
+            for seed in scene_seeds}
+    if not all(rows.values()):
+        return ''
     return (
         '\n\nWhat accuracy costs in time, against `random` at equal accuracy: each '
-        "report's episodes cut after the first step whose leading posterior exceeds a lower "
-        'threshold (a policy chooses from the belief, never from the threshold, so that is '
-        "the replay at that threshold); per threshold, active's accuracy and mean contact "
-        'seconds per identification, against the mean seconds random needs for the same '
-        'accuracy on its own trade-off (between its thresholds; "never": random does not '
-        f'reach it; [the plot]({FIGURES}/identification_seeds/tradeoff.png)). Of the '
-        '(seed, threshold) pairs shown, active needs fewer seconds in '
-        + ' and '.join(f'{sum(fewer)} of {len(fewer)} {label}' for label, fewer in saved.items()
-                       ).replace('discount', 'with the discount') + ':\n\n'
-        '| scene seed, setting | ' + ' | '.join(f'threshold {t:g}' for t in SHOWN_THRESHOLDS)
-        + ' |\n' + '|---' * (len(SHOWN_THRESHOLDS) + 1) + '|\n' + '\n'.join(rows)
+        f'{TRADEOFF} [the plot]({FIGURES}/identification_seeds/tradeoff.png)). '
+        + _equal_accuracy_table('scene seed, setting', rows)
         + "\n\nThe goal against fixed read the same way (active stopped by a lower "
         "threshold): the mean contact active's trade-off needs for fixed's final accuracy "
         "less 1 point, as a share of fixed's median and of its mean contact: "
@@ -198,6 +184,44 @@ def _equal_accuracy(plain: dict, discounted: dict, scene_seeds: list[int]) -> st
                                             for seed in scene_seeds)
                     for label, goals in (('by default', plain), ('with the discount',
                                                                  discounted))) + '.')
+
+
+def _equal_accuracy_table(heading: str, rows: dict[tuple[str, str], list[dict]]) -> str:
+    """'Of the pairs shown, active needs fewer ...' and the table, one row per (name, setting).
+
+    `rows`: per (row name, setting), the report's at_equal_accuracy rows against random.
+    """
+    lines, fewer = [], {}
+    for (name, setting), equal_rows in rows.items():
+        equal = {row['threshold']: row for row in equal_rows}
+        cells = []
+        for threshold in SHOWN_THRESHOLDS:
+            row = equal.get(threshold)
+            other = row and row['other_seconds']
+            cells.append('' if row is None else
+                         f'{100 * row["accuracy"]:.1f} %: {row["seconds"]:.1f} s vs '
+                         + ('never' if other is None else f'{other:.1f} s'))
+            if row is not None:
+                fewer.setdefault(setting, []).append(other is None or row['seconds'] < other)
+        lines.append(f'| {name} | ' + ' | '.join(cells) + ' |')
+    return ('Of the (row, threshold) pairs shown, active needs fewer seconds in '
+            + ' and '.join(f'{sum(won)} of {len(won)} {setting}' for setting, won in fewer.items()
+                           ).replace('discount', 'with the discount') + ':\n\n'
+            f'| {heading} | ' + ' | '.join(f'threshold {t:g}' for t in SHOWN_THRESHOLDS)
+            + ' |\n' + '|---' * (len(SHOWN_THRESHOLDS) + 1) + '|\n' + '\n'.join(lines))
+
+
+def _dev_equal_accuracy(report: dict) -> str:
+    """The development report against random at equal accuracy, both ways; '' if not kept."""
+    discounted = kept_json('identification/with_repeat_discount/identification.json')
+    rows = {(label, label): table.get('tradeoff', {}).get('at_equal_accuracy', {}).get(
+                'random', []) for label, table in (('default', report),
+                                                    ('discount', discounted))}
+    if not all(rows.values()):
+        return ''
+    return ('\n\nAgainst `random` at equal accuracy, both ways: the '
+            f'{TRADEOFF} `tradeoff.png` among the plots). '
+            + _equal_accuracy_table('setting', rows))
 
 
 def _fixed_share(row: dict) -> str:
