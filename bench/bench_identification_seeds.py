@@ -33,7 +33,7 @@ import numpy as np
 
 from tactex_classify.identification.comparison import GOAL_TOLERANCE, texture_bootstrap
 from tactex_classify.identification.selection import POLICIES
-from tactex_classify.identification.tradeoff import fixed_goal
+from tactex_classify.identification.tradeoff import at_equal_accuracy, fixed_goal
 from tactex_common import plotting
 
 RESULTS = Path(__file__).parent / 'results' / 'identification_seeds'
@@ -55,8 +55,8 @@ def random_goal(report: dict) -> dict:
                          for policy, row in report['policies'].items()},
             'times': len(low), 'times_above': int(np.sum(low > 0)),
             'times_below': int(np.sum(high < 0)),
-            'at_equal_accuracy': report.get('tradeoff', {}).get('at_equal_accuracy', {}).get(
-                'random', [])}
+            'at_equal_accuracy': at_equal_accuracy(
+                report.get('tradeoff', {}).get('curves', {})).get('random', [])}
 
 
 def pooled(reports: dict[int, dict]) -> dict:
@@ -108,8 +108,8 @@ def plot_tradeoff(path: Path, variants: dict[str, dict[int, dict]]) -> None:
         axis.set_xlabel('mean contact seconds per identification')
     axes[0][0].set_ylabel('textures identified right (%)')
     plotting.legend_outside(axes[0][-1])
-    plotting.save(plt, figure, path, 'each point a decision threshold, 0.5 to 0.99; up and to '
-                  'the left is better')
+    plotting.save(plt, figure, path, "each point a decision threshold, up to the report's; up "
+                  'and to the left is better')
 
 
 def summary(reports: dict[int, dict]) -> dict:

@@ -177,6 +177,7 @@ def test_the_quick_report_measures_every_section_and_opens_with_three_commands(t
     assert all(0.0 <= row['accuracy'] <= 1.0 and row['median_movements'] >= 1
                for row in policies.values())
     assert results['8']['episodes'] == QUICK.textures * 2 * QUICK.identify_seeds
+    assert set(results['8']['tradeoff']) == set(policies)
     assert sorted(p.name for p in tmp_path.iterdir()) == ['report']  # nothing staged left
 
 
@@ -210,6 +211,15 @@ def test_the_identification_section_says_when_active_reaches_fixeds_accuracy(tmp
            'a median 10.0 s).' in text.notes
     assert '| fixed | 50.0 % | 25.0 % | 10.0 | 20.0 | 4 | 30.0 % | 40.0 % | 50.0 % |' in \
         '\n'.join(text.tables[0])
+    assert len(text.tables) == 1  # a run kept before the trade-off
+    cut = [{'threshold': 0.9, 'accuracy': 0.55, 'mean_contact_s': 4.0},
+           {'threshold': 0.99, 'accuracy': 0.6, 'mean_contact_s': 6.5}]
+    traded = section_text.identification({'8': dict(eighth, tradeoff={
+        'active': cut, 'fixed': [{'threshold': 0.99, 'accuracy': 0.5, 'mean_contact_s': 9.0}]})})
+    assert '| threshold | active | fixed |' in traded.tables[1]
+    assert '| 0.9 | 55.0 % / 4.0 s | — |' in traded.tables[1]
+    assert '| 0.99 | 60.0 % / 6.5 s | 50.0 % / 9.0 s |' in traded.tables[1]
+    assert 'What a lower threshold buys' in traded.notes
     below = dict(eighth, curves={'active': [0.0, 0.1, 0.2, 0.3], 'fixed': [0.0] * 4})
     assert 'no contact time measured here' in section_text.identification({'8': below}).notes
     plots.identification(tmp_path / 'identification.png', eighth['grid_s'], eighth['curves'],

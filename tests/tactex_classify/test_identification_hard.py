@@ -34,7 +34,12 @@ from tactex_classify.identification.pathway_part import movement_part
 from tactex_classify.identification.posterior import entropy, normalised
 from tactex_classify.identification.selection import Budget, Identification, POLICIES
 from tactex_classify.identification.tempering import DISCOUNTS, fit_tempering, repeat_order
-from tactex_classify.identification.tradeoff import at_equal_accuracy, fixed_goal, tradeoff
+from tactex_classify.identification.tradeoff import (
+    at_equal_accuracy,
+    fixed_goal,
+    stop_step,
+    tradeoff,
+)
 from tactex_description.movements import Movement
 
 pytestmark = pytest.mark.hard_case
@@ -277,21 +282,27 @@ def test_the_tradeoff_stays_shares_and_spent_seconds_on_any_episodes_and_thresho
         for policy in ('active', 'fixed'):
             tops = data.draw(st.lists(st.sampled_from([0.0, 0.5, 0.99, 1.0, math.nan]),
                                       min_size=steps, max_size=steps))
+            leaders = data.draw(st.lists(st.integers(0, 2), min_size=steps, max_size=steps))
             episodes.append(Episode(policy, 0, key, key % 2, movements=[0] * steps,
-                                    leaders=[key % 3] * steps, top_posterior=tops,
-                                    contact_s=seconds))
+                                    leaders=leaders, top_posterior=tops, contact_s=seconds))
     thresholds = data.draw(st.lists(st.sampled_from([-1.0, 0.0, 0.5, 0.99, 1.0, math.nan,
                                                      math.inf]), max_size=4))
     curves = {policy: tradeoff(episodes, policy, thresholds) for policy in ('active', 'fixed')}
-    for curve in curves.values():
+    for policy, curve in curves.items():
         assert len(curve) in (0, len(thresholds))
+        for row, threshold in zip(curve, thresholds, strict=False):  # each episode cut once
+            cut = [e for e in episodes if e.policy == policy]
+            steps = [stop_step(e.top_posterior, threshold) for e in cut]
+            assert row['accuracy'] == pytest.approx(np.mean(
+                [s >= 0 and e.leaders[s] == e.texture for e, s in zip(cut, steps, strict=True)]))
         for row in curve:
             assert 0.0 <= row['accuracy'] <= 1.0 and 0.0 <= row['decided'] <= 1.0
             assert 0.0 <= row['median_contact_s'] < math.inf
             assert 0.0 <= row['mean_contact_s'] < math.inf
     for rows in at_equal_accuracy(curves).values():
         for row in rows:
-            assert row['other_seconds'] is None or row['other_seconds'] >= 0.0
+            assert row['other_seconds'] is None or 0.0 <= row['other_seconds'] < math.inf
+            assert row['other_at_most'] in (True, False)
     goal = fixed_goal(curves, 0.01)
     if goal and goal['active_mean_contact_s'] is not None:
         assert 0.0 <= goal['active_mean_contact_s'] < math.inf

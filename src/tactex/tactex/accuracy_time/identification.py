@@ -7,8 +7,9 @@
 times each; the offline replay of `tactex report identification` (`offline.replay`:
 folds grouped by recording, nested calibration and tempering, held-out sweeps drawn
 without replacement) then runs every policy to the live node's threshold. Kept: each
-policy's row of identification.json and its accuracy against contact seconds (mean over
-folds and seeds), the curve the section plots.
+policy's row of identification.json, its accuracy against contact seconds (mean over
+folds and seeds), the curve the section plots, and its trade-off: accuracy and mean
+contact seconds at each threshold up to the live node's (`identification.tradeoff`).
 """
 
 from __future__ import annotations
@@ -67,6 +68,7 @@ def identification(scratch: Path, size: Size, log: Callable[[str], None], *,
             'grid_s': grid.tolist(),
             'curves': {policy: accuracy_curves(result['episodes'], policy, grid)[0].tolist()
                        for policy in settings.policies},
+            'tradeoff': table['tradeoff']['curves'],
             'collect_s': collect_s, 'replay_s': time.monotonic() - began}
 
 

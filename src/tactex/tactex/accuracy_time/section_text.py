@@ -195,11 +195,23 @@ def identification(results: dict) -> SectionText:
                   + (f'{reached:.1f} s of contact (fixed stops after a median '
                      f'{fixed["median_contact_s"]:.1f} s).' if reached is not None else
                      'no contact time measured here: it ends below it.'))
+    tables = [table(['policy', 'accuracy', 'decided', 'median contact s', 'p90 contact s',
+                     'median movements', 'after 1', 'after 2', 'after 3'], rows)]
+    curves = eighth.get('tradeoff') or {}  # a run kept before the trade-off: none
+    if curves:
+        notes += (' What a lower threshold buys: each episode cut after its first step whose '
+                  'leader passes it (the same movements, as no policy chooses by the '
+                  'threshold); accuracy / mean contact seconds per identification.')
+        by_threshold = [{row['threshold']: row for row in curve} for curve in curves.values()]
+        thresholds = sorted({threshold for rows in by_threshold for threshold in rows})
+        tables.append(table(['threshold', *curves], [
+            [f'{threshold:g}', *(f'{percent(row["accuracy"])} / {row["mean_contact_s"]:.1f} s'
+                                 if (row := rows.get(threshold)) else '—'
+                                 for rows in by_threshold)]
+            for threshold in thresholds]))
     return SectionText(
         f'{eighth["textures"]} textures x {len(eighth["movements"])} movements '
         f'({", ".join(eighth["movements"])}) x {eighth["sweeps"]} simulated sweeps, '
         f'{eighth["model"]} per movement, {eighth["folds"]} folds grouped by recording x '
         f'{eighth["seeds"]} seeds ({eighth["episodes"]} episodes per policy)',
-        notes,
-        [table(['policy', 'accuracy', 'decided', 'median contact s', 'p90 contact s',
-                'median movements', 'after 1', 'after 2', 'after 3'], rows)])
+        notes, tables)

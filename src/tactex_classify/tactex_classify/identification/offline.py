@@ -421,7 +421,7 @@ def summary(result: dict, settings: ReplaySettings) -> dict:
             'contact_s': result['contact_s'], 'arm_s': result['arm_s'],
             'best_plans': best_plans(result),
             'active_against': active_against(result, settings),
-            'tradeoff': policy_tradeoffs(result['episodes'], settings),
+            'tradeoff': policy_tradeoffs(result['episodes'], len(result['classes']), settings),
             'against_fixed': against_fixed(result['episodes'], seed=settings.seed),
             'settings': {'folds': settings.folds, 'inner_folds': settings.inner_folds,
                          'seeds': settings.seeds, 'model': settings.model,
@@ -433,14 +433,14 @@ def summary(result: dict, settings: ReplaySettings) -> dict:
                          'repeats': settings.repeats}}
 
 
-def policy_tradeoffs(episodes: list[Episode], settings: ReplaySettings) -> dict:
+def policy_tradeoffs(episodes: list[Episode], classes: int, settings: ReplaySettings) -> dict:
     """Every policy's accuracy and contact seconds at the thresholds up to the replay's.
 
     {'curves': {policy: rows}, 'at_equal_accuracy': {other: rows}, 'fixed_goal': the goal
     against fixed read on active's trade-off} (`tradeoff`).
     """
-    threshold = settings.budget.threshold
-    thresholds = sorted({t for t in THRESHOLDS if t < threshold} | {threshold})
+    threshold = settings.budget.threshold  # those the uniform belief passes cannot be run
+    thresholds = sorted({t for t in THRESHOLDS if 1.0 / classes < t < threshold} | {threshold})
     curves = {policy: tradeoff(episodes, policy, thresholds) for policy in settings.policies}
     return {'curves': curves, 'at_equal_accuracy': at_equal_accuracy(curves),
             'fixed_goal': fixed_goal(curves, GOAL_TOLERANCE)}

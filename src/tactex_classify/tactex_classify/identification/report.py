@@ -23,6 +23,7 @@ from tactex_classify.evaluation.training_report import draw_confusion
 from tactex_classify.identification.calibration import reliability
 from tactex_classify.identification.comparison import GOAL_SHARE, GOAL_TOLERANCE, right_by
 from tactex_classify.identification.offline import Episode, ReplaySettings, summary
+from tactex_classify.identification.tradeoff import at_equal_accuracy, fixed_goal
 from tactex_classify.training.convergence import WHAT_TO_CHANGE
 from tactex_common import plotting
 
@@ -218,40 +219,60 @@ def tradeoff_lines(table: dict) -> list[str]:
     if not curves:  # a report kept before the trade-off was
         return []
     policies = list(curves)
+    by_threshold = {policy: {row['threshold']: row for row in curve}
+                    for policy, curve in curves.items()}
+    thresholds = sorted({row['threshold'] for curve in curves.values() for row in curve})
     lines = ['', 'What accuracy costs in contact time: every episode cut after its first step '
              'whose leading posterior exceeds a lower threshold (a policy chooses from the '
              'belief, never from the threshold, so that is the episode a replay at that '
              'threshold makes). Accuracy / mean contact seconds per identification:', '',
              f'| threshold | {" | ".join(policies)} |', '|---' * (len(policies) + 1) + '|']
-    for index, row in enumerate(curves[policies[0]]):
-        lines.append(f'| {row["threshold"]:g} | ' + ' | '.join(
-            f'{100 * curves[p][index]["accuracy"]:.1f} % / '
-            f'{curves[p][index]["mean_contact_s"]:.1f} s' for p in policies) + ' |')
-    goal = table['tradeoff'].get('fixed_goal') or {}
+    for threshold in thresholds:
+        lines.append(f'| {threshold:g} | ' + ' | '.join(
+            f'{100 * row["accuracy"]:.1f} % / {row["mean_contact_s"]:.1f} s'
+            if (row := by_threshold[p].get(threshold)) else '' for p in policies) + ' |')
+    goal = fixed_goal(curves, GOAL_TOLERANCE)
     if goal:
-        seconds = goal['active_mean_contact_s']
         lines += ['', "The goal against fixed read the same way: active's trade-off reaches "
                   f"fixed's final accuracy less {100 * GOAL_TOLERANCE:g} point "
-                  f'({100 * goal["accuracy"]:.1f} %) '
-                  + ('at none of its thresholds.' if seconds is None else
-                     f'after a mean {seconds:.1f} s of contact, '
-                     f'{100 * seconds / goal["fixed_median_contact_s"]:.0f} % of fixed\'s '
-                     f'median ({100 * seconds / goal["fixed_mean_contact_s"]:.0f} % of its '
-                     'mean).')]
-    equal = table['tradeoff'].get('at_equal_accuracy') or {}
+                  f'({100 * goal["accuracy"]:.1f} %) ' + fixed_goal_text(goal) + '.']
+    equal = at_equal_accuracy(curves)
     if equal:
         others = list(equal)
         lines += ['', 'At equal accuracy: the mean contact seconds active needs at each '
                   'threshold, beside what each other policy needs for the same accuracy on '
-                  'its own trade-off (between its thresholds; "never": none reaches it):', '',
+                  'its own trade-off (between its thresholds; "<=": its lowest threshold '
+                  'already reaches it, an upper bound; "never": none of its thresholds '
+                  'reaches it):', '',
                   f'| threshold | accuracy | active (s) | {" | ".join(others)} |',
                   '|---' * (len(others) + 3) + '|']
         for index, row in enumerate(equal[others[0]]):
             lines.append(f'| {row["threshold"]:g} | {100 * row["accuracy"]:.1f} % | '
                          f'{row["seconds"]:.1f} | ' + ' | '.join(
-                             'never' if (s := equal[o][index]['other_seconds']) is None
-                             else f'{s:.1f}' for o in others) + ' |')
+                             seconds_text(equal[o][index]['other_seconds'],
+                                          equal[o][index]['other_at_most']) for o in others)
+                         + ' |')
     return lines
+
+
+def seconds_text(seconds: float | None, at_most: bool) -> str:
+    """'never', '<= 11.4' (an upper bound) or '11.4'."""
+    return 'never' if seconds is None else f'{"<= " if at_most else ""}{seconds:.1f}'
+
+
+def fixed_goal_text(goal: dict) -> str:
+    """'after a mean 11.4 s of contact (55 % of fixed's mean, 46 % of fixed's median)' or why not.
+
+    'after at most ...' where active's lowest threshold already reaches fixed's accuracy.
+    """
+    seconds = goal['active_mean_contact_s']
+    if seconds is None:
+        return 'at none of its thresholds'
+    shares = ', '.join(f"{100 * seconds / goal[key]:.0f} % of fixed's {name}"
+                       for key, name in (('fixed_mean_contact_s', 'mean'),
+                                         ('fixed_median_contact_s', 'median')) if goal[key] > 0)
+    return (f'after {"at most " if goal.get("at_most") else ""}a mean {seconds:.1f} s of '
+            'contact' + (f' ({shares})' if shares else ''))
 
 
 def _plot_tradeoff(path: Path, curves: dict) -> None:

@@ -62,18 +62,26 @@ def tradeoff(episodes: list, policy: str, thresholds: Sequence[float]) -> list[d
     return rows
 
 
-def seconds_for(curve: list[dict], accuracy: float) -> float | None:
-    """The mean contact seconds `curve` needs to reach `accuracy` (see top), or None."""
+def seconds_for(curve: list[dict], accuracy: float) -> tuple[float | None, bool]:
+    """(the mean contact seconds `curve` needs to reach `accuracy`, whether only at most).
+
+    Interpolated between the thresholds that first bracket `accuracy` (see top). When the
+    curve's first threshold already reaches it, its seconds are only an upper bound (a lower
+    threshold might stop sooner): at most. (None, False) where no threshold reaches it, or
+    for an accuracy that is not a number.
+    """
+    if not np.isfinite(accuracy):
+        return None, False
     previous = None
     for row in curve:
         if row['accuracy'] >= accuracy:
             if previous is None:
-                return row['mean_contact_s']
+                return row['mean_contact_s'], True
             share = (accuracy - previous['accuracy']) / (row['accuracy'] - previous['accuracy'])
             return previous['mean_contact_s'] + share * (row['mean_contact_s']
-                                                         - previous['mean_contact_s'])
+                                                         - previous['mean_contact_s']), False
         previous = row
-    return None
+    return None, False
 
 
 def at_equal_accuracy(curves: dict[str, list[dict]], policy: str = 'active') -> dict:
@@ -81,12 +89,15 @@ def at_equal_accuracy(curves: dict[str, list[dict]], policy: str = 'active') -> 
 
     Returns:
         {other: [{'threshold', 'accuracy', 'seconds' (policy's mean contact), 'other_seconds'
-        (None: the other never reaches that accuracy)}, ...]}; {} without `policy`'s curve.
+        (None: the other reaches that accuracy at none of its thresholds), 'other_at_most'
+        (its seconds only an upper bound)}, ...]}; {} without `policy`'s curve.
     """
     own = curves.get(policy) or []
-    return {other: [{'threshold': row['threshold'], 'accuracy': row['accuracy'],
-                     'seconds': row['mean_contact_s'],
-                     'other_seconds': seconds_for(curve, row['accuracy'])} for row in own]
+    return {other: [dict(zip(('threshold', 'accuracy', 'seconds', 'other_seconds',
+                              'other_at_most'),
+                             (row['threshold'], row['accuracy'], row['mean_contact_s'],
+                              *seconds_for(curve, row['accuracy'])), strict=True))
+                    for row in own]
             for other, curve in curves.items() if other != policy and own}
 
 
@@ -97,13 +108,14 @@ def fixed_goal(curves: dict[str, list[dict]], tolerance: float) -> dict:
     threshold, whole episodes).
 
     Returns:
-        {'accuracy', 'active_mean_contact_s' (None: never reached), 'fixed_median_contact_s',
-        'fixed_mean_contact_s'}; {} without active's or fixed's curve.
+        {'accuracy', 'active_mean_contact_s' (None: never reached), 'at_most' (active's
+        seconds only an upper bound), 'fixed_median_contact_s', 'fixed_mean_contact_s'};
+        {} without active's or fixed's curve.
     """
     if not (curves.get('active') and curves.get('fixed')):
         return {}
     final = curves['fixed'][-1]
-    return {'accuracy': final['accuracy'] - tolerance,
-            'active_mean_contact_s': seconds_for(curves['active'], final['accuracy'] - tolerance),
-            'fixed_median_contact_s': final['median_contact_s'],
+    seconds, at_most = seconds_for(curves['active'], final['accuracy'] - tolerance)
+    return {'accuracy': final['accuracy'] - tolerance, 'active_mean_contact_s': seconds,
+            'at_most': at_most, 'fixed_median_contact_s': final['median_contact_s'],
             'fixed_mean_contact_s': final['mean_contact_s']}
