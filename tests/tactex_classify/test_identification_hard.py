@@ -37,7 +37,10 @@ from tactex_classify.identification.tempering import DISCOUNTS, fit_tempering, r
 from tactex_classify.identification.tradeoff import (
     at_equal_accuracy,
     fixed_goal,
+    fixed_goal_interval,
+    saving_interval,
     stop_step,
+    texture_sums,
     tradeoff,
 )
 from tactex_description.movements import Movement
@@ -306,3 +309,11 @@ def test_the_tradeoff_stays_shares_and_spent_seconds_on_any_episodes_and_thresho
     goal = fixed_goal(curves, 0.01)
     if goal and goal['active_mean_contact_s'] is not None:
         assert 0.0 <= goal['active_mean_contact_s'] < math.inf
+    sums = [texture_sums(episodes, policy, thresholds, 2) for policy in ('active', 'fixed')]
+    for row in saving_interval(*sums, resamples=50):  # the seconds saved, with an interval
+        for seconds in (row['saving_s'], row['low'], row['high']):
+            assert seconds is None or -math.inf < seconds < math.inf
+        assert 0.0 <= row['never_share'] <= 1.0 and 0.0 <= row['at_most_share'] <= 1.0
+    goal = fixed_goal_interval(*sums, 0.01, resamples=50)  # and the goal against fixed
+    for share in (goal.get('share'), goal.get('low'), goal.get('high')):
+        assert share is None or 0.0 <= share < math.inf

@@ -53,8 +53,12 @@ from tactex_classify.identification.selection import Budget, POLICIES
 from tactex_classify.identification.tempering import DISCOUNTS
 from tactex_classify.identification.tradeoff import (
     fixed_goal,
+    fixed_goal_interval,
+    pooled_sums,
+    saving_interval,
     seconds_for,
     stop_step,
+    texture_sums,
     tradeoff,
 )
 from tactex_classify.training.deep_classifier import TrainingConfig
@@ -271,6 +275,7 @@ def test_the_report_holds_the_json_the_markdown_and_every_plot(tmp_path, replaye
     assert '| active |' in text and '| tells_nothing |' in text
     assert 'What accuracy costs in contact time' in text and '| threshold | accuracy |' in text
     assert 'The goal against fixed read the same way' in text
+    assert '| saved (s) [95 %] |' in text
     for name in PLOTS:
         assert (tmp_path / 'report' / name).stat().st_size > 1000, name
 
@@ -462,3 +467,70 @@ def test_each_out_of_fold_sweep_names_the_inner_model_that_judged_it(tmp_path):
 
 def test_a_baseline_has_nothing_to_converge(replayed):
     assert all(not movement['unconverged'] for movement in replayed['held_out'].values())
+
+
+def test_the_seconds_saved_at_equal_accuracy_are_the_tradeoffs_with_an_interval(replayed):
+    trade = summary(replayed, SETTINGS)['tradeoff']
+    assert list(trade['active_saving']) == [p for p in POLICIES if p != 'active']
+    active = [e for e in replayed['episodes'] if e.policy == 'active']
+    assert sum(trade['textures']['active']['episodes']) == len(active)
+    for other, rows in trade['active_saving'].items():
+        for row, plain in zip(rows, trade['at_equal_accuracy'][other], strict=True):
+            assert row['accuracy'] == pytest.approx(plain['accuracy'])
+            assert row['seconds'] == pytest.approx(plain['seconds'])
+            assert row['never'] == (plain['other_seconds'] is None)
+            if plain['other_seconds'] is not None:
+                assert row['saving_s'] == pytest.approx(plain['other_seconds'] - plain['seconds'])
+                assert row['at_most'] == plain['other_at_most']
+            assert 0.0 <= row['never_share'] <= 1.0 and 0.0 <= row['at_most_share'] <= 1.0
+            assert row['low'] is None or row['low'] <= row['high']
+
+
+def _deciding(policy: str, tops: list[float], right_from: int, textures: int = 3) -> list:
+    """Ten episodes per texture: the leader right from step `right_from`, 2.5 s a step."""
+    return [Episode(policy, 0, seed, texture, movements=[0] * len(tops), top_posterior=tops,
+                    leaders=[texture if step >= right_from else texture + 1
+                             for step in range(len(tops))],
+                    contact_s=[2.5 * (step + 1) for step in range(len(tops))])
+            for texture in range(textures) for seed in range(10)]
+
+
+def test_a_policy_as_right_in_fewer_seconds_saves_them_in_every_resample_and_pooled():
+    episodes = (_deciding('active', [0.6, 0.995], right_from=0)
+                + _deciding('random', [0.6, 0.8, 0.9, 0.995], right_from=2))
+    sums = {policy: texture_sums(episodes, policy, (0.5, 0.99), 3)
+            for policy in ('active', 'random')}
+    rows = saving_interval(sums['active'], sums['random'])
+    # random is right only when cut at 0.99, after 10 s: active saves 7.5 s, then 5 s
+    assert [row['saving_s'] for row in rows] == [pytest.approx(7.5), pytest.approx(5.0)]
+    assert [(row['low'], row['high']) for row in rows] == [
+        (pytest.approx(7.5), pytest.approx(7.5)), (pytest.approx(5.0), pytest.approx(5.0))]
+    pooled = {policy: pooled_sums([sums[policy], sums[policy]]) for policy in sums}
+    assert len(pooled['active']['episodes']) == 6
+    assert saving_interval(pooled['active'], pooled['random']) == rows
+    with pytest.raises(ValueError, match='different thresholds'):
+        pooled_sums([sums['active'], texture_sums(episodes, 'active', (0.5,), 3)])
+    never = saving_interval(sums['active'], texture_sums(
+        _deciding('random', [0.6, 0.995], right_from=5), 'random', (0.5, 0.99), 3))
+    assert [row['never'] for row in never] == [True, True]  # random is never right:
+    assert [row['never_share'] for row in never] == [1.0, 1.0]  # its longest contact stands in
+    assert [row['saving_s'] for row in never] == [pytest.approx(5.0 - 2.5), pytest.approx(0.0)]
+    assert [row['low'] for row in never] == [pytest.approx(5.0 - 2.5), pytest.approx(0.0)]
+    assert saving_interval(texture_sums([], 'active', (0.5,), 3), sums['random']) == []
+
+
+def test_the_goal_against_fixed_on_the_tradeoff_is_a_share_of_fixeds_contact_with_an_interval():
+    episodes = (_deciding('active', [0.6, 0.995], right_from=1)
+                + _deciding('fixed', [0.6, 0.8, 0.9, 0.995], right_from=0))
+    sums = {policy: texture_sums(episodes, policy, (0.5, 0.99), 3)
+            for policy in ('active', 'fixed')}
+    # fixed is right after 10 s at 0.99; active reaches 99 % of that between its 2.5 and 5 s
+    goal = fixed_goal_interval(sums['active'], sums['fixed'], 0.01)
+    assert goal['share'] == pytest.approx((2.5 + 0.99 * 2.5) / 10.0)
+    assert goal['low'] == pytest.approx(goal['share']) == pytest.approx(goal['high'])
+    assert not goal['never'] and goal['never_share'] == 0.0
+    never = fixed_goal_interval(texture_sums(  # a policy never right never gets there
+        _deciding('active', [0.6, 0.995], right_from=5), 'active', (0.5, 0.99), 3),
+        sums['fixed'], 0.01)
+    assert never['share'] is None and never['never'] and never['never_share'] == 1.0
+    assert fixed_goal_interval(texture_sums([], 'active', (0.5,), 3), sums['fixed'], 0.01) == {}

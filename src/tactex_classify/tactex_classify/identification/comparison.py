@@ -105,6 +105,12 @@ def paired_difference(episodes: list, policy: str, other: str, grid_s: np.ndarra
             'textures': len(by_texture)}
 
 
+def resample_counts(units: int, seed: int = 0, resamples: int = RESAMPLES) -> np.ndarray:
+    """How often each unit is drawn (resamples x units), a resample drawing `units` times."""
+    return np.random.default_rng(seed).multinomial(units, np.full(units, 1 / units),
+                                                   size=resamples)
+
+
 def texture_bootstrap(means: np.ndarray, weights: np.ndarray, seed: int = 0,
                       resamples: int = RESAMPLES) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The weighted mean over textures and its percentile interval, textures resampled.
@@ -112,9 +118,7 @@ def texture_bootstrap(means: np.ndarray, weights: np.ndarray, seed: int = 0,
     `means`: per texture (rows), its mean paired difference at each time (columns);
     `weights`: its pairs. A resample draws as many textures as there are, with replacement.
     """
-    textures = len(means)  # a resample: how often each texture is drawn, textures draws
-    drawn = np.random.default_rng(seed).multinomial(textures, np.full(textures, 1 / textures),
-                                                    size=resamples) * weights
+    drawn = resample_counts(len(means), seed, resamples) * weights
     resampled = drawn @ means / drawn.sum(axis=1, keepdims=True)
     tail = 100 * (1 - LEVEL) / 2
     return (weights @ means / weights.sum(), np.percentile(resampled, tail, axis=0),

@@ -60,6 +60,9 @@ from tactex_classify.identification.tempering import DISCOUNTS, fit_tempering
 from tactex_classify.identification.tradeoff import (
     at_equal_accuracy,
     fixed_goal,
+    fixed_goal_interval,
+    saving_interval,
+    texture_sums,
     THRESHOLDS,
     tradeoff,
 )
@@ -437,13 +440,25 @@ def policy_tradeoffs(episodes: list[Episode], classes: int, settings: ReplaySett
     """Every policy's accuracy and contact seconds at the thresholds up to the replay's.
 
     {'curves': {policy: rows}, 'at_equal_accuracy': {other: rows}, 'fixed_goal': the goal
-    against fixed read on active's trade-off} (`tradeoff`).
+    against fixed read on active's trade-off, 'fixed_goal_interval': the same as a share
+    of fixed's mean contact with an interval over the textures, 'textures': {policy:
+    per-texture sums}, 'active_saving': {other: the seconds active saves at equal accuracy,
+    with intervals}} (`tradeoff`).
     """
     threshold = settings.budget.threshold  # those the uniform belief passes cannot be run
     thresholds = sorted({t for t in THRESHOLDS if 1.0 / classes < t < threshold} | {threshold})
     curves = {policy: tradeoff(episodes, policy, thresholds) for policy in settings.policies}
+    sums = {policy: texture_sums(episodes, policy, thresholds, classes)
+            for policy in settings.policies}
     return {'curves': curves, 'at_equal_accuracy': at_equal_accuracy(curves),
-            'fixed_goal': fixed_goal(curves, GOAL_TOLERANCE)}
+            'fixed_goal': fixed_goal(curves, GOAL_TOLERANCE),
+            'fixed_goal_interval': fixed_goal_interval(sums['active'], sums['fixed'],
+                                                       GOAL_TOLERANCE, seed=settings.seed)
+            if {'active', 'fixed'} <= set(sums) else {}, 'textures': sums,
+            'active_saving': {other: saving_interval(sums['active'], sums[other],
+                                                     seed=settings.seed)
+                              for other in settings.policies
+                              if other != 'active' and 'active' in sums}}
 
 
 def active_against(result: dict, settings: ReplaySettings) -> dict:

@@ -15,6 +15,12 @@ At equal accuracy: the mean contact seconds another policy needs to reach each o
 accuracy first (linear in seconds), or None where none of its thresholds reaches it. And
 the goal against fixed read the same way (`fixed_goal`): the seconds active's trade-off
 needs for fixed's final accuracy, less the goal's tolerance.
+
+With an interval (`saving_interval`): the same comparison on per-texture sums
+(`texture_sums`), the textures resampled with replacement as in
+`comparison.texture_bootstrap` (both policies' curves from the same draw), so the seconds
+saved at equal accuracy carry a 95 % percentile interval. Runs on other scene seeds pool
+as more textures (`pooled_sums`).
 """
 
 from __future__ import annotations
@@ -22,6 +28,8 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import numpy as np
+
+from tactex_classify.identification.comparison import LEVEL, resample_counts, RESAMPLES
 
 THRESHOLDS = (0.5, 0.7, 0.8, 0.9, 0.95, 0.98, 0.99)
 
@@ -49,17 +57,183 @@ def tradeoff(episodes: list, policy: str, thresholds: Sequence[float]) -> list[d
         return []
     rows = []
     for threshold in thresholds:
-        right, contact, decided = [], [], []
-        for episode in own:
-            step = stop_step(episode.top_posterior, threshold)
-            right.append(step >= 0 and episode.leaders[step] == episode.texture)
-            contact.append(episode.contact_s[step] if step >= 0 else 0.0)
-            decided.append(step >= 0 and episode.top_posterior[step] > threshold)
+        right, contact, decided = np.array([cut(episode, threshold) for episode in own]).T
         rows.append({'threshold': float(threshold), 'accuracy': float(np.mean(right)),
                      'mean_contact_s': float(np.mean(contact)),
                      'median_contact_s': float(np.median(contact)),
                      'decided': float(np.mean(decided))})
     return rows
+
+
+def cut(episode, threshold: float) -> tuple[bool, float, bool]:
+    """(right, contact seconds, decided) of `episode` cut where `threshold` stops it."""
+    step = stop_step(episode.top_posterior, threshold)
+    if step < 0:
+        return False, 0.0, False
+    return (episode.leaders[step] == episode.texture, episode.contact_s[step],
+            episode.top_posterior[step] > threshold)
+
+
+def texture_sums(episodes: list, policy: str, thresholds: Sequence[float],
+                 textures: int) -> dict:
+    """Per threshold and texture, `policy`'s episodes cut there: how many right, how long.
+
+    Returns:
+        {'thresholds', 'episodes' (per texture), 'right' and 'contact_s' (per threshold, per
+        texture: episodes right, and their contact seconds summed)}; textures 0 to
+        `textures` - 1, a texture without episodes counting zero.
+    """
+    own = [e for e in episodes if e.policy == policy]
+    count = np.zeros(textures)
+    right, contact = np.zeros((len(thresholds), textures)), np.zeros((len(thresholds), textures))
+    for episode in own:
+        count[episode.texture] += 1
+        for row, threshold in enumerate(thresholds):
+            was_right, seconds, _ = cut(episode, threshold)
+            right[row, episode.texture] += was_right
+            contact[row, episode.texture] += seconds
+    return {'thresholds': [float(t) for t in thresholds], 'episodes': count.tolist(),
+            'right': right.tolist(), 'contact_s': contact.tolist()}
+
+
+def pooled_sums(runs: list[dict]) -> dict:
+    """Several runs' `texture_sums` of one policy, at the same thresholds, as one of more textures.
+
+    Raises:
+        ValueError: the runs' thresholds differ.
+    """
+    if len({tuple(run['thresholds']) for run in runs}) > 1:
+        raise ValueError('the runs were cut at different thresholds')
+    if not runs:
+        return {'thresholds': [], 'episodes': [], 'right': [], 'contact_s': []}
+    shapes = [(len(run['thresholds']), len(run['episodes'])) for run in runs]
+    return {'thresholds': runs[0]['thresholds'],
+            'episodes': [n for run in runs for n in run['episodes']],
+            **{key: np.hstack([np.asarray(run[key], dtype=float).reshape(shape)
+                               for run, shape in zip(runs, shapes, strict=True)]).tolist()
+               for key in ('right', 'contact_s')}}
+
+
+def saving_interval(sums: dict, other_sums: dict, seed: int = 0,
+                    resamples: int = RESAMPLES) -> list[dict]:
+    """Per threshold of `sums`: the mean contact seconds it saves against the other, 95 % interval.
+
+    `sums` and `other_sums` (`texture_sums`, the same textures in the same order): the
+    policy's trade-off and the other's. The saving is the other's seconds at the policy's
+    accuracy (`seconds_for`) less the policy's own: above zero where the policy needs
+    fewer. Each resample draws the textures with replacement and rebuilds both curves from
+    the same draw. Where the other never reaches the policy's accuracy, its longest mean
+    contact stands in (the saving is then a lower bound), and where its first threshold
+    already reaches it, its seconds there (an upper bound); the shares of resamples where
+    each happened say how much of the interval rests on bounds.
+
+    Returns:
+        [{'threshold', 'accuracy', 'seconds' (the policy's mean contact), 'saving_s' (None
+        if not a number), 'never' (the other never reaches that accuracy: the saving is a
+        lower bound), 'at_most' (an upper bound), 'low', 'high' (None without a finite
+        resample), 'never_share', 'at_most_share'}, ...]; [] without episodes or when the
+        two cover different textures.
+    """
+    count, other_count = (np.asarray(s['episodes'], dtype=float) for s in (sums, other_sums))
+    if count.shape != other_count.shape or count.sum() <= 0 or other_count.sum() <= 0:
+        return []
+    accuracy, seconds, saving, never, at_most = _savings(sums, other_sums,
+                                                         np.ones((1, len(count))))
+    _, _, spread, spread_never, spread_at_most = _savings(
+        sums, other_sums, resample_counts(len(count), seed, resamples))
+    tail = 100 * (1 - LEVEL) / 2
+    rows = []
+    for index, threshold in enumerate(sums['thresholds']):
+        finite = spread[:, index][np.isfinite(spread[:, index])]
+        low, high = (np.percentile(finite, (tail, 100 - tail)).tolist() if finite.size
+                     else (None, None))
+        rows.append({'threshold': float(threshold), 'accuracy': float(accuracy[0, index]),
+                     'seconds': float(seconds[0, index]),
+                     'saving_s': float(saving[0, index]) if np.isfinite(saving[0, index])
+                     else None, 'never': bool(never[0, index]),
+                     'at_most': bool(at_most[0, index]), 'low': low, 'high': high,
+                     'never_share': float(np.mean(spread_never[:, index])),
+                     'at_most_share': float(np.mean(spread_at_most[:, index]))})
+    return rows
+
+
+def fixed_goal_interval(sums: dict, fixed_sums: dict, tolerance: float, seed: int = 0,
+                        resamples: int = RESAMPLES) -> dict:
+    """`fixed_goal` as a share of fixed's mean contact, with a 95 % interval over the textures.
+
+    The mean contact `sums`' trade-off needs for fixed's final accuracy (its last
+    threshold) less `tolerance`, over fixed's mean contact there; each resample draws the
+    textures with replacement and rebuilds both from the same draw. Where the trade-off
+    never reaches that accuracy the share stands at infinity (the goal missed), and where
+    its lowest threshold already does, at that threshold's (an upper bound).
+
+    Returns:
+        {'share', 'low', 'high' (None: not finite, as where never reached), 'never' (at
+        the point), 'at_most', 'never_share', 'at_most_share'}; {} without episodes or
+        thresholds, or when the two cover different textures.
+    """
+    count, fixed_count = (np.asarray(s['episodes'], dtype=float) for s in (sums, fixed_sums))
+    if (count.shape != fixed_count.shape or count.sum() <= 0 or fixed_count.sum() <= 0
+            or not fixed_sums['thresholds']):
+        return {}
+    shares = []
+    for weights in (np.ones((1, len(count))), resample_counts(len(count), seed, resamples)):
+        accuracy, seconds = _curve(sums, weights)
+        fixed_accuracy, fixed_seconds = _curve(fixed_sums, weights)
+        rows = []
+        for draw in range(len(weights)):
+            needed, at_most = seconds_for(
+                [{'accuracy': a, 'mean_contact_s': c}
+                 for a, c in zip(accuracy[draw], seconds[draw], strict=True)],
+                fixed_accuracy[draw, -1] - tolerance)
+            with np.errstate(invalid='ignore', divide='ignore'):
+                rows.append((np.inf if needed is None else needed / fixed_seconds[draw, -1],
+                             needed is None, at_most))
+        shares.append(np.array(rows, dtype=float))
+    point, spread = shares
+    tail = 100 * (1 - LEVEL) / 2
+    with np.errstate(invalid='ignore'):  # between two infinite shares: None below
+        low, high = np.percentile(spread[:, 0], (tail, 100 - tail))
+    return {'share': _number(point[0, 0]), 'low': _number(low), 'high': _number(high),
+            'never': bool(point[0, 1]), 'at_most': bool(point[0, 2]),
+            'never_share': float(spread[:, 1].mean()), 'at_most_share': float(spread[:, 2].mean())}
+
+
+def _number(value: float) -> float | None:
+    """`value` as a float, None where it is not finite (JSON has no infinity)."""
+    return float(value) if np.isfinite(value) else None
+
+
+def _savings(sums: dict, other_sums: dict, weights: np.ndarray) -> tuple[np.ndarray, ...]:
+    """Per row of `weights` (how often each texture counts) and threshold of `sums`.
+
+    (accuracy, seconds, saving, never, at_most), each weights rows x thresholds: the
+    policy's accuracy and mean contact, the other's seconds there less the policy's (its
+    longest where it never gets there), and whether it never does, or only at most.
+    """
+    accuracy, seconds = _curve(sums, weights)
+    other_accuracy, other_seconds = _curve(other_sums, weights)
+    saving = np.full(accuracy.shape, np.nan)
+    never, at_most = np.zeros(accuracy.shape, bool), np.zeros(accuracy.shape, bool)
+    for draw in range(len(weights)):
+        curve = [{'accuracy': a, 'mean_contact_s': c}
+                 for a, c in zip(other_accuracy[draw], other_seconds[draw], strict=True)]
+        for index, reached in enumerate(accuracy[draw]):
+            needed, at_most[draw, index] = seconds_for(curve, reached)
+            never[draw, index] = needed is None
+            if needed is None:
+                needed = curve[-1]['mean_contact_s'] if curve else np.nan
+            saving[draw, index] = needed - seconds[draw, index]
+    return accuracy, seconds, saving, never, at_most
+
+
+def _curve(sums: dict, weights: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(accuracy, mean contact seconds), weights rows x thresholds, textures weighted."""
+    episodes = weights @ np.asarray(sums['episodes'], dtype=float)
+    with np.errstate(invalid='ignore', divide='ignore'):
+        return tuple(weights @ np.asarray(sums[key], dtype=float).reshape(
+            len(sums['thresholds']), len(sums['episodes'])).T / episodes[:, None]
+            for key in ('right', 'contact_s'))
 
 
 def seconds_for(curve: list[dict], accuracy: float) -> tuple[float | None, bool]:
