@@ -177,47 +177,64 @@ def _on_tradeoff(plain: dict, discounted: dict, scene_seeds: list[int]) -> str:
     if 'on_tradeoff' not in plain or 'on_tradeoff' not in discounted:
         return ''
     names = [*map(str, scene_seeds), 'pooled']
-    lines, above, shares = [], {}, {}
+    lines, above, pooled_goals = [], {}, {}
+    budgets = {goal['goal_contact_s'] for goals in (plain, discounted)
+               for goal in goals['against_fixed'].values()}
+    budget = budgets.pop() if len(budgets) == 1 else None  # 60 % of fixed's median contact
     for label, goals in (('default', plain), ('discount', discounted)):
         for name in names:
             row = goals['on_tradeoff'][name]
             saving = {entry['threshold']: entry for entry in row['saving']}
             cells = [saving_text(saving[t]) if t in saving else '' for t in SHOWN_THRESHOLDS]
             lines.append(f'| {name}, {label} | ' + ' | '.join(cells) + ' | '
-                         + _share_text(row['fixed_goal']) + ' |')
+                         + _goal_text(row['fixed_goal']) + ' |')
         pooled = goals['on_tradeoff']['pooled']
         above[label] = sum(entry['low'] is not None and entry['low'] > 0
                            for entry in pooled['saving'] if entry['threshold'] in SHOWN_THRESHOLDS)
-        shares[label] = pooled['fixed_goal']
+        pooled_goals[label] = pooled['fixed_goal']
+    within = [label for label, goal in pooled_goals.items() if budget is not None
+              and goal.get('seconds_high') is not None and goal['seconds_high'] <= budget]
     return (
-        '\n\nBoth goals read on the trade-offs, with intervals: the textures resampled with '
+        "\n\nBoth goals read on the trade-offs, with intervals: the textures resampled with "
         "replacement (pooled: every seed's), both trade-offs rebuilt from each draw. Against "
         "random, the mean contact seconds active saves at each threshold (random's seconds "
         "for active's accuracy less active's; \">=\": random never reaches it and its longest "
         'mean contact stands in, a lower bound; "<=": an upper bound); against fixed, the '
-        "mean contact active's trade-off needs for fixed's final accuracy less 1 point, as a "
-        "share of fixed's mean contact (its mean, not its median: the resampled sums hold "
-        "means, and fixed's mean is the shorter of the two, so the share is the stricter); "
-        'in brackets the 95 % intervals:\n\n'
+        "mean contact active's trade-off needs for fixed's final accuracy less 1 point, and "
+        "its share of fixed's mean contact; in brackets the 95 % intervals ([the "
+        f'plot]({FIGURES}/identification_seeds/saving.png)):\n\n'
         '| scene seed, setting | ' + ' | '.join(f'saved at {t:g} (s)' for t in SHOWN_THRESHOLDS)
-        + " | fixed's final accuracy after (share of fixed's mean contact) |\n"
+        + " | fixed's final accuracy after (s; share of fixed's mean) |\n"
         + '|---' * (len(SHOWN_THRESHOLDS) + 2) + '|\n' + '\n'.join(lines)
         + '\n\nPooled, the interval of the seconds saved lies above zero at '
-        + ' and '.join(f'{above[label]} of {len(SHOWN_THRESHOLDS)} thresholds {label}'
-                       for label in above).replace('discount', 'with the discount')
+        + _by_setting({label: f'{count} of {len(SHOWN_THRESHOLDS)} thresholds'
+                       for label, count in above.items()})
         + "; active's trade-off reaches fixed's final accuracy after "
-        + ' and '.join(f'{_share_text(share)} {label}' for label, share in shares.items()
-                       ).replace('discount', 'with the discount')
-        + " of fixed's mean contact (the goal: 60 % of its median).")
+        + _by_setting({label: _goal_text(goal) for label, goal in pooled_goals.items()})
+        + (f", against the goal's {budget:g} s (60 % of fixed's median contact): the whole "
+           'interval within it ' + _by_setting({label: '' for label in within})
+           if within else '') + '.')
 
 
-def _share_text(goal: dict) -> str:
-    """'47 % [38, 59]' of fixed's mean contact, '<= 47 % ...' or 'never'."""
-    if not goal or goal['share'] is None:
+def _by_setting(texts: dict[str, str]) -> str:
+    """'TEXT by default and TEXT with the discount', per setting label."""
+    return ' and '.join(f'{text} {"with the discount" if label == "discount" else "by default"}'
+                        .strip() for label, text in texts.items())
+
+
+def _goal_text(goal: dict) -> str:
+    """'10.4 s [8.8, 13.8]; 51 % [47, 65]', '<= ...' (an upper bound) or 'never'."""
+    if not goal or goal['seconds'] is None:
         return 'never'
-    high = 'never' if goal['high'] is None else f'{100 * goal["high"]:.0f}'
-    return (f'{"<= " if goal["at_most"] else ""}{100 * goal["share"]:.0f} % '
-            f'[{100 * goal["low"]:.0f}, {high}]')
+    return (f'{"<= " if goal["at_most"] else ""}{goal["seconds"]:.1f} s '
+            f'{_bracket(goal["seconds_low"], goal["seconds_high"], 1, 1)}; '
+            f'{100 * goal["share"]:.0f} % {_bracket(goal["low"], goal["high"], 100, 0)}')
+
+
+def _bracket(low: float | None, high: float | None, scale: float, digits: int) -> str:
+    """'[8.8, 13.8]' scaled, 'never' for an end that is not finite."""
+    return '[' + ', '.join('never' if end is None else f'{scale * end:.{digits}f}'
+                           for end in (low, high)) + ']'
 
 
 def _equal_accuracy(plain: dict, discounted: dict, scene_seeds: list[int]) -> str:

@@ -315,5 +315,6 @@ def test_the_tradeoff_stays_shares_and_spent_seconds_on_any_episodes_and_thresho
             assert seconds is None or -math.inf < seconds < math.inf
         assert 0.0 <= row['never_share'] <= 1.0 and 0.0 <= row['at_most_share'] <= 1.0
     goal = fixed_goal_interval(*sums, 0.01, resamples=50)  # and the goal against fixed
-    for share in (goal.get('share'), goal.get('low'), goal.get('high')):
+    for share in (goal.get(key) for key in ('seconds', 'seconds_low', 'seconds_high', 'share',
+                                             'low', 'high')):
         assert share is None or 0.0 <= share < math.inf

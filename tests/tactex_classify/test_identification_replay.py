@@ -526,11 +526,15 @@ def test_the_goal_against_fixed_on_the_tradeoff_is_a_share_of_fixeds_contact_wit
             for policy in ('active', 'fixed')}
     # fixed is right after 10 s at 0.99; active reaches 99 % of that between its 2.5 and 5 s
     goal = fixed_goal_interval(sums['active'], sums['fixed'], 0.01)
+    assert goal['seconds'] == pytest.approx(2.5 + 0.99 * 2.5)
     assert goal['share'] == pytest.approx((2.5 + 0.99 * 2.5) / 10.0)
     assert goal['low'] == pytest.approx(goal['share']) == pytest.approx(goal['high'])
+    assert goal['seconds_low'] == pytest.approx(goal['seconds']) == pytest.approx(
+        goal['seconds_high'])
     assert not goal['never'] and goal['never_share'] == 0.0
     never = fixed_goal_interval(texture_sums(  # a policy never right never gets there
         _deciding('active', [0.6, 0.995], right_from=5), 'active', (0.5, 0.99), 3),
         sums['fixed'], 0.01)
-    assert never['share'] is None and never['never'] and never['never_share'] == 1.0
+    assert never['share'] is None is never['seconds'] and never['seconds_high'] is None
+    assert never['never'] and never['never_share'] == 1.0
     assert fixed_goal_interval(texture_sums([], 'active', (0.5,), 3), sums['fixed'], 0.01) == {}

@@ -159,24 +159,25 @@ def saving_interval(sums: dict, other_sums: dict, seed: int = 0,
 
 def fixed_goal_interval(sums: dict, fixed_sums: dict, tolerance: float, seed: int = 0,
                         resamples: int = RESAMPLES) -> dict:
-    """`fixed_goal` as a share of fixed's mean contact, with a 95 % interval over the textures.
+    """`fixed_goal` in seconds and as a share of fixed's mean contact, with 95 % intervals.
 
     The mean contact `sums`' trade-off needs for fixed's final accuracy (its last
-    threshold) less `tolerance`, over fixed's mean contact there; each resample draws the
-    textures with replacement and rebuilds both from the same draw. Where the trade-off
-    never reaches that accuracy the share stands at infinity (the goal missed), and where
-    its lowest threshold already does, at that threshold's (an upper bound).
+    threshold) less `tolerance`, and that over fixed's mean contact there; each resample
+    draws the textures with replacement and rebuilds both from the same draw. Where the
+    trade-off never reaches that accuracy both stand at infinity (the goal missed), and
+    where its lowest threshold already does, at that threshold's (an upper bound).
 
     Returns:
-        {'share', 'low', 'high' (None: not finite, as where never reached), 'never' (at
-        the point), 'at_most', 'never_share', 'at_most_share'}; {} without episodes or
-        thresholds, or when the two cover different textures.
+        {'seconds', 'seconds_low', 'seconds_high', 'share', 'low', 'high' (None: not
+        finite, as where never reached), 'never' (at the point), 'at_most', 'never_share',
+        'at_most_share'}; {} without episodes or thresholds, or when the two cover
+        different textures.
     """
     count, fixed_count = (np.asarray(s['episodes'], dtype=float) for s in (sums, fixed_sums))
     if (count.shape != fixed_count.shape or count.sum() <= 0 or fixed_count.sum() <= 0
             or not fixed_sums['thresholds']):
         return {}
-    shares = []
+    reached = []  # per weights row: (seconds, share, never, at most)
     for weights in (np.ones((1, len(count))), resample_counts(len(count), seed, resamples)):
         accuracy, seconds = _curve(sums, weights)
         fixed_accuracy, fixed_seconds = _curve(fixed_sums, weights)
@@ -186,17 +187,21 @@ def fixed_goal_interval(sums: dict, fixed_sums: dict, tolerance: float, seed: in
                 [{'accuracy': a, 'mean_contact_s': c}
                  for a, c in zip(accuracy[draw], seconds[draw], strict=True)],
                 fixed_accuracy[draw, -1] - tolerance)
+            needed = np.inf if needed is None else needed
             with np.errstate(invalid='ignore', divide='ignore'):
-                rows.append((np.inf if needed is None else needed / fixed_seconds[draw, -1],
-                             needed is None, at_most))
-        shares.append(np.array(rows, dtype=float))
-    point, spread = shares
+                rows.append((needed, needed / fixed_seconds[draw, -1], needed == np.inf,
+                             at_most))
+        reached.append(np.array(rows, dtype=float))
+    point, spread = reached
     tail = 100 * (1 - LEVEL) / 2
-    with np.errstate(invalid='ignore'):  # between two infinite shares: None below
-        low, high = np.percentile(spread[:, 0], (tail, 100 - tail))
-    return {'share': _number(point[0, 0]), 'low': _number(low), 'high': _number(high),
-            'never': bool(point[0, 1]), 'at_most': bool(point[0, 2]),
-            'never_share': float(spread[:, 1].mean()), 'at_most_share': float(spread[:, 2].mean())}
+    with np.errstate(invalid='ignore'):  # between two infinite values: None below
+        (seconds_low, low), (seconds_high, high) = np.percentile(
+            spread[:, :2], (tail, 100 - tail), axis=0)
+    return {'seconds': _number(point[0, 0]), 'seconds_low': _number(seconds_low),
+            'seconds_high': _number(seconds_high), 'share': _number(point[0, 1]),
+            'low': _number(low), 'high': _number(high), 'never': bool(point[0, 2]),
+            'at_most': bool(point[0, 3]), 'never_share': float(spread[:, 2].mean()),
+            'at_most_share': float(spread[:, 3].mean())}
 
 
 def _number(value: float) -> float | None:
