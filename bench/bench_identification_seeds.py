@@ -127,7 +127,8 @@ def on_tradeoff(reports: dict[int, dict]) -> dict:
     Against random: the seconds active saves at equal accuracy (`saving_interval`); against
     fixed: the share of fixed's mean contact active's trade-off needs for fixed's final
     accuracy less the tolerance (`fixed_goal_interval`). Pooled, each seed's textures are
-    more units, as in `pooled`.
+    more units of one trade-off per policy; unlike `pooled`, fixed's target is then its
+    pooled final accuracy, not each seed's own.
     """
     sums = {policy: {seed: r['tradeoff']['textures'][policy] for seed, r in reports.items()}
             for policy in ('active', 'random', 'fixed')}
@@ -146,26 +147,30 @@ def plot_saving(path: Path, variants: dict[str, dict]) -> None:
     """Per setting, the seconds active saves against random by threshold, per seed and pooled."""
     plt, figure, axes = plotting.figure(1, len(variants), squeeze=False, sharey=True)
     for axis, (name, rows) in zip(axes[0], variants.items(), strict=True):
+        thresholds = sorted({e['threshold'] for row in rows.values() for e in row['saving']})
         for index, (unit, row) in enumerate(rows.items()):
-            saving = [entry for entry in row['saving'] if entry['saving_s'] is not None
-                      and entry['low'] is not None]
-            x = np.arange(len(saving)) + 0.15 * (index - (len(rows) - 1) / 2)
-            y = np.array([entry['saving_s'] for entry in saving])
-            axis.errorbar(x, y, yerr=[y - [e['low'] for e in saving],
-                                      [e['high'] for e in saving] - y],
-                          fmt='s' if unit == 'pooled' else 'o', ms=4, capsize=3,
-                          color='black' if unit == 'pooled' else f'C{index}', label=unit)
-            bounds = [e['never'] for e in saving]  # random never gets there: a lower bound
-            axis.plot(x[bounds], y[bounds], '^', ms=7, mfc='white', color='gray')
-            axis.set_xticks(np.arange(len(saving)), [f'{e["threshold"]:g}' for e in saving])
+            saving = [e for e in row['saving'] if e['saving_s'] is not None
+                      and e['low'] is not None]
+            x = np.array([thresholds.index(e['threshold']) for e in saving], dtype=float)
+            x += 0.15 * (index - (len(rows) - 1) / 2)
+            y = np.array([e['saving_s'] for e in saving])
+            spread = np.clip([y - [e['low'] for e in saving], [e['high'] for e in saving] - y],
+                             0.0, None)  # a percentile interval may leave out its point
+            axis.errorbar(x, y, yerr=spread, fmt='s' if unit == 'pooled' else 'o', ms=4,
+                          capsize=3, color='black' if unit == 'pooled' else f'C{index}',
+                          label=unit)
+            for marker, key in (('^', 'never'), ('v', 'at_most')):  # lower / upper bounds
+                bounds = np.array([e[key] for e in saving], dtype=bool)
+                axis.plot(x[bounds], y[bounds], marker, ms=7, mfc='white', color='gray')
+        axis.set_xticks(range(len(thresholds)), [f'{t:g}' for t in thresholds])
         axis.axhline(0.0, color='gray', lw=0.8)
         axis.set_title(name)
         axis.set_xlabel('threshold (active stopped there)')
     axes[0][0].set_ylabel('contact seconds active saves (s)')
     plotting.legend_outside(axes[0][-1])
     plotting.save(plt, figure, path, "random's mean contact at active's accuracy less active's; "
-                  'bars: 95 % interval over textures; triangle: random never reaches it (a '
-                  'lower bound)')
+                  'bars: 95 % interval over textures; triangles: a bound (up: random never '
+                  'reaches it, at least; down: its lowest threshold already does, at most)')
 
 
 def summary(reports: dict[int, dict]) -> dict:

@@ -55,6 +55,7 @@ from tactex_classify.identification.tradeoff import (
     fixed_goal,
     fixed_goal_interval,
     pooled_sums,
+    saves_clearly,
     saving_interval,
     seconds_for,
     stop_step,
@@ -505,6 +506,8 @@ def test_a_policy_as_right_in_fewer_seconds_saves_them_in_every_resample_and_poo
     assert [row['saving_s'] for row in rows] == [pytest.approx(7.5), pytest.approx(5.0)]
     assert [(row['low'], row['high']) for row in rows] == [
         (pytest.approx(7.5), pytest.approx(7.5)), (pytest.approx(5.0), pytest.approx(5.0))]
+    with_empty = {policy: texture_sums(episodes, policy, (0.5, 0.99), 4) for policy in sums}
+    assert saving_interval(with_empty['active'], with_empty['random']) == rows  # left out
     pooled = {policy: pooled_sums([sums[policy], sums[policy]]) for policy in sums}
     assert len(pooled['active']['episodes']) == 6
     assert saving_interval(pooled['active'], pooled['random']) == rows
@@ -517,6 +520,9 @@ def test_a_policy_as_right_in_fewer_seconds_saves_them_in_every_resample_and_poo
     assert [row['saving_s'] for row in never] == [pytest.approx(5.0 - 2.5), pytest.approx(0.0)]
     assert [row['low'] for row in never] == [pytest.approx(5.0 - 2.5), pytest.approx(0.0)]
     assert saving_interval(texture_sums([], 'active', (0.5,), 3), sums['random']) == []
+    assert saves_clearly(rows[0]) and not saves_clearly({**rows[0], 'at_most': True})
+    assert not saves_clearly({**rows[0], 'at_most_share': 0.5})  # the low end on upper bounds
+    assert saves_clearly(never[0]) and not saves_clearly(never[1])  # lower bounds: 2.5, 0
 
 
 def test_the_goal_against_fixed_on_the_tradeoff_is_a_share_of_fixeds_contact_with_an_interval():

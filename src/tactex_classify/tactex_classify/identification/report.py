@@ -259,11 +259,13 @@ def tradeoff_lines(table: dict) -> list[str]:
                   'interval of a bootstrap over the textures (both trade-offs rebuilt from '
                   "each draw; where random never reaches active's accuracy its longest mean "
                   'contact stands in, so the saving is a lower bound, ">="; "<=" an upper '
-                  'bound):', '', '| threshold | accuracy | active (s) | saved (s) [95 %] | '
-                  'resamples random never reaches |', '|---|---|---|---|---|']
+                  'bound; the shares of resamples on either bound beside):', '',
+                  '| threshold | accuracy | active (s) | saved (s) [95 %] | resamples random '
+                  'never reaches | resamples on its upper bound |', '|---|---|---|---|---|---|']
         lines += [f'| {row["threshold"]:g} | {100 * row["accuracy"]:.1f} % | '
                   f'{row["seconds"]:.1f} | {saving_text(row)} | '
-                  f'{100 * row["never_share"]:.0f} % |' for row in saving]
+                  f'{100 * row["never_share"]:.0f} % | {100 * row["at_most_share"]:.0f} % |'
+                  for row in saving]
     return lines
 
 

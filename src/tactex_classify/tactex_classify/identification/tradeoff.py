@@ -122,10 +122,12 @@ def saving_interval(sums: dict, other_sums: dict, seed: int = 0,
     policy's trade-off and the other's. The saving is the other's seconds at the policy's
     accuracy (`seconds_for`) less the policy's own: above zero where the policy needs
     fewer. Each resample draws the textures with replacement and rebuilds both curves from
-    the same draw. Where the other never reaches the policy's accuracy, its longest mean
-    contact stands in (the saving is then a lower bound), and where its first threshold
-    already reaches it, its seconds there (an upper bound); the shares of resamples where
-    each happened say how much of the interval rests on bounds.
+    the same draw; only textures both policies have episodes of are drawn. Where the other
+    never reaches the policy's accuracy, its longest mean contact stands in (the saving is
+    then a lower bound: such draws make the interval's low end conservative, its high end
+    not), and where its first threshold already reaches it, its seconds there (an upper
+    bound: such draws make the low end optimistic); the shares of resamples where each
+    happened say how much of the interval rests on bounds (`saves_clearly`).
 
     Returns:
         [{'threshold', 'accuracy', 'seconds' (the policy's mean contact), 'saving_s' (None
@@ -134,9 +136,11 @@ def saving_interval(sums: dict, other_sums: dict, seed: int = 0,
         resample), 'never_share', 'at_most_share'}, ...]; [] without episodes or when the
         two cover different textures.
     """
-    count, other_count = (np.asarray(s['episodes'], dtype=float) for s in (sums, other_sums))
-    if count.shape != other_count.shape or count.sum() <= 0 or other_count.sum() <= 0:
+    both = _shared_textures(sums, other_sums)
+    if both is None:
         return []
+    sums, other_sums = both
+    count = np.asarray(sums['episodes'], dtype=float)
     accuracy, seconds, saving, never, at_most = _savings(sums, other_sums,
                                                          np.ones((1, len(count))))
     _, _, spread, spread_never, spread_at_most = _savings(
@@ -157,15 +161,40 @@ def saving_interval(sums: dict, other_sums: dict, seed: int = 0,
     return rows
 
 
+def saves_clearly(row: dict) -> bool:
+    """A `saving_interval` row's interval lies above zero, and not on upper bounds.
+
+    Draws where the other's seconds are only an upper bound lift the interval's low end,
+    so a row counts only when at most the interval's own tail share of them occurred.
+    """
+    return (row['low'] is not None and row['low'] > 0
+            and row['at_most_share'] <= (1 - LEVEL) / 2 and not row['at_most'])
+
+
+def _shared_textures(sums: dict, other_sums: dict) -> tuple[dict, dict] | None:
+    """Both `texture_sums` cut to the textures both have episodes of; None if none or unlike."""
+    count, other_count = (np.asarray(s['episodes'], dtype=float) for s in (sums, other_sums))
+    if count.shape != other_count.shape or not (sums['thresholds'] and other_sums['thresholds']):
+        return None
+    keep = (count > 0) & (other_count > 0)
+    if not keep.any():
+        return None
+    return tuple({'thresholds': s['thresholds'], 'episodes': np.asarray(s['episodes'])[keep],
+                  **{key: np.asarray(s[key], dtype=float).reshape(
+                      len(s['thresholds']), len(keep))[:, keep] for key in ('right', 'contact_s')}}
+                 for s in (sums, other_sums))
+
+
 def fixed_goal_interval(sums: dict, fixed_sums: dict, tolerance: float, seed: int = 0,
                         resamples: int = RESAMPLES) -> dict:
     """`fixed_goal` in seconds and as a share of fixed's mean contact, with 95 % intervals.
 
     The mean contact `sums`' trade-off needs for fixed's final accuracy (its last
     threshold) less `tolerance`, and that over fixed's mean contact there; each resample
-    draws the textures with replacement and rebuilds both from the same draw. Where the
-    trade-off never reaches that accuracy both stand at infinity (the goal missed), and
-    where its lowest threshold already does, at that threshold's (an upper bound).
+    draws the textures with replacement (those both have episodes of) and rebuilds both
+    from the same draw. Where the trade-off never reaches that accuracy both stand at
+    infinity (the goal missed), and where its lowest threshold already does, at that
+    threshold's (an upper bound).
 
     Returns:
         {'seconds', 'seconds_low', 'seconds_high', 'share', 'low', 'high' (None: not
@@ -173,10 +202,11 @@ def fixed_goal_interval(sums: dict, fixed_sums: dict, tolerance: float, seed: in
         'at_most_share'}; {} without episodes or thresholds, or when the two cover
         different textures.
     """
-    count, fixed_count = (np.asarray(s['episodes'], dtype=float) for s in (sums, fixed_sums))
-    if (count.shape != fixed_count.shape or count.sum() <= 0 or fixed_count.sum() <= 0
-            or not fixed_sums['thresholds']):
+    both = _shared_textures(sums, fixed_sums)
+    if both is None:
         return {}
+    sums, fixed_sums = both
+    count = np.asarray(sums['episodes'], dtype=float)
     reached = []  # per weights row: (seconds, share, never, at most)
     for weights in (np.ones((1, len(count))), resample_counts(len(count), seed, resamples)):
         accuracy, seconds = _curve(sums, weights)
