@@ -47,7 +47,7 @@ from tactex_common import plotting
 
 RESULTS = Path(__file__).parent / 'results' / 'identification_seeds'
 MOVEMENTS = Path(__file__).parents[1] / 'config' / 'movements.yaml'
-FRESH = (2037, 2039, 2041)
+FRESH = (2037, 2039, 2041, 2043, 2045)
 DISCOUNTED = 'with_repeat_discount'  # the second report's folder and seeds.json key
 
 
@@ -104,8 +104,11 @@ def plot(path: Path, goals: dict[str, tuple[dict[int, dict], dict]]) -> None:
 def plot_tradeoff(path: Path, variants: dict[str, dict[int, dict]]) -> None:
     """Per seed, active's and random's accuracy against mean contact as the threshold drops."""
     seeds = list(next(iter(variants.values())))
-    plt, figure, axes = plotting.figure(1, len(seeds), squeeze=False, sharey=True)
-    for axis, seed in zip(axes[0], seeds, strict=True):
+    columns = min(3, len(seeds))
+    plt, figure, axes = plotting.figure(-(-len(seeds) // columns), columns, squeeze=False,
+                                        sharey=True)
+    panels = axes.ravel()
+    for axis, seed in zip(panels, seeds, strict=False):
         for style, (name, reports) in zip(('-', '--'), variants.items(), strict=False):
             curves = reports[seed].get('tradeoff', {}).get('curves', {})
             for colour, policy in (('C0', 'active'), ('C1', 'random')):
@@ -115,8 +118,14 @@ def plot_tradeoff(path: Path, variants: dict[str, dict[int, dict]]) -> None:
                           color=colour, label=f'{policy}, {name}')
         axis.set_title(f'scene seed {seed}')
         axis.set_xlabel('mean contact seconds per identification')
-    axes[0][0].set_ylabel('textures identified right (%)')
-    plotting.legend_outside(axes[0][-1])
+    for row in axes:
+        row[0].set_ylabel('textures identified right (%)')
+    for spare in panels[len(seeds):]:  # the legend where a row has no seed left
+        spare.axis('off')
+    if len(panels) > len(seeds):
+        panels[-1].legend(*panels[0].get_legend_handles_labels(), loc='center')
+    else:
+        plotting.legend_outside(axes[0][-1])
     plotting.save(plt, figure, path, "each point a decision threshold, up to the report's; up "
                   'and to the left is better')
 

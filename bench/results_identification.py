@@ -212,8 +212,7 @@ def _on_tradeoff(plain: dict, discounted: dict, scene_seeds: list[int]) -> str:
         + '|---' * (len(thresholds) + 2) + '|\n' + '\n'.join(lines)
         + '\n\nPooled, the interval of the seconds saved lies above zero, and not on upper '
         'bounds, at '
-        + _by_setting({label: f'threshold {", ".join(shown)}' if shown else 'no threshold'
-                       for label, shown in above.items()})
+        + _by_setting({label: _thresholds_text(shown) for label, shown in above.items()})
         + "; active's trade-off reaches fixed's final accuracy after "
         + _by_setting({label: _goal_text(goal) for label, goal in pooled_goals.items()})
         + (f", against the goal's {budget:g} s (60 % of fixed's median contact, its cap of "
@@ -224,6 +223,13 @@ def _on_tradeoff(plain: dict, discounted: dict, scene_seeds: list[int]) -> str:
 def _saving_cell(row: dict) -> str:
     """`saving_text`, starred where over 2.5 % of the draws stand on an upper bound."""
     return saving_text(row) + ('*' if row['at_most_share'] > 0.025 else '')
+
+
+def _thresholds_text(shown: list[str]) -> str:
+    """'no threshold', 'threshold 0.7' or 'thresholds 0.7, 0.95 and 0.98'."""
+    if len(shown) < 2:
+        return f'threshold {shown[0]}' if shown else 'no threshold'
+    return f'thresholds {", ".join(shown[:-1])} and {shown[-1]}'
 
 
 def _by_setting(texts: dict[str, str]) -> str:
