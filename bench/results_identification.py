@@ -11,7 +11,11 @@ from tactex_classify.identification.report import (
     saving_text,
     seconds_text,
 )
-from tactex_classify.identification.tradeoff import at_equal_accuracy, saves_clearly
+from tactex_classify.identification.tradeoff import (
+    at_equal_accuracy,
+    leans_on_upper_bounds,
+    saves_clearly,
+)
 
 SHOWN_THRESHOLDS = (0.7, 0.9, 0.95, 0.98, 0.99)  # of the trade-off against random
 TRADEOFF = ("report's episodes cut after the first step whose leading posterior exceeds a "
@@ -222,7 +226,7 @@ def _on_tradeoff(plain: dict, discounted: dict, scene_seeds: list[int]) -> str:
 
 def _saving_cell(row: dict) -> str:
     """`saving_text`, starred where over 2.5 % of the draws stand on an upper bound."""
-    return saving_text(row) + ('*' if row['at_most_share'] > 0.025 else '')
+    return saving_text(row) + ('*' if leans_on_upper_bounds(row) else '')
 
 
 def _thresholds_text(shown: list[str]) -> str:
@@ -240,8 +244,10 @@ def _by_setting(texts: dict[str, str]) -> str:
 
 def _goal_text(goal: dict) -> str:
     """'10.4 s [8.8, 13.8]; 51 % [47, 65]', '<= ...' (an upper bound) or 'never'."""
-    if not goal or goal['seconds'] is None or goal['share'] is None:
-        return 'never' if not goal or goal['seconds'] is None else f'{goal["seconds"]:.1f} s'
+    if not goal or goal['seconds'] is None:
+        return 'never'
+    if goal['share'] is None:
+        return f'{goal["seconds"]:.1f} s'
     return (f'{"<= " if goal["at_most"] else ""}{goal["seconds"]:.1f} s '
             f'{_bracket(goal["seconds_low"], goal["seconds_high"], 1, 1)}; '
             f'{100 * goal["share"]:.0f} % {_bracket(goal["low"], goal["high"], 100, 0)}')
@@ -324,9 +330,8 @@ def _dev_equal_accuracy(report: dict) -> str:
             + ('\n\nWith 95 % intervals over the 12 textures (the last table of '
                '`identification.md`), the seconds active saves lie above zero, and not on '
                "random's upper bounds, at " + _by_setting(
-                   {label: 'threshold ' + ', '.join(f'{row["threshold"]:g}' for row in saving
-                                                    if saves_clearly(row))
-                    if any(map(saves_clearly, saving)) else 'no threshold'
+                   {label: _thresholds_text([f'{row["threshold"]:g}' for row in saving
+                                             if saves_clearly(row)])
                     for label, saving in savings.items()}) + '.'
                if all(savings.values()) else ''))
 

@@ -54,6 +54,7 @@ from tactex_classify.identification.tempering import DISCOUNTS
 from tactex_classify.identification.tradeoff import (
     fixed_goal,
     fixed_goal_interval,
+    leans_on_upper_bounds,
     pooled_sums,
     saves_clearly,
     saving_interval,
@@ -522,6 +523,8 @@ def test_a_policy_as_right_in_fewer_seconds_saves_them_in_every_resample_and_poo
     assert saving_interval(texture_sums([], 'active', (0.5,), 3), sums['random']) == []
     assert saves_clearly(rows[0]) and not saves_clearly({**rows[0], 'at_most': True})
     assert not saves_clearly({**rows[0], 'at_most_share': 0.5})  # the low end on upper bounds
+    assert leans_on_upper_bounds({**rows[0], 'at_most_share': 0.03})  # past the 2.5 % tail
+    assert not leans_on_upper_bounds({**rows[0], 'at_most_share': 0.025})
     assert saves_clearly(never[0]) and not saves_clearly(never[1])  # lower bounds: 2.5, 0
 
 

@@ -162,13 +162,18 @@ def saving_interval(sums: dict, other_sums: dict, seed: int = 0,
 
 
 def saves_clearly(row: dict) -> bool:
-    """A `saving_interval` row's interval lies above zero, and not on upper bounds.
-
-    Draws where the other's seconds are only an upper bound lift the interval's low end,
-    so a row counts only when at most the interval's own tail share of them occurred.
-    """
+    """A `saving_interval` row's interval lies above zero, and not on upper bounds."""
     return (row['low'] is not None and row['low'] > 0
-            and row['at_most_share'] <= (1 - LEVEL) / 2 and not row['at_most'])
+            and not leans_on_upper_bounds(row) and not row['at_most'])
+
+
+def leans_on_upper_bounds(row: dict) -> bool:
+    """More of a `saving_interval` row's draws stand on an upper bound than its tail share.
+
+    Draws where the other's seconds are only an upper bound lift the interval's low end;
+    past the interval's own tail share (2.5 %) they decide where the low end lies.
+    """
+    return row['at_most_share'] > (1 - LEVEL) / 2
 
 
 def _shared_textures(sums: dict, other_sums: dict) -> tuple[dict, dict] | None:
