@@ -38,6 +38,7 @@ from tactex_classify.identification.tradeoff import (
     at_equal_accuracy,
     fixed_goal,
     fixed_goal_interval,
+    mean_saving_interval,
     saving_interval,
     stop_step,
     texture_sums,
@@ -314,6 +315,9 @@ def test_the_tradeoff_stays_shares_and_spent_seconds_on_any_episodes_and_thresho
         for seconds in (row['saving_s'], row['low'], row['high']):
             assert seconds is None or -math.inf < seconds < math.inf
         assert 0.0 <= row['never_share'] <= 1.0 and 0.0 <= row['at_most_share'] <= 1.0
+    mean = mean_saving_interval(*sums, sums[0]['thresholds'], resamples=50)  # one for them all
+    for seconds in (mean.get('saving_s'), mean.get('low'), mean.get('high')):
+        assert seconds is None or -math.inf < seconds < math.inf
     goal = fixed_goal_interval(*sums, 0.01, resamples=50)  # and the goal against fixed
     for share in (goal.get(key) for key in ('seconds', 'seconds_low', 'seconds_high', 'share',
                                              'low', 'high')):

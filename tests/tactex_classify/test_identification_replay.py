@@ -55,6 +55,7 @@ from tactex_classify.identification.tradeoff import (
     fixed_goal,
     fixed_goal_interval,
     leans_on_upper_bounds,
+    mean_saving_interval,
     pooled_sums,
     saves_clearly,
     saving_interval,
@@ -486,6 +487,13 @@ def test_the_seconds_saved_at_equal_accuracy_are_the_tradeoffs_with_an_interval(
                 assert row['at_most'] == plain['other_at_most']
             assert 0.0 <= row['never_share'] <= 1.0 and 0.0 <= row['at_most_share'] <= 1.0
             assert row['low'] is None or row['low'] <= row['high']
+        thresholds = [row['threshold'] for row in rows]  # and averaged over them, one interval
+        mean = mean_saving_interval(trade['textures']['active'], trade['textures'][other],
+                                    thresholds)
+        assert mean['saving_s'] == pytest.approx(np.mean([
+            row['saving_s'] if row['saving_s'] is not None else np.nan for row in rows]),
+            nan_ok=True)
+        assert mean['low'] is None or mean['low'] <= mean['high']
 
 
 def _deciding(policy: str, tops: list[float], right_from: int, textures: int = 3) -> list:
@@ -526,6 +534,31 @@ def test_a_policy_as_right_in_fewer_seconds_saves_them_in_every_resample_and_poo
     assert leans_on_upper_bounds({**rows[0], 'at_most_share': 0.03})  # past the 2.5 % tail
     assert not leans_on_upper_bounds({**rows[0], 'at_most_share': 0.025})
     assert saves_clearly(never[0]) and not saves_clearly(never[1])  # lower bounds: 2.5, 0
+
+
+def test_one_interval_answers_for_a_stretch_of_thresholds_as_the_mean_of_their_savings():
+    episodes = (_deciding('active', [0.6, 0.995], right_from=0)
+                + _deciding('random', [0.6, 0.8, 0.9, 0.995], right_from=2))
+    sums = {policy: texture_sums(episodes, policy, (0.5, 0.99), 3)
+            for policy in ('active', 'random')}
+    both = mean_saving_interval(sums['active'], sums['random'], (0.5, 0.99))
+    assert both['saving_s'] == pytest.approx((7.5 + 5.0) / 2)  # saving_interval's, averaged
+    assert both['low'] == pytest.approx(6.25) == pytest.approx(both['high'])
+    assert both['thresholds'] == [0.5, 0.99] and saves_clearly(both)
+    assert mean_saving_interval(sums['active'], sums['random'], (0.99,))['saving_s'] == (
+        pytest.approx(5.0))
+    never = mean_saving_interval(sums['active'], texture_sums(
+        _deciding('random', [0.6, 0.995], right_from=5), 'random', (0.5, 0.99), 3), (0.5, 0.99))
+    assert never['never'] and never['never_share'] == 1.0  # a lower bound, as per threshold
+    assert never['saving_s'] == pytest.approx((2.5 + 0.0) / 2)
+    at_once = mean_saving_interval(sums['active'], texture_sums(  # random right at its first
+        _deciding('random', [0.6, 0.995], right_from=0), 'random', (0.5, 0.99), 3), (0.5, 0.99))
+    assert at_once['at_most'] and at_once['at_most_share'] == 1.0 and not saves_clearly(at_once)
+    with pytest.raises(ValueError, match=r'not cut at \[0.7\]'):
+        mean_saving_interval(sums['active'], sums['random'], (0.5, 0.7))
+    assert mean_saving_interval(sums['active'], sums['random'], ()) == {}
+    assert mean_saving_interval(texture_sums([], 'active', (0.5,), 3), sums['random'],
+                                (0.5,)) == {}
 
 
 def test_the_goal_against_fixed_on_the_tradeoff_is_a_share_of_fixeds_contact_with_an_interval():

@@ -19,8 +19,9 @@ needs for fixed's final accuracy, less the goal's tolerance.
 With an interval (`saving_interval`): the same comparison on per-texture sums
 (`texture_sums`), the textures resampled with replacement as in
 `comparison.texture_bootstrap` (both policies' curves from the same draw), so the seconds
-saved at equal accuracy carry a 95 % percentile interval. Runs on other scene seeds pool
-as more textures (`pooled_sums`).
+saved at equal accuracy carry a 95 % percentile interval, per threshold or averaged over
+several (`mean_saving_interval`: one test for a stretch of the trade-off). Runs on other
+scene seeds pool as more textures (`pooled_sums`).
 """
 
 from __future__ import annotations
@@ -159,6 +160,51 @@ def saving_interval(sums: dict, other_sums: dict, seed: int = 0,
                      'never_share': float(np.mean(spread_never[:, index])),
                      'at_most_share': float(np.mean(spread_at_most[:, index]))})
     return rows
+
+
+def mean_saving_interval(sums: dict, other_sums: dict, thresholds: Sequence[float],
+                         seed: int = 0, resamples: int = RESAMPLES) -> dict:
+    """The seconds `sums` saves against the other averaged over `thresholds`, 95 % interval.
+
+    One number for a stretch of the trade-off, so that one interval answers whether a
+    policy saves time at equal accuracy, where `saving_interval` gives one per threshold
+    (and with each more, one more chance to clear zero by luck). Each resample averages
+    the savings `saving_interval` reads from the same draw of textures, the other's bounds
+    standing in alike; a draw stands on an upper bound (or on a never-reached accuracy)
+    when any of its thresholds does. `thresholds` are some of those the sums were cut at.
+
+    Returns:
+        {'thresholds', 'saving_s', 'low', 'high' (None where not finite), 'never',
+        'at_most' (at the point, at any threshold), 'never_share', 'at_most_share'}, as
+        `saves_clearly` reads them; {} without thresholds or textures both have episodes of.
+
+    Raises:
+        ValueError: a threshold the sums were not cut at.
+    """
+    missing = [t for t in thresholds if t not in sums['thresholds']]
+    if missing:
+        raise ValueError(f'the sums were not cut at {missing}; they were cut at '
+                         f'{sums["thresholds"]}')
+    both = _shared_textures(sums, other_sums)
+    if both is None or not len(thresholds):
+        return {}
+    sums, other_sums = both
+    columns = [sums['thresholds'].index(t) for t in thresholds]
+    count = len(sums['episodes'])
+    averaged = []  # per weights row: the mean saving, and whether any threshold is a bound
+    for weights in (np.ones((1, count)), resample_counts(count, seed, resamples)):
+        _, _, saving, never, at_most = _savings(sums, other_sums, weights)
+        averaged.append((saving[:, columns].mean(axis=1), never[:, columns].any(axis=1),
+                         at_most[:, columns].any(axis=1)))
+    (point, point_never, point_at_most), (spread, spread_never, spread_at_most) = averaged
+    finite = spread[np.isfinite(spread)]
+    tail = 100 * (1 - LEVEL) / 2
+    low, high = (np.percentile(finite, (tail, 100 - tail)).tolist() if finite.size
+                 else (None, None))
+    return {'thresholds': [float(t) for t in thresholds], 'saving_s': _number(point[0]),
+            'low': low, 'high': high, 'never': bool(point_never[0]),
+            'at_most': bool(point_at_most[0]), 'never_share': float(spread_never.mean()),
+            'at_most_share': float(spread_at_most.mean())}
 
 
 def saves_clearly(row: dict) -> bool:
