@@ -315,9 +315,12 @@ def test_the_tradeoff_stays_shares_and_spent_seconds_on_any_episodes_and_thresho
         for seconds in (row['saving_s'], row['low'], row['high']):
             assert seconds is None or -math.inf < seconds < math.inf
         assert 0.0 <= row['never_share'] <= 1.0 and 0.0 <= row['at_most_share'] <= 1.0
-    mean = mean_saving_interval(*sums, sums[0]['thresholds'], resamples=50)  # one for them all
+    mean = mean_saving_interval(*sums, list(dict.fromkeys(sums[0]['thresholds'])),
+                                resamples=50)  # one for them all, each once
     for seconds in (mean.get('saving_s'), mean.get('low'), mean.get('high')):
         assert seconds is None or -math.inf < seconds < math.inf
+    assert all(0.0 <= mean[share] <= 1.0 for share in ('never_share', 'at_most_share')
+               if share in mean)
     goal = fixed_goal_interval(*sums, 0.01, resamples=50)  # and the goal against fixed
     for share in (goal.get(key) for key in ('seconds', 'seconds_low', 'seconds_high', 'share',
                                              'low', 'high')):

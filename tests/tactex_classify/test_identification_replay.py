@@ -556,6 +556,8 @@ def test_one_interval_answers_for_a_stretch_of_thresholds_as_the_mean_of_their_s
     assert at_once['at_most'] and at_once['at_most_share'] == 1.0 and not saves_clearly(at_once)
     with pytest.raises(ValueError, match=r'not cut at \[0.7\]'):
         mean_saving_interval(sums['active'], sums['random'], (0.5, 0.7))
+    with pytest.raises(ValueError, match='twice'):  # one threshold would weigh double
+        mean_saving_interval(sums['active'], sums['random'], (0.5, 0.5, 0.99))
     assert mean_saving_interval(sums['active'], sums['random'], ()) == {}
     assert mean_saving_interval(texture_sums([], 'active', (0.5,), 3), sums['random'],
                                 (0.5,)) == {}

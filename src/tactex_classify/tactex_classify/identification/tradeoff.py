@@ -174,17 +174,19 @@ def mean_saving_interval(sums: dict, other_sums: dict, thresholds: Sequence[floa
     when any of its thresholds does. `thresholds` are some of those the sums were cut at.
 
     Returns:
-        {'thresholds', 'saving_s', 'low', 'high' (None where not finite), 'never',
+        {'thresholds', 'saving_s', 'low', 'high' (each None where not finite), 'never',
         'at_most' (at the point, at any threshold), 'never_share', 'at_most_share'}, as
         `saves_clearly` reads them; {} without thresholds or textures both have episodes of.
 
     Raises:
-        ValueError: a threshold the sums were not cut at.
+        ValueError: a threshold the sums were not cut at, or one named twice.
     """
     missing = [t for t in thresholds if t not in sums['thresholds']]
     if missing:
         raise ValueError(f'the sums were not cut at {missing}; they were cut at '
                          f'{sums["thresholds"]}')
+    if len(set(thresholds)) < len(thresholds):
+        raise ValueError(f'thresholds {list(thresholds)} name one twice: it would count twice')
     both = _shared_textures(sums, other_sums)
     if both is None or not len(thresholds):
         return {}
@@ -201,7 +203,7 @@ def mean_saving_interval(sums: dict, other_sums: dict, thresholds: Sequence[floa
     tail = 100 * (1 - LEVEL) / 2
     low, high = (np.percentile(finite, (tail, 100 - tail)).tolist() if finite.size
                  else (None, None))
-    return {'thresholds': [float(t) for t in thresholds], 'saving_s': _number(point[0]),
+    return {'thresholds': [sums['thresholds'][c] for c in columns], 'saving_s': _number(point[0]),
             'low': low, 'high': high, 'never': bool(point_never[0]),
             'at_most': bool(point_at_most[0]), 'never_share': float(spread_never.mean()),
             'at_most_share': float(spread_at_most.mean())}
