@@ -60,8 +60,7 @@ def identification() -> str:
                          f'{row["calibration_error"]:.3f} |')
     widest = max(choice['rows'], key=lambda r: r['sweeps_per_cell'])
     typical = min(choice['rows'], key=lambda r: r['sweeps_per_cell'])
-    minutes = sum(step['seconds'] or 0.0 for step in run['steps']) / 60
-    earlier = any(step['seconds'] is None for step in run['steps'])
+    minutes, earlier = _minutes_run(run['steps'])
     chance = 100 / len(report['classes'])
     return (
         f'Measured (`python bench/bench_identification_report.py`, {minutes:.0f} min'
@@ -145,8 +144,7 @@ def identification_seeds() -> str:
     """The two goals on fresh scene seeds, each apart and pooled (bench_identification_seeds)."""
     kept = kept_json('identification_seeds/seeds.json')
     settings = kept_json(f'identification_seeds/{kept["scene_seeds"][0]}.json')['settings']
-    minutes = sum(step['seconds'] or 0.0 for step in kept['steps']) / 60
-    earlier = any(step['seconds'] is None for step in kept['steps'])
+    minutes, earlier = _minutes_run(kept['steps'])
     seeds = len(kept['scene_seeds'])
     pooled, discounted = kept['pooled'], kept['with_repeat_discount']
     return (
@@ -206,8 +204,7 @@ def _confirmatory(kept: dict) -> str:
                (True, False): 'the test against random passes, the one against fixed fails',
                (False, True): 'the test against fixed passes, the one against random fails'}[
         passed['against_random']['passed'], passed['against_fixed']['passed']]
-    minutes = sum(step['seconds'] or 0.0 for step in declared['steps']) / 60
-    earlier = any(step['seconds'] is None for step in declared['steps'])
+    minutes, earlier = _minutes_run(declared['steps'])
     return (
         f'\n\n**The declared tests.** The seeds above explored. Before any report of scene '
         f'seeds {", ".join(map(str, seeds[:-1]))} and {seeds[-1]} was read, one test per goal '
@@ -234,6 +231,12 @@ def _confirmatory(kept: dict) -> str:
         f"{100 * declared['goal_share']:g} % of fixed's median | passed |\n"
         + '|---' * 7 + '|\n' + '\n'.join(test_rows)
         + f'\n\n{names[chosen][1].capitalize()}, the declared setting, {verdict}.')
+
+
+def _minutes_run(steps: list[dict]) -> tuple[float, bool]:
+    """The kept steps' minutes, and whether some ran earlier (no seconds kept)."""
+    return (sum(step['seconds'] or 0.0 for step in steps) / 60,
+            any(step['seconds'] is None for step in steps))
 
 
 def _passed(test: dict, tested: bool) -> str:

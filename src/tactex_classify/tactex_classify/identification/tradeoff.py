@@ -146,12 +146,9 @@ def saving_interval(sums: dict, other_sums: dict, seed: int = 0,
                                                          np.ones((1, len(count))))
     _, _, spread, spread_never, spread_at_most = _savings(
         sums, other_sums, resample_counts(len(count), seed, resamples))
-    tail = 100 * (1 - LEVEL) / 2
     rows = []
     for index, threshold in enumerate(sums['thresholds']):
-        finite = spread[:, index][np.isfinite(spread[:, index])]
-        low, high = (np.percentile(finite, (tail, 100 - tail)).tolist() if finite.size
-                     else (None, None))
+        low, high = _finite_interval(spread[:, index])
         rows.append({'threshold': float(threshold), 'accuracy': float(accuracy[0, index]),
                      'seconds': float(seconds[0, index]),
                      'saving_s': float(saving[0, index]) if np.isfinite(saving[0, index])
@@ -199,14 +196,20 @@ def mean_saving_interval(sums: dict, other_sums: dict, thresholds: Sequence[floa
         averaged.append((saving[:, columns].mean(axis=1), never[:, columns].any(axis=1),
                          at_most[:, columns].any(axis=1)))
     (point, point_never, point_at_most), (spread, spread_never, spread_at_most) = averaged
-    finite = spread[np.isfinite(spread)]
-    tail = 100 * (1 - LEVEL) / 2
-    low, high = (np.percentile(finite, (tail, 100 - tail)).tolist() if finite.size
-                 else (None, None))
+    low, high = _finite_interval(spread)
     return {'thresholds': [sums['thresholds'][c] for c in columns], 'saving_s': _number(point[0]),
             'low': low, 'high': high, 'never': bool(point_never[0]),
             'at_most': bool(point_at_most[0]), 'never_share': float(spread_never.mean()),
             'at_most_share': float(spread_at_most.mean())}
+
+
+def _finite_interval(draws: np.ndarray) -> tuple[float | None, float | None]:
+    """The 95 % percentile interval of the finite draws; (None, None) without one."""
+    finite = draws[np.isfinite(draws)]
+    if not finite.size:
+        return None, None
+    tail = 100 * (1 - LEVEL) / 2
+    return tuple(np.percentile(finite, (tail, 100 - tail)).tolist())
 
 
 def saves_clearly(row: dict) -> bool:
