@@ -320,6 +320,37 @@ def test_active_realized_turns_from_a_movement_whose_sweeps_move_nothing_where_a
     assert chosen_by['active-realized'][0] == 0 and 1 in chosen_by['active-realized'][1:3]
 
 
+def test_active_rounds_runs_every_movement_once_in_the_order_of_gain_before_any_twice():
+    """One model judges all of a movement's sweeps: rounds spread the evidence over models."""
+    everything = (0, 1, 2, 3)
+    table = EvidenceTable(names(4), [movement('weak', 1.0, separating(everything, 4, 0.4)),
+                                     movement('sharp', 1.0, separating(everything, 4, 0.9)),
+                                     movement('middling', 1.0, separating(everything, 4, 0.6))])
+    said = [0.4, 0.2, 0.2, 0.2]  # each sweep leans a little to texture 0
+    chosen_by = {}
+    for policy in ('active', 'active-rounds'):
+        identification = Identification(table, policy, Budget(threshold=1.0, movements=7))
+        while (chosen := identification.next_movement()) is not None:
+            identification.observe(chosen, said)
+        chosen_by[policy] = identification.movements
+    assert chosen_by['active'] == [1] * 7
+    assert chosen_by['active-rounds'] == [1, 2, 0, 1, 2, 0, 1]
+
+
+def test_active_rounds_counts_a_round_over_the_movements_it_can_still_run():
+    """A movement out of sweeps (or of the time left) does not hold the round open."""
+    everything = (0, 1, 2)
+    table = EvidenceTable(names(3), [movement('sharp', 1.0, separating(everything, 3, 0.9)),
+                                     movement('spent', 1.0, separating(everything, 3, 0.9)),
+                                     movement('long', 5.0, separating(everything, 3, 0.9)),
+                                     movement('weak', 1.0, separating(everything, 3, 0.5))])
+    identification = Identification(table, 'active-rounds', Budget(threshold=1.0, seconds=4.0))
+    available = np.array([True, False, True, True])
+    while (chosen := identification.next_movement(available)) is not None:
+        identification.observe(chosen, [0.5, 0.3, 0.2])
+    assert identification.movements == [0, 3, 0, 3]  # 'long' never fits the 4 s
+
+
 def test_realized_trust_is_one_before_a_sweep_and_halves_after_a_sweep_that_moved_nothing():
     rows = separating((0, 1), 2, sure=0.8)
     table = EvidenceTable(names(2), [movement('a', 1.0, rows), movement('b', 1.0, rows)])

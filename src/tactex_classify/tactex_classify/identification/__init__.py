@@ -7,8 +7,8 @@ The belief and the choice are pure numpy, apart from the ROS side (`movement_goa
 - `posterior`: the belief over textures in log space and its tempered update.
 - `evidence_table`: what each movement's sweeps tell, from out-of-fold probability
   vectors per (true texture, movement), and the expected information gain of each.
-- `selection`: the policies (active, random, fixed, round-robin) and one identification's
-  loop state: next movement, update, threshold and budgets.
+- `selection`: the policies (active and its variants, random, fixed, round-robin) and one
+  identification's loop state: next movement, update, threshold and budgets.
 - `tempering`: the exponent and repeat discount that keep the independent-sweeps update honest.
 - `calibration`: temperature scaling of a model's probabilities and its calibration error.
 - `movement_evidence`: one model per movement, its calibrated out-of-fold sweep vectors.

@@ -18,7 +18,14 @@ Policies (`POLICIES`):
   movement's sweep under the belief it met (`EvidenceTable.expected_divergence`), so
   while the table describes the sweeps the scale stays near one; a movement whose sweeps
   barely move the belief (its model out of its depth on these sweeps, live) is asked
-  less, where `active` would repeat it for as long as the belief stays where it was.
+  less, where `active` would repeat it for as long as the belief stays where it was;
+- `active-rounds`: `active` among the movements run fewest times so far: every movement
+  once, in the order of their gain under the belief as it stands, before any a second
+  time, and so on. Sweeps of one movement share its model's mistakes (one model judges
+  them all), while each movement has a model of its own, so a repeat adds less than the
+  table's gain (drawn as if independent) says and a belief built on one or two movements
+  is surer than its accuracy; rounds keep the evidence spread over independent models,
+  as random does, and keep active's order within each round.
 """
 
 from __future__ import annotations
@@ -31,7 +38,8 @@ from tactex_classify.identification.evidence_table import EvidenceTable
 from tactex_classify.identification.posterior import divergence, normalised, uniform, updated
 from tactex_common.numbers import is_finite_number
 
-POLICIES = ('active', 'random', 'fixed', 'round-robin', 'active-realized')
+POLICIES = ('active', 'random', 'fixed', 'round-robin', 'active-realized', 'active-rounds')
+GAIN_POLICIES = ('active', 'active-realized', 'active-rounds')  # choose by the table's gain
 COMPARED = POLICIES[:4]  # the issue's comparison: what a report replays by default
 DECIDED, MOVEMENT_BUDGET, TIME_BUDGET = 'decided', 'movement budget', 'time budget'
 NONE_LEFT = 'no movement left'
@@ -176,7 +184,10 @@ class Identification:
             return None
         fits = self._candidates() & (True if available is None else np.asarray(available))
         candidates = np.flatnonzero(fits)
-        if self.policy in ('active', 'active-realized'):  # the first from the prior
+        if self.policy == 'active-rounds':  # the movements this round has not run yet
+            runs = self.repeats[candidates]
+            candidates = candidates[runs == runs.min()]
+        if self.policy in GAIN_POLICIES:  # the first from the prior
             gain = self._gain_at_prior if not self.movements else self.table.information_gain(
                 self.log_posterior, self.repeats) / self.table.seconds
             if self.policy == 'active-realized':  # a negative gain is not made less so
