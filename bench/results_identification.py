@@ -172,18 +172,20 @@ def identification_seeds() -> str:
         f'pooled {_points(discounted["pooled"])}{_verdict(discounted["pooled"])}.'
         + _equal_accuracy(kept, discounted, kept['scene_seeds'])
         + _on_tradeoff(kept, discounted, kept['scene_seeds'])
-        + _confirmatory(kept))
+        + ''.join(_confirmatory(kept[key], first=index == 0)
+                  for index, key in enumerate(k for k in kept if k.startswith('confirmatory'))))
 
 
-def _confirmatory(kept: dict) -> str:
-    """The one declared test per goal on further fresh seeds, both settings; '' if not kept."""
-    declared = kept.get('confirmatory')
-    if not declared:
-        return ''
+def _confirmatory(declared: dict, first: bool) -> str:
+    """One policy's declared tests, one per goal, on further fresh seeds, both settings.
+
+    `first`: the first declared (it follows the exploration; a later one follows it).
+    """
     seeds, chosen = declared['scene_seeds'], declared['setting']
     names = {'default': ('default', 'every sweep counting fully'),
              'with_repeat_discount': ('discount', 'with the repeat discount')}
-    policies = ('active', 'random', 'fixed')
+    chooser = declared['policy']
+    policies = (chooser, 'random', 'fixed')
     seed_rows, test_rows = [], []
     for setting in (chosen, *(name for name in names if name != chosen)):
         short = names[setting][0]
@@ -206,16 +208,17 @@ def _confirmatory(kept: dict) -> str:
         passed['against_random']['passed'], passed['against_fixed']['passed']]
     minutes, earlier = _minutes_run(declared['steps'])
     return (
-        f'\n\n**The declared tests.** The seeds above explored. Before any report of scene '
-        f'seeds {", ".join(map(str, seeds[:-1]))} and {seeds[-1]} was read, one test per goal '
-        'was declared on them (`CONFIRMATORY` in bench/bench_identification_seeds.py), its '
-        f'setting and thresholds chosen from the exploration: {names[chosen][1]}, over the '
+        ('\n\n**The declared tests.** The seeds above explored. Before any report of scene '
+         if first else f'\n\n**The declared tests of {chooser}.** Before any report of scene ')
+        + f'seeds {", ".join(map(str, seeds[:-1]))} and {seeds[-1]} was read, one test per goal '
+        f'of {chooser} was declared on them (`DECLARED` in bench/bench_identification_seeds.py), '
+        f'in the setting {names[chosen][1]}, over the '
         f"{len(seeds)} seeds' {passed['units']} textures pooled, with 95 % intervals from "
-        f'{declared["resamples"]} draws of them. Against random: the seconds active saves at '
-        'equal accuracy, averaged over '
+        f'{declared["resamples"]} draws of them. Against random: the seconds {chooser} saves '
+        'at equal accuracy, averaged over '
         f'{_thresholds_text([f"{t:g}" for t in declared["thresholds"]])} (one interval for '
         'the stretch, not one per threshold), passing where the interval lies above zero and '
-        "not on upper bounds. Against fixed: the mean contact active's trade-off needs for "
+        f"not on upper bounds. Against fixed: the mean contact {chooser}'s trade-off needs for "
         f"fixed's pooled final accuracy less {100 * declared['goal_tolerance']:g} point, "
         "passing where the interval's high end is within "
         f"{100 * declared['goal_share']:g} % of fixed's median contact (the smallest of the "
@@ -226,7 +229,7 @@ def _confirmatory(kept: dict) -> str:
                                                 for p in policies) + ' |\n'
         + '|---' * (len(policies) + 1) + '|\n' + '\n'.join(seed_rows)
         + '\n\n| setting | seconds saved against random [95 %] | draws where random never '
-        "reaches active's accuracy at some threshold (a lower bound) | passed | fixed's "
+        f"reaches {chooser}'s accuracy at some threshold (a lower bound) | passed | fixed's "
         "final accuracy after (s; share of fixed's mean) | "
         f"{100 * declared['goal_share']:g} % of fixed's median | passed |\n"
         + '|---' * 7 + '|\n' + '\n'.join(test_rows)

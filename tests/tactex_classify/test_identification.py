@@ -351,6 +351,37 @@ def test_active_rounds_counts_a_round_over_the_movements_it_can_still_run():
     assert identification.movements == [0, 3, 0, 3]  # 'long' never fits the 4 s
 
 
+def test_a_bootstrap_of_the_table_weighs_each_cells_sweeps_to_one_and_alike_is_the_gain():
+    rng = np.random.default_rng(3)
+    labels = np.repeat(np.arange(3), 6)
+    table = EvidenceTable(names(3), [
+        MovementEvidence(f'm{k}', 1.0, gaussian_posteriors(labels, 1.5, rng, 3), labels)
+        for k in range(2)])
+    weights = table.bootstrap_weights(np.random.default_rng(0))
+    assert np.all(weights > 0.0) and weights.shape == (36,)
+    assert np.bincount(np.repeat(np.arange(6), 6), weights=weights) == pytest.approx(np.ones(6))
+    belief = np.log([0.5, 0.3, 0.2])
+    assert table.information_gain(belief, sweep_weights=np.full(36, 1 / 6)) == pytest.approx(
+        table.information_gain(belief))
+    assert not np.allclose(table.information_gain(belief, sweep_weights=weights),
+                           table.information_gain(belief))
+
+
+def test_active_sampled_spreads_its_choice_over_movements_the_table_cannot_tell_apart():
+    """Ten sweeps per cell leave the best of two like movements a toss-up: the sample shares."""
+    rng = np.random.default_rng(2)
+    labels = np.repeat(np.arange(3), 10)
+    table = EvidenceTable(names(3), [
+        *(MovementEvidence(f'alike {k}', 1.0, gaussian_posteriors(labels, 2.0, rng, 3), labels)
+          for k in range(2)),
+        MovementEvidence('weak', 1.0, gaussian_posteriors(labels, 0.2, rng, 3), labels)])
+    first = {policy: [Identification(table, policy, seed=seed).next_movement()
+                      for seed in range(200)] for policy in ('active', 'active-sampled')}
+    assert len(set(first['active'])) == 1
+    counts = np.bincount(first['active-sampled'], minlength=3)
+    assert min(counts[:2]) > 20 and counts[2] < 5, counts
+
+
 def test_realized_trust_is_one_before_a_sweep_and_halves_after_a_sweep_that_moved_nothing():
     rows = separating((0, 1), 2, sure=0.8)
     table = EvidenceTable(names(2), [movement('a', 1.0, rows), movement('b', 1.0, rows)])

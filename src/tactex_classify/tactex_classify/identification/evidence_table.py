@@ -195,11 +195,15 @@ class EvidenceTable:
         """(sweeps,): which model judged each of `held_out_log_likelihoods`' rows (ascending)."""
         return self._models_of[movement][self._labels_of[movement] == texture]
 
-    def information_gain(self, log_posterior: np.ndarray, repeats=None) -> np.ndarray:
+    def information_gain(self, log_posterior: np.ndarray, repeats=None,
+                         sweep_weights: np.ndarray | None = None) -> np.ndarray:
         """Expected entropy lost (nats) by one sweep of each movement, given the belief.
 
         `repeats`: per movement, its sweeps already taken (default none): each movement's
         terms are weighted as its next sweep's update will be (`repeat_weights`).
+        `sweep_weights`: each held-out sweep's chance of being the one drawn for its
+        (movement, texture), one per sweep in the table's order, summing to one over each
+        (default: alike, `bootstrap_weights` draws others).
 
         Textures whose posterior, together, is below NEGLIGIBLE_MASS are left out of the
         expectation (their sweeps would be drawn that rarely): the gain moves by at most
@@ -213,13 +217,14 @@ class EvidenceTable:
         kept[order[np.cumsum(posterior[order]) < NEGLIGIBLE_MASS]] = False
         discounted = (repeats is not None and self.repeat_discount > 0.0
                       and np.any(np.asarray(repeats) > 0))
+        share = self._share_of if sweep_weights is None else sweep_weights
         if self._by_products and not discounted:
             rows = slice(None)
-            drawn = posterior[self._label_of] * self._share_of * kept[self._label_of]
+            drawn = posterior[self._label_of] * share * kept[self._label_of]
             after = self._entropy_after_by_products(log_posterior)
         else:
             rows = kept[self._label_of] if not kept.all() else slice(None)
-            drawn = posterior[self._label_of[rows]] * self._share_of[rows]
+            drawn = posterior[self._label_of[rows]] * share[rows]
             terms = self._stacked[rows]
             if discounted:
                 terms = terms * self.repeat_weights(repeats)[self._movement_of[rows]][:, None]
@@ -227,6 +232,18 @@ class EvidenceTable:
         expected = np.bincount(self._movement_of[rows], weights=drawn * after,
                                minlength=len(self.names))
         return entropy(log_posterior) - expected
+
+    def bootstrap_weights(self, rng: np.random.Generator) -> np.ndarray:
+        """One Bayesian bootstrap of the held-out sweeps: Dirichlet(1) weights per cell.
+
+        A draw of how likely each held-out sweep of a (movement, texture) cell is, given
+        the few the table holds (Rubin 1981, Ann. Statist. 9:130): `information_gain`
+        under it is one plausible gain of each movement, as far as the table's own
+        sampling can tell.
+        """
+        draws = rng.exponential(size=len(self._label_of))
+        cell = self._movement_of * len(self.classes) + self._label_of
+        return draws / np.bincount(cell, weights=draws)[cell]
 
     def expected_divergence(self, log_posterior: np.ndarray, movement: int,
                             repeats: int = 0) -> float:

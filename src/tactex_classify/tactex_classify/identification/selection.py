@@ -25,7 +25,14 @@ Policies (`POLICIES`):
   them all), while each movement has a model of its own, so a repeat adds less than the
   table's gain (drawn as if independent) says and a belief built on one or two movements
   is surer than its accuracy; rounds keep the evidence spread over independent models,
-  as random does, and keep active's order within each round.
+  as random does, and keep active's order within each round;
+- `active-sampled`: `active` on one Bayesian bootstrap of the table's held-out sweeps,
+  drawn afresh for each choice (`EvidenceTable.bootstrap_weights`), as Thompson sampling
+  chooses (Russo et al. 2018, Found. Trends Mach. Learn. 11:1): a movement is chosen about
+  as often as the table's few sweeps leave it the most informative. With ten or so
+  sweeps per texture and movement, which movement best tells two given textures apart is
+  itself uncertain; `active` takes the movement whose estimate happens to be highest and
+  repeats it, the sample spreads the choice over those the table cannot tell apart.
 """
 
 from __future__ import annotations
@@ -38,8 +45,10 @@ from tactex_classify.identification.evidence_table import EvidenceTable
 from tactex_classify.identification.posterior import divergence, normalised, uniform, updated
 from tactex_common.numbers import is_finite_number
 
-POLICIES = ('active', 'random', 'fixed', 'round-robin', 'active-realized', 'active-rounds')
-GAIN_POLICIES = ('active', 'active-realized', 'active-rounds')  # choose by the table's gain
+POLICIES = ('active', 'random', 'fixed', 'round-robin', 'active-realized', 'active-rounds',
+            'active-sampled')
+# The policies that choose by the table's gain.
+GAIN_POLICIES = ('active', 'active-realized', 'active-rounds', 'active-sampled')
 COMPARED = POLICIES[:4]  # the issue's comparison: what a report replays by default
 DECIDED, MOVEMENT_BUDGET, TIME_BUDGET = 'decided', 'movement budget', 'time budget'
 NONE_LEFT = 'no movement left'
@@ -188,8 +197,15 @@ class Identification:
             runs = self.repeats[candidates]
             candidates = candidates[runs == runs.min()]
         if self.policy in GAIN_POLICIES:  # the first from the prior
-            gain = self._gain_at_prior if not self.movements else self.table.information_gain(
-                self.log_posterior, self.repeats) / self.table.seconds
+            if self.policy == 'active-sampled':
+                gain = self.table.information_gain(
+                    self.log_posterior, self.repeats,
+                    self.table.bootstrap_weights(self._rng)) / self.table.seconds
+            elif not self.movements:
+                gain = self._gain_at_prior
+            else:
+                gain = self.table.information_gain(self.log_posterior,
+                                                   self.repeats) / self.table.seconds
             if self.policy == 'active-realized':  # a negative gain is not made less so
                 gain = np.where(gain > 0.0, gain * self.realized_trust(), gain)
             return int(candidates[np.argmax(gain[candidates])])
