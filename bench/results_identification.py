@@ -154,7 +154,7 @@ def identification_seeds() -> str:
         f'and report as above ({kept["sweeps_per_texture_and_movement"]} sweeps per texture '
         f'and movement, {partitions(settings)}{settings["folds"]} folds, '
         f'{settings["seeds"]} seeds, {settings["model"]} per movement) on {seeds} fresh '
-        'scene seeds, none used by a test or looked at while the policies were built. The '
+        'scene seeds, none used by a test or looked at while active was built. The '
         "margin is active's accuracy after 60 % of fixed's median contact, less fixed's "
         f'final accuracy, plus {100 * kept["goal_tolerance"]:g} point: at or above zero the '
         'goal against fixed is met. Its interval is a bootstrap over the textures (pooled: '
@@ -173,7 +173,7 @@ def identification_seeds() -> str:
         + _equal_accuracy(kept, discounted, kept['scene_seeds'])
         + _on_tradeoff(kept, discounted, kept['scene_seeds'])
         + ''.join(_confirmatory(kept[key], first=index == 0)
-                  for index, key in enumerate(k for k in kept if k.startswith('confirmatory'))))
+                  for index, key in enumerate(kept.get('declared', ()))))
 
 
 def _confirmatory(declared: dict, first: bool) -> str:
@@ -212,7 +212,7 @@ def _confirmatory(declared: dict, first: bool) -> str:
          if first else f'\n\n**The declared tests of {chooser}.** Before any report of scene ')
         + f'seeds {", ".join(map(str, seeds[:-1]))} and {seeds[-1]} was read, one test per goal '
         f'of {chooser} was declared on them (`DECLARED` in bench/bench_identification_seeds.py), '
-        f'in the setting {names[chosen][1]}, over the '
+        f'{declared["chosen"]}: {names[chosen][1]}, over the '
         f"{len(seeds)} seeds' {passed['units']} textures pooled, with 95 % intervals from "
         f'{declared["resamples"]} draws of them. Against random: the seconds {chooser} saves '
         'at equal accuracy, averaged over '

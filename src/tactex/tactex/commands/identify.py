@@ -40,7 +40,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('--budget-seconds', type=number(), default=0.0, metavar='S',
                         help='at most this many contact seconds (default: no limit)')
     parser.add_argument('--seed', type=trial_id, default=0, metavar='N',
-                        help='seed of the random policy (default 0)')
+                        help='seed of the random and active-sampled policies (default 0)')
     add_goal_options(parser, 'identify_node')
 
 

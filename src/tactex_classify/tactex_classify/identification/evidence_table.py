@@ -217,7 +217,10 @@ class EvidenceTable:
         kept[order[np.cumsum(posterior[order]) < NEGLIGIBLE_MASS]] = False
         discounted = (repeats is not None and self.repeat_discount > 0.0
                       and np.any(np.asarray(repeats) > 0))
-        share = self._share_of if sweep_weights is None else sweep_weights
+        share = self._share_of if sweep_weights is None else np.asarray(sweep_weights, float)
+        if share.shape != self._share_of.shape:
+            raise ValueError(f'sweep_weights must be one weight per held-out sweep '
+                             f'({len(self._share_of)}), got shape {share.shape}')
         if self._by_products and not discounted:
             rows = slice(None)
             drawn = posterior[self._label_of] * share * kept[self._label_of]

@@ -24,15 +24,19 @@ Policies (`POLICIES`):
   time, and so on. Sweeps of one movement share its model's mistakes (one model judges
   them all), while each movement has a model of its own, so a repeat adds less than the
   table's gain (drawn as if independent) says and a belief built on one or two movements
-  is surer than its accuracy; rounds keep the evidence spread over independent models,
-  as random does, and keep active's order within each round;
+  is surer than its accuracy (stopped at 0.9, active is right less often than random on
+  seven of the eight fresh seeds' default reports, bench/results/identification_seeds/);
+  rounds keep the evidence spread over independent models, as round-robin does, and keep
+  active's order within each round;
 - `active-sampled`: `active` on one Bayesian bootstrap of the table's held-out sweeps,
   drawn afresh for each choice (`EvidenceTable.bootstrap_weights`), as Thompson sampling
   chooses (Russo et al. 2018, Found. Trends Mach. Learn. 11:1): a movement is chosen about
   as often as the table's few sweeps leave it the most informative. With ten or so
   sweeps per texture and movement, which movement best tells two given textures apart is
   itself uncertain; `active` takes the movement whose estimate happens to be highest and
-  repeats it, the sample spreads the choice over those the table cannot tell apart.
+  repeats it, the sample spreads the choice over those the table cannot tell apart. The
+  bootstrap weighs a cell's sweeps independently (those one model judged are not drawn
+  together): it samples what the table knows of each cell, not how repeats depend.
 """
 
 from __future__ import annotations
@@ -109,7 +113,7 @@ class Identification:
         table: the movements' out-of-fold evidence.
         policy: one of POLICIES.
         budget: threshold and budgets.
-        seed: the random policy's seed (the others ignore it).
+        seed: the draws of random and active-sampled (the others ignore it).
         log_prior: the starting belief's log (default: uniform over the textures).
 
     Raises:
