@@ -200,12 +200,12 @@ class Identification:
         if self.policy == 'active-rounds':  # the movements this round has not run yet
             runs = self.repeats[candidates]
             candidates = candidates[runs == runs.min()]
-        if self.policy in GAIN_POLICIES:  # the first from the prior
-            if self.policy == 'active-sampled':
+        if self.policy in GAIN_POLICIES:
+            if self.policy == 'active-sampled':  # a fresh sample of the table each time
                 gain = self.table.information_gain(
                     self.log_posterior, self.repeats,
                     self.table.bootstrap_weights(self._rng)) / self.table.seconds
-            elif not self.movements:
+            elif not self.movements:  # the first from the prior, computed once
                 gain = self._gain_at_prior
             else:
                 gain = self.table.information_gain(self.log_posterior,
