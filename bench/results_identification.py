@@ -58,8 +58,6 @@ def identification() -> str:
         row = report['movements'][name]
         movements.append(f'| {name} | {100 * row["sweep_accuracy"]:.1f} % | '
                          f'{row["calibration_error"]:.3f} |')
-    widest = max(choice['rows'], key=lambda r: r['sweeps_per_cell'])
-    typical = min(choice['rows'], key=lambda r: r['sweeps_per_cell'])
     minutes, earlier = _minutes_run(run['steps'])
     chance = 100 / len(report['classes'])
     return (
@@ -92,16 +90,38 @@ def identification() -> str:
         + _dev_equal_accuracy(report)
         + '\n\nEach movement on its own, one held-out sweep '
         '(`movement_confusions.png` has the confusion matrices):\n\n' + '\n'.join(movements)
-        + f'\n\nChoosing the next movement (`python bench/bench_identification.py`, '
-        f'{choice["textures"]} textures x {choice["movements"]} movements): p99 '
-        f'{typical["products_ms"][1]:.2f} ms with {typical["sweeps_per_cell"]} held-out sweeps '
-        f'per texture and movement, {widest["products_ms"][1]:.2f} ms with '
-        f'{widest["sweeps_per_cell"]} (target {choice["target_ms"]:g} ms). With '
-        f'{widest["sweeps_per_cell"]}, the same gain took '
-        f'{widest["row_by_row_ms"][0] / widest["products_ms"][0]:.0f}x longer (median) in one '
-        'exponential pass over every held-out sweep, as when a repeat discount applies, and '
-        f'{widest["per_movement_ms"][0] / widest["products_ms"][0]:.0f}x computed movement by '
-        'movement.\n')
+        + _choice_time(choice) + '\n')
+
+
+def _choice_time(choice: dict) -> str:
+    """How long choosing the next movement takes, from bench_identification.py's kept rows."""
+    widest = max(row['sweeps_per_cell'] for row in choice['rows'])
+    rows = {(row['sweeps_per_cell'], row['belief'], row['setting'], row['policy']): row
+            for row in choice['rows']}
+    worst = max(choice['rows'], key=lambda row: row['choice_ms'][1])
+    within = [rows[widest, 'identifications', setting, policy]['choice_ms'][1]
+              for setting in ('default', 'discount') for policy in ('active', 'active-sampled')]
+    ratios = {setting: [row[key][0] / row['choice_ms'][0]
+                        for row in choice['rows'] if row['setting'] == setting
+                        and row['sweeps_per_cell'] == widest and 'row_by_row_ms' in row
+                        for key in ('row_by_row_ms', 'per_movement_ms')]
+              for setting in ('default', 'discount')}
+    return (
+        f'\n\nChoosing the next movement (`python bench/bench_identification.py`, '
+        f'{choice["textures"]} textures x {choice["movements"]} movements, the target '
+        f'{choice["target_ms"]:g} ms; {choice["cores"]} cores at a load of '
+        f'{choice["load_average"]:.1f}): over every choice of whole identifications with '
+        f'{widest} held-out sweeps per texture and movement, p99 {within[0]:.2f} ms for active '
+        f'and {within[1]:.2f} ms for active-sampled with every sweep counting fully, '
+        f'{within[2]:.2f} and {within[3]:.2f} ms with a repeat discount of '
+        f'{choice["repeat_discount"]:g} (the table makes a movement\'s discounted products '
+        'the first time its number of repeats is asked, and keeps them); the slowest p99 of '
+        f'any row, {worst["choice_ms"][1]:.2f} ms ({worst["sweeps_per_cell"]} sweeps, '
+        f'{worst["policy"]}, {worst["belief"]}, {worst["setting"]}). With {widest}, the same '
+        f'gain took {ratios["default"][0]:.0f}x (discount: {ratios["discount"][0]:.0f}x) '
+        'longer (median) in one exponential pass over every held-out sweep and '
+        f'{ratios["default"][1]:.0f}x ({ratios["discount"][1]:.0f}x) computed movement by '
+        'movement.')
 
 
 def _against_goals(report: dict) -> str:

@@ -101,14 +101,15 @@ def test_any_answers_keep_the_belief_finite_and_normalised(table, policy, seed, 
         assert np.all(np.isfinite(identification.realized_trust()))
 
 
-def gain_sweep_by_sweep(table, log_posterior):
+def gain_sweep_by_sweep(table, log_posterior, repeats=None):
     """The expected information gain, one held-out sweep at a time (no shortcut)."""
     log_posterior = normalised(log_posterior)
     posterior = np.exp(log_posterior)
     expected = np.zeros(len(table.names))
     for movement in range(len(table.names)):
+        weight = 1.0 if repeats is None else table.repeat_weights(repeats[movement])
         for texture in range(len(table.classes)):
-            terms = table.held_out_log_likelihoods(movement, texture)
+            terms = weight * table.held_out_log_likelihoods(movement, texture)
             expected[movement] += posterior[texture] * np.mean(
                 entropy(normalised(log_posterior + terms)))
     return entropy(log_posterior) - expected
@@ -122,6 +123,18 @@ def test_the_gain_equals_the_sweep_by_sweep_sum_for_any_evidence_and_belief(tabl
     # Textures below 1e-9 of belief in all may be left out: at most 1e-9 * log(4) nats.
     assert table.information_gain(log_posterior) == pytest.approx(
         gain_sweep_by_sweep(table, log_posterior), abs=1e-8)
+
+
+@settings(max_examples=200, deadline=None)
+@given(tables(), st.data())
+def test_the_discounted_gain_equals_the_sweep_by_sweep_sum_however_often_it_is_asked(table, data):
+    log_posterior = data.draw(hnp.arrays(np.float64, len(table.classes),
+                                         elements=st.floats(-1e3, 0.0)))
+    repeats = data.draw(hnp.arrays(np.int64, len(table.names), elements=st.integers(0, 40)))
+    expected = gain_sweep_by_sweep(table, log_posterior, repeats)
+    for _ in range(2):  # the second time from the discounted products kept by the first
+        assert table.information_gain(log_posterior, repeats) == pytest.approx(expected,
+                                                                               abs=1e-8)
 
 
 @settings(max_examples=100, deadline=None)

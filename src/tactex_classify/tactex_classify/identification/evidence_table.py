@@ -17,13 +17,15 @@ the same patch), so the n-th repeat of a movement tells less than its first swee
 update's terms are weighted by 1 / (1 + c n) (`repeat_weights`; c, the repeat discount,
 is fitted with tau by `tempering`), in the update and in the gain alike.
 
-The gain is a few matrix-vector products when no repeat discount applies: with each
-sweep's terms shifted by their largest (s = t - max t) and E = exp(s) kept from the
-start, the belief pi' = exp(log pi - max log pi) gives each updated belief's entropy as
+The gain is a few matrix-vector products: with each sweep's terms shifted by their
+largest (s = t - max t) and E = exp(s) kept from the start, the belief
+pi' = exp(log pi - max log pi) gives each updated belief's entropy as
 log(E pi') - ((E * s) pi' + E (pi' log pi')) / (E pi') (`_entropy_after_by_products`).
-That holds to rounding while no sweep's terms span more than PRODUCT_SPREAD nats (a
-texture whose belief underflows then weighs under exp(PRODUCT_SPREAD - 745) of the
-leader); a wider table, or a discounted repeat, takes the exact row-by-row pass.
+A movement's discounted repeat weighs its terms by w < 1, so it reads exp(w s) and
+exp(w s) * w s instead, made once per movement and number of repeats and kept (up to
+MAX_KEPT_REPEATS repeats). That holds to rounding while no sweep's terms span more than
+PRODUCT_SPREAD nats (a texture whose belief underflows then weighs under
+exp(PRODUCT_SPREAD - 745) of the leader); a wider table takes the exact row-by-row pass.
 """
 
 from __future__ import annotations
@@ -47,6 +49,7 @@ MAX_TEMPERING = 100.0
 MAX_REPEAT_DISCOUNT = 100.0
 NEGLIGIBLE_MASS = 1e-9  # posterior mass left out of the expected gain (see information_gain)
 PRODUCT_SPREAD = 300.0  # nats a sweep's terms may span for the gain by products
+MAX_KEPT_REPEATS = 32  # the discounted products kept per movement (more are made each time)
 
 
 @dataclass(frozen=True)
@@ -119,10 +122,12 @@ class EvidenceTable:
         self._shares_of = [1.0 / np.bincount(labels, minlength=len(self.classes))[labels]
                            for labels in self._labels_of]
         self._share_of = np.concatenate(self._shares_of)
-        shifted = self._stacked - self._stacked.max(axis=1, keepdims=True)
-        self._by_products = bool(-shifted.min() <= PRODUCT_SPREAD)
-        self._exp_shifted = np.exp(shifted)
-        self._exp_shifted_times_shifted = self._exp_shifted * shifted
+        self._shifted = self._stacked - self._stacked.max(axis=1, keepdims=True)
+        self._by_products = bool(-self._shifted.min() <= PRODUCT_SPREAD)
+        self._exp_shifted = np.exp(self._shifted)
+        self._exp_shifted_times_shifted = self._exp_shifted * self._shifted
+        self._row_ends = np.cumsum([len(labels) for labels in self._labels_of])
+        self._discounted_products: dict[tuple[int, int], tuple[np.ndarray, np.ndarray]] = {}
 
     @staticmethod
     def _seconds(movement: MovementEvidence) -> float:
@@ -221,10 +226,11 @@ class EvidenceTable:
         if share.shape != self._share_of.shape:
             raise ValueError(f'sweep_weights must be one weight per held-out sweep '
                              f'({len(self._share_of)}), got shape {share.shape}')
-        if self._by_products and not discounted:
+        if self._by_products:
             rows = slice(None)
             drawn = posterior[self._label_of] * share * kept[self._label_of]
-            after = self._entropy_after_by_products(log_posterior)
+            after = self._entropy_after_by_products(
+                log_posterior, np.asarray(repeats, dtype=int) if discounted else None)
         else:
             rows = kept[self._label_of] if not kept.all() else slice(None)
             drawn = posterior[self._label_of[rows]] * share[rows]
@@ -264,14 +270,36 @@ class EvidenceTable:
         return float(np.dot(drawn, divergence(normalised(log_posterior + terms),
                                               log_posterior)))
 
-    def _entropy_after_by_products(self, log_posterior: np.ndarray) -> np.ndarray:
-        """Each held-out sweep's updated entropy from products with the belief (see top)."""
+    def _entropy_after_by_products(self, log_posterior: np.ndarray,
+                                   repeats: np.ndarray | None = None) -> np.ndarray:
+        """Each held-out sweep's updated entropy from products with the belief (see top).
+
+        `repeats`: per movement, its sweeps already taken, which discount its terms (None:
+        every sweep counts fully).
+        """
         relative = log_posterior - log_posterior.max()
         belief = np.exp(relative)
-        total = self._exp_shifted @ belief
-        weighted_log = (self._exp_shifted_times_shifted @ belief
-                        + self._exp_shifted @ np.where(belief > 0.0, belief * relative, 0.0))
+        belief_log = np.where(belief > 0.0, belief * relative, 0.0)
+        blocks = ([(self._exp_shifted, self._exp_shifted_times_shifted)] if repeats is None
+                  else [self._products(movement, int(n)) for movement, n in enumerate(repeats)])
+        total = np.concatenate([exp_shifted @ belief for exp_shifted, _ in blocks])
+        weighted_log = np.concatenate([times_shifted @ belief + exp_shifted @ belief_log
+                                       for exp_shifted, times_shifted in blocks])
         return np.log(total) - weighted_log / total
+
+    def _products(self, movement: int, repeats: int) -> tuple[np.ndarray, np.ndarray]:
+        """exp(w s) and exp(w s) * w s over `movement`'s sweeps after `repeats` of its own."""
+        rows = slice(self._row_ends[movement - 1] if movement else 0, self._row_ends[movement])
+        if repeats == 0:
+            return self._exp_shifted[rows], self._exp_shifted_times_shifted[rows]
+        products = self._discounted_products.get((movement, repeats))
+        if products is None:
+            shifted = self.repeat_weights(repeats) * self._shifted[rows]
+            exp_shifted = np.exp(shifted)
+            products = exp_shifted, exp_shifted * shifted
+            if repeats <= MAX_KEPT_REPEATS:
+                self._discounted_products[movement, repeats] = products
+        return products
 
 
 def repeat_weight(discount: float, repeats) -> np.ndarray:
