@@ -304,7 +304,8 @@ def main() -> int:
                         help='DIR/SEED/identification.json from earlier runs of the same report')
     args = parser.parse_args()
     scene_seeds = [int(seed) for seed in args.scene_seeds.split(',')]
-    declared_seeds = [seed for test in DECLARED.values() for seed in test['scene_seeds']]
+    declared_seeds = list(dict.fromkeys(  # two tests may share seeds
+        seed for test in DECLARED.values() for seed in test['scene_seeds']))
     if set(scene_seeds) & set(declared_seeds):
         parser.error(f"--scene-seeds: {declared_seeds} are the declared tests' seeds "
                      '(DECLARED), never explored; leave them out')
@@ -337,12 +338,6 @@ def main() -> int:
             for variant, kept in reports.items():
                 kept[seed] = json.loads((made / variant / 'identification.json').read_text(
                     encoding='utf-8'))
-        shutil.rmtree(RESULTS, ignore_errors=True)
-        (RESULTS / DISCOUNTED).mkdir(parents=True)
-        for variant, kept in reports.items():
-            for seed, report in kept.items():
-                (RESULTS / variant / f'{seed}.json').write_text(
-                    json.dumps(report, indent=1) + '\n', encoding='utf-8')
     explored = {variant: {seed: kept[seed] for seed in scene_seeds}
                 for variant, kept in reports.items()}
     plain, discounted = summary(explored['']), summary(explored[DISCOUNTED])
@@ -355,6 +350,12 @@ def main() -> int:
                       **{variant or 'default': confirmatory(kept, test)
                          for variant, kept in reports.items()}}
                 for key, test in DECLARED.items()}}
+    shutil.rmtree(RESULTS, ignore_errors=True)  # every test computed: nothing half-written
+    (RESULTS / DISCOUNTED).mkdir(parents=True)
+    for variant, kept in reports.items():
+        for seed, report in kept.items():
+            (RESULTS / variant / f'{seed}.json').write_text(json.dumps(report, indent=1) + '\n',
+                                                            encoding='utf-8')
     (RESULTS / 'seeds.json').write_text(json.dumps(table, indent=1) + '\n', encoding='utf-8')
     plot(RESULTS / 'seeds.png', {'every sweep counts fully (default)': (explored[''],
                                                                         plain['pooled']),
