@@ -192,20 +192,24 @@ def identification_seeds() -> str:
         f'pooled {_points(discounted["pooled"])}{_verdict(discounted["pooled"])}.'
         + _equal_accuracy(kept, discounted, kept['scene_seeds'])
         + _on_tradeoff(kept, discounted, kept['scene_seeds'])
-        + ''.join(_confirmatory(kept[key], first=index == 0)
+        + ''.join(_confirmatory(kept[key], first=index == 0,
+                                shown=[kept[earlier] for earlier in kept['declared'][:index]])
                   for index, key in enumerate(kept.get('declared', ()))))
 
 
-def _confirmatory(declared: dict, first: bool) -> str:
+def _confirmatory(declared: dict, first: bool, shown: list[dict]) -> str:
     """One policy's declared tests, one per goal, on further fresh seeds, both settings.
 
     `first`: the first declared (it follows the exploration; a later one follows it).
+    `shown`: the declared tests rendered before it; where one of them had the same seeds,
+    their reports are pointed to, not tabulated again.
     """
     seeds, chosen = declared['scene_seeds'], declared['setting']
     names = {'default': ('default', 'every sweep counting fully'),
              'with_repeat_discount': ('discount', 'with the repeat discount')}
     chooser = declared['policy']
-    policies = (chooser, 'random', 'fixed')
+    same_seeds = next((test for test in shown if test['scene_seeds'] == seeds), None)
+    policies = (chooser,) if same_seeds else (chooser, 'random', 'fixed')
     seed_rows, test_rows = [], []
     for setting in (chosen, *(name for name in names if name != chosen)):
         short = names[setting][0]
@@ -242,9 +246,12 @@ def _confirmatory(declared: dict, first: bool) -> str:
         f"fixed's pooled final accuracy less {100 * declared['goal_tolerance']:g} point, "
         "passing where the interval's high end is within "
         f"{100 * declared['goal_share']:g} % of fixed's median contact (the smallest of the "
-        "seeds'). The other setting is shown beside, not tested. Each seed, the same commands "
-        'as above' + (' (the reports made earlier and read with `--reports`)' if earlier
-                      else f' ({minutes:.0f} min)') + ':\n\n'
+        "seeds'). The other setting is shown beside, not tested. "
+        + (f"The seeds' reports are those of {same_seeds['policy']}'s tests above (random's "
+           f"and fixed's figures there); {chooser}'s" if same_seeds else
+           'Each seed, the same commands as above'
+           + (' (the reports made earlier and read with `--reports`)' if earlier
+              else f' ({minutes:.0f} min)')) + ':\n\n'
         '| scene seed, setting | ' + ' | '.join(f'{p}: accuracy, median contact'
                                                 for p in policies) + ' |\n'
         + '|---' * (len(policies) + 1) + '|\n' + '\n'.join(seed_rows)
