@@ -98,12 +98,12 @@ def _choice_time(choice: dict) -> str:
     widest = max(row['sweeps_per_cell'] for row in choice['rows'])
     rows = {(row['sweeps_per_cell'], row['belief'], row['setting'], row['policy']): row
             for row in choice['rows']}
-    worst = max(choice['rows'], key=lambda row: row['choice_ms'][1])
-    within = [rows[widest, 'identifications', setting, policy]['choice_ms'][1]
-              for setting in ('default', 'discount') for policy in ('active', 'active-sampled')]
-    ratios = {setting: [row[key][0] / row['choice_ms'][0]
-                        for row in choice['rows'] if row['setting'] == setting
-                        and row['sweeps_per_cell'] == widest and 'row_by_row_ms' in row
+    within = {(setting, policy): rows[widest, 'identifications', setting, policy]['choice_ms']
+              for setting in ('default', 'discount') for policy in ('active', 'active-sampled')}
+    worst = max(row['choice_ms'][2] for row in choice['rows']
+                if row['belief'] == 'identifications')
+    ratios = {setting: [rows[widest, 'uniform', setting, 'active'][key][0]
+                        / rows[widest, 'uniform', setting, 'active']['choice_ms'][0]
                         for key in ('row_by_row_ms', 'per_movement_ms')]
               for setting in ('default', 'discount')}
     return (
@@ -111,17 +111,23 @@ def _choice_time(choice: dict) -> str:
         f'{choice["textures"]} textures x {choice["movements"]} movements, the target '
         f'{choice["target_ms"]:g} ms; {choice["cores"]} cores at a load of '
         f'{choice["load_average"]:.1f}): over every choice of whole identifications with '
-        f'{widest} held-out sweeps per texture and movement, p99 {within[0]:.2f} ms for active '
-        f'and {within[1]:.2f} ms for active-sampled with every sweep counting fully, '
-        f'{within[2]:.2f} and {within[3]:.2f} ms with a repeat discount of '
+        f'{widest} held-out sweeps per texture and movement, median and p99 '
+        f'{_ms(within["default", "active"])} for active and '
+        f'{_ms(within["default", "active-sampled"])} for active-sampled with every sweep '
+        f'counting fully, {_ms(within["discount", "active"])} and '
+        f'{_ms(within["discount", "active-sampled"])} with a repeat discount of '
         f'{choice["repeat_discount"]:g} (the table makes a movement\'s discounted products '
-        'the first time its number of repeats is asked, and keeps them); the slowest p99 of '
-        f'any row, {worst["choice_ms"][1]:.2f} ms ({worst["sweeps_per_cell"]} sweeps, '
-        f'{worst["policy"]}, {worst["belief"]}, {worst["setting"]}). With {widest}, the same '
-        f'gain took {ratios["default"][0]:.0f}x (discount: {ratios["discount"][0]:.0f}x) '
-        'longer (median) in one exponential pass over every held-out sweep and '
-        f'{ratios["default"][1]:.0f}x ({ratios["discount"][1]:.0f}x) computed movement by '
-        'movement.')
+        'the first time its number of repeats is asked, and keeps them); the slowest single '
+        f'choice of any identification took {worst:.2f} ms. With {widest}, the uniform '
+        f'belief\'s gain took {ratios["default"][0]:.0f}x (discount: '
+        f'{ratios["discount"][0]:.0f}x) longer (median) in one exponential pass over every '
+        f'held-out sweep and {ratios["default"][1]:.0f}x ({ratios["discount"][1]:.0f}x) '
+        'computed movement by movement.')
+
+
+def _ms(times: list[float]) -> str:
+    """A kept row's median and p99."""
+    return f'{times[0]:.2f} / {times[1]:.2f} ms'
 
 
 def _against_goals(report: dict) -> str:
@@ -233,7 +239,8 @@ def _confirmatory(declared: dict, first: bool, shown: list[dict]) -> str:
     minutes, earlier = _minutes_run(declared['steps'])
     return (
         ('\n\n**The declared tests.** The seeds above explored. Before any report of scene '
-         if first else f'\n\n**The declared tests of {chooser}.** Before any report of scene ')
+         if first else f'\n\n**The declared tests of {chooser} on scene seeds {seeds[0]} to '
+         f'{seeds[-1]}.** Before any report of scene ')
         + f'seeds {", ".join(map(str, seeds[:-1]))} and {seeds[-1]} was read, one test per goal '
         f'of {chooser} was declared on them (`DECLARED` in bench/bench_identification_seeds.py), '
         f'{declared["chosen"]}: {names[chosen][1]}, over the '

@@ -130,11 +130,20 @@ def test_the_gain_equals_the_sweep_by_sweep_sum_for_any_evidence_and_belief(tabl
 def test_the_discounted_gain_equals_the_sweep_by_sweep_sum_however_often_it_is_asked(table, data):
     log_posterior = data.draw(hnp.arrays(np.float64, len(table.classes),
                                          elements=st.floats(-1e3, 0.0)))
-    repeats = data.draw(hnp.arrays(np.int64, len(table.names), elements=st.integers(0, 40)))
-    expected = gain_sweep_by_sweep(table, log_posterior, repeats)
-    for _ in range(2):  # the second time from the discounted products kept by the first
-        assert table.information_gain(log_posterior, repeats) == pytest.approx(expected,
-                                                                               abs=1e-8)
+    asked = data.draw(st.lists(hnp.arrays(np.int64, len(table.names),
+                                          elements=st.integers(0, 40)), min_size=1, max_size=3))
+    expected = [gain_sweep_by_sweep(table, log_posterior, repeats) for repeats in asked]
+    for repeats, gain in 2 * list(zip(asked, expected, strict=True)):  # again, as kept
+        assert table.information_gain(log_posterior, repeats) == pytest.approx(gain, abs=1e-8)
+
+
+@pytest.mark.parametrize('repeats', [[1], [1, 0, 0], [0.5, 0], [-1, 0], [np.nan, 0],
+                                     [np.inf, 0], 'ab'])
+def test_repeats_that_are_not_counts_per_movement_are_refused(repeats):
+    table = EvidenceTable(['a', 'b'], [MovementEvidence(name, 1.0, np.eye(2), np.arange(2))
+                                       for name in ('m0', 'm1')], repeat_discount=0.5)
+    with pytest.raises(ValueError, match='repeats must be one whole number'):
+        table.information_gain(np.log([0.5, 0.5]), repeats)
 
 
 @settings(max_examples=100, deadline=None)

@@ -49,7 +49,9 @@ MAX_TEMPERING = 100.0
 MAX_REPEAT_DISCOUNT = 100.0
 NEGLIGIBLE_MASS = 1e-9  # posterior mass left out of the expected gain (see information_gain)
 PRODUCT_SPREAD = 300.0  # nats a sweep's terms may span for the gain by products
-MAX_KEPT_REPEATS = 32  # the discounted products kept per movement (more are made each time)
+# The discounted products kept per movement (more are made each time): at most
+# 2 x MAX_KEPT_REPEATS copies of the table's terms, reached only by that many repeats.
+MAX_KEPT_REPEATS = 16
 
 
 @dataclass(frozen=True)
@@ -204,8 +206,9 @@ class EvidenceTable:
                          sweep_weights: np.ndarray | None = None) -> np.ndarray:
         """Expected entropy lost (nats) by one sweep of each movement, given the belief.
 
-        `repeats`: per movement, its sweeps already taken (default none): each movement's
-        terms are weighted as its next sweep's update will be (`repeat_weights`).
+        `repeats`: per movement, its sweeps already taken, whole numbers >= 0 (default
+        none): each movement's terms are weighted as its next sweep's update will be
+        (`repeat_weights`).
         `sweep_weights`: each held-out sweep's chance of being the one drawn for its
         (movement, texture), one per sweep in the table's order, summing to one over each
         (default: alike, `bootstrap_weights` draws others).
@@ -220,8 +223,10 @@ class EvidenceTable:
         order = np.argsort(posterior)
         kept = np.ones(len(posterior), dtype=bool)
         kept[order[np.cumsum(posterior[order]) < NEGLIGIBLE_MASS]] = False
+        if repeats is not None:
+            repeats = self._checked_repeats(repeats)
         discounted = (repeats is not None and self.repeat_discount > 0.0
-                      and np.any(np.asarray(repeats) > 0))
+                      and np.any(repeats > 0))
         share = self._share_of if sweep_weights is None else np.asarray(sweep_weights, float)
         if share.shape != self._share_of.shape:
             raise ValueError(f'sweep_weights must be one weight per held-out sweep '
@@ -229,8 +234,8 @@ class EvidenceTable:
         if self._by_products:
             rows = slice(None)
             drawn = posterior[self._label_of] * share * kept[self._label_of]
-            after = self._entropy_after_by_products(
-                log_posterior, np.asarray(repeats, dtype=int) if discounted else None)
+            after = self._entropy_after_by_products(log_posterior,
+                                                    repeats if discounted else None)
         else:
             rows = kept[self._label_of] if not kept.all() else slice(None)
             drawn = posterior[self._label_of[rows]] * share[rows]
@@ -241,6 +246,21 @@ class EvidenceTable:
         expected = np.bincount(self._movement_of[rows], weights=drawn * after,
                                minlength=len(self.names))
         return entropy(log_posterior) - expected
+
+    def _checked_repeats(self, repeats) -> np.ndarray:
+        """`repeats` as one whole number >= 0 per movement.
+
+        Raises:
+            ValueError: another shape, a fraction, a negative or a non-finite count.
+        """
+        counts = np.asarray(repeats)
+        if counts.shape != (len(self.names),) or not (
+                np.issubdtype(counts.dtype, np.integer)
+                or (np.issubdtype(counts.dtype, np.floating) and np.all(np.isfinite(counts))
+                    and np.all(counts == np.round(counts)))) or np.any(counts < 0):
+            raise ValueError(f'repeats must be one whole number >= 0 per movement '
+                             f'({len(self.names)}), got {repeats!r}')
+        return counts.astype(int)
 
     def bootstrap_weights(self, rng: np.random.Generator) -> np.ndarray:
         """One Bayesian bootstrap of the held-out sweeps: Dirichlet(1) weights per cell.
