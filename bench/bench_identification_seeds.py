@@ -358,21 +358,24 @@ def main() -> int:
                       **{variant or 'default': confirmatory(kept, test)
                          for variant, kept in reports.items()}}
                 for key, test in DECLARED.items()}}
-    shutil.rmtree(RESULTS, ignore_errors=True)  # every test computed: nothing half-written
-    (RESULTS / DISCOUNTED).mkdir(parents=True)
+    written = RESULTS.with_name(RESULTS.name + '.new')  # replaces RESULTS once whole
+    shutil.rmtree(written, ignore_errors=True)
+    (written / DISCOUNTED).mkdir(parents=True)
     for variant, kept in reports.items():
         for seed, report in kept.items():
-            (RESULTS / variant / f'{seed}.json').write_text(json.dumps(report, indent=1) + '\n',
+            (written / variant / f'{seed}.json').write_text(json.dumps(report, indent=1) + '\n',
                                                             encoding='utf-8')
-    (RESULTS / 'seeds.json').write_text(json.dumps(table, indent=1) + '\n', encoding='utf-8')
-    plot(RESULTS / 'seeds.png', {'every sweep counts fully (default)': (explored[''],
+    (written / 'seeds.json').write_text(json.dumps(table, indent=1) + '\n', encoding='utf-8')
+    plot(written / 'seeds.png', {'every sweep counts fully (default)': (explored[''],
                                                                         plain['pooled']),
                                  'repeat discount fitted': (explored[DISCOUNTED],
                                                             discounted['pooled'])})
-    plot_tradeoff(RESULTS / 'tradeoff.png', {'default': explored[''],
+    plot_tradeoff(written / 'tradeoff.png', {'default': explored[''],
                                              'discount': explored[DISCOUNTED]})
-    plot_saving(RESULTS / 'saving.png', {'default': plain['on_tradeoff'],
+    plot_saving(written / 'saving.png', {'default': plain['on_tradeoff'],
                                          'discount': discounted['on_tradeoff']})
+    shutil.rmtree(RESULTS, ignore_errors=True)  # every file written: nothing half-written
+    written.rename(RESULTS)
     print(json.dumps({'pooled': plain['pooled'], DISCOUNTED: discounted['pooled'],
                       'against_fixed': plain['against_fixed'],
                       **{key: table[key] for key in DECLARED}}, indent=1))
