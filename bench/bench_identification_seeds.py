@@ -116,9 +116,38 @@ POOLED_SAMPLED_CONFIRMATORY = {
                'it, its setting and thresholds those of the first; secondary to those of '
                'active: a pass here where those fail says that sampling earns its place, not '
                'that the goals are met')}
+# Declared on 2026-12-04, after active failed the test against random pooled over
+# 2059-2069 (+3.9 s [-2.8, +15.8]) as on 2047-2051, and before any scene of these seeds
+# was collected: sized, not guessed. Read on every kept seed that replayed each policy
+# (bench_identification_power.py, its output in bench/results/identification_power/), a
+# test of 144 textures (twelve seeds) passes both goals, with the discount, in 83 % of
+# simulated draws for active-rounds and in 70 % for active; active needs about 216 (18
+# seeds) for 84 %. Active-rounds (choose by gain among the movements run fewest times, so
+# that repeats spread over models that err apart) saved seconds against random with the
+# narrowest intervals on the seeds read after the fact (+3.7 s [+1.7, +7.9] on
+# 2059-2069), where active's point estimates favoured it on every seed but its intervals
+# spanned zero. So the primary tests are active-rounds', on twelve fresh seeds, with the
+# first test's setting, thresholds, tolerance, share and bootstrap; a pass of both says
+# that choosing by gain in rounds meets the goals, and makes it the policy the node and
+# the report choose by default. Active's on the same seeds are secondary (under-powered
+# at this size, by the estimate above). The reports are made by the code of eb060a8, as
+# for the third test.
+ROUNDS_CONFIRMATORY = {
+    **CONFIRMATORY, 'policy': 'active-rounds',
+    'scene_seeds': (2071, 2073, 2075, 2077, 2079, 2081, 2083, 2085, 2087, 2089, 2091, 2093),
+    'chosen': ('sized from the kept seeds (bench_identification_power.py) after active failed '
+               'twice against random; choice by gain in rounds, the primary tests, whose pass '
+               'makes it the default policy; the setting and thresholds those of the first')}
+ROUNDS_ACTIVE_CONFIRMATORY = {
+    **ROUNDS_CONFIRMATORY, 'policy': 'active',
+    'chosen': ("the goals' own policy on the twelve seeds of the active-rounds test beside "
+               'it, secondary to those (a test of this size passes for it in about 70 % of '
+               'simulated draws)')}
 DECLARED = {'confirmatory': CONFIRMATORY, 'confirmatory_sampled': SAMPLED_CONFIRMATORY,
             'confirmatory_pooled': POOLED_CONFIRMATORY,
-            'confirmatory_pooled_sampled': POOLED_SAMPLED_CONFIRMATORY}
+            'confirmatory_pooled_sampled': POOLED_SAMPLED_CONFIRMATORY,
+            'confirmatory_rounds': ROUNDS_CONFIRMATORY,
+            'confirmatory_rounds_active': ROUNDS_ACTIVE_CONFIRMATORY}
 
 
 def random_goal(report: dict) -> dict:
@@ -267,16 +296,32 @@ def confirmatory(reports: dict[int, dict], declared: dict) -> dict:
     sums = {policy: pooled_sums([reports[seed]['tradeoff']['textures'][policy]
                                  for seed in seeds])
             for policy in (tested, 'random', 'fixed')}
-    bootstrap = {'seed': declared['bootstrap_seed'], 'resamples': declared['resamples']}
+    budget = declared['goal_share'] * min(reports[seed]['policies']['fixed']['median_contact_s']
+                                          for seed in seeds)
+    tests = goal_tests(sums, declared, budget)
+    if not tests:
+        raise SystemExit(f'error: the declared tests have no textures that {tested}, random '
+                         f'and fixed all have episodes of on scene seeds {seeds}')
+    return tests
+
+
+def goal_tests(sums: dict, declared: dict, budget: float,
+               resamples: int | None = None, bootstrap_seed: int | None = None) -> dict:
+    """Both goals' tests of `declared` on pooled trade-offs; {} without shared textures.
+
+    `sums`: `pooled_sums` of the declared policy, random and fixed, the same units in the
+    same order. `budget`: the seconds of mean contact the test against fixed allows.
+    `resamples` and `bootstrap_seed` default to the declaration's.
+    """
+    tested = declared['policy']
+    bootstrap = {'seed': declared['bootstrap_seed'] if bootstrap_seed is None else bootstrap_seed,
+                 'resamples': declared['resamples'] if resamples is None else resamples}
     saving = mean_saving_interval(sums[tested], sums['random'], declared['thresholds'],
                                   **bootstrap)
     goal = fixed_goal_interval(sums[tested], sums['fixed'], declared['goal_tolerance'],
                                **bootstrap)
     if not (saving and goal):
-        raise SystemExit(f'error: the declared tests have no textures that {tested}, random '
-                         f'and fixed all have episodes of on scene seeds {seeds}')
-    budget = declared['goal_share'] * min(reports[seed]['policies']['fixed']['median_contact_s']
-                                          for seed in seeds)
+        return {}
     units = np.all([np.asarray(sums[policy]['episodes']) > 0 for policy in sums], axis=0)
     return {'against_random': {**saving, 'passed': saves_clearly(saving)},
             'against_fixed': {**goal, 'budget_s': budget,
