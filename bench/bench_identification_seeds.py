@@ -305,6 +305,20 @@ def confirmatory(reports: dict[int, dict], declared: dict) -> dict:
     return tests
 
 
+def read_after(reports: dict[str, dict[int, dict]], declared: dict) -> dict:
+    """The same tests of every other policy all the declared seeds' reports replayed, per setting.
+
+    Read after the test, not tested: what the seeds say of the policies not declared.
+    """
+    seeds = declared['scene_seeds']
+    return {variant or 'default': {
+        policy: confirmatory(kept, {**declared, 'policy': policy})
+        for policy in kept[seeds[0]]['policies']
+        if policy not in (declared['policy'], 'random', 'fixed')
+        and all(policy in kept[seed]['policies'] for seed in seeds)}
+        for variant, kept in reports.items()}
+
+
 def goal_tests(sums: dict, declared: dict, budget: float,
                resamples: int | None = None, bootstrap_seed: int | None = None) -> dict:
     """Both goals' tests of `declared` on pooled trade-offs; {} without shared textures.
@@ -401,7 +415,8 @@ def main() -> int:
              **{key: {**test, 'steps': [step for seed in test['scene_seeds']
                                         for step in steps[seed]],
                       **{variant or 'default': confirmatory(kept, test)
-                         for variant, kept in reports.items()}}
+                         for variant, kept in reports.items()},
+                      'read_after': read_after(reports, test)}
                 for key, test in DECLARED.items()}}
     written = RESULTS.with_name(RESULTS.name + '.new')  # replaces RESULTS once whole
     shutil.rmtree(written, ignore_errors=True)

@@ -25,6 +25,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))  # the result modules b
 from results_identification import (  # noqa: E402
     identification,
     identification_init,
+    identification_power,
     identification_seeds,
     identify_live,
     identify_live_sweeps,
@@ -95,7 +96,8 @@ SECTIONS: dict[str, Callable[[], str]] = {
     'identify_live_sweeps_init_sweeps_realized': identify_live_sweeps_init_sweeps_realized,
     'texture_signal': texture_signal,
     'identification_init': identification_init,
-    'identification_seeds': identification_seeds}
+    'identification_seeds': identification_seeds,
+    'identification_power': identification_power}
 
 
 def _wrapped(text: str) -> str:

@@ -200,6 +200,10 @@ def identification_seeds() -> str:
         + _on_tradeoff(kept, discounted, kept['scene_seeds'])
         + ''.join(_confirmatory(kept[key], first=index == 0,
                                 shown=[kept[earlier] for earlier in kept['declared'][:index]])
+                  + _read_after(kept[key], {kept[other]['policy'] for other in kept['declared']
+                                            if kept[other]['scene_seeds']
+                                            == kept[key]['scene_seeds']},
+                                shown=[kept[earlier] for earlier in kept['declared'][:index]])
                   for index, key in enumerate(kept.get('declared', ()))))
 
 
@@ -268,6 +272,49 @@ def _confirmatory(declared: dict, first: bool, shown: list[dict]) -> str:
         f"{100 * declared['goal_share']:g} % of fixed's median | passed |\n"
         + '|---' * 7 + '|\n' + '\n'.join(test_rows)
         + f'\n\n{names[chosen][1].capitalize()}, the declared setting, {verdict}.')
+
+
+def identification_power() -> str:
+    """How often a declared test of each size passes, drawn from the kept seeds."""
+    kept = kept_json('identification_power/power.json')
+    rows = []
+    for setting, policies in kept['settings'].items():
+        for policy, row in policies.items():
+            sizes = row['power']
+            rows.append(f'| {policy}, {setting} | {len(row["pilot_seeds"])} | ' + ' | '.join(
+                f'{100 * cell["both"]:.0f} % ({100 * cell["against_random"]:.0f}, '
+                f'{100 * cell["against_fixed"]:.0f})' for cell in sizes) + ' |')
+    return (
+        'Measured (`python bench/bench_identification_power.py`): each of '
+        f'{kept["draws"]} simulated declared tests per size draws that many (seed, texture) '
+        "units with replacement from every kept seed's report that replayed the policy, and "
+        "runs both goals' tests on them as a declared test does ("
+        f'{_thresholds_text([f"{t:g}" for t in kept["thresholds"]])}, '
+        f'{kept["resamples"]} resamples each); the share that passes both, and in brackets '
+        "each alone (against random, against fixed); [the plot]"
+        f'({FIGURES}/identification_power/power.png):\n\n'
+        '| policy, setting | kept seeds drawn from | ' + ' | '.join(
+            f'{cell["textures"]} textures' for cell in sizes) + ' |\n'
+        + '|---' * (len(sizes) + 2) + '|\n' + '\n'.join(rows))
+
+
+def _read_after(declared: dict, tested: set[str], shown: list[dict]) -> str:
+    """The declared tests' reading of the policies not declared on those seeds, untested.
+
+    Given once per set of seeds (after the first test on them); '' where none is kept.
+    """
+    if any(test['scene_seeds'] == declared['scene_seeds'] for test in shown):
+        return ''
+    rows = [f'| {policy}, {"discount" if setting == "with_repeat_discount" else setting} | '
+            f'{saving_text(tests["against_random"])} | {_goal_text(tests["against_fixed"])} |'
+            for setting, policies in declared.get('read_after', {}).items()
+            for policy, tests in policies.items() if policy not in tested]
+    if not rows:
+        return ''
+    return ('\n\nRead after the fact on the same seeds, not tested: the same two readings of '
+            'the other policies the reports replayed.\n\n'
+            "| policy, setting | seconds saved against random [95 %] | fixed's final accuracy "
+            "after (s; share of fixed's mean) |\n|---|---|---|\n" + '\n'.join(rows))
 
 
 def _minutes_run(steps: list[dict]) -> tuple[float, bool]:
