@@ -17,6 +17,8 @@ from tactex_classify.identification.tradeoff import (
     saves_clearly,
 )
 
+SETTING_NAMES = {'default': ('default', 'every sweep counting fully'),  # short, long
+                 'with_repeat_discount': ('discount', 'with the repeat discount')}
 SHOWN_THRESHOLDS = (0.7, 0.9, 0.95, 0.98, 0.99)  # of the trade-off against random
 TRADEOFF = ("report's episodes cut after the first step whose leading posterior exceeds a "
             'lower threshold (a policy chooses from the belief, never from the threshold, so '
@@ -198,13 +200,30 @@ def identification_seeds() -> str:
         f'pooled {_points(discounted["pooled"])}{_verdict(discounted["pooled"])}.'
         + _equal_accuracy(kept, discounted, kept['scene_seeds'])
         + _on_tradeoff(kept, discounted, kept['scene_seeds'])
-        + ''.join(_confirmatory(kept[key], first=index == 0,
-                                shown=[kept[earlier] for earlier in kept['declared'][:index]])
-                  + _read_after(kept[key], {kept[other]['policy'] for other in kept['declared']
-                                            if kept[other]['scene_seeds']
-                                            == kept[key]['scene_seeds']},
-                                shown=[kept[earlier] for earlier in kept['declared'][:index]])
-                  for index, key in enumerate(kept.get('declared', ()))))
+        + _declared_tests([kept[key] for key in kept.get('declared', ())]))
+
+
+def _declared_tests(tests: list[dict]) -> str:
+    """Every declared test in the order declared, each set of seeds with its untested reading."""
+    text = ''
+    for index, test in enumerate(tests):
+        if test.get('pending'):
+            text += _pending(test)
+            continue
+        declared_on_seeds = {other['policy'] for other in tests
+                             if other['scene_seeds'] == test['scene_seeds']}
+        text += (_confirmatory(test, first=index == 0, shown=tests[:index])
+                 + _read_after(test, declared_on_seeds))
+    return text
+
+
+def _pending(declared: dict) -> str:
+    """A declared test whose seeds' reports are not in yet: what was declared, no figures."""
+    seeds = declared['scene_seeds']
+    return (f'\n\n**The declared tests of {declared["policy"]} on scene seeds {seeds[0]} to '
+            f'{seeds[-1]}.** Declared (`DECLARED` in bench/bench_identification_seeds.py) before '
+            f'any of the {len(seeds)} scenes was collected: {declared["chosen"]}; '
+            f'{SETTING_NAMES[declared["setting"]][1]}. Its reports are not in yet.')
 
 
 def _confirmatory(declared: dict, first: bool, shown: list[dict]) -> str:
@@ -215,8 +234,7 @@ def _confirmatory(declared: dict, first: bool, shown: list[dict]) -> str:
     their reports are pointed to, not tabulated again.
     """
     seeds, chosen = declared['scene_seeds'], declared['setting']
-    names = {'default': ('default', 'every sweep counting fully'),
-             'with_repeat_discount': ('discount', 'with the repeat discount')}
+    names = SETTING_NAMES
     chooser = declared['policy']
     same_seeds = next((test for test in shown if test['scene_seeds'] == seeds), None)
     policies = (chooser,) if same_seeds else (chooser, 'random', 'fixed')
@@ -277,38 +295,38 @@ def _confirmatory(declared: dict, first: bool, shown: list[dict]) -> str:
 def identification_power() -> str:
     """How often a declared test of each size passes, drawn from the kept seeds."""
     kept = kept_json('identification_power/power.json')
-    rows = []
+    rows, sizes = [], []
     for setting, policies in kept['settings'].items():
         for policy, row in policies.items():
-            sizes = row['power']
-            rows.append(f'| {policy}, {setting} | {len(row["pilot_seeds"])} | ' + ' | '.join(
-                f'{100 * cell["both"]:.0f} % ({100 * cell["against_random"]:.0f}, '
-                f'{100 * cell["against_fixed"]:.0f})' for cell in sizes) + ' |')
+            sizes = [cell['scene_seeds'] for cell in row['power']]
+            cells = [f'{100 * cell["both"]:.0f} % ({100 * cell["against_random"]:.0f}, '
+                     f'{100 * cell["against_fixed"]:.0f})' for cell in row['power']]
+            rows.append(f'| {policy}, {SETTING_NAMES[setting][0]} | {len(row["pilot_seeds"])} | '
+                        + ' | '.join(cells) + ' |')
     return (
         'Measured (`python bench/bench_identification_power.py`): each of '
-        f'{kept["draws"]} simulated declared tests per size draws that many (seed, texture) '
-        "units with replacement from every kept seed's report that replayed the policy, and "
-        "runs both goals' tests on them as a declared test does ("
-        f'{_thresholds_text([f"{t:g}" for t in kept["thresholds"]])}, '
+        f'{kept["draws"]} simulated declared tests per size draws its scene seeds in two '
+        "stages from every kept seed's report that replayed the policy (a population as large "
+        "as the pilot, then the test's seeds from it, each with its textures) and runs both "
+        "goals' tests on them as a declared test does "
+        f'({_thresholds_text([f"{t:g}" for t in kept["thresholds"]])}, '
         f'{kept["resamples"]} resamples each); the share that passes both, and in brackets '
         "each alone (against random, against fixed); [the plot]"
         f'({FIGURES}/identification_power/power.png):\n\n'
-        '| policy, setting | kept seeds drawn from | ' + ' | '.join(
-            f'{cell["textures"]} textures' for cell in sizes) + ' |\n'
+        '| policy, setting | kept seeds drawn from | '
+        + ' | '.join(f'{size} seeds' for size in sizes) + ' |\n'
         + '|---' * (len(sizes) + 2) + '|\n' + '\n'.join(rows))
 
 
-def _read_after(declared: dict, tested: set[str], shown: list[dict]) -> str:
-    """The declared tests' reading of the policies not declared on those seeds, untested.
+def _read_after(declared: dict, declared_on_seeds: set[str]) -> str:
+    """What a declared test's seeds say of the policies no test on them declared, untested.
 
-    Given once per set of seeds (after the first test on them); '' where none is kept.
+    Kept with the first test declared on those seeds only; '' for the others.
     """
-    if any(test['scene_seeds'] == declared['scene_seeds'] for test in shown):
-        return ''
-    rows = [f'| {policy}, {"discount" if setting == "with_repeat_discount" else setting} | '
+    rows = [f'| {policy}, {SETTING_NAMES[setting][0]} | '
             f'{saving_text(tests["against_random"])} | {_goal_text(tests["against_fixed"])} |'
             for setting, policies in declared.get('read_after', {}).items()
-            for policy, tests in policies.items() if policy not in tested]
+            for policy, tests in policies.items() if policy not in declared_on_seeds]
     if not rows:
         return ''
     return ('\n\nRead after the fact on the same seeds, not tested: the same two readings of '
