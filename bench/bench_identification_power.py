@@ -23,17 +23,22 @@ import json
 from pathlib import Path
 import sys
 
-from bench_identification_seeds import CONFIRMATORY, DISCOUNTED, fixed_budget, goal_tests
+from bench_identification_seeds import (
+    COMPARED,
+    CONFIRMATORY,
+    declared_sums,
+    DISCOUNTED,
+    fixed_budget,
+    goal_tests,
+)
 from bench_identification_seeds import RESULTS as SEEDS
 import numpy as np
 
 from tactex_classify.identification.selection import POLICIES
-from tactex_classify.identification.tradeoff import pooled_sums
 from tactex_common import plotting
 
 RESULTS = Path(__file__).parent / 'results' / 'identification_power'
 SETTINGS = {'default': SEEDS, DISCOUNTED: SEEDS / DISCOUNTED}  # seeds.json's keys
-COMPARED = ('random', 'fixed')  # what a declared test compares its policy with
 
 
 def pilot(policy: str, folder: Path) -> dict[int, dict]:
@@ -52,9 +57,8 @@ def power(reports: dict[int, dict], declared: dict, scene_seeds: int, draws: int
     for draw in range(draws):
         population = generator.choice(pilot_seeds, size=len(pilot_seeds))
         drawn = [reports[seed] for seed in generator.choice(population, size=scene_seeds)]
-        sums = {policy: pooled_sums([report['tradeoff']['textures'][policy] for report in drawn])
-                for policy in (declared['policy'], *COMPARED)}
-        tests = goal_tests(sums, declared, fixed_budget(drawn, declared), resamples=resamples,
+        tests = goal_tests(declared_sums(drawn, declared['policy']), declared,
+                           fixed_budget(drawn, declared), resamples=resamples,
                            bootstrap_seed=draw)
         passed.append((bool(tests) and tests['against_random']['passed'],
                        bool(tests) and tests['against_fixed']['passed']))

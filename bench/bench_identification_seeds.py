@@ -59,6 +59,7 @@ RESULTS = Path(__file__).parent / 'results' / 'identification_seeds'
 MOVEMENTS = Path(__file__).parents[1] / 'config' / 'movements.yaml'
 FRESH = (2037, 2039, 2041, 2043, 2045)
 DISCOUNTED = 'with_repeat_discount'  # the second report's folder and seeds.json key
+COMPARED = ('random', 'fixed')  # what a declared test compares its policy with
 # Declared on 2026-12-03, before a report of these seeds was read; the exploration above
 # chose the setting (the discount) and the stretch of thresholds. Each goal gets one test
 # on the setting's reports of these seeds, their textures pooled (the (seed, texture)
@@ -297,10 +298,8 @@ def confirmatory(reports: dict[int, dict], declared: dict) -> dict:
     if lacking:
         raise SystemExit(f'error: the reports of scene seeds {lacking} did not replay '
                          f'{tested}: report them again with --policies including it')
-    sums = {policy: pooled_sums([reports[seed]['tradeoff']['textures'][policy]
-                                 for seed in seeds])
-            for policy in (tested, 'random', 'fixed')}
-    tests = goal_tests(sums, declared, fixed_budget([reports[seed] for seed in seeds], declared))
+    chosen = [reports[seed] for seed in seeds]
+    tests = goal_tests(declared_sums(chosen, tested), declared, fixed_budget(chosen, declared))
     if not tests:
         raise SystemExit(f'error: the declared tests have no textures that {tested}, random '
                          f'and fixed all have episodes of on scene seeds {seeds}')
@@ -320,6 +319,12 @@ def declared_results(test: dict, reports: dict[str, dict[int, dict]],
             **({'read_after': read_after(reports, test)} if first else {})}
 
 
+def declared_sums(reports: list[dict], policy: str) -> dict:
+    """The trade-offs' `pooled_sums` of `policy` and of COMPARED over `reports`, in order."""
+    return {name: pooled_sums([report['tradeoff']['textures'][name] for report in reports])
+            for name in (policy, *COMPARED)}
+
+
 def fixed_budget(reports: list[dict], declared: dict) -> float:
     """The test against fixed's budget: its share of the smallest median contact of fixed."""
     return declared['goal_share'] * min(report['policies']['fixed']['median_contact_s']
@@ -335,7 +340,7 @@ def read_after(reports: dict[str, dict[int, dict]], declared: dict) -> dict:
     return {variant or 'default': {
         policy: confirmatory(kept, {**declared, 'policy': policy})
         for policy in kept[seeds[0]]['policies']
-        if policy not in (declared['policy'], 'random', 'fixed')
+        if policy not in (declared['policy'], *COMPARED)
         and all(policy in kept[seed]['policies'] for seed in seeds)}
         for variant, kept in reports.items()}
 

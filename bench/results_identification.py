@@ -234,13 +234,12 @@ def _confirmatory(declared: dict, first: bool, shown: list[dict]) -> str:
     their reports are pointed to, not tabulated again.
     """
     seeds, chosen = declared['scene_seeds'], declared['setting']
-    names = SETTING_NAMES
     chooser = declared['policy']
     same_seeds = next((test for test in shown if test['scene_seeds'] == seeds), None)
     policies = (chooser,) if same_seeds else (chooser, 'random', 'fixed')
     seed_rows, test_rows = [], []
-    for setting in (chosen, *(name for name in names if name != chosen)):
-        short = names[setting][0]
+    for setting in (chosen, *(name for name in SETTING_NAMES if name != chosen)):
+        short = SETTING_NAMES[setting][0]
         for seed in seeds:
             folder = '' if setting == 'default' else f'{setting}/'
             report = kept_json(f'identification_seeds/{folder}{seed}.json')['policies']
@@ -265,7 +264,7 @@ def _confirmatory(declared: dict, first: bool, shown: list[dict]) -> str:
          f'{seeds[-1]}.** Before any report of scene ')
         + f'seeds {", ".join(map(str, seeds[:-1]))} and {seeds[-1]} was read, one test per goal '
         f'of {chooser} was declared on them (`DECLARED` in bench/bench_identification_seeds.py), '
-        f'{declared["chosen"]}: {names[chosen][1]}, over the '
+        f'{declared["chosen"]}: {SETTING_NAMES[chosen][1]}, over the '
         f"{len(seeds)} seeds' {passed['units']} textures pooled, with 95 % intervals from "
         f'{declared["resamples"]} draws of them. Against random: the seconds {chooser} saves '
         'at equal accuracy, averaged over '
@@ -289,16 +288,17 @@ def _confirmatory(declared: dict, first: bool, shown: list[dict]) -> str:
         "final accuracy after (s; share of fixed's mean) | "
         f"{100 * declared['goal_share']:g} % of fixed's median | passed |\n"
         + '|---' * 7 + '|\n' + '\n'.join(test_rows)
-        + f'\n\n{names[chosen][1].capitalize()}, the declared setting, {verdict}.')
+        + f'\n\n{SETTING_NAMES[chosen][1].capitalize()}, the declared setting, {verdict}.')
 
 
 def identification_power() -> str:
     """How often a declared test of each size passes, drawn from the kept seeds."""
     kept = kept_json('identification_power/power.json')
-    rows, sizes = [], []
+    rows = []
+    first = next(iter(next(iter(kept['settings'].values())).values()))
+    sizes = [cell['scene_seeds'] for cell in first['power']]  # every row's, by the bench
     for setting, policies in kept['settings'].items():
         for policy, row in policies.items():
-            sizes = [cell['scene_seeds'] for cell in row['power']]
             cells = [f'{100 * cell["both"]:.0f} % ({100 * cell["against_random"]:.0f}, '
                      f'{100 * cell["against_fixed"]:.0f})' for cell in row['power']]
             rows.append(f'| {policy}, {SETTING_NAMES[setting][0]} | {len(row["pilot_seeds"])} | '
