@@ -386,7 +386,14 @@ BAD_INPUTS = {
              '--movements .*unknown keys sped', '{w}/run'),
         Case('train {w}/data.npz --out {w}/run --movements {w}/movements/long.yaml',
              'DATA .*data.npz: 6 recording.* name no movement', '{w}/run'),
-        Case('train {w}/nothing.npz --out {w}/run', 'need .*nothing.npz and its sidecar',
+        Case('train {w}/nothing.npz --out {w}/run', 'DATA .*nothing.npz does not exist; make one '
+             'with `tactex convert BAGS --out DATA.npz`', '{w}/run'),
+        Case('train {w} --out {w}/run', 'DATA .* is a folder; give the .npz dataset', '{w}/run'),
+        Case('train {w}/text.txt --out {w}/run', 'DATA .*text.txt is not a dataset: give the '
+             '.npz file', '{w}/run'),
+        Case('train {w}/foreign/text.bag --out {w}/run', 'DATA .*text.bag is not a dataset',
+             '{w}/run'),
+        Case('train {w}/data.npz --out {w}/run --init=', 'argument --init: must not be empty',
              '{w}/run'),
         Case('train {w}/garbage.npz --out {w}/run', 'garbage.npz is not a tactex dataset',
              '{w}/run'),
@@ -553,8 +560,9 @@ BAD_INPUTS = {
         Case('sweep --edge-offset 2', r'--edge-offset: edge_offset_rad must be in \[0, 1.5708\)'),
         Case('sweep --press-depth 0.5', '--press-depth: press_depth_m must be in'),
         Case('sweep --pathway {w}/nothing.json', '--pathway .*nothing.json does not exist'),
-        Case('sweep --pathway {w}/text.txt', '--pathway .*text.txt: .*give a file probe_node '
-             'wrote'),
+        Case('sweep --pathway {w}/text.txt', '--pathway .*text.txt: .*give a pathway file '
+             'probe_node wrote'),
+        Case('sweep --pathway=', 'argument --pathway: must not be empty'),
         Case('sweep --trial -1', 'argument --trial: must be a whole number'),
         Case('sweep --movement fast.light', 'argument --movement: must start with a letter '
              'and hold only letters'),
@@ -572,8 +580,11 @@ BAD_INPUTS = {
         Case('identify --budget-seconds -2', 'argument --budget-seconds: must be a finite '
              'number > 0'),
         Case('identify --seed -1', 'argument --seed: must be a whole number'),
-        Case('identify --pathway {w}/text.txt', '--pathway .*text.txt: .*give a file '
+        Case('identify --pathway {w}/text.txt', '--pathway .*text.txt: .*give a pathway file '
              'probe_node wrote'),
+        Case('identify --pathway {w}/nothing.json', '--pathway .*nothing.json does not exist; '
+             'give a pathway file probe_node wrote'),
+        Case('identify --pathway=', 'argument --pathway: must not be empty'),
         Case('identify --namespace nowhere --server-timeout 1', 'no identify action server on '
              r'/nowhere/identify within 1 s: is its node running \(`tactex launch system '
              r'sim:=true bundle:=RUN/bundle`'),
@@ -840,8 +851,14 @@ BAD_INPUTS = {
         Case('report identification {w}/data.npz --out {w}/report',
              'DATA .*data.npz: 6 recording.* name no movement.*sim collect --movements',
              '{w}/report'),
-        Case('report identification {w}/nothing.npz --out {w}/report', 'nothing.npz',
+        Case('report identification {w}/nothing.npz --out {w}/report', 'DATA .*nothing.npz does '
+             'not exist; make one with `tactex convert', '{w}/report'),
+        Case('report identification {w} --out {w}/report', 'DATA .* is a folder; give the .npz',
              '{w}/report'),
+        Case('report identification {w}/text.txt --out {w}/report', 'DATA .*text.txt is not a '
+             'dataset', '{w}/report'),
+        Case('report identification {w}/data.npz --out {w}/report --movements=',
+             'argument --movements: must not be empty', '{w}/report'),
         Case('report identification {w}/data.npz --out {w}/report --policies active,greedy',
              'argument --policies: must be distinct names of active, random, fixed, '
              'round-robin', '{w}/report'),
@@ -880,8 +897,8 @@ BAD_INPUTS = {
         Case('report identification {w}/data.npz --out {w}/full', '--out .*already holds files',
              '{w}/full'),
         Case('report identification {w}/data.npz --out {w}/report --threshold 0.3',
-             r'--threshold 0.3 is at or below 1/3 = 0.333, the starting belief over 3 textures: '
-             r'give more than 0.333 .*in DATA .*data.npz', '{w}/report'),
+             r'DATA .*data.npz: --threshold 0.3 is at or below 1/3 = 0.333, the starting belief '
+             r'over 3 textures: give more than 0.333 \(e.g. 0.99\)$', '{w}/report'),
         Case('report identification {w}/data.npz --out {w}/report --policies active,,random',
              "argument --policies: must be distinct names .*got 'active,,random'", '{w}/report'),
     ],

@@ -119,6 +119,14 @@ def test_a_goal_without_a_fitting_movement_is_refused_with_both_lengths(system, 
                                  'ramps): probe a longer pathway)'), run.stdout
 
 
+def test_a_contact_budget_shorter_than_every_movement_is_refused(system):
+    run = tactex('identify', '--namespace', 'left', '--budget-seconds', '0.5')
+    assert run.returncode == 1
+    assert run.stdout.startswith('identify goal aborted (refused: budget_seconds 0.5 is shorter '
+                                 'than every movement: the shortest contact lasts 0.75 s; give '
+                                 'at least that)'), run.stdout
+
+
 def test_ctrl_c_cancels_the_running_sweep_and_the_goal(system):
     sweep_log = system / 'sweep.log'
     planned = sweep_log.read_text().count('planned in')

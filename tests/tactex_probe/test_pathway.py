@@ -99,8 +99,10 @@ def test_file_names_statuses_in_lower_case(tmp_path):
 
 @pytest.mark.parametrize('change, message', [
     (lambda d: d.update(version=2), 'version 1'),
-    (lambda d: d.pop('probes'), 'missing key'),
-    (lambda d: d.update(extra=1), 'unknown key'),
+    (lambda d: d.pop('probes'), r"top level: missing key\(s\) \['probes'\]; expected"),
+    (lambda d: d.update(extra=1), r"top level: unknown key\(s\) \['extra'\]; expected"),
+    (lambda d: (d.pop('probes'), d.update(extra=1)),
+     r"missing key\(s\) \['probes'\]; unknown key\(s\) \['extra'\]; expected"),
     (lambda d: d['probes'][0].update(status='bent'), 'status must be one of'),
     (lambda d: d['probes'][0].update(normal=[0, 0, 3]), 'unit normal'),
     (lambda d: d['parameters'].update(step=0.0), 'step must be in'),

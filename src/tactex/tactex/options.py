@@ -104,6 +104,13 @@ def output_path(value: str) -> Path:
     return Path(value)
 
 
+def input_path(value: str) -> Path:
+    """An argparse type: a path to read, never empty ('' would be the current folder)."""
+    if not value.strip():
+        raise argparse.ArgumentTypeError('must not be empty: give the path of what to read')
+    return Path(value)
+
+
 def text(value: str) -> str:
     """An argparse type: non-blank text."""
     if not value.strip():
@@ -196,11 +203,14 @@ def check_output_folder(path: Path, option: str = '--out') -> Path:
     return path
 
 
-def check_input_file(path: Path, option: str) -> Path:
-    """`path` is an existing, readable regular file (never opened here)."""
+def check_input_file(path: Path, option: str, hint: str = '') -> Path:
+    """`path` is an existing, readable regular file (never opened here).
+
+    `hint` (how to get the file) is said when it does not exist.
+    """
     path = Path(path)
     if not path.exists():
-        raise CommandError(f'{option} {path} does not exist')
+        raise CommandError(f'{option} {path} does not exist' + (f'; {hint}' if hint else ''))
     if path.is_dir():
         raise CommandError(f'{option} {path} is a folder; give a file')
     try:
@@ -213,19 +223,34 @@ def check_input_file(path: Path, option: str) -> Path:
 
 
 def load_dataset(path: Path, option: str):
-    """The converted dataset at `path`, given with `option`.
+    """The converted dataset at `path` (its .npz; the suffix may be left out), given with `option`.
 
     Raises:
-        CommandError: naming `option`: missing, unreadable, or not a dataset.
+        CommandError: naming `option` and how to make one: missing, a folder, another kind
+            of file, a sidecar missing, or not a dataset.
     """
     from tactex_classify.data.dataset import Dataset
     from tactex_classify.errors import DatasetError
 
-    check_input_file(path, option)
+    path = Path(path)
+    make = 'make one with `tactex convert BAGS --out DATA.npz`'
+    if path.is_dir():
+        raise CommandError(f'{option} {path} is a folder; give the .npz dataset that '
+                           f'`tactex convert` wrote ({make})')
+    if path.suffix not in ('', '.npz'):
+        raise CommandError(f'{option} {path} is not a dataset: give the .npz file that '
+                           f'`tactex convert` wrote ({make})')
+    path = path.with_suffix('.npz')
+    check_input_file(path, option, hint=make)
+    check_input_file(path.with_suffix('.json'), f'{option} {path}: its sidecar',
+                     hint='convert writes it beside the .npz; keep the two together')
     try:
         return Dataset.load(path)
     except DatasetError as err:
         raise CommandError(f'{option} {err}') from None
+
+
+MOVEMENTS_HINT = "give a movement file, such as the workspace's config/movements.yaml (default)"
 
 
 def movement_file(path: Path, sample_rate_hz: float | None):
@@ -241,7 +266,7 @@ def movement_file(path: Path, sample_rate_hz: float | None):
     from tactex_classify.data.dataset import FilterRule
     from tactex_description.movements import load_movements, MovementError
 
-    check_input_file(path, '--movements')
+    check_input_file(path, '--movements', hint=MOVEMENTS_HINT)
     try:  # the converter does not keep a contact's first slide_span_s: it must hold a window
         return load_movements(path, sample_rate_hz=sample_rate_hz,
                               unmeasured_s=FilterRule().slide_span_s)
@@ -249,11 +274,11 @@ def movement_file(path: Path, sample_rate_hz: float | None):
         raise CommandError(f'--movements {err}') from None
 
 
-def check_input_folder(path: Path, option: str) -> Path:
-    """`path` is an existing folder."""
+def check_input_folder(path: Path, option: str, hint: str = '') -> Path:
+    """`path` is an existing folder (`hint`: how to get one, said when it does not exist)."""
     path = Path(path)
     if not path.exists():
-        raise CommandError(f'{option} {path} does not exist')
+        raise CommandError(f'{option} {path} does not exist' + (f'; {hint}' if hint else ''))
     if not path.is_dir():
         raise CommandError(f'{option} {path} is a file; give a folder')
     return path

@@ -12,7 +12,7 @@ import argparse
 from pathlib import Path
 
 from tactex.errors import CommandError
-from tactex.options import check_input_folder, epoch_count, integer, patience_epochs
+from tactex.options import check_input_folder, epoch_count, input_path, integer, patience_epochs
 from tactex_classify.models.registry import BASELINES, PROFILE_NAMES
 from tactex_classify.models.windows import SCALINGS
 
@@ -28,7 +28,7 @@ def add_training_options(parser: argparse.ArgumentParser, *, init: bool = False,
                          threads_help: str = 'torch threads (1)') -> None:
     """Register --epochs, --profile, --early-stopping, --scaling, --threads (and --init)."""
     if init:
-        parser.add_argument('--init', type=Path, metavar='CHECKPOINT', help=INIT_HELP)
+        parser.add_argument('--init', type=input_path, metavar='CHECKPOINT', help=INIT_HELP)
     scaling_help = SCALING_HELP.replace('(default)', "(default; with --init, the checkpoint's)"
                                         ) if init else SCALING_HELP
     parser.add_argument('--epochs', type=epoch_count, default=DEFAULT_EPOCHS,
@@ -104,7 +104,8 @@ def pretrained_model(checkpoint: Path, model: str | None, dataset) -> tuple[str,
     """
     from tactex_classify.errors import CheckpointError
     from tactex_classify.models.checkpoint import read_checkpoint
-    check_input_folder(checkpoint, '--init')
+    check_input_folder(checkpoint, '--init',
+                       hint='give a checkpoint folder that `tactex train` wrote (RUN/model)')
     try:
         info = read_checkpoint(checkpoint)
     except CheckpointError as err:

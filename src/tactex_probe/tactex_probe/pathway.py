@@ -338,5 +338,7 @@ def _expect_keys(table: Any, expected: set[str], source: str, where: str) -> Non
         raise PathwayError(f'{source}: {where} must be an object, got {table!r}')
     missing, unknown = sorted(expected - set(table)), sorted(set(table) - expected)
     if missing or unknown:
-        raise PathwayError(f'{source}: {where}: missing key(s) {missing}, unknown key(s) '
-                           f'{unknown}; expected {sorted(expected)}')
+        found = '; '.join(part for part in (f'missing key(s) {missing}' if missing else '',
+                                            f'unknown key(s) {unknown}' if unknown else '')
+                          if part)
+        raise PathwayError(f'{source}: {where}: {found}; expected {sorted(expected)}')

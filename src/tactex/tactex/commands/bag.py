@@ -10,7 +10,7 @@ from pathlib import Path
 import sys
 
 from tactex.errors import CommandError
-from tactex.options import namespace, number, topic_name
+from tactex.options import input_path, namespace, number, topic_name
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -20,7 +20,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         'info', help='storage, span, and per topic: type, count, rate, jitter and gaps',
         description='What recordings hold: rosbag2 folders (sqlite3, MCAP, zstd), ROS 1 '
         'bags, lone .mcap or .db3 files, folders of part bags.')
-    info.add_argument('paths', nargs='+', type=Path, metavar='RECORDING',
+    info.add_argument('paths', nargs='+', type=input_path, metavar='RECORDING',
                       help='recordings (a folder of recordings: each one in it)')
     info.add_argument('--json', action='store_true',
                       help='one JSON document (a list, one object per recording)')
@@ -32,7 +32,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         description='Publish recordings (any format bag info reads; ROS 1 messages as their '
         'ROS 2 types) at their recorded timing, one after another, so classifier_node, '
         'tactex watch and the live view run on them. Ctrl-C stops it.')
-    play.add_argument('paths', nargs='+', type=Path, metavar='RECORDING')
+    play.add_argument('paths', nargs='+', type=input_path, metavar='RECORDING')
     play.add_argument('--rate-factor', type=number(), default=1.0, metavar='F',
                       help="playback speed (ros2 bag play's --rate; here --rate means Hz): 2 "
                            'plays twice as fast (1)')

@@ -7,13 +7,13 @@ from __future__ import annotations
 import argparse
 from contextlib import ExitStack
 import math
-from pathlib import Path
 import time
 
 from tactex.commands.train import check_folds
 from tactex.errors import CommandError
 from tactex.options import (
     fold_count,
+    input_path,
     integer,
     output_path,
     ray_address,
@@ -48,7 +48,7 @@ def windows(value: str) -> list[int]:
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Register the options of this subcommand."""
-    parser.add_argument('data', nargs='+', type=Path, metavar='DATA',
+    parser.add_argument('data', nargs='+', type=input_path, metavar='DATA',
                         help='recordings (rosbag2 folders, .bag, .mcap or .db3 files, or '
                              'folders of them: converted per window, 50 %% overlap) or '
                              'datasets (.npz, one per window)')

@@ -5,12 +5,12 @@
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 
 from tactex.errors import CommandError
 from tactex.options import (
     check_output_file,
     hop_samples,
+    input_path,
     number,
     output_path,
     refuse_to_replace,
@@ -24,7 +24,7 @@ from tactex_common.channels import CHANNELS
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Register the options of this subcommand."""
-    parser.add_argument('paths', nargs='+', type=Path, metavar='BAG_OR_DIR',
+    parser.add_argument('paths', nargs='+', type=input_path, metavar='BAG_OR_DIR',
                         help='recordings (rosbag2 folders, ROS 1 .bag, .mcap or .db3 '
                         'files), or folders holding recordings')
     parser.add_argument('--out', type=output_path, required=True, help='dataset path (.npz)')

@@ -5,10 +5,9 @@
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 
 from tactex.errors import CommandError
-from tactex.options import check_input_file, check_output_file
+from tactex.options import check_input_file, check_output_file, input_path, output_path
 from tactex_common.files import read_text
 
 MAX_URDF_BYTES = 16 * 1024**2
@@ -16,11 +15,11 @@ MAX_URDF_BYTES = 16 * 1024**2
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Register the options of this subcommand."""
-    parser.add_argument('--write-urdf', type=Path, metavar='PATH',
+    parser.add_argument('--write-urdf', type=output_path, metavar='PATH',
                         help='write the URDF generated from the geometry module to PATH')
-    parser.add_argument('--check-urdf', type=Path, metavar='PATH',
+    parser.add_argument('--check-urdf', type=input_path, metavar='PATH',
                         help='exit 1 when the URDF at PATH differs from the generated one')
-    parser.add_argument('--write-mjcf', type=Path, metavar='PATH',
+    parser.add_argument('--write-mjcf', type=output_path, metavar='PATH',
                         help='write the MuJoCo model of the arm to PATH')
 
 

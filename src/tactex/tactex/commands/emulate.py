@@ -12,7 +12,7 @@ from pathlib import Path
 import tempfile
 
 from tactex.errors import CommandError
-from tactex.options import check_input_file, integer, number, seed_value
+from tactex.options import check_input_file, input_path, integer, number, output_path, seed_value
 from tactex_common.stopping import Stopped
 
 
@@ -21,12 +21,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('device', choices=['teensy', 'dynamixel'], help='what to emulate')
     parser.add_argument('--rate', type=number(at_most=2000.0), default=120.0,
                         help='teensy: frames per second (0 < rate <= 2000)')
-    parser.add_argument('--link', type=Path,
+    parser.add_argument('--link', type=output_path,
                         help='stable path linked to the pty (default /tmp/tactex-teensy or '
                              '/tmp/tactex-dynamixel)')
     parser.add_argument('--motion', choices=['static', 'sway'], default='static',
                         help='signal source: motionless, or compliant sway + vibration')
-    parser.add_argument('--replay', type=Path, metavar='CSV',
+    parser.add_argument('--replay', type=input_path, metavar='CSV',
                         help='replay a recording instead: CSV with t,ax,ay,az,gx,gy,gz,mx,my,mz,'
                              'baro[,temp] in SI units (overrides --motion)')
     parser.add_argument('--roll', type=number(above=None, at_least=-180.0, at_most=180.0),

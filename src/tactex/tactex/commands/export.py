@@ -5,15 +5,20 @@
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 
 from tactex.errors import CommandError
-from tactex.options import check_input_folder, check_output_file, output_path, refuse_to_replace
+from tactex.options import (
+    check_input_folder,
+    check_output_file,
+    input_path,
+    output_path,
+    refuse_to_replace,
+)
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Register the options of this subcommand."""
-    parser.add_argument('checkpoint', type=Path, metavar='CHECKPOINT',
+    parser.add_argument('checkpoint', type=input_path, metavar='CHECKPOINT',
                         help='checkpoint folder (RUN/model/ of `tactex train`)')
     parser.add_argument('--onnx', action='store_true',
                         help='write the model as ONNX, checked against the native model, for '

@@ -13,9 +13,8 @@ from __future__ import annotations
 
 import argparse
 from functools import partial
-from pathlib import Path
 
-from tactex.options import add_goal_options, integer, number, trial_id
+from tactex.options import add_goal_options, input_path, integer, number, trial_id
 from tactex_classify.identification.selection import POLICIES
 
 SHOWN_TEXTURES = 3  # the leading textures printed after each movement
@@ -25,7 +24,7 @@ LAUNCH = 'system sim:=true bundle:=RUN/bundle'
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Register the options of this subcommand."""
-    parser.add_argument('--pathway', type=Path, metavar='FILE',
+    parser.add_argument('--pathway', type=input_path, metavar='FILE',
                         help='a pathway file to choose parts from (default: the one '
                              'probe_node broadcast on probe/pathway)')
     parser.add_argument('--policy', choices=POLICIES, default='active',

@@ -5,13 +5,13 @@
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 
 from tactex.errors import CommandError
 from tactex.options import (
     check_input_folder,
     check_output_file,
     hop_samples,
+    input_path,
     number,
     output_path,
     refuse_to_replace,
@@ -27,7 +27,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Register the options of this subcommand."""
     parser.add_argument('kind', choices=['mun', 'csv'],
                         help='mun: the public MUN tactile texture pickles; csv: CLASS/*.csv')
-    parser.add_argument('root', type=Path, help='folder holding the data')
+    parser.add_argument('root', type=input_path, help='folder holding the data')
     parser.add_argument('--out', type=output_path, required=True, help='dataset path (.npz)')
     parser.add_argument('--force', action='store_true',
                         help='replace an existing dataset at --out (refused without it)')

@@ -8,7 +8,7 @@ import argparse
 from pathlib import Path
 
 from tactex.errors import CommandError
-from tactex.options import check_output_file, output_path, refuse_to_replace
+from tactex.options import check_output_file, input_path, output_path, refuse_to_replace
 
 MAX_JSON_BYTES = 256 * 1024**2  # a comparison's summary.json holds every confusion matrix
 MAX_JSON_DEPTH = 32
@@ -16,7 +16,7 @@ MAX_JSON_DEPTH = 32
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Register the options of this subcommand."""
-    parser.add_argument('target', type=Path, metavar='RECORDING|RUN',
+    parser.add_argument('target', type=input_path, metavar='RECORDING|RUN',
                         help='a recording (bag folder), or the folder of a `tactex train` '
                              'run, a `tactex compare` grid or a `tactex report accuracy-time` '
                              'report, whose PNGs are drawn again from its kept numbers')

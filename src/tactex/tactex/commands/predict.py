@@ -5,13 +5,13 @@
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 import sys
 
 from tactex.errors import CommandError
 from tactex.options import (
     check_input_folder,
     check_output_folder,
+    input_path,
     integer,
     number,
     output_path,
@@ -25,10 +25,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     from tactex_classify.online.live import CONTACT_SOURCES
     from tactex_classify.online.runtime import RUNTIMES
     defaults = EvidenceSettings()
-    parser.add_argument('checkpoint', type=Path, metavar='CHECKPOINT',
+    parser.add_argument('checkpoint', type=input_path, metavar='CHECKPOINT',
                         help='checkpoint folder (RUN/model/ of `tactex train`): torch, '
                              'MiniRocket, ExtraTrees, or ONNX with --runtime onnxruntime')
-    parser.add_argument('inputs', nargs='+', type=Path, metavar='RECORDING_OR_DATASET',
+    parser.add_argument('inputs', nargs='+', type=input_path, metavar='RECORDING_OR_DATASET',
                         help='recordings (any format `tactex bag info` reads; a folder: each '
                              'recording in it) or datasets (.npz with its sidecar)')
     parser.add_argument('--out', type=output_path, help='folder for recordings.csv, windows.csv, '

@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import argparse
 from dataclasses import replace
-from pathlib import Path
 import time
 
 from tactex.errors import CommandError
@@ -20,8 +19,11 @@ from tactex.options import (
     check_output_folder,
     epoch_count,
     fold_count,
+    input_path,
     integer,
+    load_dataset,
     movement_file,
+    MOVEMENTS_HINT,
     number,
     output_path,
     seed_value,
@@ -49,12 +51,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     identification = sub.add_parser(
         'identification', help='replay active identification and the comparison policies on '
         'held-out recordings of every texture under every movement (identification.md + PNGs)')
-    identification.add_argument('data', type=Path,
+    identification.add_argument('data', type=input_path,
                                 help='dataset converted from `tactex sim collect --movements` '
                                      '(.npz with its sidecar)')
     identification.add_argument('--out', type=output_path, required=True,
                                 help='report folder (new)')
-    identification.add_argument('--movements', type=Path, metavar='YAML',
+    identification.add_argument('--movements', type=input_path, metavar='YAML',
                                 help='the movement file the recordings were made with '
                                      '(default config/movements.yaml)')
     identification.add_argument('--policies', type=_policies, default=COMPARED,
@@ -119,7 +121,6 @@ def run(args: argparse.Namespace) -> int:
 def _identification(args: argparse.Namespace) -> int:
     """Replay identification on held-out recordings and write the report."""
     from tactex.commands.train import check_model_window, check_movement_window
-    from tactex_classify.data.dataset import Dataset
     from tactex_classify.identification.movement_evidence import (
         checked_movements,
         DEFAULT_MODEL,
@@ -135,13 +136,13 @@ def _identification(args: argparse.Namespace) -> int:
         raise CommandError(f'--model: unknown model {args.model!r}; known: '
                            f'{", ".join(ALL_MODELS)}')
     path = args.movements or share_directory('tactex') / 'config' / 'movements.yaml'
-    check_input_file(path, '--movements')  # before the dataset, which takes longer to read
-    dataset = Dataset.load(args.data)
+    check_input_file(path, '--movements', hint=MOVEMENTS_HINT)  # before the slower dataset
+    dataset = load_dataset(args.data, 'DATA')
     check_finite_windows(dataset, args.data)
     try:
         check_threshold(args.threshold, len(dataset.classes))
     except ValueError as err:
-        raise CommandError(f'--{err} in DATA {args.data}') from None
+        raise CommandError(f'DATA {args.data}: --{err}') from None
     movements = movement_file(path, dataset.info.get('sampling_rate_hz'))
     shortest = min(movement.contact_s for movement in movements.movements)
     if args.budget_seconds is not None and args.budget_seconds < shortest:

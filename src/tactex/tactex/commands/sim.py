@@ -6,12 +6,12 @@ from __future__ import annotations
 
 import argparse
 from dataclasses import replace
-from pathlib import Path
 
 from tactex.errors import CommandError
 from tactex.options import (
     check_input_folder,
     check_output_folder,
+    input_path,
     integer,
     movement_file,
     output_path,
@@ -35,7 +35,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     collect.add_argument('--seed', type=seed_value,
                          help="replace the scene's seed (e.g. a seed no test uses, for a "
                               'held-out evaluation)')
-    collect.add_argument('--movements', type=Path, metavar='YAML',
+    collect.add_argument('--movements', type=input_path, metavar='YAML',
                          help='sweep every texture under every movement of this file (e.g. '
                               'config/movements.yaml), --sweeps per texture and movement; '
                               'each recording names its movement')
@@ -52,7 +52,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     stats = sub.add_parser('stats', help='per texture and channel: RMS, p99, max, share at '
                                          'the rails, dominant frequency; spectra as PNG '
                                          '(simulated or real recordings)')
-    stats.add_argument('paths', nargs='+', type=Path, metavar='BAG_OR_DIR',
+    stats.add_argument('paths', nargs='+', type=input_path, metavar='BAG_OR_DIR',
                        help='recordings, or folders holding recordings')
     stats.add_argument('--out', type=output_path, required=True,
                        help='folder for stats.md, stats.json and the spectra (new)')

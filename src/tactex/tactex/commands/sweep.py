@@ -15,7 +15,7 @@ import argparse
 from pathlib import Path
 
 from tactex.errors import CommandError
-from tactex.options import add_goal_options, check_input_file, number, text, trial_id
+from tactex.options import add_goal_options, check_input_file, input_path, number, text, trial_id
 from tactex_common.constants import SLIDING_SPEED_M_S
 from tactex_trajectory.poses import PoseSettings
 
@@ -23,7 +23,7 @@ from tactex_trajectory.poses import PoseSettings
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Register the options of this subcommand."""
     pose = PoseSettings()  # (the planner's SweepSettings imports scipy: 0.6 s at start-up)
-    parser.add_argument('--pathway', type=Path, metavar='FILE',
+    parser.add_argument('--pathway', type=input_path, metavar='FILE',
                         help='a pathway file to slide along (default: the one probe_node '
                              'broadcast on probe/pathway)')
     parser.add_argument('--speed', type=number(), default=SLIDING_SPEED_M_S,
@@ -58,16 +58,19 @@ def movement_name(text: str) -> str:
     return text
 
 
+WRITTEN = ('give a pathway file probe_node wrote (its parameter pathway_file, by default '
+           '~/.ros/tactex/pathway.json)')
+
+
 def pathway_of(path: Path):
     """The tactex_msgs/Pathway of a pathway file (CommandError when it is not one)."""
     from tactex_probe.errors import PathwayError
     from tactex_probe.messages import pathway_message
     from tactex_probe.pathway import Pathway
     try:
-        return pathway_message(Pathway.load(check_input_file(path, '--pathway')))
-    except PathwayError as err:
-        raise CommandError(f'--pathway {path}: {err}; give a file probe_node wrote '
-                           '(its pathway_file)') from None
+        return pathway_message(Pathway.load(check_input_file(path, '--pathway', hint=WRITTEN)))
+    except PathwayError as err:  # its message begins with the file's name
+        raise CommandError(f'--pathway {err}; {WRITTEN}') from None
 
 
 def feedback_progress(feedback):

@@ -20,6 +20,8 @@ from tactex.options import (
     check_finite_windows,
     check_output_folder,
     fold_count,
+    input_path,
+    load_dataset,
     movement_file,
     output_path,
     seed_value,
@@ -36,7 +38,7 @@ from tactex_classify.models.registry import (
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Register the options of this subcommand."""
-    parser.add_argument('data', type=Path, help='dataset (.npz with its .json sidecar)')
+    parser.add_argument('data', type=input_path, help='dataset (.npz with its .json sidecar)')
     parser.add_argument('--model', choices=ALL_MODELS,
                         help="a deep model (the original's eight or a modern one) or a "
                              "baseline (default cnn_1; with --init, the checkpoint's)")
@@ -49,7 +51,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('--out', type=output_path, required=True, help='run folder')
     parser.add_argument('--no-final', action='store_true',
                         help='skip training the deployable model (RUN/model/) on all windows')
-    parser.add_argument('--movements', type=Path, metavar='YAML',
+    parser.add_argument('--movements', type=input_path, metavar='YAML',
                         help='train one model per movement of this file (recordings from '
                              '`tactex sim collect --movements`), each calibrated on grouped '
                              'out-of-fold sweeps (--folds), into the identification bundle '
@@ -61,10 +63,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Cross-validate, report, and save the final model."""
-    from tactex_classify.data.dataset import Dataset
-
     check_output_folder(args.out)
-    dataset = Dataset.load(args.data)
+    dataset = load_dataset(args.data, 'DATA')
     check_finite_windows(dataset, args.data)
     if args.movements:
         return _train_bundle(args, dataset)

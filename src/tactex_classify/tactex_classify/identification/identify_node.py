@@ -219,6 +219,11 @@ class IdentifyNode(TactexNode):
             pathway, points, normals = self._pathway_points(goal)
         except ValueError as err:
             return 'abort', f'refused: {err}'
+        shortest_s = float(np.min(bundle.table.seconds))
+        if budget.seconds is not None and budget.seconds < shortest_s:  # as the report refuses
+            return 'abort', (f'refused: budget_seconds {budget.seconds:g} is shorter than every '
+                             f'movement: the shortest contact lasts {shortest_s:.2f} s; give at '
+                             'least that')
         ramps = self._ramp_acceleration
         available = np.array([holds(points, movement, ramps) for movement in movements])
         if not available.any():
