@@ -27,9 +27,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('--pathway', type=input_path, metavar='FILE',
                         help='a pathway file to choose parts from (default: the one '
                              'probe_node broadcast on probe/pathway)')
-    parser.add_argument('--policy', choices=POLICIES, default='active',
-                        help='how the next movement is chosen (default active: the largest '
-                             'expected information gain per contact second)')
+    parser.add_argument('--policy', choices=POLICIES, default='active-rounds',
+                        help='how the next movement is chosen (default active-rounds: the '
+                             'largest expected information gain per contact second among '
+                             'the movements run fewest times)')
     parser.add_argument('--threshold', type=number(at_most=1.0),
                         default=0.99, metavar='P',
                         help='decide when the leading posterior exceeds this (default 0.99, '

@@ -98,7 +98,7 @@ def record_movement_sweeps(demo, client, alive, pathway, movements, textures: li
 
 
 def identify_each(demo, client, alive, textures: list[str], *, budget_movements: int,
-                  episodes: int = 1, pathway=None, policy: str = 'active') -> list[dict]:
+                  episodes: int = 1, pathway=None, policy: str = 'active-rounds') -> list[dict]:
     """`episodes` Identify goals (`policy`, THRESHOLD) per texture; one row per goal.
 
     Without `pathway` the goals leave it empty: identify_node takes the broadcast one.

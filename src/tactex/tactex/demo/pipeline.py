@@ -386,9 +386,9 @@ class Demo:
         """One Identify goal per texture identified, on `pathway`; the goals' rows."""
         from tactex.demo.identification import identify_each
         textures = self.sizes.identified_textures
-        self.next_stage(f'identify {len(textures)} textures: one Identify goal each (active, '
-                        f'at most {self.sizes.identify_budget} movements), identify_node '
-                        'choosing the movements')
+        self.next_stage(f'identify {len(textures)} textures: one Identify goal each '
+                        f'(active-rounds, at most {self.sizes.identify_budget} movements), '
+                        'identify_node choosing the movements')
         return identify_each(self, client, alive, textures, pathway=pathway,
                              budget_movements=self.sizes.identify_budget)
 
