@@ -21,6 +21,7 @@ from tactex.demo.identification import (
     ramp_acceleration,
 )
 from tactex.errors import CommandError
+from tactex_classify.identification.selection import LIVE_DEFAULT
 from tactex_description.movements import load_movements
 from tactex_msgs.action import Identify
 from tactex_msgs.msg import Contact, Pathway
@@ -42,9 +43,10 @@ def pathway_along_x(length_m: float, step_m: float = 0.01) -> Pathway:
 def test_active_rounds_is_the_default_policy_of_the_goal_the_command_and_the_demo():
     # Declared in bench/bench_identification_seeds.py (ROUNDS_CONFIRMATORY): a pass of both
     # goals' tests on scene seeds 2071-2093 makes active-rounds the default; it passed.
-    assert Identify.Goal().policy == 'active-rounds'
-    assert build_parser().parse_args(['identify']).policy == 'active-rounds'
-    assert inspect.signature(identify_each).parameters['policy'].default == 'active-rounds'
+    assert LIVE_DEFAULT == 'active-rounds'
+    assert Identify.Goal().policy == LIVE_DEFAULT  # the action's own literal agrees
+    assert build_parser().parse_args(['identify']).policy == LIVE_DEFAULT
+    assert inspect.signature(identify_each).parameters['policy'].default == LIVE_DEFAULT
 
 
 def test_the_ramp_acceleration_is_the_launched_sweep_nodes():

@@ -15,7 +15,7 @@ import argparse
 from functools import partial
 
 from tactex.options import add_goal_options, input_path, integer, number, trial_id
-from tactex_classify.identification.selection import POLICIES
+from tactex_classify.identification.selection import LIVE_DEFAULT, POLICIES
 
 SHOWN_TEXTURES = 3  # the leading textures printed after each movement
 # What the no-server error suggests: identify_node needs a bundle and a sweep node.
@@ -27,8 +27,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument('--pathway', type=input_path, metavar='FILE',
                         help='a pathway file to choose parts from (default: the one '
                              'probe_node broadcast on probe/pathway)')
-    parser.add_argument('--policy', choices=POLICIES, default='active-rounds',
-                        help='how the next movement is chosen (default active-rounds: the '
+    parser.add_argument('--policy', choices=POLICIES, default=LIVE_DEFAULT,
+                        help=f'how the next movement is chosen (default {LIVE_DEFAULT}: the '
                              'largest expected information gain per contact second among '
                              'the movements run fewest times)')
     parser.add_argument('--threshold', type=number(at_most=1.0),

@@ -23,7 +23,7 @@ import numpy as np
 import yaml
 
 from tactex.errors import CommandError
-from tactex_classify.identification.selection import Budget
+from tactex_classify.identification.selection import Budget, LIVE_DEFAULT
 
 THRESHOLD = Budget().threshold  # classifier_node's decision threshold too: both decide alike
 IDENTIFY_TIMEOUT_S = 1800.0
@@ -98,7 +98,7 @@ def record_movement_sweeps(demo, client, alive, pathway, movements, textures: li
 
 
 def identify_each(demo, client, alive, textures: list[str], *, budget_movements: int,
-                  episodes: int = 1, pathway=None, policy: str = 'active-rounds') -> list[dict]:
+                  episodes: int = 1, pathway=None, policy: str = LIVE_DEFAULT) -> list[dict]:
     """`episodes` Identify goals (`policy`, THRESHOLD) per texture; one row per goal.
 
     Without `pathway` the goals leave it empty: identify_node takes the broadcast one.

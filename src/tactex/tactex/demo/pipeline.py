@@ -385,9 +385,10 @@ class Demo:
     def identify(self, client, alive, pathway) -> list[dict]:
         """One Identify goal per texture identified, on `pathway`; the goals' rows."""
         from tactex.demo.identification import identify_each
+        from tactex_classify.identification.selection import LIVE_DEFAULT
         textures = self.sizes.identified_textures
         self.next_stage(f'identify {len(textures)} textures: one Identify goal each '
-                        f'(active-rounds, at most {self.sizes.identify_budget} movements), '
+                        f'({LIVE_DEFAULT}, at most {self.sizes.identify_budget} movements), '
                         'identify_node choosing the movements')
         return identify_each(self, client, alive, textures, pathway=pathway,
                              budget_movements=self.sizes.identify_budget)

@@ -54,6 +54,9 @@ POLICIES = ('active', 'random', 'fixed', 'round-robin', 'active-realized', 'acti
 # The policies that choose by the table's gain.
 GAIN_POLICIES = ('active', 'active-realized', 'active-rounds', 'active-sampled')
 COMPARED = POLICIES[:4]  # the issue's comparison: what a report replays by default
+# What a live goal chooses by unless told (Identify.action's literal, `tactex identify`,
+# the demo): active-rounds, as its declared test in bench_identification_seeds.py passed.
+LIVE_DEFAULT = 'active-rounds'
 DECIDED, MOVEMENT_BUDGET, TIME_BUDGET = 'decided', 'movement budget', 'time budget'
 NONE_LEFT = 'no movement left'
 MIN_EXPECTED_NATS = 1e-12  # below it a movement's trust stays one (no ratio of rounding)
