@@ -48,7 +48,8 @@ MOVEMENTS = Path(__file__).parents[1] / 'config' / 'movements.yaml'
 # The live runs kept (beside RESULTS), drawn side by side in PLOT.
 LIVE_RUNS = ('identify_live.json', 'identify_live_sweeps.json', 'identify_live_init.json',
              'identify_live_sweeps_init.json', 'identify_live_sweeps_init_sweeps.json',
-             'identify_live_sweeps_init_sweeps_realized.json')
+             'identify_live_sweeps_init_sweeps_realized.json',
+             'identify_live_sweeps_rounds.json')
 PLOT = RESULTS.with_name('identify_live.png')
 
 
