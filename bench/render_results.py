@@ -32,6 +32,7 @@ from results_identification import (  # noqa: E402
     identify_live_sweeps_init,
     identify_live_sweeps_init_sweeps,
     identify_live_sweeps_init_sweeps_realized,
+    identify_live_sweeps_rounds,
     texture_signal,
 )
 from results_learning import (  # noqa: E402
@@ -94,6 +95,7 @@ SECTIONS: dict[str, Callable[[], str]] = {
     'identify_live_sweeps_init': identify_live_sweeps_init,
     'identify_live_sweeps_init_sweeps': identify_live_sweeps_init_sweeps,
     'identify_live_sweeps_init_sweeps_realized': identify_live_sweeps_init_sweeps_realized,
+    'identify_live_sweeps_rounds': identify_live_sweeps_rounds,
     'texture_signal': texture_signal,
     'identification_init': identification_init,
     'identification_seeds': identification_seeds,

@@ -614,6 +614,10 @@ def identify_live_sweeps_init_sweeps_realized() -> str:
     return _live_section('identify_live_sweeps_init_sweeps_realized.json')
 
 
+def identify_live_sweeps_rounds() -> str:
+    return _live_section('identify_live_sweeps_rounds.json')
+
+
 def _bench_options(kept: dict, goals_per_texture: float, name: str) -> str:
     """The bench's options that reproduce a kept live run (the checkpoint as PRETRAINED).
 
