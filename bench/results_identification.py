@@ -2,6 +2,9 @@
 # SPDX-License-Identifier: Apache-2.0
 """Result section of active identification: policies on held-out recordings, choice cost."""
 
+from collections.abc import Callable
+from functools import partial
+
 from results_common import FIGURES, kept_json
 from scipy.stats import binomtest
 
@@ -594,28 +597,16 @@ def _without_discount(report: dict, steps: list[int]) -> str:
             + '\n'.join(rows))
 
 
-def identify_live() -> str:
-    return _live_section('identify_live.json')
+# The live runs kept with a generated section (bench_identify_live.py's LIVE_RUNS less
+# identify_live_init, of which none is kept), each rendered by _live_section.
+LIVE_SECTIONS = ('identify_live', 'identify_live_sweeps', 'identify_live_sweeps_init',
+                 'identify_live_sweeps_init_sweeps', 'identify_live_sweeps_init_sweeps_realized',
+                 'identify_live_sweeps_rounds')
 
 
-def identify_live_sweeps() -> str:
-    return _live_section('identify_live_sweeps.json')
-
-
-def identify_live_sweeps_init() -> str:
-    return _live_section('identify_live_sweeps_init.json')
-
-
-def identify_live_sweeps_init_sweeps() -> str:
-    return _live_section('identify_live_sweeps_init_sweeps.json')
-
-
-def identify_live_sweeps_init_sweeps_realized() -> str:
-    return _live_section('identify_live_sweeps_init_sweeps_realized.json')
-
-
-def identify_live_sweeps_rounds() -> str:
-    return _live_section('identify_live_sweeps_rounds.json')
+def live_sections() -> dict[str, Callable[[], str]]:
+    """Each kept live run's section: its name, and what renders it."""
+    return {name: partial(_live_section, f'{name}.json') for name in LIVE_SECTIONS}
 
 
 def _bench_options(kept: dict, goals_per_texture: float, name: str) -> str:
