@@ -15,9 +15,18 @@ at every window and scheme on a lent GPU). The grid resumes: run this again
 built in chunks on a busy machine. Each call appends its steps and their durations to
 GRID/run.json; `bench/render_results.py` builds the docs' comparison sections from
 summary.json and run.json only.
+
+A grid resumes only on the data it was started with (GRID/grid.json keeps their digests),
+and the simulator changes between commits, so the bench notes in GRID/run.json how it
+built a grid's data: the commit, sweeps and recordings per texture (`data_recipe`).
+`--code COMMIT` collects and converts with the tactex of that commit (a git worktree,
+removed after), and `--data-only` builds the datasets, checks them against the grid's
+digests and stops: how a lent GPU's grid gets its data again on a fresh machine.
 """
 
 import argparse
+from collections.abc import Iterator
+import contextlib
 import hashlib
 import json
 import os
@@ -32,7 +41,7 @@ TACTEX = str(Path(sys.executable).parent / 'tactex')
 WINDOWS = (128, 256, 512)
 
 
-def _timed(command: list[str], steps: list[dict]) -> None:
+def _timed(command: list[str], steps: list[dict], env: dict | None = None) -> None:
     """Run a command (failing loudly); note its time, the load around it and its exit status.
 
     A grid interrupted by Ctrl-C (or `timeout -s INT`, which signals the whole process
@@ -41,7 +50,7 @@ def _timed(command: list[str], steps: list[dict]) -> None:
     """
     start, load = time.monotonic(), os.getloadavg()[0]
     returncode = None
-    child = subprocess.Popen(command)
+    child = subprocess.Popen(command, env=env)
     try:
         returncode = child.wait()
     except KeyboardInterrupt:
@@ -84,6 +93,67 @@ def first_recordings(bags: Path, per_texture: int, work: Path) -> Path:
     return subset
 
 
+def _git(*arguments: str) -> str:
+    """A git command's output in this checkout (failing loudly)."""
+    return subprocess.run(['git', *arguments], cwd=Path(__file__).parent, check=True,
+                          capture_output=True, text=True).stdout.strip()
+
+
+def commit_of(code: str | None) -> str | None:
+    """The full hash of --code; else this checkout's HEAD (`-dirty`: src/ changed) or None."""
+    try:
+        if code is not None:
+            return _git('rev-parse', '--verify', '--quiet', f'{code}^{{commit}}')
+        dirty = _git('status', '--porcelain', '--untracked-files=no', '--', '../src')
+        return _git('rev-parse', 'HEAD') + ('-dirty' if dirty else '')
+    except (OSError, subprocess.CalledProcessError):
+        if code is None:  # not a git checkout, or no git: the recipe names no commit
+            return None
+        raise SystemExit(f'error: --code {code}: not a commit of this clone; give a commit '
+                         'it holds (git log), or leave --code out') from None
+
+
+@contextlib.contextmanager
+def code_of(commit: str, work: Path) -> Iterator[dict]:
+    """The environment that runs tactex as it was at `commit` (a worktree, removed after)."""
+    tree = work / f'code-{commit[:12]}'
+    _git('worktree', 'add', '--detach', '--force', str(tree.resolve()), commit)
+    try:
+        sources = [str(package) for package in sorted((tree / 'src').iterdir())
+                   if package.is_dir()]
+        yield {**os.environ, 'PYTHONPATH': os.pathsep.join(
+            [*sources, *filter(None, [os.environ.get('PYTHONPATH')])])}
+    finally:
+        _git('worktree', 'remove', '--force', str(tree.resolve()))
+
+
+def check_kept_data(results: Path, paths: dict[int, Path]) -> None:
+    """Refuse datasets other than those the kept grid in `results` was started with."""
+    from tactex_classify.data.dataset import Dataset
+    from tactex_classify.evaluation.model_grid import GridError, GridStore
+    if not (results / 'grid.json').is_file():
+        return
+    try:
+        GridStore(results).check_data({window: Dataset.load(path)
+                                       for window, path in paths.items()})
+    except GridError as err:
+        raise SystemExit(f'error: {err}; its data_recipe in run.json says how they were '
+                         'built') from None
+
+
+def _kept_run(results: Path) -> dict:
+    """A grid's run.json: its datasets' file digests, its data recipe and its calls."""
+    path = results / 'run.json'
+    return (json.loads(path.read_text(encoding='utf-8')) if path.is_file()
+            else {'datasets': {}, 'calls': []})
+
+
+def _write_run(results: Path, record: dict) -> None:
+    """Write a grid's run.json."""
+    results.mkdir(parents=True, exist_ok=True)
+    (results / 'run.json').write_text(json.dumps(record, indent=2) + '\n', encoding='utf-8')
+
+
 def machine() -> dict:
     """What ran the grid: cores and, where torch sees one, the GPU (its name and memory)."""
     import torch
@@ -122,10 +192,21 @@ def main() -> int:
     parser.add_argument('--cells-per-gpu', type=int, default=1)
     parser.add_argument('--mps', action='store_true',
                         help="share each GPU through NVIDIA's MPS (tactex compare --mps)")
+    parser.add_argument('--sweeps', type=int, default=25,
+                        help='sweeps per texture to collect when there are no bags (default 25)')
+    parser.add_argument('--code', metavar='COMMIT',
+                        help='collect and convert with the tactex of this commit (a git '
+                             "worktree): rebuilds a kept grid's data after the simulator changed")
+    parser.add_argument('--data-only', action='store_true',
+                        help="build the datasets into --work, check them against the grid's "
+                             'digests, note their recipe in run.json and stop')
     parser.add_argument('--windows', default=','.join(map(str, WINDOWS)),
                         help='comma-separated window sizes (default 128,256,512); a later call '
                              'with more windows adds them to the same grid')
     args = parser.parse_args()
+    if args.sweeps < max(1, args.recordings or 0):
+        parser.error(f'--sweeps {args.sweeps}: collect at least one sweep per texture, and '
+                     'at least --recordings')
     started = time.strftime('%Y-%m-%dT%H:%M:%S%z')
     results = RESULTS / args.grid
     steps: list[dict] = []
@@ -133,17 +214,34 @@ def main() -> int:
     windows = dict.fromkeys(int(w) for w in args.windows.split(','))  # in order, once each
     paths = {window: args.work / f'sim{window}{suffix}.npz' for window in windows}
     missing = {window: data for window, data in paths.items() if not data.is_file()}
+    recipe = None
     if missing:  # datasets converted before (or carried to a lent GPU) need no bags
-        bags = args.bags or args.work / 'bags'
-        if not bags.is_dir():
-            _timed([TACTEX, 'sim', 'collect', '--scene', 'uneven_texture', '--sweeps', '25',
-                    '--workers', str(args.cpus), '--out', str(bags)], steps)
-        if args.recordings:
-            bags = first_recordings(bags, args.recordings, args.work)
-        for window, data in missing.items():
-            _timed([TACTEX, 'convert', str(bags), '--out', str(data), '--window',
-                    str(window)], steps)
+        commit = commit_of(args.code)
+        args.work.mkdir(parents=True, exist_ok=True)
+        with code_of(commit, args.work) if args.code else contextlib.nullcontext() as env:
+            bags = args.bags or args.work / 'bags'
+            collected = not bags.is_dir()
+            if collected:
+                _timed([TACTEX, 'sim', 'collect', '--scene', 'uneven_texture', '--sweeps',
+                        str(args.sweeps), '--workers', str(args.cpus), '--out', str(bags)],
+                       steps, env)
+            if args.recordings:
+                bags = first_recordings(bags, args.recordings, args.work)
+            for window, data in missing.items():
+                _timed([TACTEX, 'convert', str(bags), '--out', str(data), '--window',
+                        str(window)], steps, env)
+        recipe = {'code': commit, 'scene': 'uneven_texture',
+                  'sweeps': args.sweeps if collected else None,
+                  'recordings_per_texture': args.recordings, 'windows': list(windows),
+                  'bags': None if collected else str(args.bags or args.work / 'bags'),
+                  'steps': list(steps)}
+    check_kept_data(results, paths)
     datasets = list(paths.values())
+    if args.data_only:
+        if recipe:
+            _write_run(results, {**_kept_run(results), 'data_recipe': recipe})
+        print(f'datasets in {args.work}: ' + ', '.join(data.name for data in datasets))
+        return 0
     command = [TACTEX, 'compare', *map(str, datasets), '--epochs', str(args.epochs),
                '--folds', str(args.folds), '--seeds', str(args.seeds), '--cpus', str(args.cpus),
                '--cv', args.cv, '--early-stopping', str(args.early_stopping),
@@ -165,16 +263,15 @@ def main() -> int:
               'to resume', file=sys.stderr)
         return 1
     finally:
-        path = results / 'run.json'
-        record = json.loads(path.read_text(encoding='utf-8')) if path.is_file() else {
-            'datasets': {}, 'calls': []}
+        record = _kept_run(results)
         for data in datasets:
             record['datasets'][data.name] = hashlib.sha256(data.read_bytes()).hexdigest()
+        if recipe:
+            record['data_recipe'] = recipe
         record['calls'].append({'started': started,
                                 'cpus': args.cpus, 'recordings_per_texture': args.recordings,
                                 'machine': machine(), 'steps': steps})
-        results.mkdir(parents=True, exist_ok=True)
-        path.write_text(json.dumps(record, indent=2) + '\n', encoding='utf-8')
+        _write_run(results, record)
     return 0
 
 

@@ -646,7 +646,8 @@ def compare_gpu_full() -> str:
             'outputs in `bench/results/compare_gpu_full/`): every model at every window, both '
             f'schemes, {folds} folds, {seeds} seed{"s" if seeds > 1 else ""}, {total} cells, '
             f"on the first {recordings} sweeps per texture of the learning curves' set "
-            "(grid.json keeps the datasets' digests; a resumed call needs the same data). "
+            "(grid.json keeps the datasets' digests; a resumed call needs the same data"
+            + _data_recipe('compare_gpu_full', run.get('data_recipe')) + '). '
             f'**Device: one {gpu["name"]}** (torch {gpu["torch"]}) with '
             f'{machine["cpu_count"]} cores. Calls: {calls}'
             + (', each stopped at its time limit' if stopped else '')
@@ -672,6 +673,19 @@ def compare_gpu_full() -> str:
             'mostly one fold).\n\n'
             + table(rows, seeds * folds * 2) + '\n'
             f'![accuracy]({FIGURES}/compare_gpu_full/accuracy.png)\n')
+
+
+def _data_recipe(grid: str, recipe: dict | None) -> str:
+    """How a kept grid's data are built again, from run.json's data_recipe, if it has one."""
+    if not recipe or not recipe['code'] or recipe['bags']:
+        return ''
+    minutes = sum(step['seconds'] for step in recipe['steps']) / 60
+    workers = _option(recipe['steps'][0]['command'], '--workers')  # the collect step's
+    return (f', which `python bench/bench_compare.py --grid {grid} --recordings '
+            f'{recipe["recordings_per_texture"]} --windows '
+            f'{",".join(map(str, recipe["windows"]))} --sweeps {recipe["sweeps"]} --code '
+            f'{recipe["code"][:12]} --data-only` builds again with the code of that commit and '
+            f'checks against them: {minutes:.0f} min with {workers} workers')
 
 
 def _bench_command(command: str, recordings: int, windows: list[int]) -> str:

@@ -126,12 +126,7 @@ class GridStore:
                 other settings or other data for a window.
         """
         manifest = self.check(settings)
-        for window, dataset in datasets.items():
-            kept = manifest['data'].get(str(window))
-            if kept and kept['sha256'] != dataset.digest():
-                raise GridError(f'{self.folder} was started with other data for window '
-                                f'{window} ({kept["source"]}); give the same data to resume '
-                                'it, or a new --out')
+        self.check_data(datasets, manifest)
         for window, dataset in datasets.items():
             manifest['data'].setdefault(str(window), {
                 'sha256': dataset.digest(), 'source': sources[window],
@@ -140,6 +135,20 @@ class GridStore:
                 'sampling_rate_hz': dataset.info.get('sampling_rate_hz')})
         (self.folder / 'cells').mkdir(parents=True, exist_ok=True)
         _write_json(self.manifest_path, manifest)
+
+    def check_data(self, datasets: dict[int, Dataset], manifest: dict | None = None) -> None:
+        """Check that each window the grid has seen before gets the same data now.
+
+        Raises:
+            GridError: a window's data differ from the data the grid was started with.
+        """
+        kept_data = (manifest or self.manifest())['data']
+        for window, dataset in datasets.items():
+            kept = kept_data.get(str(window))
+            if kept and kept['sha256'] != dataset.digest():
+                raise GridError(f'{self.folder} was started with other data for window '
+                                f'{window} ({kept["source"]}); give the same data to resume '
+                                'it, or a new --out')
 
     def manifest(self) -> dict:
         """The grid's settings and datasets.

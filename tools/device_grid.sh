@@ -1,0 +1,27 @@
+#!/bin/bash
+# Copyright 2026 The tactex authors
+# SPDX-License-Identifier: Apache-2.0
+# Resume the full model grid (bench/results/compare_gpu_full) on a lent GPU for at
+# most LIMIT_S seconds, then pack the grid into $OUT/grid.tgz, finished or not.
+#
+# Its data, rebuilt here first and checked against the grid's digests (data_recipe in the
+# grid's run.json; about 6 min on two cores):
+#   .venv/bin/python bench/bench_compare.py --grid compare_gpu_full --recordings 20 \
+#     --windows 128,256,512 --sweeps 85 --code 0452b931b1a4 --data-only --work W
+#   .venv/bin/python tools/device_bundle.py --data W/sim128_first20.npz \
+#     W/sim256_first20.npz W/sim512_first20.npz
+# Then, carrying .device:
+#   run(command='bash .device/run.sh bash tools/device_grid.sh 490', carry=['.device'])
+# and unpack what returns into bench/results/ before the next call (a call's tree comes
+# from this checkout). SIGINT stops the grid with its finished cells and report kept; the
+# 60 s before SIGKILL let it write run.json.
+set -uo pipefail
+limit="${1:?usage: device_grid.sh LIMIT_S (seconds the grid may run)}"
+timeout -k 60 -s INT "$limit" python3 bench/bench_compare.py --grid compare_gpu_full \
+  --work .device/data --recordings 20 --windows 128,256,512 --cv both --folds 5 --seeds 1 \
+  --epochs 100 --early-stopping 30 --profile modern --scaling window --device cuda \
+  --cells-per-gpu 16 --cpus 16 --mps
+status=$?
+tar czf "${OUT:?OUT names the folder whose files come back}/grid.tgz" \
+  bench/results/compare_gpu_full
+exit "$status"
