@@ -9,9 +9,10 @@ to .git/info/exclude) with:
 - wheels/: CPython 3.12 wheels of the packages the image lacks, at the versions installed
   here (requirements.txt pins the direct ones);
 - ray.tar.xz: Ray at its pinned version, unpacked without what tactex never imports (its
-  Java jars, RLlib, Data, Serve, Train, Tune, LLM and the dashboard's web client), about
-  a third of the wheel;
-- data/: the files given with --data (a dataset's .json sidecar with its .npz);
+  Java jars, RLlib, Data, Serve, Train, Tune, LLM and the dashboard's web client) and
+  with its programs' symbol tables stripped, about a fifth of the wheel;
+- data.tar.xz: the files given with --data (a dataset's .json sidecar with its .npz),
+  which run.sh unpacks into data/ there;
 - run.sh: installs the above into /tmp/site (again when the bundle changed; whole or
   not at all), checks that the image has what Ray and tactex need besides, puts `src/*`
   on PYTHONPATH, writes a `tactex` script beside the image's python3, and runs its
@@ -20,7 +21,8 @@ to .git/info/exclude) with:
 OUT is built in a temporary folder beside it and renamed into place only when whole: an
 earlier bundle (marked, and holding no file the mark does not list) is replaced then, and
 left as it was when a step fails. Any other existing OUT, or a symbolic link, is refused.
-Then, for example:
+It prints the bundle's size with the working tree's (a call carries both, 64 MiB in all)
+and fails when they do not fit. Then, for example:
     .venv/bin/python tools/device_bundle.py --data /tmp/tactex-compare-data/sim128_first20.npz
     run(command='bash .device/run.sh python3 bench/bench_gpu_pace.py --data '
                 '.device/data/sim128_first20.npz --out $OUT/gpu_pace.json',
@@ -31,12 +33,14 @@ from __future__ import annotations
 
 import argparse
 import importlib.metadata
+import io
 from pathlib import Path
 import shutil
 import subprocess
 import sys
 import tarfile
 import tempfile
+import time
 import zipfile
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -50,6 +54,7 @@ RAY_UNUSED = ('ray/jars', 'ray/rllib', 'ray/data', 'ray/serve', 'ray/train', 'ra
 PLATFORMS = ('manylinux_2_28_x86_64', 'manylinux_2_27_x86_64', 'manylinux_2_17_x86_64',
              'manylinux2014_x86_64', 'manylinux1_x86_64')
 CARRY_LIMIT = 64 * 2**20
+ELF_MAGIC = b'\x7fELF'
 # Written last into a bundle, this line and the files written: what tells an earlier bundle
 # (replaced whole) from a user's folder or files.
 MARK = '.tactex-device-bundle'
@@ -69,6 +74,10 @@ if [ "$(cat "$site/.bundle" 2>/dev/null || true)" != "$stamp" ]; then
   tar -xJf "$here/ray.tar.xz" -C "$site.partial"
   echo "$stamp" > "$site.partial/.bundle"
   mv "$site.partial" "$site"
+fi
+if [ -f "$here/data.tar.xz" ]; then  # the --data files, as the bundle was built with them
+  mkdir -p "$here/data"
+  tar -xJf "$here/data.tar.xz" -C "$here/data"
 fi
 export PYTHONPATH="$site:$(ls -d "$repo"/src/*/ | tr '\n' ':')${PYTHONPATH:-}"
 export PYTHONPATH="${PYTHONPATH%:}"
@@ -110,6 +119,33 @@ def download(names: list[str], into: Path) -> None:
                           f'{pip.returncode}): {last}; check the package index is reachable')
 
 
+def stripped(folder: Path) -> None:
+    """Strip the symbol tables Ray's programs and libraries ship with (a third of its size).
+
+    `strip --strip-unneeded` keeps what loading and linking need (the dynamic symbols, a
+    Python extension's PyInit_), so only stack traces read less: Ray's raylet, GCS server
+    and _raylet.so go from 120 to 84 MB, its xz archive from 27.6 to 18.3 MB.
+    """
+    if shutil.which('strip') is None:
+        raise BundleError('strip is not installed, and Ray unstripped leaves too little of '
+                          'what a call carries; install binutils (apt-get install binutils)')
+    binaries = [str(path) for path in sorted(folder.rglob('*'))
+                if path.is_file() and not path.is_symlink() and _starts_with_elf_magic(path)]
+    if not binaries:
+        return
+    strip = subprocess.run(['strip', '--strip-unneeded', *binaries], stderr=subprocess.PIPE,
+                           text=True, check=False)
+    if strip.returncode:
+        last = (strip.stderr.strip().splitlines() or ['(no message)'])[-1].strip()
+        raise BundleError(f"stripping Ray's programs failed (strip exited {strip.returncode}): "
+                          f'{last}')
+
+
+def _starts_with_elf_magic(path: Path) -> bool:
+    with path.open('rb') as handle:
+        return handle.read(len(ELF_MAGIC)) == ELF_MAGIC
+
+
 def trimmed_ray(into: Path) -> Path:
     """Ray's pinned wheel unpacked without RAY_UNUSED, as `into`/ray.tar.xz."""
     with tempfile.TemporaryDirectory(prefix='ray-wheel-') as folder:
@@ -124,8 +160,9 @@ def trimmed_ray(into: Path) -> Path:
         for binary in (unpacked / 'ray' / 'core').rglob('*'):
             if binary.is_file() and binary.suffix == '':
                 binary.chmod(0o755)  # zip archives keep no modes: raylet, gcs_server
+        stripped(unpacked)
         target = into / 'ray.tar.xz'
-        with tarfile.open(target, 'w:xz') as archive:
+        with tarfile.open(target, 'w:xz', preset=9) as archive:  # 64 MiB window
             for path in sorted(unpacked.iterdir()):
                 archive.add(path, arcname=path.name)
     return target
@@ -179,17 +216,42 @@ def check(out: Path, data: list[Path]) -> None:
         raise BundleError(f'--out {out}: its folder {out.parent} does not exist; create it')
 
 
+def packed_data(data: list[Path], target: Path) -> None:
+    """The --data files (a dataset's .json sidecar with its .npz) in one xz archive.
+
+    A zip archive (.npz) goes in with its members stored, not deflated, so xz compresses
+    the arrays themselves: the grid's three datasets take 10 MB instead of 15, and the same
+    arrays come out (a dataset's digest is of its arrays, not of its file).
+    """
+    with tarfile.open(target, 'w:xz', preset=9) as archive:
+        for path in data:
+            sidecar = path.with_suffix('.json')  # a dataset's classes, channels and origin
+            for member in [path, *([sidecar] if path.suffix == '.npz' and sidecar.is_file()
+                                   else [])]:
+                content = (_stored(member) if zipfile.is_zipfile(member)
+                           else member.read_bytes())
+                entry = tarfile.TarInfo(member.name)
+                entry.size, entry.mode, entry.mtime = len(content), 0o644, int(time.time())
+                archive.addfile(entry, io.BytesIO(content))
+
+
+def _stored(path: Path) -> bytes:
+    """The zip archive at `path` again, its members stored without compression."""
+    buffer = io.BytesIO()
+    with zipfile.ZipFile(path) as source, zipfile.ZipFile(buffer, 'w') as copy:
+        for member in source.infolist():
+            copy.writestr(member.filename, source.read(member),
+                          compress_type=zipfile.ZIP_STORED)
+    return buffer.getvalue()
+
+
 def build(into: Path, data: list[Path]) -> None:
     """Write the bundle's files into the empty folder `into`, its mark last."""
     (into / 'wheels').mkdir()
     download([pinned(name) for name in PACKAGES], into / 'wheels')
     trimmed_ray(into)
-    (into / 'data').mkdir()
-    for path in data:
-        shutil.copy2(path, into / 'data' / path.name)
-        sidecar = path.with_suffix('.json')  # a dataset's classes, channels and origin
-        if path.suffix == '.npz' and sidecar.is_file():
-            shutil.copy2(sidecar, into / 'data' / sidecar.name)
+    if data:
+        packed_data(data, into / 'data.tar.xz')
     (into / 'run.sh').write_text(RUN_SH, encoding='utf-8')
     (into / 'run.sh').chmod(0o755)
     (into / MARK).write_text('\n'.join([MARK_LINE, *sorted(files(into))]) + '\n',
@@ -222,6 +284,16 @@ def write(out: Path, data: list[Path]) -> None:
         shutil.rmtree(work, ignore_errors=True)  # gone already when it was put in place
 
 
+def working_tree_bytes() -> int | None:
+    """The size of what a call sends besides carried paths: tracked and unignored files."""
+    git = subprocess.run(['git', 'ls-files', '-z', '--cached', '--others', '--exclude-standard'],
+                         cwd=ROOT, capture_output=True, check=False)
+    if git.returncode:
+        return None  # no git checkout: the tree cannot be told from what is ignored
+    paths = (ROOT / name for name in git.stdout.decode().split('\0') if name)
+    return sum(path.stat().st_size for path in paths if path.is_file() and not path.is_symlink())
+
+
 def main() -> int:
     """Write the bundle; print its size against what a call may carry."""
     parser = argparse.ArgumentParser(description=__doc__,
@@ -241,8 +313,20 @@ def main() -> int:
               'was', file=sys.stderr)
         return 1
     size = sum(path.stat().st_size for path in args.out.rglob('*') if path.is_file())
-    print(f'{args.out}: {size / 2**20:.1f} MiB of the {CARRY_LIMIT // 2**20} MiB a call '
-          'carries (the working tree counts too)')
+    tree = working_tree_bytes()
+    if tree is None:
+        print(f'{args.out}: {size / 2**20:.1f} MiB of the {CARRY_LIMIT // 2**20} MiB a call '
+              'carries (the working tree counts too)')
+        return 0
+    total = size + tree
+    if total > CARRY_LIMIT:
+        print(f'error: {args.out} ({size / 2**20:.1f} MiB, written) and the working tree '
+              f'({tree / 2**20:.1f} MiB) make {total / 2**20:.1f} MiB, over the '
+              f'{CARRY_LIMIT // 2**20} MiB a call carries; give fewer or smaller --data files',
+              file=sys.stderr)
+        return 1
+    print(f'{args.out}: {size / 2**20:.1f} MiB; with the working tree ({tree / 2**20:.1f} '
+          f'MiB) a call carries {total / 2**20:.1f} of its {CARRY_LIMIT // 2**20} MiB')
     return 0
 
 

@@ -9,10 +9,14 @@ import os
 from pathlib import Path
 import subprocess
 import sys
+import tarfile
 import zipfile
 
 import pytest
+from support.badinputs import toy_dataset
 from support.scripts import load_script
+
+from tactex_classify.data.dataset import Dataset
 
 ROOT = Path(__file__).resolve().parents[2]
 PIP_FAILURE = ('ERROR: Could not find a version that satisfies the requirement rosbags==0.11.9\n'
@@ -22,7 +26,8 @@ PIP_FAILURE = ('ERROR: Could not find a version that satisfies the requirement r
 def _ray_wheel(path: Path, unused: tuple[str, ...]) -> None:
     with zipfile.ZipFile(path, 'w') as wheel:
         wheel.writestr('ray/__init__.py', '')
-        wheel.writestr('ray/core/src/ray/raylet/raylet', 'binary')
+        wheel.writestr('ray/core/src/ray/raylet/raylet', b'\x7fELF binary')
+        wheel.writestr('ray/_raylet.so', b'\x7fELF library')
         for part in unused:
             wheel.writestr(f'{part}/__init__.py', '')
 
@@ -33,9 +38,13 @@ def tool(monkeypatch):
     module = load_script('tools/device_bundle.py')
     module.pip_fails = False
     module.pip_calls = 0
+    module.stripped_files = []
     real_run = subprocess.run
 
     def run(command, *args, **kwargs):
+        if command[:2] == ['strip', '--strip-unneeded']:  # stands in for binutils' strip
+            module.stripped_files += [Path(name).name for name in command[2:]]
+            return subprocess.CompletedProcess(command, 0, None, '')
         if command[1:4] != ['-m', 'pip', 'download']:
             return real_run(command, *args, **kwargs)
         module.pip_calls += 1
@@ -89,7 +98,9 @@ def test_a_bundle_is_written_whole_with_its_mark(tool, monkeypatch, capsys, tmp_
     assert _main(tool, monkeypatch, '--out', str(out), '--data', str(dataset)) == 0
     assert f'{out}: ' in capsys.readouterr().out
     names = set(_snapshot(out))
-    assert {'run.sh', 'ray.tar.xz', 'data/sim.npz', 'data/sim.json', tool.MARK} <= names
+    assert {'run.sh', 'ray.tar.xz', 'data.tar.xz', tool.MARK} <= names
+    with tarfile.open(out / 'data.tar.xz') as archive:
+        assert sorted(archive.getnames()) == ['sim.json', 'sim.npz']
     assert len([name for name in names if name.startswith('wheels/')]) == len(tool.PACKAGES)
     mark = (out / tool.MARK).read_text().splitlines()
     assert mark[0] == tool.MARK_LINE and set(mark[1:]) == names - {tool.MARK}
@@ -121,12 +132,12 @@ def test_a_user_folder_with_a_run_sh_is_refused_and_kept(tool, monkeypatch, caps
 def test_a_bundle_holding_a_users_file_is_refused_and_kept(tool, monkeypatch, capsys, tmp_path):
     out = tmp_path / 'bundle'
     assert _main(tool, monkeypatch, '--out', str(out)) == 0
-    (out / 'data' / 'notes.txt').write_text('mine')
+    (out / 'notes.txt').write_text('mine')
     capsys.readouterr()
     before = _snapshot(out)
     assert _main(tool, monkeypatch, '--out', str(out)) == 1
     err = _one_error_line(capsys)
-    assert 'files this tool did not write (data/notes.txt)' in err
+    assert 'files this tool did not write (notes.txt)' in err
     assert _snapshot(out) == before
 
 
@@ -187,3 +198,39 @@ def test_without_a_package_index_the_command_says_so_in_one_line(tmp_path):
     assert result.stderr.startswith('error: downloading wheels for cp312')
     assert result.stderr.count('\n') == 1 and 'Traceback' not in result.stderr
     assert list(tmp_path.iterdir()) == []
+
+
+def test_rays_programs_and_libraries_are_stripped_and_nothing_else(tool, monkeypatch, capsys,
+                                                                   tmp_path):
+    assert _main(tool, monkeypatch, '--out', str(tmp_path / 'bundle')) == 0
+    assert sorted(tool.stripped_files) == ['_raylet.so', 'raylet']
+
+
+def test_without_strip_the_bundle_is_refused_in_one_line(tool, monkeypatch, capsys, tmp_path):
+    monkeypatch.setattr(tool.shutil, 'which', lambda name: None)
+    assert _main(tool, monkeypatch, '--out', str(tmp_path / 'bundle')) == 1
+    assert 'install binutils' in _one_error_line(capsys)
+    assert not (tmp_path / 'bundle').exists()
+
+
+@pytest.mark.skipif(not (ROOT / '.git').exists(), reason='the working tree is what git lists')
+def test_a_bundle_that_does_not_fit_beside_the_working_tree_is_one_error_line(
+        tool, monkeypatch, capsys, tmp_path):
+    tree = tool.working_tree_bytes()
+    monkeypatch.setattr(tool, 'CARRY_LIMIT', tree)  # the tree alone fills what a call carries
+    assert _main(tool, monkeypatch, '--out', str(tmp_path / 'bundle')) == 1
+    assert 'over the' in _one_error_line(capsys)
+
+
+
+def test_a_dataset_travels_as_the_same_arrays_stored_for_xz(tool, monkeypatch, capsys, tmp_path):
+    data = toy_dataset(3).save(tmp_path / 'input' / 'toy.npz')
+    assert _main(tool, monkeypatch, '--out', str(tmp_path / 'bundle'), '--data', str(data)) == 0
+    with tarfile.open(tmp_path / 'bundle' / 'data.tar.xz') as archive:
+        archive.extractall(tmp_path / 'unpacked', filter='data')
+    carried = tmp_path / 'unpacked' / 'toy.npz'
+    with zipfile.ZipFile(carried) as npz:
+        assert {member.compress_type for member in npz.infolist()} == {zipfile.ZIP_STORED}
+    assert Dataset.load(carried).digest() == Dataset.load(data).digest()
+    sidecar = data.with_suffix('.json').read_bytes()
+    assert (tmp_path / 'unpacked' / 'toy.json').read_bytes() == sidecar
