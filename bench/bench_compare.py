@@ -19,15 +19,16 @@ summary.json and run.json only.
 A grid resumes only on the data it was started with (GRID/grid.json keeps their digests),
 and the simulator changes between commits, so the bench notes in GRID/run.json how it
 built a grid's data: the commit, sweeps and recordings per texture (`data_recipe`).
-`--code COMMIT` collects and converts with the tactex of that commit (a git worktree,
-removed after), and `--data-only` builds the datasets, checks them against the grid's
-digests and stops: how a lent GPU's grid gets its data again on a fresh machine.
+`--code COMMIT` collects and converts with the tactex of that commit (a git worktree put
+first on PYTHONPATH, removed after; its bags in a folder named by commit and sweeps), and
+`--data-only` builds the datasets, checks them against the grid's digests and stops: how
+a lent GPU's grid gets its data again on a fresh machine. Only tactex's own packages come
+from that commit; the libraries are this environment's.
 """
 
 import argparse
 from collections.abc import Iterator
 import contextlib
-import hashlib
 import json
 import os
 from pathlib import Path
@@ -35,6 +36,8 @@ import shutil
 import subprocess
 import sys
 import time
+
+from tactex_classify.data.dataset import Dataset
 
 RESULTS = Path(__file__).parent / 'results'
 TACTEX = str(Path(sys.executable).parent / 'tactex')
@@ -72,10 +75,11 @@ def _timed(command: list[str], steps: list[dict], env: dict | None = None) -> No
 def first_recordings(bags: Path, per_texture: int, work: Path) -> Path:
     """The first `per_texture` recordings of each texture (by name), in a folder of their own.
 
-    Recordings are named `<texture>_<sweep>`; the folder holds hard links to their files
-    and is built whole (a partial folder renamed at the end).
+    Recordings are named `<texture>_<sweep>`; the folder (`<bags' name>_first<N>` in
+    `work`) holds hard links to their files and is built whole (a partial folder renamed at
+    the end).
     """
-    subset = work / f'bags_first{per_texture}'
+    subset = work / f'{bags.name}_first{per_texture}'
     if subset.is_dir():
         return subset
     textures: dict[str, list[Path]] = {}
@@ -84,7 +88,7 @@ def first_recordings(bags: Path, per_texture: int, work: Path) -> Path:
     short = {name: len(found) for name, found in textures.items() if len(found) < per_texture}
     if short:
         raise SystemExit(f'error: --recordings {per_texture}: {bags} has fewer for {short}')
-    partial = work / f'.bags_first{per_texture}.partial'
+    partial = work / f'.{subset.name}.partial'
     shutil.rmtree(partial, ignore_errors=True)
     for found in textures.values():
         for recording in found[:per_texture]:
@@ -99,50 +103,69 @@ def _git(*arguments: str) -> str:
                           capture_output=True, text=True).stdout.strip()
 
 
-def commit_of(code: str | None) -> str | None:
+def resolve_commit(code: str | None) -> str | None:
     """The full hash of --code; else this checkout's HEAD (`-dirty`: src/ changed) or None."""
     try:
         if code is not None:
             return _git('rev-parse', '--verify', '--quiet', f'{code}^{{commit}}')
         dirty = _git('status', '--porcelain', '--untracked-files=no', '--', '../src')
         return _git('rev-parse', 'HEAD') + ('-dirty' if dirty else '')
-    except (OSError, subprocess.CalledProcessError):
-        if code is None:  # not a git checkout, or no git: the recipe names no commit
+    except OSError:
+        if code is None:  # no git: the recipe names no commit
+            return None
+        raise SystemExit(f'error: --code {code}: git is not installed here; install it, or '
+                         'leave --code out') from None
+    except subprocess.CalledProcessError:
+        if code is None:  # not a git checkout
             return None
         raise SystemExit(f'error: --code {code}: not a commit of this clone; give a commit '
                          'it holds (git log), or leave --code out') from None
 
 
 @contextlib.contextmanager
-def code_of(commit: str, work: Path) -> Iterator[dict]:
-    """The environment that runs tactex as it was at `commit` (a worktree, removed after)."""
-    tree = work / f'code-{commit[:12]}'
-    _git('worktree', 'add', '--detach', '--force', str(tree.resolve()), commit)
+def worktree_env(commit: str, work: Path) -> Iterator[dict]:
+    """The environment that runs tactex as it was at `commit` (a worktree, removed after).
+
+    A worktree left by a killed run is removed first.
+    """
+    tree = (work / f'code-{commit[:12]}').resolve()
+    try:
+        if tree.exists():
+            subprocess.run(['git', 'worktree', 'remove', '--force', str(tree)],
+                           cwd=Path(__file__).parent, capture_output=True, check=False)
+            shutil.rmtree(tree, ignore_errors=True)
+            _git('worktree', 'prune')
+        _git('worktree', 'add', '--detach', '--force', str(tree), commit)
+    except subprocess.CalledProcessError as failed:
+        reason = (failed.stderr.strip().splitlines() or ['(no message)'])[-1]
+        raise SystemExit(f'error: --code {commit[:12]}: git cannot check it out into {tree} '
+                         f'({reason}); remove that folder, or give another --work') from None
     try:
         sources = [str(package) for package in sorted((tree / 'src').iterdir())
                    if package.is_dir()]
         yield {**os.environ, 'PYTHONPATH': os.pathsep.join(
             [*sources, *filter(None, [os.environ.get('PYTHONPATH')])])}
     finally:
-        _git('worktree', 'remove', '--force', str(tree.resolve()))
+        _git('worktree', 'remove', '--force', str(tree))
 
 
 def check_kept_data(results: Path, paths: dict[int, Path]) -> None:
     """Refuse datasets other than those the kept grid in `results` was started with."""
-    from tactex_classify.data.dataset import Dataset
     from tactex_classify.evaluation.model_grid import GridError, GridStore
     if not (results / 'grid.json').is_file():
+        print(f'{results} holds no grid yet: nothing to check the datasets against')
         return
     try:
         GridStore(results).check_data({window: Dataset.load(path)
                                        for window, path in paths.items()})
     except GridError as err:
-        raise SystemExit(f'error: {err}; its data_recipe in run.json says how they were '
+        message = str(err).replace('or a new --out', 'or a new --grid')
+        raise SystemExit(f'error: {message}; its data_recipe in run.json says how they were '
                          'built') from None
 
 
 def _kept_run(results: Path) -> dict:
-    """A grid's run.json: its datasets' file digests, its data recipe and its calls."""
+    """A grid's run.json: its datasets' digests, its data recipe and its calls."""
     path = results / 'run.json'
     return (json.loads(path.read_text(encoding='utf-8')) if path.is_file()
             else {'datasets': {}, 'calls': []})
@@ -204,9 +227,6 @@ def main() -> int:
                         help='comma-separated window sizes (default 128,256,512); a later call '
                              'with more windows adds them to the same grid')
     args = parser.parse_args()
-    if args.sweeps < max(1, args.recordings or 0):
-        parser.error(f'--sweeps {args.sweeps}: collect at least one sweep per texture, and '
-                     'at least --recordings')
     started = time.strftime('%Y-%m-%dT%H:%M:%S%z')
     results = RESULTS / args.grid
     steps: list[dict] = []
@@ -216,25 +236,39 @@ def main() -> int:
     missing = {window: data for window, data in paths.items() if not data.is_file()}
     recipe = None
     if missing:  # datasets converted before (or carried to a lent GPU) need no bags
-        commit = commit_of(args.code)
+        commit = resolve_commit(args.code)
+        source = args.bags or args.work / (f'bags-{commit[:12]}-{args.sweeps}' if args.code
+                                           else 'bags')
+        collected = not source.is_dir()
+        if collected and args.sweeps < max(1, args.recordings or 0):
+            parser.error(f'--sweeps {args.sweeps}: collect at least one sweep per texture, '
+                         'and at least --recordings')
         args.work.mkdir(parents=True, exist_ok=True)
-        with code_of(commit, args.work) if args.code else contextlib.nullcontext() as env:
-            bags = args.bags or args.work / 'bags'
-            collected = not bags.is_dir()
-            if collected:
-                _timed([TACTEX, 'sim', 'collect', '--scene', 'uneven_texture', '--sweeps',
-                        str(args.sweeps), '--workers', str(args.cpus), '--out', str(bags)],
-                       steps, env)
-            if args.recordings:
-                bags = first_recordings(bags, args.recordings, args.work)
-            for window, data in missing.items():
-                _timed([TACTEX, 'convert', str(bags), '--out', str(data), '--window',
-                        str(window)], steps, env)
+        try:
+            with (worktree_env(commit, args.work) if args.code
+                  else contextlib.nullcontext()) as env:
+                if collected:  # into a partial folder, renamed once every sweep is in
+                    partial = args.work / f'.{source.name}.partial'
+                    shutil.rmtree(partial, ignore_errors=True)
+                    _timed([TACTEX, 'sim', 'collect', '--scene', 'uneven_texture', '--sweeps',
+                            str(args.sweeps), '--workers', str(args.cpus), '--out',
+                            str(partial)], steps, env)
+                    partial.rename(source)
+                bags = (first_recordings(source, args.recordings, args.work)
+                        if args.recordings else source)
+                for window, data in missing.items():
+                    _timed([TACTEX, 'convert', str(bags), '--out', str(data), '--window',
+                            str(window)], steps, env)
+        except (KeyboardInterrupt, subprocess.CalledProcessError) as stopped:
+            what = ('interrupted' if isinstance(stopped, KeyboardInterrupt)
+                    else f'{stopped.cmd[1]} {stopped.cmd[2]} ended with exit '
+                         f'{stopped.returncode}')
+            raise SystemExit(f'error: building the datasets in {args.work}: {what}; run '
+                             'again (whole bags and datasets are kept)') from None
         recipe = {'code': commit, 'scene': 'uneven_texture',
                   'sweeps': args.sweeps if collected else None,
                   'recordings_per_texture': args.recordings, 'windows': list(windows),
-                  'bags': None if collected else str(args.bags or args.work / 'bags'),
-                  'steps': list(steps)}
+                  'bags': None if collected else str(source), 'steps': list(steps)}
     check_kept_data(results, paths)
     datasets = list(paths.values())
     if args.data_only:
@@ -264,8 +298,8 @@ def main() -> int:
         return 1
     finally:
         record = _kept_run(results)
-        for data in datasets:
-            record['datasets'][data.name] = hashlib.sha256(data.read_bytes()).hexdigest()
+        for data in datasets:  # of the arrays, as in grid.json: a carried copy may be stored
+            record['datasets'][data.name] = Dataset.load(data).digest()
         if recipe:
             record['data_recipe'] = recipe
         record['calls'].append({'started': started,

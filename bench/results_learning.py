@@ -677,8 +677,8 @@ def compare_gpu_full() -> str:
 
 def _data_recipe(grid: str, recipe: dict | None) -> str:
     """How a kept grid's data are built again, from run.json's data_recipe, if it has one."""
-    if not recipe or not recipe['code'] or recipe['bags']:
-        return ''
+    if not recipe or not recipe['code'] or recipe['code'].endswith('-dirty') or recipe['bags']:
+        return ''  # built from bags or from changed code: no command builds them again
     minutes = sum(step['seconds'] for step in recipe['steps']) / 60
     workers = _option(recipe['steps'][0]['command'], '--workers')  # the collect step's
     return (f', which `python bench/bench_compare.py --grid {grid} --recordings '

@@ -11,12 +11,25 @@
 #   .venv/bin/python tools/device_bundle.py --data W/sim128_first20.npz \
 #     W/sim256_first20.npz W/sim512_first20.npz
 # Then, carrying .device:
-#   run(command='bash .device/run.sh bash tools/device_grid.sh 490', carry=['.device'])
-# and unpack what returns into bench/results/ before the next call (a call's tree comes
-# from this checkout). SIGINT stops the grid with its finished cells and report kept; the
-# 60 s before SIGKILL let it write run.json.
+#   run(command='bash .device/run.sh bash tools/device_grid.sh 490', carry=['.device'],
+#       timeout_s=600)
+# LIMIT_S, the 60 s after it and run.sh's install (once per fresh machine) must end
+# inside timeout_s, or nothing comes back. Unpack what returns into bench/results/ before
+# the next call (a call's tree comes from this checkout). SIGINT stops the grid with its
+# finished cells and report kept; the 60 s before SIGKILL let it write run.json.
 set -uo pipefail
-limit="${1:?usage: device_grid.sh LIMIT_S (seconds the grid may run)}"
+limit="${1:-}"
+if ! [[ "$limit" =~ ^[1-9][0-9]*$ ]]; then
+  echo "error: LIMIT_S '$limit': give the seconds the grid may run, a whole number" >&2
+  exit 1
+fi
+for window in 128 256 512; do
+  if [ ! -f ".device/data/sim${window}_first20.npz" ]; then
+    echo "error: .device/data/sim${window}_first20.npz is missing: build the bundle with" \
+      "the grid's datasets (this script's header lists the steps)" >&2
+    exit 1
+  fi
+done
 timeout -k 60 -s INT "$limit" python3 bench/bench_compare.py --grid compare_gpu_full \
   --work .device/data --recordings 20 --windows 128,256,512 --cv both --folds 5 --seeds 1 \
   --epochs 100 --early-stopping 30 --profile modern --scaling window --device cuda \

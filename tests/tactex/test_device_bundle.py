@@ -222,7 +222,6 @@ def test_a_bundle_that_does_not_fit_beside_the_working_tree_is_one_error_line(
     assert 'over the' in _one_error_line(capsys)
 
 
-
 def test_a_dataset_travels_as_the_same_arrays_stored_for_xz(tool, monkeypatch, capsys, tmp_path):
     data = toy_dataset(3).save(tmp_path / 'input' / 'toy.npz')
     assert _main(tool, monkeypatch, '--out', str(tmp_path / 'bundle'), '--data', str(data)) == 0
@@ -234,3 +233,14 @@ def test_a_dataset_travels_as_the_same_arrays_stored_for_xz(tool, monkeypatch, c
     assert Dataset.load(carried).digest() == Dataset.load(data).digest()
     sidecar = data.with_suffix('.json').read_bytes()
     assert (tmp_path / 'unpacked' / 'toy.json').read_bytes() == sidecar
+
+
+def test_two_data_files_of_one_name_are_refused_in_one_line(tool, monkeypatch, capsys, tmp_path,
+                                                            dataset):
+    other = tmp_path / 'elsewhere' / 'sim.npz'
+    other.parent.mkdir()
+    other.write_bytes(b'npz')
+    assert _main(tool, monkeypatch, '--out', str(tmp_path / 'bundle'), '--data', str(dataset),
+                 str(other)) == 1
+    assert 'names sim.npz more than once' in _one_error_line(capsys)
+    assert not (tmp_path / 'bundle').exists()

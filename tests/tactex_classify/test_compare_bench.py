@@ -43,22 +43,25 @@ def test_any_data_start_a_grid_not_yet_kept(bench, tmp_path):
 
 def test_an_unknown_commit_is_one_error_line(bench):
     with pytest.raises(SystemExit, match=r'^error: --code no-such-commit: not a commit of'):
-        bench.commit_of('no-such-commit')
+        bench.resolve_commit('no-such-commit')
 
 
 def test_without_git_the_recipe_names_no_commit(bench, monkeypatch):
     def no_git(*arguments):
         raise FileNotFoundError('git')
     monkeypatch.setattr(bench, '_git', no_git)
-    assert bench.commit_of(None) is None
+    assert bench.resolve_commit(None) is None
 
 
 @pytest.mark.skipif(not (ROOT / '.git').exists(), reason='needs a git checkout')
 def test_a_commit_runs_from_its_own_worktree_removed_after(bench, tmp_path):
-    head = bench.commit_of('HEAD')
+    head = bench.resolve_commit('HEAD')
     assert len(head) == 40
-    with bench.code_of(head, tmp_path) as env:
-        tree = tmp_path / f'code-{head[:12]}'
+    tree = tmp_path / f'code-{head[:12]}'
+    tree.mkdir()
+    (tree / 'left by a killed run').write_text('')
+    with bench.worktree_env(head, tmp_path) as env:
+        assert not (tree / 'left by a killed run').exists()
         paths = env['PYTHONPATH'].split(os.pathsep)
         assert str(tree / 'src' / 'tactex_sim') in paths
         found = subprocess.run([sys.executable, '-c', 'import tactex_sim as m; print(m.__file__)'],
@@ -85,6 +88,8 @@ def test_the_device_script_resumes_the_kept_full_grid_on_its_data_and_settings()
                  '--profile', '--scaling', '--device', '--cells-per-gpu'):
         assert option(words, name) == option(compare, name), name
     assert '--mps' in words and '--mps' in compare
+    assert option(words, '--grid') == 'compare_gpu_full'
+    assert option(words, '--work') == '.device/data'  # where .device/run.sh unpacks the data
     recipe = run['data_recipe']
     assert option(words, '--recordings') == str(recipe['recordings_per_texture'])
     assert option(words, '--windows') == ','.join(map(str, recipe['windows']))
