@@ -16,11 +16,14 @@ at its last epoch; None when it converged), marked in the table (points kept bef
 this check existed carry no mark).
 
 Points are kept in RESULTS/learning_curves.json as they finish and a run with the same
-data and settings resumes. `--merge DIR ...` trains nothing: it joins the points kept by
-calls run side by side (each with its own `--out`, the same set and settings) into
-`--out`; a point two folders hold is the later folder's, the earlier kept aside as
-`replaced`, and a merged folder's calls are listed one by one (so new calls can be merged
-into the kept results). Writes learning_curves.{json,md,png}.
+data and settings resumes; a deep model's training in progress is kept too (in
+`--out`/training_state, at an epoch's end, at most once a minute), so a long point
+stopped part way goes on from its last kept epoch, its seconds counting the training
+before the stop. `--merge DIR ...` trains nothing: it joins the points kept by calls run
+side by side (each with its own `--out`, the same set and settings) into `--out`; a point
+two folders hold is the later folder's, the earlier kept aside as `replaced`, and a
+merged folder's calls are listed one by one (so new calls can be merged into the kept
+results). Writes learning_curves.{json,md,png}.
 """
 
 import hashlib
@@ -36,10 +39,13 @@ from bench_architectures import configuration, fit_timed  # noqa: E402  (one row
 from bench_profiles import common_parser, finish_plot, keep, load_or_simulate  # noqa: E402
 from bench_sim_to_real import accuracy, draw, hold_out  # noqa: E402
 import numpy as np  # noqa: E402
+from results_common import device_mark, DEVICE_NOTE  # noqa: E402  (the rendered table's)
 
 RESULTS = Path(__file__).parent / 'results' / 'learning_curves'
-# What makes two calls' points comparable: the set (its hash) and the settings.
-KEY = ('dataset', 'test', 'draws', 'epochs', 'seed', 'device')
+# What makes two calls' points comparable: the set (its hash) and the settings. The device
+# is each point's own (`device`): it changes the seconds (on a GPU, the last bits too),
+# not the protocol.
+KEY = ('dataset', 'test', 'draws', 'epochs', 'seed')
 
 
 def markdown(summary: dict) -> str:
@@ -60,13 +66,15 @@ def markdown(summary: dict) -> str:
             reasons = sorted({r for r in (point or {}).get('unconverged', []) if r})
             cells.append('-' if point is None else
                          f'{100 * np.mean(point["accuracy"]):.1f} % '
-                         f'({np.mean(point["seconds"]):.0f} s)'
+                         f'({np.mean(point["seconds"]):.0f} s)' + device_mark(point)
                          + (f' (not converged: {", ".join(reasons)})' if reasons else ''))
         lines.append(f'| {model} | ' + ' | '.join(cells) + ' |')
     if any('unconverged' not in summary['points'].get(f'{model}@{n}', {'unconverged': 0})
            for model in summary['models'] if model not in BASELINES for n in sizes):
         lines += ['', 'Deep-model points kept before the convergence check existed carry '
                   'no mark either way.']
+    if any(device_mark(point) for point in summary['points'].values()):
+        lines += ['', DEVICE_NOTE[0].upper() + DEVICE_NOTE[1:] + '.']
     if summary['skipped']:
         lines += ['', 'Not in this set: ' + ', '.join(summary['skipped']) + '.']
     if summary.get('replaced'):
@@ -132,11 +140,12 @@ def main() -> int:
     sizes = [n for n in wanted if n <= available]
     models = [m.strip() for m in args.models.split(',') if m.strip()]
     key = dict(zip(KEY, (hashlib.sha256(dataset.X.tobytes()).hexdigest()[:16], args.test,
-                         args.draws, args.epochs, args.seed, args.device), strict=True))
+                         args.draws, args.epochs, args.seed), strict=True))
     json_path = args.out / 'learning_curves.json'
     kept = json.loads(json_path.read_text(encoding='utf-8')) if json_path.is_file() else {}
     points = kept.get('points', {}) if all(kept.get(k) == v for k, v in key.items()) else {}
-    summary = {**key, 'sizes': sizes, 'models': models, 'test_windows': int(test.y.size),
+    summary = {**key, 'device': args.device, 'sizes': sizes, 'models': models,
+               'test_windows': int(test.y.size),
                'chance': 1 / len(dataset.classes), 'points': points,
                'skipped': [f'n = {n} (the set holds {available} training recordings per '
                            'texture)' for n in wanted if n > available],
@@ -146,12 +155,13 @@ def main() -> int:
         for model in models:
             if f'{model}@{n}' in points:
                 continue
-            point = {'accuracy': [], 'seconds': [], 'unconverged': []}
+            point = {'accuracy': [], 'seconds': [], 'unconverged': [], 'device': args.device}
             for index in range(args.draws):
                 train = dataset.select(draw(dataset, pool, n, np.random.default_rng(
                     [args.seed, n, index])))
                 config = configuration(model, args.epochs, args.seed + index, 1)
-                estimator, seconds = fit_timed(config, train, args.device)
+                estimator, seconds = fit_timed(config, train, args.device, args.out /
+                                               'training_state' / f'{model}@{n}#{index}.pt')
                 point['accuracy'].append(accuracy(estimator, test))
                 point['seconds'].append(round(seconds, 1))
                 point['unconverged'].append(estimator.unconverged_reason() if hasattr(
@@ -184,6 +194,7 @@ def merge(folders: list[Path], out: Path, sizes: list[int], models: list[str]) -
     points, replaced = {}, dict(parts[0].get('replaced', {}))
     for part in parts:  # a later call's point replaces an earlier one's, which is kept aside
         for name, point in part['points'].items():
+            point = {**point, 'device': point.get('device', part.get('device', 'cpu'))}
             if name in points and points[name] != point:
                 replaced[name] = {**points[name], 'by': part['command']}
             points[name] = point

@@ -10,6 +10,14 @@ RESULTS = Path(__file__).resolve().parent / 'results'
 # bench/results/ as a page one folder below docs/ sees it (docs/results links there).
 FIGURES = '../results'
 TEXTURE_MODELS = {'extratrees': 'statistics + ExtraTrees', 'minirocket': 'MiniRocket + ridge'}
+DEVICE_NOTE = ('a device in brackets: the point trained there, not on one core of the CPU, '
+               "its seconds that device's")
+
+
+def device_mark(point: dict) -> str:
+    """' (cuda)' for a kept point trained on a GPU (its seconds are not a core's), or ''."""
+    device = point.get('device', 'cpu')
+    return '' if device == 'cpu' else f' ({device})'
 
 
 def kept_text(name: str) -> str:

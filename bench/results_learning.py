@@ -8,7 +8,14 @@ from pathlib import Path
 
 import numpy as np
 import results_common
-from results_common import FIGURES, kept_json, RESULTS, TEXTURE_MODELS
+from results_common import (
+    device_mark,
+    DEVICE_NOTE,
+    FIGURES,
+    kept_json,
+    RESULTS,
+    TEXTURE_MODELS,
+)
 
 
 def _texture_run() -> dict:
@@ -223,7 +230,8 @@ def learning_curves() -> str:
             point = data['points'].get(f'{model}@{n}')
             stalled = point and 'stalled at chance' in point.get('unconverged', [])
             cells.append('-' if point is None else f'{100 * np.mean(point["accuracy"]):.1f} % '
-                         f'({np.mean(point["seconds"]):.0f} s)' + ' (stalled)' * bool(stalled))
+                         f'({np.mean(point["seconds"]):.0f} s)' + device_mark(point)
+                         + ' (stalled)' * bool(stalled))
         table.append(f'| {TEXTURE_MODELS.get(model, model)} | ' + ' | '.join(cells) + ' |')
     calls = data.get('calls', [data['command']])
     how = (f', joining {len(calls)} calls run side by side on the two cores, one thread each, '
@@ -240,6 +248,8 @@ def learning_curves() -> str:
             + ('; (stalled): a training whose loss never left chance in all its epochs'
                if any('stalled at chance' in point.get('unconverged', [])
                       for point in data['points'].values()) else '')
+            + (f'; {DEVICE_NOTE}' if any(
+                device_mark(point) for point in data['points'].values()) else '')
             + '; `bench/results/learning_curves/`:\n\n'
             + '\n'.join(table) + '\n\n![learning curves]'
             f'({FIGURES}/learning_curves/learning_curves.png)\n')

@@ -117,6 +117,32 @@ def test_a_cell_trains_a_deep_model_with_the_grids_profile():
     assert result['config']['optimizer'] == 'adamw'
 
 
+class Stopped(Exception):
+    """A kill right after a kept epoch."""
+
+
+def test_a_deep_cell_stopped_part_way_resumes_from_its_last_kept_epoch(tmp_path, monkeypatch):
+    from tactex_classify.training.training_state import TrainingState
+    cell, settings = Cell(0, 1, 'grouped', 64, 'cnn_2'), GridSettings(folds=2, epochs=4)
+    straight = run_cell({64: toy()}, cell, settings, 1, 'cpu')
+    save = TrainingState.save_if_due
+
+    def save_then_stop(keeper, state, force=False):
+        save(keeper, state, force=True)
+        if state['epoch'] == 2:
+            raise Stopped
+    monkeypatch.setattr(TrainingState, 'save_if_due', save_then_stop)
+    with pytest.raises(Stopped):
+        run_cell({64: toy()}, cell, settings, 1, 'cpu', tmp_path)
+    kept = tmp_path / 'cnn_2' / 'w64' / 'seed0-grouped-fold1.pt'
+    assert kept.is_file()
+    monkeypatch.undo()
+    resumed = run_cell({64: toy()}, cell, settings, 1, 'cpu', tmp_path)
+    assert resumed['train_losses'] == straight['train_losses']  # epochs 3-4 as if never stopped
+    assert resumed['y_pred'] == straight['y_pred']
+    assert resumed['train_s'] > 0 and not kept.exists()
+
+
 @pytest.mark.parametrize('model', ['extratrees', 'cnn_2'])
 def test_a_cell_scores_its_own_test_fold_and_reports_its_cost(model):
     dataset = toy()
@@ -296,6 +322,7 @@ def test_a_grid_killed_midway_resumes_without_recomputing_finished_cells(tmp_pat
     assert re.search(r'\| cnn_2( \(not converged\))? \|', report)
     assert '| extratrees (baseline) |' in report
     assert (out / 'accuracy.png').is_file() and (out / 'cost.png').is_file()
+    assert not [path for path in (out / 'training_state').rglob('*') if path.is_file()]
 
 
 def test_each_deep_row_gives_its_paired_difference_to_the_best_baseline_with_a_95_interval():

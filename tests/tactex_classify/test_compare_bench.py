@@ -94,3 +94,4 @@ def test_the_device_script_resumes_the_kept_full_grid_on_its_data_and_settings()
     assert option(words, '--recordings') == str(recipe['recordings_per_texture'])
     assert option(words, '--windows') == ','.join(map(str, recipe['windows']))
     assert f'--sweeps {recipe["sweeps"]} --code {recipe["code"][:12]} --data-only' in script
+    assert '--exclude=training_state' in script  # a cell's state stays on the machine

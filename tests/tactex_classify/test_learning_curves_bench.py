@@ -39,8 +39,64 @@ def test_a_later_call_replaces_a_point_and_the_earlier_is_kept_aside(bench, tmp_
     assert bench.merge([merged, new], tmp_path / 'out', [5, 10], ['bilstm_1']) == 0
     summary = json.loads((tmp_path / 'out' / 'learning_curves.json').read_text())
     assert summary['points']['bilstm_1@5']['accuracy'] == [0.4]
-    assert summary['points']['bilstm_1@10'] == old
-    assert summary['replaced'] == {'bilstm_1@5': {**old, 'by': 'call c'}}
+    assert summary['points']['bilstm_1@10'] == {**old, 'device': 'cpu'}  # the call's device
+    assert summary['replaced'] == {'bilstm_1@5': {**old, 'device': 'cpu', 'by': 'call c'}}
     assert summary['calls'] == ['call a', 'call b', 'call c']  # a merged folder's, one by one
     table = (tmp_path / 'out' / 'learning_curves.md').read_text()
     assert '- bilstm_1 at n = 5: 7.0 % (100 s), replaced by `call c`' in table
+
+
+class Stopped(Exception):
+    """A kill right after a kept epoch."""
+
+
+def test_a_point_stopped_part_way_resumes_and_counts_the_training_before(bench, tmp_path,
+                                                                         monkeypatch):
+    import bench_architectures
+    from support.toy_windows import toy
+
+    from tactex_classify.training.training_state import TrainingState
+    data = toy(recordings_per_class=4, windows=4)
+    config = bench_architectures.configuration('cnn_3', 3, 0, 1)
+    state = tmp_path / 'training_state' / 'cnn_3@5#0.pt'
+    save = TrainingState.save_if_due
+
+    def save_then_stop(keeper, kept, force=False):
+        save(keeper, kept, force=True)
+        raise Stopped
+    monkeypatch.setattr(TrainingState, 'save_if_due', save_then_stop)
+    with pytest.raises(Stopped):
+        bench_architectures.fit_timed(config, data, 'cpu', state)
+    assert state.is_file()
+    monkeypatch.undo()
+    estimator, seconds = bench_architectures.fit_timed(config, data, 'cpu', state)
+    assert [record['epoch'] for record in estimator.history_] == [1, 2, 3]
+    assert seconds > estimator.resumed_seconds_ > 0 and not state.exists()
+
+
+def test_a_point_trained_on_a_gpu_joins_the_cpu_curves_and_says_where_it_ran(bench, tmp_path,
+                                                                            monkeypatch):
+    cpu = {'accuracy': [0.5], 'seconds': [1000.0]}
+    kept_cpu = kept(tmp_path / 'cpu', 'call cpu', {'bilstm_1@5': cpu})
+    gpu = kept(tmp_path / 'gpu', 'call gpu', {'bilstm_1@10': {
+        'accuracy': [0.6], 'seconds': [40.0], 'device': 'cuda'}})
+    summary = json.loads((gpu / 'learning_curves.json').read_text())
+    (gpu / 'learning_curves.json').write_text(json.dumps({**summary, 'device': 'cuda'}))
+    monkeypatch.setattr(sys, 'argv', ['bench_learning_curves.py', '--merge', 'cpu', 'gpu'])
+    assert bench.merge([kept_cpu, gpu], tmp_path / 'out', [5, 10], ['bilstm_1']) == 0
+    merged = json.loads((tmp_path / 'out' / 'learning_curves.json').read_text())
+    assert merged['points']['bilstm_1@5']['device'] == 'cpu'  # the call's, kept per point
+    assert merged['points']['bilstm_1@10']['device'] == 'cuda'
+    table = (tmp_path / 'out' / 'learning_curves.md').read_text()
+    assert '| bilstm_1 | 50.0 % (1000 s) | 60.0 % (40 s) (cuda) |' in table
+    assert 'A device in brackets: the point trained there' in table
+
+
+def test_calls_on_another_set_or_settings_are_not_merged(bench, tmp_path, capsys):
+    first = kept(tmp_path / 'a', 'call a', {})
+    other = kept(tmp_path / 'b', 'call b', {})
+    summary = json.loads((other / 'learning_curves.json').read_text())
+    (other / 'learning_curves.json').write_text(json.dumps({**summary, 'epochs': 50}))
+    assert bench.merge([first, other], tmp_path / 'out', [5], ['bilstm_1']) == 1
+    assert 'another set or settings' in capsys.readouterr().err
+    assert not (tmp_path / 'out').exists()

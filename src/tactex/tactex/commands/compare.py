@@ -81,7 +81,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              'Multi-Process Service, started for the grid (a local GPU; '
                              'not with --address)')
     parser.add_argument('--out', type=output_path, required=True,
-                        help='grid folder: new, or one to resume (finished cells are kept)')
+                        help='grid folder: new, or one to resume (finished cells are kept, '
+                             'cells in training go on from their last kept epoch)')
 
 
 def run(args: argparse.Namespace) -> int:

@@ -8,7 +8,9 @@ windows, with `grouped` (by recording, honest) and `stratified` (windows, leaky)
 side by side. The seed draws both the folds and the model's initial weights. Each
 finished cell is one JSON file under `DIR/cells/`, written whole (temporary file and
 rename), so an interrupted grid resumes where it stopped and never trains a finished
-cell again; `DIR/grid.json` holds what every cell depends on besides its coordinates
+cell again; a deep model's cell in training keeps its state under `DIR/training_state/`
+(at an epoch's end, at most once a minute), so a cell stopped part way goes on from its
+last kept epoch; `DIR/grid.json` holds what every cell depends on besides its coordinates
 (training settings, the datasets' digests), and a resumed grid must agree with it.
 """
 
@@ -165,6 +167,11 @@ class GridStore:
             raise GridError(f'{self.manifest_path} is not a tactex comparison manifest') from None
         return manifest
 
+    @property
+    def state_folder(self) -> Path:
+        """Where cells in training keep their state (`training_state`), until they finish."""
+        return self.folder / 'training_state'
+
     def load(self, cell: Cell) -> dict | None:
         """A finished cell's result, or None (not run, or unreadable: run it again)."""
         path = self.folder / 'cells' / cell.relative_path
@@ -207,8 +214,12 @@ def cuda_available() -> bool:
 
 
 def run_cell(datasets: dict[int, Dataset], cell: Cell, settings: GridSettings, threads: int,
-             device: str) -> dict:
+             device: str, state_folder: Path | None = None) -> dict:
     """Train and score one cell; returns its result (a Ray task on any node).
+
+    A deep model keeps its training state under `state_folder` (`GridStore.state_file`)
+    and a cell stopped part way resumes from its last kept epoch; `train_s` then counts
+    the training before the stop.
 
     Latency is that of classifying one window through `predict_proba` (median of up to
     30 calls on test windows), as the live classifier would; throughput is the whole
@@ -230,11 +241,12 @@ def run_cell(datasets: dict[int, Dataset], cell: Cell, settings: GridSettings, t
         settings.profile, model=cell.model, epochs=settings.epochs,
         early_stopping=settings.early_stopping, validation_fraction=settings.validation_fraction,
         scaling=settings.scaling, seed=cell.seed, threads=threads)
-    estimator = build_estimator(config, device=device)
+    estimator = build_estimator(config, device=device, state_file=None if (
+        state_folder is None) else state_folder / cell.relative_path.replace('.json', '.pt'))
     started = time.perf_counter()
     estimator.fit(dataset.X[train], dataset.y[train], dataset.classes,
                   groups=dataset.trial[train], channels=dataset.channels)
-    train_s = time.perf_counter() - started
+    train_s = time.perf_counter() - started + getattr(estimator, 'resumed_seconds_', 0.0)
     started = time.perf_counter()
     predicted = estimator.predict_proba(dataset.X[test]).argmax(axis=1)
     batch_s = time.perf_counter() - started
@@ -305,8 +317,8 @@ def run_grid(store: GridStore, cells: Sequence[Cell], datasets: dict[int, Datase
                  f'{100 * result["accuracy"]:.1f} % in {result["train_s"]:.0f} s '
                  f'(ETA {_duration(eta)})')
 
-    jobs = [(cell, settings, threads, 'cpu' if cell.model in BASELINES else device)
-            for cell in todo]
+    jobs = [(cell, settings, threads, 'cpu' if cell.model in BASELINES else device,
+             store.state_folder) for cell in todo]
     if jobs:
         run_tasks(run_cell, jobs, shared=(datasets,), resources=resources, on_result=finished)
     return run

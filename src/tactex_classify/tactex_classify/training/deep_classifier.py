@@ -18,6 +18,7 @@ from dataclasses import asdict, dataclass
 import math
 import os
 from pathlib import Path
+import time
 
 import numpy as np
 
@@ -160,10 +161,13 @@ class DeepClassifier(Deployable):
     MODEL_FILE = 'weights.pt'
 
     def __init__(self, config: TrainingConfig | None = None, *,
-                 progress: Callable[[dict], None] | None = None, device: str = 'cpu') -> None:
+                 progress: Callable[[dict], None] | None = None, device: str = 'cpu',
+                 state_file: Path | None = None, state_every_s: float = 60.0) -> None:
         self.config = config or TrainingConfig()
         self.progress = progress
         self.device = device  # where fit trains: 'cpu', 'cuda', 'cuda:1', ...
+        # Where fit keeps its state between epochs (training_state); None: not kept.
+        self.state_file, self.state_every_s = state_file, state_every_s
         self.model_ = None
 
     def fit(self, X, y, classes: list[str], groups=None, *,
@@ -178,6 +182,11 @@ class DeepClassifier(Deployable):
                 out whole recordings (GroupShuffleSplit) before the scaler is fitted.
             channels: names of X's channels (the dataset's); default this system's ten.
                 Kept in the checkpoint and checked by `predict_proba(..., channels=...)`.
+
+        With `state_file`, the state is kept there between epochs and a fit of the same
+        data and settings resumes from it (`resumed_seconds_`: the training it had done;
+        a file kept for another fit is set aside with a warning, `training_state`); the
+        file is removed when the fit ends.
 
         Raises:
             ValueError: bad windows, labels or settings; early stopping without groups,
@@ -196,6 +205,13 @@ class DeepClassifier(Deployable):
             schedule_for,
             training_step,
         )
+        from tactex_classify.training.training_state import (
+            kept_state,
+            restore_state,
+            training_key,
+            TrainingState,
+        )
+        started = time.monotonic()
         config = self.config.check()
         X = check_windows(X)
         check_window(config.model, X.shape[1])
@@ -233,8 +249,19 @@ class DeepClassifier(Deployable):
         train_data, train_target = data[torch.from_numpy(train)], target[torch.from_numpy(train)]
         best_loss, best_state, waited = math.inf, None, 0
         self.history_ = []
-        self.best_epoch_ = 0
-        for epoch in range(1, config.epochs + 1):
+        self.best_epoch_, self.resumed_seconds_, first_epoch = 0, 0.0, 1
+        keeper = TrainingState(self.state_file, training_key(
+            config, X, y, groups, self.classes_, device), self.state_every_s
+            ) if self.state_file else None
+        parts = {'model': self.model_, 'optimizer': optimizer, 'schedule': schedule,
+                 'averaged': averaged}
+        kept = keeper.load() if keeper else None
+        if kept:
+            restore_state(kept, parts, generator, rng)
+            self.history_, self.best_epoch_ = kept['history'], kept['best_epoch']
+            best_loss, best_state, waited = kept['best_loss'], kept['best_state'], kept['waited']
+            self.resumed_seconds_, first_epoch = kept['seconds'], kept['epoch'] + 1
+        for epoch in range(first_epoch, config.epochs + 1):
             self.model_.train()
             # One gather per epoch; each batch is then a contiguous slice of it. Loss and
             # hits add up on the device: no host round trip per batch.
@@ -274,8 +301,7 @@ class DeepClassifier(Deployable):
                 record['val_accuracy'] = float(np.mean(logits.argmax(1) ==
                                                        y[validation]))
             self.history_.append(record)
-            if self.progress:
-                self.progress(record)
+            stop = False
             if config.early_stopping and validation.size:
                 if record['val_loss'] < best_loss - 1e-6:
                     best_loss, waited, self.best_epoch_ = record['val_loss'], 0, epoch
@@ -283,8 +309,19 @@ class DeepClassifier(Deployable):
                 elif not stalled_at_chance([r['train_loss'] for r in self.history_],
                                            len(self.classes_)):  # at chance it cannot judge
                     waited += 1
-                    if waited >= config.early_stopping:
-                        break
+                    stop = waited >= config.early_stopping
+            if keeper and not stop:
+                keeper.save_if_due(kept_state(
+                    parts, generator, rng, epoch=epoch, best_loss=best_loss,
+                    best_state=best_state, waited=waited, best_epoch=self.best_epoch_,
+                    history=self.history_,
+                    seconds=self.resumed_seconds_ + time.monotonic() - started))
+            if self.progress:
+                self.progress(record)
+            if stop:
+                break
+        if keeper:
+            keeper.remove()
         self.still_falling_ = ran_out_still_falling(
             [record['train_loss'] for record in self.history_], config.epochs)
         if best_state is None:
