@@ -51,16 +51,18 @@ def configuration(model: str, epochs: int, seed: int, device_threads: int):
                                       scaling='window', threads=device_threads)
 
 
-def fit_timed(config, data, device: str = 'cpu', state_file: Path | None = None):
+def fit_timed(config, data, device: str = 'cpu', state_file: Path | None = None,
+              progress=None):
     """(estimator, seconds): a deep model (TrainingConfig) or baseline (its name) fitted.
 
-    A deep model's fit keeps its state in `state_file` (if given) and resumes from it; the
-    seconds then include the training done before the resume.
+    A deep model reports each epoch to `progress` (if given), keeps its state in
+    `state_file` (if given) and resumes from it; the seconds then include the training
+    done before the resume.
     """
     from tactex_classify.training.deep_classifier import DeepClassifier, TrainingConfig
     from tactex_classify.training.estimators import build_estimator
     estimator = build_estimator(TrainingConfig(model=config)) if isinstance(config, str) \
-        else DeepClassifier(config, device=device, state_file=state_file)
+        else DeepClassifier(config, device=device, state_file=state_file, progress=progress)
     started = time.perf_counter()
     estimator.fit(data.X, data.y, data.classes, groups=data.trial, channels=data.channels)
     return estimator, time.perf_counter() - started + getattr(estimator, 'resumed_seconds_', 0)

@@ -116,6 +116,18 @@ def plot(summary: dict, path: Path) -> None:
     finish_plot(figure, axes, summary['chance'], 'learning curves', path)
 
 
+def epoch_lines(name: str, epochs: int, started: float):
+    """Epoch lines of a deep model's fit: its first in this call (a resumed one's), every tenth."""
+    first = []
+
+    def progress(record: dict) -> None:
+        if not first or record['epoch'] % 10 == 0:
+            first.append(record['epoch'])
+            print(f'[{time.monotonic() - started:7.0f} s] {name} epoch {record["epoch"]}/'
+                  f'{epochs}: training loss {record["train_loss"]:.3f}', flush=True)
+    return progress
+
+
 def main() -> int:
     parser = common_parser(__doc__, RESULTS)
     parser.add_argument('--sizes', default='5,10,20,40,80')
@@ -160,8 +172,10 @@ def main() -> int:
                 train = dataset.select(draw(dataset, pool, n, np.random.default_rng(
                     [args.seed, n, index])))
                 config = configuration(model, args.epochs, args.seed + index, 1)
-                estimator, seconds = fit_timed(config, train, args.device, args.out /
-                                               'training_state' / f'{model}@{n}#{index}.pt')
+                estimator, seconds = fit_timed(
+                    config, train, args.device,
+                    args.out / 'training_state' / f'{model}@{n}#{index}.pt',
+                    epoch_lines(f'n={n:3d} {model}', args.epochs, started))
                 point['accuracy'].append(accuracy(estimator, test))
                 point['seconds'].append(round(seconds, 1))
                 point['unconverged'].append(estimator.unconverged_reason() if hasattr(
