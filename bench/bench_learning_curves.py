@@ -17,13 +17,13 @@ this check existed carry no mark).
 
 Points are kept in RESULTS/learning_curves.json as they finish and a run with the same
 data and settings resumes; a deep model's training in progress is kept too (in
-`--out`/training_state, at an epoch's end, at most once a minute), so a long point
-stopped part way goes on from its last kept epoch, its seconds counting the training
-before the stop. `--merge DIR ...` trains nothing: it joins the points kept by calls run
-side by side (each with its own `--out`, the same set and settings) into `--out`; a point
-two folders hold is the later folder's, the earlier kept aside as `replaced`, and a
-merged folder's calls are listed one by one (so new calls can be merged into the kept
-results). Writes learning_curves.{json,md,png}.
+`--out`/training_state, at an epoch's end, at most once a minute, and at its end until
+the point is kept), so a long point stopped part way goes on from its last kept epoch,
+its seconds counting the training before the stop. `--merge DIR ...` trains nothing: it
+joins the points kept by calls run side by side (each with its own `--out`, the same set
+and settings) into `--out`; a point two folders hold is the later folder's, the earlier
+kept aside as `replaced`, and a merged folder's calls are listed one by one (so new
+calls can be merged into the kept results). Writes learning_curves.{json,md,png}.
 """
 
 import hashlib
@@ -40,6 +40,8 @@ from bench_profiles import common_parser, finish_plot, keep, load_or_simulate  #
 from bench_sim_to_real import accuracy, draw, hold_out  # noqa: E402
 import numpy as np  # noqa: E402
 from results_common import device_mark, DEVICE_NOTE  # noqa: E402  (the rendered table's)
+
+from tactex_classify.training.training_state import forget  # noqa: E402
 
 RESULTS = Path(__file__).parent / 'results' / 'learning_curves'
 # What makes two calls' points comparable: the set (its hash) and the settings. The device
@@ -118,11 +120,12 @@ def plot(summary: dict, path: Path) -> None:
 
 def epoch_lines(name: str, epochs: int, started: float):
     """Epoch lines of a deep model's fit: its first in this call (a resumed one's), every tenth."""
-    first = []
+    shown = False
 
     def progress(record: dict) -> None:
-        if not first or record['epoch'] % 10 == 0:
-            first.append(record['epoch'])
+        nonlocal shown
+        if not shown or record['epoch'] % 10 == 0:
+            shown = True
             print(f'[{time.monotonic() - started:7.0f} s] {name} epoch {record["epoch"]}/'
                   f'{epochs}: training loss {record["train_loss"]:.3f}', flush=True)
     return progress
@@ -155,7 +158,9 @@ def main() -> int:
                          args.draws, args.epochs, args.seed), strict=True))
     json_path = args.out / 'learning_curves.json'
     kept = json.loads(json_path.read_text(encoding='utf-8')) if json_path.is_file() else {}
-    points = kept.get('points', {}) if all(kept.get(k) == v for k, v in key.items()) else {}
+    points = {name: {'device': kept.get('device', 'cpu'), **point}  # kept before points had it
+              for name, point in kept.get('points', {}).items()} if all(
+        kept.get(k) == v for k, v in key.items()) else {}
     summary = {**key, 'device': args.device, 'sizes': sizes, 'models': models,
                'test_windows': int(test.y.size),
                'chance': 1 / len(dataset.classes), 'points': points,
@@ -163,6 +168,7 @@ def main() -> int:
                            'texture)' for n in wanted if n > available],
                'command': 'python bench/bench_learning_curves.py ' + ' '.join(sys.argv[1:])}
     args.out.mkdir(parents=True, exist_ok=True)
+    states = args.out / 'training_state'
     for n in sizes:
         for model in models:
             if f'{model}@{n}' in points:
@@ -173,8 +179,7 @@ def main() -> int:
                     [args.seed, n, index])))
                 config = configuration(model, args.epochs, args.seed + index, 1)
                 estimator, seconds = fit_timed(
-                    config, train, args.device,
-                    args.out / 'training_state' / f'{model}@{n}#{index}.pt',
+                    config, train, args.device, states / f'{model}@{n}#{index}.pt',
                     epoch_lines(f'n={n:3d} {model}', args.epochs, started))
                 point['accuracy'].append(accuracy(estimator, test))
                 point['seconds'].append(round(seconds, 1))
@@ -185,6 +190,8 @@ def main() -> int:
                   f'{100 * np.mean(point["accuracy"]):5.1f} %, '
                   f'{np.mean(point["seconds"]):.0f} s', flush=True)
             json_path.write_text(json.dumps(summary, indent=1) + '\n', encoding='utf-8')
+            for index in range(args.draws):  # kept in the JSON: their states are done with
+                forget(states / f'{model}@{n}#{index}.pt')
     keep(args.out, 'learning_curves', summary, markdown, plot)
     return 0
 

@@ -122,25 +122,39 @@ class Stopped(Exception):
 
 
 def test_a_deep_cell_stopped_part_way_resumes_from_its_last_kept_epoch(tmp_path, monkeypatch):
+    import torch
+
     from tactex_classify.training.training_state import TrainingState
     cell, settings = Cell(0, 1, 'grouped', 64, 'cnn_2'), GridSettings(folds=2, epochs=4)
     straight = run_cell({64: toy()}, cell, settings, 1, 'cpu')
-    save = TrainingState.save_if_due
+    save = TrainingState.save
 
-    def save_then_stop(keeper, state, force=False):
-        save(keeper, state, force=True)
+    def save_then_stop(keeper, state):
+        save(keeper, state)
         if state['epoch'] == 2:
             raise Stopped
-    monkeypatch.setattr(TrainingState, 'save_if_due', save_then_stop)
+    monkeypatch.setattr(TrainingState, 'due', lambda keeper: True)
+    monkeypatch.setattr(TrainingState, 'save', save_then_stop)
     with pytest.raises(Stopped):
         run_cell({64: toy()}, cell, settings, 1, 'cpu', tmp_path)
-    kept = tmp_path / 'cnn_2' / 'w64' / 'seed0-grouped-fold1.pt'
-    assert kept.is_file()
     monkeypatch.undo()
+    kept = tmp_path / 'cnn_2' / 'w64' / 'seed0-grouped-fold1.pt'
+    trained_before = torch.load(kept, weights_only=True)['seconds']
     resumed = run_cell({64: toy()}, cell, settings, 1, 'cpu', tmp_path)
     assert resumed['train_losses'] == straight['train_losses']  # epochs 3-4 as if never stopped
     assert resumed['y_pred'] == straight['y_pred']
-    assert resumed['train_s'] > 0 and not kept.exists()
+    assert resumed['train_s'] > trained_before > 0
+    assert resumed['notes'] == []
+    assert torch.load(kept, weights_only=True)['finished']  # until the grid saves the result
+
+
+def test_a_cell_says_why_its_kept_state_was_set_aside(tmp_path):
+    cell, settings = Cell(0, 1, 'grouped', 64, 'cnn_2'), GridSettings(folds=2, epochs=2)
+    kept = tmp_path / cell.state_name
+    kept.parent.mkdir(parents=True)
+    kept.write_bytes(b'torn')
+    result = run_cell({64: toy()}, cell, settings, 1, 'cpu', tmp_path)
+    assert len(result['notes']) == 1 and 'is not a training state' in result['notes'][0]
 
 
 @pytest.mark.parametrize('model', ['extratrees', 'cnn_2'])

@@ -54,24 +54,60 @@ def test_a_point_stopped_part_way_resumes_and_counts_the_training_before(bench, 
                                                                          monkeypatch):
     import bench_architectures
     from support.toy_windows import toy
+    import torch
 
     from tactex_classify.training.training_state import TrainingState
     data = toy(recordings_per_class=4, windows=4)
     config = bench_architectures.configuration('cnn_3', 3, 0, 1)
     state = tmp_path / 'training_state' / 'cnn_3@5#0.pt'
-    save = TrainingState.save_if_due
+    save = TrainingState.save
 
-    def save_then_stop(keeper, kept, force=False):
-        save(keeper, kept, force=True)
+    def save_then_stop(keeper, kept):
+        save(keeper, kept)
         raise Stopped
-    monkeypatch.setattr(TrainingState, 'save_if_due', save_then_stop)
+    monkeypatch.setattr(TrainingState, 'due', lambda keeper: True)
+    monkeypatch.setattr(TrainingState, 'save', save_then_stop)
     with pytest.raises(Stopped):
         bench_architectures.fit_timed(config, data, 'cpu', state)
-    assert state.is_file()
     monkeypatch.undo()
+    trained_before = torch.load(state, weights_only=True)['seconds']
     estimator, seconds = bench_architectures.fit_timed(config, data, 'cpu', state)
     assert [record['epoch'] for record in estimator.history_] == [1, 2, 3]
-    assert seconds > estimator.resumed_seconds_ > 0 and not state.exists()
+    assert seconds > estimator.resumed_seconds_ == trained_before > 0
+
+
+def test_old_points_keep_the_device_of_their_call_when_a_gpu_call_resumes_them(bench, tmp_path,
+                                                                                monkeypatch):
+    import hashlib
+
+    from support.toy_windows import toy
+    data = toy(recordings_per_class=7, windows=2)
+    data.save(tmp_path / 'toy.npz')
+    out = kept(tmp_path / 'out', 'call cpu', {'extratrees@2': {'accuracy': [0.5],
+                                                               'seconds': [1.0]}})
+    summary = json.loads((out / 'learning_curves.json').read_text())
+    summary.update(dataset=hashlib.sha256(data.X.tobytes()).hexdigest()[:16], sizes=[2])
+    (out / 'learning_curves.json').write_text(json.dumps(summary))
+    monkeypatch.setattr(sys, 'argv', [
+        'bench_learning_curves.py', '--data', str(tmp_path / 'toy.npz'), '--sizes', '2',
+        '--test', '5', '--models', 'extratrees', '--device', 'cuda', '--out', str(out)])
+    assert bench.main() == 0
+    points = json.loads((out / 'learning_curves.json').read_text())['points']
+    assert points['extratrees@2'] == {'accuracy': [0.5], 'seconds': [1.0], 'device': 'cpu'}
+
+
+def test_a_deep_points_training_state_goes_once_the_point_is_kept(bench, tmp_path,
+                                                                  monkeypatch):
+    from support.toy_windows import toy
+    toy(recordings_per_class=7, windows=2).save(tmp_path / 'toy.npz')
+    out = tmp_path / 'out'
+    monkeypatch.setattr(sys, 'argv', [
+        'bench_learning_curves.py', '--data', str(tmp_path / 'toy.npz'), '--sizes', '2',
+        '--models', 'cnn_3', '--epochs', '2', '--out', str(out)])
+    assert bench.main() == 0
+    points = json.loads((out / 'learning_curves.json').read_text())['points']
+    assert points['cnn_3@2']['device'] == 'cpu' and len(points['cnn_3@2']['accuracy']) == 1
+    assert not [path for path in out.rglob('*.pt*')]  # its finished state was forgotten
 
 
 def test_a_point_trained_on_a_gpu_joins_the_cpu_curves_and_says_where_it_ran(bench, tmp_path,

@@ -176,7 +176,8 @@ def run_cells(args: argparse.Namespace, store, cells, datasets, settings, *,
             f'{device}, {args.threads} thread(s) per cell')
         try:
             run_grid(store, cells, datasets, settings, threads=args.threads, device=device,
-                     gpus_per_cell=1.0 / args.cells_per_gpu, progress=log)
+                     gpus_per_cell=1.0 / args.cells_per_gpu, progress=log,
+                     keep_states=args.address is None)  # a cluster's nodes write elsewhere
         finally:
             results = store.results()
             report = write_report(args.out, results, store.manifest(),

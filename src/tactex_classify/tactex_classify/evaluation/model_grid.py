@@ -9,9 +9,10 @@ side by side. The seed draws both the folds and the model's initial weights. Eac
 finished cell is one JSON file under `DIR/cells/`, written whole (temporary file and
 rename), so an interrupted grid resumes where it stopped and never trains a finished
 cell again; a deep model's cell in training keeps its state under `DIR/training_state/`
-(at an epoch's end, at most once a minute), so a cell stopped part way goes on from its
-last kept epoch; `DIR/grid.json` holds what every cell depends on besides its coordinates
-(training settings, the datasets' digests), and a resumed grid must agree with it.
+(at an epoch's end, at most once a minute, and at its end until its result is saved), so
+a cell stopped part way goes on from its last kept epoch; `DIR/grid.json` holds what
+every cell depends on besides its coordinates (training settings, the datasets'
+digests), and a resumed grid must agree with it.
 """
 
 from __future__ import annotations
@@ -24,12 +25,14 @@ import os
 from pathlib import Path
 import platform
 import time
+import warnings
 
 import numpy as np
 
 from tactex_classify.data.dataset import Dataset
 from tactex_classify.errors import ClassifyError
 from tactex_classify.models.registry import BASELINES, SCHEMES
+from tactex_classify.training.training_state import forget, TrainingStateWarning
 
 GRID_FORMAT = 1
 LATENCY_CALLS = 30
@@ -53,6 +56,11 @@ class Cell:
     def relative_path(self) -> str:
         """Where its result lives under `DIR/cells/`."""
         return f'{self.model}/w{self.window}/seed{self.seed}-{self.scheme}-fold{self.fold}.json'
+
+    @property
+    def state_name(self) -> str:
+        """Where its training state lives under `DIR/training_state/` while it trains."""
+        return self.relative_path.removesuffix('.json') + '.pt'
 
     def describe(self) -> str:
         """Short text for progress lines."""
@@ -217,9 +225,10 @@ def run_cell(datasets: dict[int, Dataset], cell: Cell, settings: GridSettings, t
              device: str, state_folder: Path | None = None) -> dict:
     """Train and score one cell; returns its result (a Ray task on any node).
 
-    A deep model keeps its training state under `state_folder` (`GridStore.state_file`)
+    A deep model keeps its training state under `state_folder` (`GridStore.state_folder`)
     and a cell stopped part way resumes from its last kept epoch; `train_s` then counts
-    the training before the stop.
+    the training before the stop, and `notes` say why a kept state was set aside (a
+    worker's warnings do not reach the console).
 
     Latency is that of classifying one window through `predict_proba` (median of up to
     30 calls on test windows), as the live classifier would; throughput is the whole
@@ -242,10 +251,12 @@ def run_cell(datasets: dict[int, Dataset], cell: Cell, settings: GridSettings, t
         early_stopping=settings.early_stopping, validation_fraction=settings.validation_fraction,
         scaling=settings.scaling, seed=cell.seed, threads=threads)
     estimator = build_estimator(config, device=device, state_file=None if (
-        state_folder is None) else state_folder / cell.relative_path.replace('.json', '.pt'))
+        state_folder is None) else state_folder / cell.state_name)
     started = time.perf_counter()
-    estimator.fit(dataset.X[train], dataset.y[train], dataset.classes,
-                  groups=dataset.trial[train], channels=dataset.channels)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter('always', TrainingStateWarning)
+        estimator.fit(dataset.X[train], dataset.y[train], dataset.classes,
+                      groups=dataset.trial[train], channels=dataset.channels)
     train_s = time.perf_counter() - started + getattr(estimator, 'resumed_seconds_', 0.0)
     started = time.perf_counter()
     predicted = estimator.predict_proba(dataset.X[test]).argmax(axis=1)
@@ -274,6 +285,8 @@ def run_cell(datasets: dict[int, Dataset], cell: Cell, settings: GridSettings, t
             'config': asdict(config) if history else None,
             'still_falling': getattr(estimator, 'still_falling_', None),
             'train_losses': [record['train_loss'] for record in history],
+            'notes': [str(warning.message) for warning in caught
+                      if issubclass(warning.category, TrainingStateWarning)],
             'finished': time.strftime('%Y-%m-%dT%H:%M:%S%z')}
 
 
@@ -288,13 +301,15 @@ class GridRun:
 
 def run_grid(store: GridStore, cells: Sequence[Cell], datasets: dict[int, Dataset],
              settings: GridSettings, *, threads: int = 1, device: str = 'cpu',
-             gpus_per_cell: float = 0.0,
+             gpus_per_cell: float = 0.0, keep_states: bool = True,
              progress: Callable[[str], None] = lambda line: None) -> GridRun:
     """Run every cell not yet kept in `store` as a Ray task (inside `ray_session`).
 
     Deep models ask for `threads` CPUs (and `gpus_per_cell` GPUs on `device` cuda);
-    baselines for one CPU. Each result is saved as it arrives, then a progress line
-    (cells done / total, ETA from this run's pace) is reported.
+    baselines for one CPU. With `keep_states` (cells on this machine, not a cluster's
+    other nodes), a deep cell keeps its training state in `store.state_folder` until its
+    result is saved. Each result is saved as it arrives, then a progress line (cells
+    done / total, ETA from this run's pace) and the cell's notes are reported.
     """
     from tactex_common.cluster import Resources, run_tasks
     todo = [cell for cell in cells if store.load(cell) is None]
@@ -310,15 +325,19 @@ def run_grid(store: GridStore, cells: Sequence[Cell], datasets: dict[int, Datase
     def finished(index: int, result: dict) -> None:
         cell = todo[index]
         store.save(cell, result)
+        forget(store.state_folder / cell.state_name, up_to=store.state_folder)
         run.ran += 1
         elapsed = time.monotonic() - started
         eta = elapsed / run.ran * (len(todo) - run.ran)
         progress(f'[{run.kept + run.ran}/{run.total}] {cell.describe()}: '
                  f'{100 * result["accuracy"]:.1f} % in {result["train_s"]:.0f} s '
                  f'(ETA {_duration(eta)})')
+        for note in result.get('notes', []):
+            progress(f'note: {cell.describe()}: {note}')
 
-    jobs = [(cell, settings, threads, 'cpu' if cell.model in BASELINES else device,
-             store.state_folder) for cell in todo]
+    states = store.state_folder.resolve() if keep_states else None
+    jobs = [(cell, settings, threads, 'cpu' if cell.model in BASELINES else device, states)
+            for cell in todo]
     if jobs:
         run_tasks(run_cell, jobs, shared=(datasets,), resources=resources, on_result=finished)
     return run

@@ -42,6 +42,7 @@ from tactex_classify.training.convergence import (
     stalled_at_chance,
     unconverged_because,
 )
+from tactex_classify.training.training_state import KEEP_EVERY_S
 from tactex_common.constants import MAX_SEED
 from tactex_common.numbers import is_finite_number
 
@@ -162,7 +163,7 @@ class DeepClassifier(Deployable):
 
     def __init__(self, config: TrainingConfig | None = None, *,
                  progress: Callable[[dict], None] | None = None, device: str = 'cpu',
-                 state_file: Path | None = None, state_every_s: float = 60.0) -> None:
+                 state_file: Path | None = None, state_every_s: float = KEEP_EVERY_S) -> None:
         self.config = config or TrainingConfig()
         self.progress = progress
         self.device = device  # where fit trains: 'cpu', 'cuda', 'cuda:1', ...
@@ -185,8 +186,9 @@ class DeepClassifier(Deployable):
 
         With `state_file`, the state is kept there between epochs and a fit of the same
         data and settings resumes from it (`resumed_seconds_`: the training it had done;
-        a file kept for another fit is set aside with a warning, `training_state`); the
-        file is removed when the fit ends.
+        a file kept for another fit is set aside with a warning). The last epoch's state
+        stays there, marked finished, until the caller has kept the result and
+        `training_state.forget`s it.
 
         Raises:
             ValueError: bad windows, labels or settings; early stopping without groups,
@@ -206,6 +208,7 @@ class DeepClassifier(Deployable):
             training_step,
         )
         from tactex_classify.training.training_state import (
+            forget,
             kept_state,
             restore_state,
             training_key,
@@ -257,10 +260,16 @@ class DeepClassifier(Deployable):
                  'averaged': averaged}
         kept = keeper.load() if keeper else None
         if kept:
-            restore_state(kept, parts, generator, rng)
+            try:
+                restore_state(kept, parts, generator, rng)
+            except (KeyError, RuntimeError, TypeError, ValueError) as error:
+                keeper.set_aside(f'does not fit this model ({error})')
+                forget(keeper.path)
+                return self.fit(X, y, classes, groups, channels=channels)
             self.history_, self.best_epoch_ = kept['history'], kept['best_epoch']
             best_loss, best_state, waited = kept['best_loss'], kept['best_state'], kept['waited']
-            self.resumed_seconds_, first_epoch = kept['seconds'], kept['epoch'] + 1
+            self.resumed_seconds_ = kept['seconds']
+            first_epoch = config.epochs + 1 if kept.get('finished') else kept['epoch'] + 1
         for epoch in range(first_epoch, config.epochs + 1):
             self.model_.train()
             # One gather per epoch; each batch is then a contiguous slice of it. Loss and
@@ -310,18 +319,17 @@ class DeepClassifier(Deployable):
                                            len(self.classes_)):  # at chance it cannot judge
                     waited += 1
                     stop = waited >= config.early_stopping
-            if keeper and not stop:
-                keeper.save_if_due(kept_state(
+            last = stop or epoch == config.epochs
+            if keeper and (last or keeper.due()):
+                keeper.save(kept_state(
                     parts, generator, rng, epoch=epoch, best_loss=best_loss,
                     best_state=best_state, waited=waited, best_epoch=self.best_epoch_,
-                    history=self.history_,
+                    history=self.history_, finished=last,
                     seconds=self.resumed_seconds_ + time.monotonic() - started))
             if self.progress:
                 self.progress(record)
             if stop:
                 break
-        if keeper:
-            keeper.remove()
         self.still_falling_ = ran_out_still_falling(
             [record['train_loss'] for record in self.history_], config.epochs)
         if best_state is None:
