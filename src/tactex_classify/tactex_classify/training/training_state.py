@@ -33,7 +33,7 @@ KEEP_EVERY_S = 60.0  # the least time between two saves of a fit's state
 
 
 class TrainingStateWarning(UserWarning):
-    """A kept training state could not be resumed from; the fit starts over."""
+    """A kept training state was set aside (the fit starts over) or could not be written."""
 
 
 def training_key(config, X: np.ndarray, y: np.ndarray, groups, classes, device) -> str:
