@@ -202,11 +202,8 @@ def worker(args) -> int:
     from tactex_classify.data.dataset import Dataset
     from tactex_classify.evaluation.cross_validation import splits
     from tactex_classify.training import deep_classifier
-    from tactex_classify.training.deep_classifier import (
-        DeepClassifier,
-        TrainingConfig,
-        validation_split,
-    )
+    from tactex_classify.training.deep_classifier import DeepClassifier, TrainingConfig
+    from tactex_classify.training.validation import validation_split
     dataset = Dataset.load(args.data)
     train, _ = splits(dataset, 'grouped', FOLDS, 0)[0]
     config = TrainingConfig.for_profile('modern', model=args.worker,

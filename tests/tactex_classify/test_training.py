@@ -33,8 +33,8 @@ from tactex_classify.training.deep_classifier import (
     DeepClassifier,
     prepare_training_device,
     TrainingConfig,
-    validation_split,
 )
+from tactex_classify.training.validation import validation_split
 
 FAST = TrainingConfig(model='cnn_3', epochs=3, seed=1)
 
